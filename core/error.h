@@ -1,0 +1,30 @@
+// lockstep core: the one error type for bad input.
+//
+// Everything a user can get wrong (a malformed scene, a missing file, an absurd
+// size) is reported as an InputError naming the file and, where there is one,
+// the line. The CLI turns it into one line on stderr and exit code 2.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace lockstep {
+
+class InputError : public std::runtime_error {
+ public:
+  InputError(const std::string& file, int line, const std::string& what)
+      : std::runtime_error(format(file, line, what)), file_(file), line_(line) {}
+  const std::string& file() const { return file_; }
+  int line() const { return line_; }  // 0 when the error is about the whole file
+
+ private:
+  static std::string format(const std::string& file, int line, const std::string& what) {
+    std::string s = file;
+    if (line > 0) s += ":" + std::to_string(line);
+    return s + ": " + what;
+  }
+  std::string file_;
+  int line_;
+};
+
+}  // namespace lockstep

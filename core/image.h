@@ -1,0 +1,42 @@
+// lockstep core: float RGBA images and their files.
+//
+// Pixels are linear float RGBA, row 0 at the top. Files go through
+// OpenImageIO, so the format follows the extension (.png, .exr, .tif, ...).
+// Writing is atomic: the image goes to a temporary file in the same folder that
+// is renamed into place only when complete, so a failure never leaves a
+// half-written output behind.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/math.h"
+
+namespace lockstep {
+
+struct Image {
+  int width = 0, height = 0;
+  std::vector<float> rgba;  // width * height * 4
+
+  Image() = default;
+  Image(int w, int h) : width(w), height(h), rgba(size_t(w) * size_t(h) * 4, 0.0f) {}
+  float* pixel(int x, int y) { return rgba.data() + (size_t(y) * size_t(width) + size_t(x)) * 4; }
+  const float* pixel(int x, int y) const {
+    return rgba.data() + (size_t(y) * size_t(width) + size_t(x)) * 4;
+  }
+  void set(int x, int y, const Vec3& c, float alpha = 1.0f) {
+    float* p = pixel(x, y);
+    p[0] = float(c.x);
+    p[1] = float(c.y);
+    p[2] = float(c.z);
+    p[3] = alpha;
+  }
+};
+
+// Throws InputError when the file is missing or unreadable. Any channel count is
+// accepted: grey is replicated, a missing alpha is 1.
+Image read_image(const std::string& path);
+// Throws InputError when the file cannot be written; nothing is left behind then.
+void write_image(const Image& image, const std::string& path);
+
+}  // namespace lockstep

@@ -1,0 +1,236 @@
+#include "core/nff.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+#include "core/error.h"
+
+namespace lockstep {
+
+namespace {
+
+// A cursor over the file's lines that knows where it is, so every error names a line.
+class Lines {
+ public:
+  Lines(std::string_view text, const std::string& name) : text_(text), name_(name) {}
+
+  // Advances to the next line that is not blank or a comment; false at end of file.
+  bool next() {
+    while (pos_ < text_.size()) {
+      size_t end = text_.find('\n', pos_);
+      if (end == std::string_view::npos) end = text_.size();
+      std::string_view line = text_.substr(pos_, end - pos_);
+      pos_ = end + 1;
+      ++line_no_;
+      if (line.find('\0') != std::string_view::npos) fail("binary data (NUL byte) in a text file");
+      const size_t hash = line.find('#');
+      if (hash != std::string_view::npos) line = line.substr(0, hash);
+      split(line);
+      if (!words_.empty()) return true;
+    }
+    words_.clear();
+    return false;
+  }
+  // Like next(), but the file must not end here.
+  void require_next(const char* what) {
+    if (!next()) {
+      ++line_no_;
+      fail(std::string("file ends early: expected ") + what);
+    }
+  }
+
+  const std::vector<std::string_view>& words() const { return words_; }
+  int line() const { return line_no_; }
+  const std::string& name() const { return name_; }
+  [[noreturn]] void fail(const std::string& what) const { throw InputError(name_, line_no_, what); }
+
+  void expect_count(size_t n, const char* what) const {
+    if (words_.size() < n) fail(std::string("missing fields: ") + what);
+    if (words_.size() > n) fail("unexpected extra field '" + std::string(words_[n]) + "' after " + what);
+  }
+  double number(size_t i) const {
+    const std::string s(words_.at(i));
+    char* end = nullptr;
+    errno = 0;
+    const double v = std::strtod(s.c_str(), &end);
+    if (end == s.c_str() || *end != '\0') fail("not a number: '" + s + "'");
+    if (!std::isfinite(v) || errno == ERANGE) fail("number out of range (NaN, Inf or overflow): '" + s + "'");
+    return v;
+  }
+  long integer(size_t i) const {
+    const std::string s(words_.at(i));
+    char* end = nullptr;
+    errno = 0;
+    const long v = std::strtol(s.c_str(), &end, 10);
+    if (end == s.c_str() || *end != '\0' || errno == ERANGE) fail("not an integer: '" + s + "'");
+    return v;
+  }
+  Vec3 vec3(size_t i) const { return {number(i), number(i + 1), number(i + 2)}; }
+
+ private:
+  void split(std::string_view line) {
+    words_.clear();
+    size_t i = 0;
+    while (i < line.size()) {
+      while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+      size_t j = i;
+      while (j < line.size() && !std::isspace(static_cast<unsigned char>(line[j]))) ++j;
+      if (j > i) words_.push_back(line.substr(i, j - i));
+      i = j;
+    }
+  }
+
+  std::string_view text_;
+  const std::string& name_;
+  size_t pos_ = 0;
+  int line_no_ = 0;
+  std::vector<std::string_view> words_;
+};
+
+void read_view(Lines& in, View& v) {
+  const int v_line = in.line();
+  in.expect_count(1, "v");
+  bool seen[6] = {};
+  const char* keys[6] = {"from", "at", "up", "angle", "hither", "resolution"};
+  for (int k = 0; k < 6; ++k) {
+    in.require_next("the viewpoint's 'from', 'at', 'up', 'angle', 'hither', 'resolution' lines");
+    const auto& w = in.words();
+    int which = -1;
+    for (int q = 0; q < 6; ++q)
+      if (w[0] == keys[q]) which = q;
+    if (which < 0) in.fail("expected one of from/at/up/angle/hither/resolution, got '" + std::string(w[0]) + "'");
+    if (seen[which]) in.fail("'" + std::string(w[0]) + "' given twice in one viewpoint");
+    seen[which] = true;
+    switch (which) {
+      case 0: in.expect_count(4, "from x y z"); v.from = in.vec3(1); break;
+      case 1: in.expect_count(4, "at x y z"); v.at = in.vec3(1); break;
+      case 2: in.expect_count(4, "up x y z"); v.up = in.vec3(1); break;
+      case 3: in.expect_count(2, "angle degrees"); v.angle = in.number(1); break;
+      case 4: in.expect_count(2, "hither distance"); v.hither = in.number(1); break;
+      case 5: {
+        in.expect_count(3, "resolution w h");
+        const long w_ = in.integer(1), h_ = in.integer(2);
+        if (w_ < 1 || h_ < 1 || w_ > kMaxResolution || h_ > kMaxResolution)
+          in.fail("resolution " + std::to_string(w_) + " x " + std::to_string(h_) +
+                  " is out of range (1 .. " + std::to_string(kMaxResolution) + ")");
+        v.xres = int(w_);
+        v.yres = int(h_);
+        break;
+      }
+    }
+  }
+  validate_view(v, in.name(), v_line);
+}
+
+}  // namespace
+
+void validate_view(const View& v, const std::string& file, int line) {
+  auto fail = [&](const std::string& what) { throw InputError(file, line, what); };
+  const Vec3 dir = v.at - v.from;
+  if (length(dir) == 0) fail("degenerate camera: 'from' equals 'at'");
+  const Vec3 side = cross(normalize(dir), v.up);
+  if (!(length(side) > 1e-9 * length(v.up))) fail("degenerate camera: 'up' is zero or parallel to the view direction");
+  if (!(v.angle > 0 && v.angle < 180)) fail("camera angle must be between 0 and 180 degrees, got " + std::to_string(v.angle));
+  if (v.hither < 0) fail("hither must not be negative");
+  if (v.xres < 1 || v.yres < 1 || v.xres > kMaxResolution || v.yres > kMaxResolution)
+    fail("resolution out of range (1 .. " + std::to_string(kMaxResolution) + ")");
+}
+
+Scene parse_nff(std::string_view text, const std::string& name) {
+  Scene scene;
+  scene.source = name;
+  Lines in(text, name);
+  bool have_view = false;
+  bool have_material = false;
+  uint32_t material = 0;
+  auto current_material = [&]() {
+    if (!have_material) {  // objects before any 'f' get a plain white diffuse material
+      material = add_material(scene, Material{});
+      have_material = true;
+    }
+    return material;
+  };
+  std::vector<Vec3> verts, normals;
+
+  if (text.empty()) throw InputError(name, 0, "file is empty");
+  while (in.next()) {
+    const auto& w = in.words();
+    const std::string_view e = w[0];
+    if (e == "v") {
+      if (have_view) in.fail("a second viewpoint ('v'); NFF allows one");
+      read_view(in, scene.view);
+      have_view = true;
+    } else if (e == "b") {
+      in.expect_count(4, "b r g b");
+      scene.background = in.vec3(1);
+    } else if (e == "l") {
+      if (w.size() != 4 && w.size() != 7) in.fail("expected 'l x y z' or 'l x y z r g b'");
+      Light l;
+      l.position = in.vec3(1);
+      if (w.size() == 7) {
+        l.color = in.vec3(4);
+        l.has_color = true;
+      }
+      scene.lights.push_back(l);
+    } else if (e == "f") {
+      in.expect_count(9, "f r g b Kd Ks Shine T index_of_refraction");
+      Material m;
+      m.color = in.vec3(1);
+      m.kd = in.number(4);
+      m.ks = in.number(5);
+      m.shine = in.number(6);
+      m.transmittance = in.number(7);
+      m.ior = in.number(8);
+      material = add_material(scene, m);
+      have_material = true;
+    } else if (e == "s") {
+      in.expect_count(5, "s x y z radius");
+      const double r = in.number(4);
+      if (r == 0) in.fail("sphere of radius 0");
+      add_sphere(scene, in.vec3(1), r, current_material());
+    } else if (e == "p" || e == "pp") {
+      const bool patch = e == "pp";
+      in.expect_count(2, patch ? "pp vertex_count" : "p vertex_count");
+      const long n = in.integer(1);
+      if (n < 3) in.fail("polygon with " + std::to_string(n) + " vertices (at least 3 needed)");
+      if (n > kMaxPolygonVertices) in.fail("polygon with " + std::to_string(n) + " vertices is absurd");
+      verts.clear();
+      normals.clear();
+      for (long i = 0; i < n; ++i) {
+        in.require_next(patch ? "a patch vertex 'x y z nx ny nz'" : "a polygon vertex 'x y z'");
+        in.expect_count(patch ? 6 : 3, patch ? "x y z nx ny nz" : "x y z");
+        verts.push_back(in.vec3(0));
+        if (patch) {
+          const Vec3 nv = in.vec3(3);
+          if (length(nv) == 0) in.fail("zero vertex normal");
+          normals.push_back(nv);
+        }
+      }
+      add_polygon(scene, verts, normals, current_material());
+    } else if (e == "c") {
+      in.fail("unsupported entity 'c' (cone/cylinder): lockstep does not ray cast cones yet");
+    } else {
+      std::string shown(e.substr(0, 32));
+      for (char& ch : shown)
+        if (!std::isprint(static_cast<unsigned char>(ch))) ch = '?';
+      in.fail("unknown entity '" + shown + "'");
+    }
+  }
+  if (!have_view) throw InputError(name, 0, "no viewpoint ('v') in the file");
+  return scene;
+}
+
+Scene read_nff(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw InputError(path, 0, "cannot open file");
+  std::ostringstream ss;
+  ss << f.rdbuf();
+  if (f.bad()) throw InputError(path, 0, "cannot read file");
+  return parse_nff(ss.str(), path);
+}
+
+}  // namespace lockstep

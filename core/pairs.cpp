@@ -1,0 +1,47 @@
+#include "core/pairs.h"
+
+namespace lockstep {
+
+namespace {
+
+// Accuracy bounds against the oracle, for well-conditioned input (the
+// generators say which inputs those are). Float kernels: a few dozen ulps of
+// float (2^-24 = 6e-8). Double textbook: a few thousand ulps of double, since the
+// quadratic formula loses digits even when the case is not pathological.
+constexpr double kF32 = 2e-5;
+constexpr double kF64 = 1e-11;
+
+constexpr Impl<RaySphereFn> kRaySphere[] = {
+    {"reference", ref::ray_sphere, kF64},
+    {"reference_f32", ref::ray_sphere_f32, 1e-3},  // textbook in float: cancellation is expected
+    {"simd", opt::simd::ray_sphere, kF32},
+};
+constexpr Impl<RayPlaneFn> kRayPlane[] = {
+    {"reference", ref::ray_plane, kF64},
+    {"reference_f32", ref::ray_plane_f32, 1e-4},
+    {"simd", opt::simd::ray_plane, kF32},
+};
+constexpr Impl<RayPolygonFn> kRayPolygon[] = {
+    {"reference", ref::ray_polygon, kF64},
+    {"simd", opt::simd::ray_polygon, kF32},
+};
+constexpr Impl<CasterFns> kRayCast[] = {
+    {"reference", {ref::trace, ref::render}, kF64},
+    {"simd", {opt::simd::trace, opt::simd::render}, kF32},
+    {"embree", {opt::embree::trace, opt::embree::render}, kF32},
+    {"auto", {opt::autosel::trace, opt::autosel::render}, kF32},
+};
+
+const PairTable kTable{
+    {"ray_sphere", "rays_at_sphere", {.t_rel = 1e-5}, kRaySphere},
+    {"ray_plane", "rays_at_plane", {.t_rel = 1e-5}, kRayPlane},
+    {"ray_polygon", "rays_at_polygon", {.t_rel = 1e-5}, kRayPolygon},
+    // Frames: every pixel within 1/255 on at least 99.9% of pixels (issue #2).
+    {"ray_cast", "scenes", {.t_rel = 1e-5, .color_abs = 1.0 / 255, .pixel_fraction = 0.999}, kRayCast},
+};
+
+}  // namespace
+
+const PairTable& pairs() { return kTable; }
+
+}  // namespace lockstep

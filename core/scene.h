@@ -1,0 +1,123 @@
+// lockstep core: the scene, as flat arrays.
+//
+// One Scene holds what an NFF file describes. Spheres and polygons are kept in
+// structure-of-arrays form so that kernels can stream them; polygons are kept as
+// polygons (with their plane) for the textbook point-in-polygon test, and also
+// as a triangulation for kernels that only know triangles. Primitive ids run over
+// spheres first, then polygons: prim < sphere_count() is a sphere.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/math.h"
+
+namespace lockstep {
+
+// The NFF viewpoint ('v' entity). angle is the full field of view in degrees,
+// measured between the centres of the edge pixels (see Camera).
+struct View {
+  Vec3 from{0, 0, 0};
+  Vec3 at{0, 0, -1};
+  Vec3 up{0, 1, 0};
+  double angle = 45.0;
+  double hither = 1e-6;
+  int xres = 256;
+  int yres = 256;
+};
+
+// NFF 'f': colour, Kd, Ks, Shine, T, index of refraction.
+struct Material {
+  Vec3 color{1, 1, 1};
+  double kd = 1.0;
+  double ks = 0.0;
+  double shine = 1.0;
+  double transmittance = 0.0;
+  double ior = 1.0;
+  // NFF: polygons are one-sided unless the material transmits light.
+  bool two_sided() const { return transmittance > 0.0; }
+};
+
+// NFF 'l': positional light. has_color is false when the file gave none; the
+// intensity is then 1/sqrt(number of lights) (see core/shading.h).
+struct Light {
+  Vec3 position;
+  Vec3 color{1, 1, 1};
+  bool has_color = false;
+};
+
+// Plane n.x + d = 0 with unit normal n (n = 0 for a degenerate polygon).
+struct Plane {
+  Vec3 n;
+  double d = 0.0;
+};
+
+struct Sphere {
+  Vec3 center;
+  double radius = 1.0;  // NFF: negative means only the inside is visible
+};
+
+struct Scene {
+  View view;
+  Vec3 background{0, 0, 0};
+  std::vector<Light> lights;
+  std::vector<Material> materials;
+
+  // Spheres.
+  std::vector<Vec3> sphere_center;
+  std::vector<double> sphere_radius;  // signed, as in the file
+  std::vector<uint32_t> sphere_material;
+
+  // Polygons: vertices of polygon p are vertex[poly_first[p] .. poly_first[p+1]).
+  std::vector<uint32_t> poly_first{0};
+  std::vector<Vec3> vertex;
+  std::vector<Vec3> vertex_normal;  // unit; only meaningful where poly_is_patch
+  std::vector<Plane> poly_plane;
+  std::vector<uint32_t> poly_material;
+  std::vector<uint8_t> poly_is_patch;
+
+  // Triangulation of the polygons (indices into vertex), and the polygon each came from.
+  std::vector<std::array<uint32_t, 3>> tri_vertex;
+  std::vector<uint32_t> tri_poly;
+  // Triangles of polygon p are tri_vertex[poly_tri_first[p] .. poly_tri_first[p+1]).
+  std::vector<uint32_t> poly_tri_first{0};
+
+  // Where it came from, for messages.
+  std::string source = "<memory>";
+
+  uint32_t sphere_count() const { return uint32_t(sphere_center.size()); }
+  uint32_t polygon_count() const { return uint32_t(poly_plane.size()); }
+  uint32_t prim_count() const { return sphere_count() + polygon_count(); }
+  uint32_t triangle_count() const { return uint32_t(tri_vertex.size()); }
+  std::span<const Vec3> polygon_vertices(uint32_t p) const {
+    return {vertex.data() + poly_first[p], poly_first[p + 1] - poly_first[p]};
+  }
+  const Material& material_of_prim(uint32_t prim) const {
+    return prim < sphere_count() ? materials[sphere_material[prim]]
+                                 : materials[poly_material[prim - sphere_count()]];
+  }
+};
+
+// Appends a material and returns its index.
+uint32_t add_material(Scene& scene, const Material& m);
+void add_sphere(Scene& scene, const Vec3& center, double radius, uint32_t material);
+// Appends a polygon: computes its plane (Newell's method; the facing follows the
+// counter-clockwise vertex order, as NFF prescribes) and triangulates it by ear
+// clipping so that concave polygons come out right. normals is empty for 'p' and
+// one unit normal per vertex for 'pp'.
+void add_polygon(Scene& scene, std::span<const Vec3> vertices, std::span<const Vec3> normals,
+                 uint32_t material);
+
+// Ear-clipping triangulation of a simple planar polygon (concave allowed),
+// projected along the dominant axis of its normal. Returns index triples into
+// the given vertices, counter-clockwise with respect to normal. Degenerate
+// (zero-area) polygons give no triangles.
+std::vector<std::array<uint32_t, 3>> triangulate(std::span<const Vec3> vertices, const Vec3& normal);
+
+// Axis-aligned bounds of everything in the scene (spheres by |radius|).
+void scene_bounds(const Scene& scene, Vec3& lo, Vec3& hi);
+
+}  // namespace lockstep

@@ -1,0 +1,84 @@
+#include "core/shading.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace lockstep {
+
+namespace {
+
+// Barycentric coordinates (b0, b1, b2) of p in triangle (a, b, c), via areas
+// projected on the plane with normal n.
+void barycentric(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p, const Vec3& n,
+                 double out[3]) {
+  const double area = dot(cross(b - a, c - a), n);
+  out[0] = dot(cross(c - b, p - b), n) / area;
+  out[1] = dot(cross(a - c, p - c), n) / area;
+  out[2] = 1.0 - out[0] - out[1];
+}
+
+}  // namespace
+
+Vec3 surface_normal(const Scene& scene, uint32_t prim, uint32_t tri, const Vec3& p, const Vec3& d) {
+  Vec3 n;
+  if (prim < scene.sphere_count()) {
+    n = (p - scene.sphere_center[prim]) / scene.sphere_radius[prim];
+  } else {
+    const uint32_t poly = prim - scene.sphere_count();
+    n = scene.poly_plane[poly].n;
+    if (scene.poly_is_patch[poly]) {
+      // Find the triangle holding p if the caller did not say: the one whose
+      // smallest barycentric coordinate is largest (p may sit on an edge).
+      double b[3];
+      if (tri == Hit::kNoHit) {
+        double best = -kInfinity;
+        for (uint32_t k = scene.poly_tri_first[poly]; k < scene.poly_tri_first[poly + 1]; ++k) {
+          const auto& t = scene.tri_vertex[k];
+          barycentric(scene.vertex[t[0]], scene.vertex[t[1]], scene.vertex[t[2]], p, n, b);
+          const double m = std::min({b[0], b[1], b[2]});
+          if (m > best) {
+            best = m;
+            tri = k;
+          }
+        }
+      }
+      if (tri != Hit::kNoHit) {
+        const auto& t = scene.tri_vertex[tri];
+        barycentric(scene.vertex[t[0]], scene.vertex[t[1]], scene.vertex[t[2]], p, n, b);
+        const Vec3 s = b[0] * scene.vertex_normal[t[0]] + b[1] * scene.vertex_normal[t[1]] +
+                       b[2] * scene.vertex_normal[t[2]];
+        if (length(s) > 0) n = normalize(s);
+      }
+    }
+  }
+  // Face the viewer: two-sided polygons are seen from the back too.
+  if (dot(n, d) > 0) n = -n;
+  return n;
+}
+
+Vec3 phong(const Scene& scene, const Material& m, const Vec3& p, const Vec3& n, const Vec3& v) {
+  const Vec3 kd_c = m.kd * m.color;
+  Vec3 c = kAmbient * kd_c;
+  const double default_ip = scene.lights.empty() ? 0.0 : 1.0 / std::sqrt(double(scene.lights.size()));
+  for (const Light& light : scene.lights) {
+    const Vec3 ip = light.has_color ? light.color : Vec3{default_ip, default_ip, default_ip};
+    const Vec3 l = normalize(light.position - p);
+    const double n_dot_l = dot(n, l);
+    if (n_dot_l <= 0) continue;  // light behind the surface
+    const Vec3 r = 2.0 * n_dot_l * n - l;
+    const double r_dot_v = std::max(0.0, dot(r, v));
+    const double spec = m.ks > 0 ? m.ks * std::pow(r_dot_v, m.shine) : 0.0;
+    c += mul(ip, n_dot_l * kd_c + Vec3{spec, spec, spec});
+  }
+  return c;
+}
+
+Vec3 shade(const Scene& scene, const Ray& ray, const Hit& hit) {
+  if (!hit.hit()) return scene.background;
+  const Vec3 p = ray.o + hit.t * ray.d;
+  const Vec3 d = normalize(ray.d);
+  const Vec3 n = surface_normal(scene, hit.prim, hit.tri, p, d);
+  return phong(scene, scene.material_of_prim(hit.prim), p, n, -d);
+}
+
+}  // namespace lockstep

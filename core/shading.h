@@ -1,0 +1,48 @@
+// lockstep core: what happens at a hit, shared by every ray-casting implementation.
+//
+// The implementations differ in how they find the nearest hit (prim, t, tri);
+// from there on they all call these functions in double precision, so the
+// ray-casting pair compares intersection code, not two copies of the lighting.
+//
+// Local illumination, Phong (Foley et al., 16.1; Phong 1975), no shadows:
+//   I = Ia kd C + sum over lights Ip [ kd C max(0, N.L) + ks max(0, R.V)^shine ]
+// with C the material colour and R = 2 (N.L) N - L, the mirror of L about N.
+// Our choices where NFF is silent:
+//   * ambient Ia = 0.1 (white): NFF has no ambient term;
+//   * Ip = the light's colour when given, else 1/sqrt(number of lights) (white),
+//     the rule Haines suggests, so that many lights do not saturate;
+//   * the specular highlight is white (the light's colour), not the material's;
+//   * colours are not clamped here; 8-bit outputs clamp on write.
+#pragma once
+
+#include "core/math.h"
+#include "core/scene.h"
+
+namespace lockstep {
+
+inline constexpr double kAmbient = 0.1;
+
+// Unit geometric/shading normal at point p on prim, facing against the ray direction d.
+// Spheres: (p - c) / r (a negative radius flips it: only the inside is seen).
+// Polygons: the plane normal. Patches ('pp'): the vertex normals interpolated with
+// the barycentric coordinates of p in triangle tri of the polygon's triangulation;
+// tri may be Hit::kNoHit, and the containing triangle is then looked up.
+Vec3 surface_normal(const Scene& scene, uint32_t prim, uint32_t tri, const Vec3& p, const Vec3& d);
+
+// Phong at p with unit normal n and unit direction to the viewer v.
+Vec3 phong(const Scene& scene, const Material& m, const Vec3& p, const Vec3& n, const Vec3& v);
+
+// The colour seen along ray: background on a miss, else Phong at the hit.
+Vec3 shade(const Scene& scene, const Ray& ray, const Hit& hit);
+
+// Whether a hit with unit-or-not direction d on prim with (unnormalised) outward
+// geometric normal n is visible under NFF's sidedness rules: spheres are seen from
+// outside (from inside when the radius is negative), polygons from their front
+// (counter-clockwise) side unless the material transmits (T > 0).
+inline bool visible_side(const Scene& scene, uint32_t prim, double d_dot_n) {
+  if (prim < scene.sphere_count()) return scene.sphere_radius[prim] > 0 ? d_dot_n < 0 : d_dot_n > 0;
+  if (scene.materials[scene.poly_material[prim - scene.sphere_count()]].two_sided()) return true;
+  return d_dot_n < 0;
+}
+
+}  // namespace lockstep

@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# Install lockstep's build and test dependencies from Debian 12 packages.
+# Idempotent: when everything is present it only runs dpkg-query (a second or so).
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build pkg-config
+  libembree-dev libcgal-dev libgmp-dev libmpfr-dev
+  libopenimageio-dev openimageio-tools
+  libbenchmark-dev librapidcheck-dev libgtest-dev
+  libtbb-dev libhwy-dev gnuplot-nox
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  status=$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)
+  [[ "$status" == "install ok installed" ]] || missing+=("$p")
+done
+
+if ((${#missing[@]} == 0)); then
+  echo "setup: all ${#packages[@]} packages present"
+  exit 0
+fi
+
+echo "setup: installing ${missing[*]}"
+SUDO=""
+if [[ $(id -u) -ne 0 ]]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+echo "setup: done"
