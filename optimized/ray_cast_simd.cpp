@@ -49,12 +49,12 @@ using MF = hn::Mask<DF>;
 
 // Spheres, stable form. f = o - c, b = f.d (|d| = 1), l = f - b d,
 // disc = r^2 - l.l, c = f.f - r^2, q = -b - sign(b) sqrt(disc), roots c/q and q.
-HWY_INLINE void IntersectSpheres(DF df, const SimdScene& s, VF ox, VF oy, VF oz, VF dx, VF dy, VF dz,
+HWY_INLINE void IntersectSpheres(DF df, const SimdScene& s, const std::vector<uint32_t>& ids, VF ox, VF oy, VF oz, VF dx, VF dy, VF dz,
                                  VF tmin, VF& tbest, VI& best, MF active) {
   const DI di;
   const VF zero = hn::Zero(df);
   const VF inf = hn::Set(df, HUGE_VALF);
-  for (size_t i = 0; i < s.spheres(); ++i) {
+  for (const uint32_t i : ids) {
     const VF fx = hn::Sub(ox, hn::Set(df, s.sx[i]));
     const VF fy = hn::Sub(oy, hn::Set(df, s.sy[i]));
     const VF fz = hn::Sub(oz, hn::Set(df, s.sz[i]));
@@ -105,7 +105,7 @@ HWY_NOINLINE void EdgeFunctionsInDouble(DF df, VF Ax, VF Ay, VF Bx, VF By, VF Cx
 
 // Triangles, watertight, for the lanes in `active`, all of which share the
 // permutation (kx, ky, kz) of the ray's dominant axis.
-HWY_INLINE void IntersectTriangles(DF df, const SimdScene& s, int kx, int ky, int kz, const VF o[3],
+HWY_INLINE void IntersectTriangles(DF df, const SimdScene& s, const std::vector<uint32_t>& ids, int kx, int ky, int kz, const VF o[3],
                                    const VF d[3], VF tmin, VF& tbest, VI& best, MF active) {
   const DI di;
   const VF zero = hn::Zero(df);
@@ -117,7 +117,7 @@ HWY_INLINE void IntersectTriangles(DF df, const SimdScene& s, int kx, int ky, in
   const float* Y[3] = {s.tv[0][ky].data(), s.tv[1][ky].data(), s.tv[2][ky].data()};
   const float* Z[3] = {s.tv[0][kz].data(), s.tv[1][kz].data(), s.tv[2][kz].data()};
   const int32_t base = int32_t(s.spheres());
-  for (size_t i = 0; i < s.triangles(); ++i) {
+  for (const uint32_t i : ids) {
     MF live = active;
     if (s.cull && !s.t_two_sided[i]) {
       // One-sided: only rays against the plane normal see it (back faces culled).
@@ -157,7 +157,7 @@ HWY_INLINE void IntersectTriangles(DF df, const SimdScene& s, int kx, int ky, in
   }
 }
 
-void TracePacket(const SimdScene& s, const Packet& p, PacketHits& out) {
+void TracePacket(const SimdScene& s, const Candidates& cand, const Packet& p, PacketHits& out) {
   const DF df;
   const DI di;
   const size_t N = hn::Lanes(df);
@@ -170,8 +170,8 @@ void TracePacket(const SimdScene& s, const Packet& p, PacketHits& out) {
     const VI lane = hn::Add(hn::Iota(di, 0), hn::Set(di, int32_t(lane0)));
     const MF active = hn::RebindMask(df, hn::Lt(lane, hn::Set(di, p.count)));
     if (hn::AllFalse(df, active)) break;
-    IntersectSpheres(df, s, o[0], o[1], o[2], d[0], d[1], d[2], tmin, tbest, best, active);
-    if (s.triangles() > 0) {
+    IntersectSpheres(df, s, cand.spheres, o[0], o[1], o[2], d[0], d[1], d[2], tmin, tbest, best, active);
+    if (!cand.triangles.empty()) {
       // The shear needs the axis where |d| is largest, per ray. A packet usually
       // agrees; otherwise each distinct permutation runs with its lanes only.
       const VF ax = hn::Abs(d[0]), ay = hn::Abs(d[1]), az = hn::Abs(d[2]);
@@ -186,7 +186,7 @@ void TracePacket(const SimdScene& s, const Packet& p, PacketHits& out) {
           if (hn::AllFalse(df, group)) continue;
           int kx = (kz + 1) % 3, ky = (kx + 1) % 3;
           if (neg) std::swap(kx, ky);  // keep the winding of the sheared triangle
-          IntersectTriangles(df, s, kx, ky, kz, o, d, tmin, tbest, best, group);
+          IntersectTriangles(df, s, cand.triangles, kx, ky, kz, o, d, tmin, tbest, best, group);
         }
       }
     }
@@ -242,6 +242,9 @@ void SimdScene::add_sphere(const Vec3& c, double r, uint32_t prim) {
   sr2.push_back(rf * rf);
   s_inside.push_back(r < 0);
   s_prim.push_back(prim);
+  // Spheres come before triangles in the bounds arrays.
+  b_center.insert(b_center.begin() + long(spheres() - 1), cf);
+  b_radius.insert(b_radius.begin() + long(spheres() - 1), std::abs(r));
 }
 
 void SimdScene::add_triangle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& n, bool two_sided,
@@ -254,6 +257,18 @@ void SimdScene::add_triangle(const Vec3& a, const Vec3& b, const Vec3& c, const 
   t_two_sided.push_back(two_sided);
   t_prim.push_back(prim);
   t_tri.push_back(tri);
+  const Vec3 centroid = (v[0] + v[1] + v[2]) / 3.0;
+  b_center.push_back(centroid);
+  b_radius.push_back(std::max({length(v[0] - centroid), length(v[1] - centroid), length(v[2] - centroid)}));
+}
+
+Candidates all_candidates(const SimdScene& s) {
+  Candidates c;
+  c.spheres.resize(s.spheres());
+  c.triangles.resize(s.triangles());
+  for (size_t i = 0; i < c.spheres.size(); ++i) c.spheres[i] = uint32_t(i);
+  for (size_t i = 0; i < c.triangles.size(); ++i) c.triangles[i] = uint32_t(i);
+  return c;
 }
 
 SimdScene prepare_scene(const Scene& scene, const Frame& frame, bool cull) {
@@ -309,7 +324,7 @@ Hit to_hit(const SimdScene& s, float t, int32_t id, double scale) {
 }
 
 // Traces rays through a prepared scene, packets of 8, serially.
-void trace_prepared(const SimdScene& s, std::span<const Ray> rays, std::span<Hit> hits) {
+void trace_prepared(const SimdScene& s, const Candidates& cand, std::span<const Ray> rays, std::span<Hit> hits) {
   Packet p;
   PacketHits out;
   double scale[kPacket];
@@ -317,7 +332,7 @@ void trace_prepared(const SimdScene& s, std::span<const Ray> rays, std::span<Hit
     p.count = int(std::min<size_t>(kPacket, rays.size() - i));
     for (int k = 0; k < p.count; ++k) load_ray(s.frame, rays[i + size_t(k)], p, k, scale[k]);
     clear_tail(p);
-    HWY_DYNAMIC_DISPATCH(TracePacket)(s, p, out);
+    HWY_DYNAMIC_DISPATCH(TracePacket)(s, cand, p, out);
     for (int k = 0; k < p.count; ++k) hits[i + size_t(k)] = to_hit(s, out.t[k], out.id[k], scale[k]);
   }
 }
@@ -333,8 +348,62 @@ void kernel(std::span<const Ray> rays, std::span<double> t, AddPrims add) {
     s.frame.origin = rays[i].o;
     s.cull = false;
     add(s);
-    trace_prepared(s, rays.subspan(i, n), hits);
+    trace_prepared(s, all_candidates(s), rays.subspan(i, n), hits);
     for (size_t k = 0; k < n; ++k) t[i + k] = hits[k].t;
+  }
+}
+
+// ---------------------------------------------------------------- per-tile culling
+// All primary rays start at the eye (the frame's origin), so a tile's rays lie
+// inside a cone around the tile's central direction. A primitive whose bounding
+// sphere (seen from the eye under half-angle beta) is further than alpha + beta
+// from the cone's axis cannot be hit by any of them: the packets of that tile
+// skip it. Conservative by a margin well above float's direction error.
+struct ConeBounds {
+  std::vector<Vec3> dir;              // unit direction from the eye to the bounding centre
+  std::vector<double> beta;           // angular radius of the bounding sphere
+  std::vector<uint8_t> contains_eye;  // the eye is inside: always a candidate
+};
+
+ConeBounds cone_bounds(const SimdScene& s) {
+  ConeBounds cb;
+  const size_t n = s.b_center.size();
+  cb.dir.resize(n);
+  cb.beta.resize(n);
+  cb.contains_eye.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    const double dist = length(s.b_center[i]);
+    const double r = s.b_radius[i] * (1 + 1e-6) + 1e-30;
+    cb.contains_eye[i] = dist <= r;
+    if (cb.contains_eye[i]) continue;
+    cb.dir[i] = s.b_center[i] / dist;
+    cb.beta[i] = std::asin(r / dist);
+  }
+  return cb;
+}
+
+void cull_tile(const SimdScene& s, const ConeBounds& cb, const Camera& cam, int i0, int i1, int j0, int j1,
+               Candidates& out) {
+  out.spheres.clear();
+  out.triangles.clear();
+  // Cone through the tile's four corner pixel centres (the directions of all
+  // pixels in between lie in their convex hull on the image plane).
+  const Vec3 corner[4] = {normalize(cam.camera_dir(i0, j0)), normalize(cam.camera_dir(i1 - 1, j0)),
+                          normalize(cam.camera_dir(i0, j1 - 1)), normalize(cam.camera_dir(i1 - 1, j1 - 1))};
+  const Vec3 axis = normalize(corner[0] + corner[1] + corner[2] + corner[3]);
+  double cos_alpha = 1;
+  for (const Vec3& c : corner) cos_alpha = std::min(cos_alpha, dot(axis, c));
+  const double alpha = std::acos(std::clamp(cos_alpha, -1.0, 1.0)) + 1e-5;
+  const size_t ns = s.spheres();
+  for (size_t i = 0; i < cb.dir.size(); ++i) {
+    bool keep = cb.contains_eye[i] != 0;
+    if (!keep) {
+      const double reach = alpha + cb.beta[i];
+      keep = reach >= M_PI || dot(axis, cb.dir[i]) >= std::cos(reach);
+    }
+    if (!keep) continue;
+    if (i < ns) out.spheres.push_back(uint32_t(i));
+    else out.triangles.push_back(uint32_t(i - ns));
   }
 }
 
@@ -384,10 +453,11 @@ void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, R
   Frame f;
   if (!rays.empty()) f.origin = rays[0].o;
   const SimdScene s = prepare_scene(scene, f, true);
+  const Candidates all = all_candidates(s);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, (rays.size() + kPacket - 1) / kPacket, 64),
                     [&](const tbb::blocked_range<size_t>& r) {
                       const size_t lo = r.begin() * kPacket, hi = std::min(rays.size(), r.end() * kPacket);
-                      trace_prepared(s, rays.subspan(lo, hi - lo), hits.subspan(lo, hi - lo));
+                      trace_prepared(s, all, rays.subspan(lo, hi - lo), hits.subspan(lo, hi - lo));
                     });
   for (size_t i = 0; i < rays.size(); ++i) refine_hit(scene, rays[i], hits[i]);
   if (stats) {
@@ -402,6 +472,7 @@ Image render(const Scene& scene, const RenderOptions& opts, RenderStats* stats) 
   // The camera's own frame: eye at the origin, x right, y up, z forward.
   const Frame frame{cam.eye, cam.right, cam.up, cam.forward};
   const SimdScene s = prepare_scene(scene, frame, true);
+  const ConeBounds cb = cone_bounds(s);
   Image image(opts.width, opts.height);
   constexpr int kTileW = 32, kTileH = 8;
   const int tiles_x = (opts.width + kTileW - 1) / kTileW, tiles_y = (opts.height + kTileH - 1) / kTileH;
@@ -410,6 +481,9 @@ Image render(const Scene& scene, const RenderOptions& opts, RenderStats* stats) 
   auto render_tile = [&](int tx, int ty) {
     Packet p;
     PacketHits out;
+    Candidates cand;
+    cull_tile(s, cb, cam, tx * kTileW, std::min(opts.width, (tx + 1) * kTileW), ty * kTileH,
+              std::min(opts.height, (ty + 1) * kTileH), cand);
     for (int j = ty * kTileH; j < std::min(opts.height, (ty + 1) * kTileH); ++j) {
       for (int i0 = tx * kTileW; i0 < std::min(opts.width, (tx + 1) * kTileW); i0 += kPacket) {
         p.count = std::min(kPacket, opts.width - i0);
@@ -425,7 +499,7 @@ Image render(const Scene& scene, const RenderOptions& opts, RenderStats* stats) 
           scale[k] = 1.0;  // the world ray below is unit length too, so t carries over
         }
         clear_tail(p);
-        HWY_DYNAMIC_DISPATCH(TracePacket)(s, p, out);
+        HWY_DYNAMIC_DISPATCH(TracePacket)(s, cand, p, out);
         for (int k = 0; k < p.count; ++k) {
           const Ray ray = cam.primary(i0 + k, j);
           Hit h = to_hit(s, out.t[k], out.id[k], scale[k]);

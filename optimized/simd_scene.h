@@ -38,6 +38,10 @@ struct SimdScene {
   std::vector<float> tn[3];
   std::vector<uint8_t> t_two_sided;
   std::vector<uint32_t> t_prim, t_tri;
+  // Bounding sphere of every primitive (spheres first, then triangles), in the
+  // frame, in double: what the per-tile culling tests against.
+  std::vector<Vec3> b_center;
+  std::vector<double> b_radius;
 
   size_t spheres() const { return sx.size(); }
   size_t triangles() const { return t_prim.size(); }
@@ -47,6 +51,13 @@ struct SimdScene {
 };
 
 SimdScene prepare_scene(const Scene& scene, const Frame& frame, bool cull);
+
+// Primitives a packet may hit: sphere ids and triangle ids to test.
+struct Candidates {
+  std::vector<uint32_t> spheres, triangles;
+};
+// Every primitive: for rays with no shared origin (trace).
+Candidates all_candidates(const SimdScene& s);
 
 // One packet of up to kPacket rays in the frame, directions of unit length.
 inline constexpr int kPacket = 8;
