@@ -339,17 +339,34 @@ void trace_prepared(const SimdScene& s, const Candidates& cand, std::span<const 
 
 // Kernel calls: a one-primitive scene per packet, with the frame at the packet's
 // first ray origin, so that each packet keeps the precision of "camera-relative".
+// The scene's buffers are cleared and refilled, not reallocated, per packet.
+void clear_prims(SimdScene& s) {
+  s.sx.clear(), s.sy.clear(), s.sz.clear(), s.sr2.clear(), s.s_inside.clear(), s.s_prim.clear();
+  for (auto& k : s.tv)
+    for (auto& a : k) a.clear();
+  for (auto& a : s.tn) a.clear();
+  s.t_two_sided.clear(), s.t_prim.clear(), s.t_tri.clear(), s.b_center.clear(), s.b_radius.clear();
+}
+
 template <class AddPrims>
 void kernel(std::span<const Ray> rays, std::span<double> t, AddPrims add) {
-  std::vector<Hit> hits(std::min<size_t>(kPacket, rays.size()));
+  SimdScene s;
+  s.cull = false;
+  Candidates cand;
+  Packet p;
+  PacketHits out;
+  double scale[kPacket];
   for (size_t i = 0; i < rays.size(); i += kPacket) {
     const size_t n = std::min<size_t>(kPacket, rays.size() - i);
-    SimdScene s;
+    clear_prims(s);
     s.frame.origin = rays[i].o;
-    s.cull = false;
     add(s);
-    trace_prepared(s, all_candidates(s), rays.subspan(i, n), hits);
-    for (size_t k = 0; k < n; ++k) t[i + k] = hits[k].t;
+    if (i == 0) cand = all_candidates(s);  // same primitive count for every packet
+    p.count = int(n);
+    for (size_t k = 0; k < n; ++k) load_ray(s.frame, rays[i + k], p, int(k), scale[k]);
+    clear_tail(p);
+    HWY_DYNAMIC_DISPATCH(TracePacket)(s, cand, p, out);
+    for (size_t k = 0; k < n; ++k) t[i + k] = out.id[k] < 0 ? kInfinity : double(out.t[k]) / scale[k];
   }
 }
 

@@ -1,0 +1,209 @@
+// lockstep benchmarks (Google Benchmark), registered from the pair table.
+//
+//   kernel/<pair>/<impl>          one primitive against 4096 rays, single thread:
+//                                 items/s = ray-primitive tests per second
+//   frame/<scene>/<impl>/threads:N  the SPD scene rendered from its viewpoint:
+//                                 items/s = primary rays per second; counters
+//                                 build_ms (Embree BVH) and prims
+//
+// Reproduce the tables in BENCHMARKS.md with scripts/bench.sh. The reference is
+// scalar and single-threaded by design, so it only runs with threads:1, and on
+// scenes above 5000 primitives at 128x128 instead of 512x512 (rays/s is per ray;
+// brute force costs the same for every ray, so the rate carries over).
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <tbb/task_arena.h>
+
+#include "core/error.h"
+#include "core/nff.h"
+#include "core/pairs.h"
+
+namespace lockstep {
+namespace {
+
+// ---------------------------------------------------------------- kernel inputs
+// Deterministic rays from a shell around the origin aimed near a unit-size
+// primitive at the origin: about half hit. The same seed for every implementation.
+std::vector<Ray> rays_around_origin(size_t n, double spread) {
+  std::mt19937_64 rng(12345);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<Ray> rays(n);
+  for (auto& r : rays) {
+    Vec3 o;
+    do o = {u(rng), u(rng), u(rng)}; while (length(o) > 1 || length(o) < 0.1);
+    o = normalize(o) * 10.0;
+    const Vec3 target{spread * u(rng), spread * u(rng), spread * u(rng)};
+    r = Ray{o, normalize(target - o), 0.0, kInfinity};
+  }
+  return rays;
+}
+
+constexpr size_t kKernelRays = 4096;
+
+// Runs f with TBB limited to one thread (trace() of the optimized
+// implementations uses TBB's default arena).
+template <class F>
+void tbb_single_thread(F&& f) {
+  tbb::task_arena arena(1);
+  arena.execute(f);
+}
+
+template <class Fn, class Call>
+void register_kernel(const Pair<Fn>& pair, Call call) {
+  for (const auto& impl : pair.impls) {
+    const std::string name = "kernel/" + std::string(pair.name) + "/" + std::string(impl.name);
+    benchmark::RegisterBenchmark(name.c_str(), [fn = impl.fn, call](benchmark::State& st) {
+      const std::vector<Ray> rays = rays_around_origin(kKernelRays, 1.5);
+      std::vector<double> t(rays.size());
+      for (auto _ : st) {
+        call(fn, rays, t);
+        benchmark::DoNotOptimize(t.data());
+        benchmark::ClobberMemory();
+      }
+      st.SetItemsProcessed(int64_t(st.iterations()) * int64_t(rays.size()));
+      size_t hits = 0;
+      for (double x : t) hits += std::isfinite(x);
+      st.counters["hit_fraction"] = double(hits) / double(rays.size());
+    });
+  }
+}
+
+void register_kernels(const PairTable& table) {
+  const Sphere sphere{{0, 0, 0}, 1.0};
+  register_kernel(table.ray_sphere, [sphere](RaySphereFn fn, const std::vector<Ray>& r, std::vector<double>& t) {
+    fn(r, sphere, t);
+  });
+  const Plane plane{normalize(Vec3{0.3, 0.4, 1.0}), 0.0};
+  register_kernel(table.ray_plane, [plane](RayPlaneFn fn, const std::vector<Ray>& r, std::vector<double>& t) {
+    fn(r, plane, t);
+  });
+  // A single triangle: "ray-triangle tests per second".
+  auto tri = std::make_shared<Scene>();
+  const Vec3 v[3] = {{-1.5, -1, 0.2}, {1.5, -1, -0.2}, {0, 1.5, 0}};
+  add_polygon(*tri, v, {}, add_material(*tri, Material{}));
+  register_kernel(table.ray_polygon, [tri](RayPolygonFn fn, const std::vector<Ray>& r, std::vector<double>& t) {
+    fn(r, *tri, 0, t);
+  });
+}
+
+// ---------------------------------------------------------------- throughput
+// The single-primitive kernels above mostly measure per-call setup for SIMD
+// (8 rays against 1 primitive). Here every ray_cast implementation's trace()
+// resolves 4096 rays against 256 primitives (random unit spheres in a box, or a
+// 16x8 grid of quads = 256 triangles), single thread via a 1-thread arena:
+// items/s = ray-primitive pairs per second (brute force tests them all; Embree
+// does not, which is the point of a BVH).
+Scene throughput_scene(bool spheres) {
+  Scene s;
+  const uint32_t m = add_material(s, Material{});
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-4, 4);
+  if (spheres) {
+    for (int i = 0; i < 256; ++i) add_sphere(s, {u(rng), u(rng), u(rng)}, 0.3, m);
+  } else {
+    for (int i = 0; i < 16; ++i)
+      for (int j = 0; j < 8; ++j) {
+        const double x = -4 + i * 0.5, y = -4 + j * 1.0, z = 0.2 * std::sin(i + j);
+        const Vec3 q[4] = {{x, y, z}, {x + 0.5, y, z}, {x + 0.5, y + 1.0, z}, {x, y + 1.0, z}};
+        add_polygon(s, q, {}, m);
+      }
+  }
+  return s;
+}
+
+void register_throughput(const PairTable& table) {
+  for (bool spheres : {true, false}) {
+    auto scene = std::make_shared<Scene>(throughput_scene(spheres));
+    const double prims = double(scene->sphere_count() + scene->polygon_count() * (spheres ? 1 : 2));
+    for (const auto& impl : table.ray_cast.impls) {
+      const std::string name = std::string("throughput/") + (spheres ? "spheres/" : "triangles/") + std::string(impl.name);
+      benchmark::RegisterBenchmark(name.c_str(), [scene, prims, fn = impl.fn](benchmark::State& st) {
+        // Rays from one eye (as primary rays are), spread over the primitives.
+        std::vector<Ray> rays = rays_around_origin(kKernelRays, 4.0);
+        for (auto& r : rays) {
+          const Vec3 target = r.o + 10.0 * r.d;
+          r.o = Vec3{0.3, 0.2, 12.0};
+          r.d = normalize(target - r.o);
+        }
+        std::vector<Hit> hits(rays.size());
+        tbb_single_thread([&] {
+          for (auto _ : st) {
+            fn.trace(*scene, rays, hits, nullptr);
+            benchmark::DoNotOptimize(hits.data());
+          }
+        });
+        st.SetItemsProcessed(int64_t(double(st.iterations()) * double(rays.size()) * prims));
+      })->Unit(benchmark::kMicrosecond);
+    }
+  }
+}
+
+// ---------------------------------------------------------------- frames
+std::string spd_dir() {
+  if (const char* e = std::getenv("LOCKSTEP_SPD_DIR")) return e;
+  return LOCKSTEP_SPD_DIR;
+}
+
+void register_frames(const PairTable& table) {
+  const char* scenes[] = {"balls-1", "balls-2", "balls-3", "balls-4", "balls-5", "tetra-3",
+                          "mount-3", "gears-2", "teapot-2", "sombrero-2"};
+  const int all_threads = int(std::max(1u, std::thread::hardware_concurrency()));
+  for (const char* name : scenes) {
+    const std::string path = spd_dir() + "/" + name + ".nff";
+    if (!std::filesystem::exists(path)) continue;
+    auto scene = std::make_shared<Scene>(read_nff(path));
+    const uint32_t prims = scene->sphere_count() + scene->triangle_count();
+    for (const auto& impl : table.ray_cast.impls) {
+      const bool is_ref = impl.name == "reference";
+      for (int threads : {1, all_threads}) {
+        if (is_ref && threads != 1) continue;  // the reference is single-threaded by design
+        const int size = is_ref && prims > 5000 ? 128 : 512;
+        const std::string bname = "frame/" + std::string(name) + "/" + std::string(impl.name) +
+                                  "/threads:" + std::to_string(threads);
+        benchmark::RegisterBenchmark(bname.c_str(), [scene, size, threads, prims, fn = impl.fn](benchmark::State& st) {
+          RenderOptions opts;
+          opts.width = opts.height = size;
+          opts.threads = threads;
+          double build = 0;
+          for (auto _ : st) {
+            RenderStats stats;
+            Image img = fn.render(*scene, opts, &stats);
+            benchmark::DoNotOptimize(img.rgba.data());
+            build += stats.build_seconds;
+          }
+          st.SetItemsProcessed(int64_t(st.iterations()) * size * size);
+          st.counters["build_ms"] = 1e3 * build / double(st.iterations());
+          st.counters["prims"] = prims;
+          st.counters["size"] = size;
+        })->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace lockstep
+
+int main(int argc, char** argv) {
+  try {
+    lockstep::register_kernels(lockstep::pairs());
+    lockstep::register_throughput(lockstep::pairs());
+    lockstep::register_frames(lockstep::pairs());
+  } catch (const lockstep::InputError& e) {
+    std::fprintf(stderr, "lockstep_bench: %s\n", e.what());
+    return 2;
+  }
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 2;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -1,0 +1,139 @@
+#!/usr/bin/env python3
+"""Charts for BENCHMARKS.md from Google Benchmark JSON (+ the props accuracy CSV).
+
+usage: charts.py BENCH_JSON [ACCURACY_CSV] OUT_DIR
+
+  scaling.png   time per primary ray against primitive count (log-log), one
+                line per implementation, 1 thread, with auto's crossover marked
+  accuracy.png  speed against accuracy: time per ray-primitive test (kernel
+                benchmarks) against max and p99 relative error of t vs the oracle
+Also prints the markdown tables used in BENCHMARKS.md.
+"""
+import csv
+import json
+import os
+import re
+import subprocess
+import sys
+
+
+def load(path):
+    with open(path) as f:
+        data = json.load(f)
+    rows = []
+    for b in data["benchmarks"]:
+        if b.get("run_type") == "aggregate":
+            continue
+        name = re.sub(r"/(real_time|process_time|manual_time)", "", b["name"])
+        rows.append((name, b))
+    return data.get("context", {}), rows
+
+
+def crossover():
+    src = os.path.join(os.path.dirname(__file__), "..", "optimized", "ray_cast_auto.cpp")
+    try:
+        m = re.search(r"kCrossoverPrimitives\s*=\s*([0-9']+)", open(src).read())
+        return int(m.group(1).replace("'", "")) if m else None
+    except OSError:
+        return None
+
+
+def per_ray_ns(b):
+    return 1e9 / b["items_per_second"] if b.get("items_per_second") else None
+
+
+def main():
+    bench_json, out = sys.argv[1], sys.argv[-1]
+    acc_csv = sys.argv[2] if len(sys.argv) > 3 else None
+    os.makedirs(out, exist_ok=True)
+    ctx, rows = load(bench_json)
+
+    # ---- frames: scene/impl/threads
+    frames = {}
+    for name, b in rows:
+        p = name.split("/")
+        if p[0] != "frame":
+            continue
+        scene, impl, threads = p[1], p[2], int(p[3].split(":")[1])
+        frames[(scene, impl, threads)] = b
+    scenes = sorted({s for s, _, _ in frames}, key=lambda s: frames[next(k for k in frames if k[0] == s)]["prims"])
+    impls = []
+    for _, i, _ in frames:
+        if i not in impls:
+            impls.append(i)
+    threads_all = max([t for _, _, t in frames] or [1])
+
+    print("| scene | prims | " + " | ".join(f"{i} 1T (Mrays/s)" for i in impls) +
+          f" | simd {threads_all}T | embree {threads_all}T | auto {threads_all}T | simd/ref 1T | embree/ref 1T | auto vs best 1T |")
+    print("|---" * (2 + len(impls) + 6) + "|")
+    for s in scenes:
+        get = lambda i, t: frames.get((s, i, t), {}).get("items_per_second")
+        cells = [f"{get(i, 1) / 1e6:.2f}" if get(i, 1) else "-" for i in impls]
+        cells_all = [f"{get(i, threads_all) / 1e6:.2f}" if get(i, threads_all) else "-" for i in ("simd", "embree", "auto")]
+        ref = get("reference", 1)
+        ratio = lambda i: f"{get(i, 1) / ref:.1f}x" if ref and get(i, 1) else "-"
+        best = max(get("simd", 1) or 0, get("embree", 1) or 0)
+        auto = get("auto", 1)
+        autovs = f"{100 * (best - auto) / best:+.1f}% slower" if auto and best and auto < best else ("best" if auto else "-")
+        prims = int(frames[next(k for k in frames if k[0] == s)]["prims"])
+        print(f"| {s} | {prims} | " + " | ".join(cells + cells_all) + f" | {ratio('simd')} | {ratio('embree')} | {autovs} |")
+
+    with open(os.path.join(out, "scaling.dat"), "w") as f:
+        f.write("# prims " + " ".join(impls) + "  (ns per primary ray, 1 thread)\n")
+        for s in scenes:
+            prims = frames[next(k for k in frames if k[0] == s)]["prims"]
+            vals = [per_ray_ns(frames[(s, i, 1)]) if (s, i, 1) in frames else None for i in impls]
+            f.write(f"{prims:g} " + " ".join(f"{v:.3f}" if v else "NaN" for v in vals) + f"  # {s}\n")
+    x = crossover()
+    plot = ", ".join(f"'{out}/scaling.dat' using 1:{k + 2} with linespoints lw 2 title '{i}'" for k, i in enumerate(impls))
+    gp = f"""set terminal pngcairo size 900,600 font ',11'
+set output '{out}/scaling.png'
+set logscale xy
+set grid
+set key top left
+set xlabel 'primitives in the scene (spheres + triangles)'
+set ylabel 'time per primary ray, ns (1 thread)'
+set title 'Ray casting SPD scenes: cost per ray against scene size'
+{f"set arrow from {x},graph 0 to {x},graph 1 nohead dt 2 lw 2 lc rgb 'gray40'" if x else ""}
+{f"set label 'auto crossover ({x})' at {x},graph 0.95 offset 1,0" if x else ""}
+plot {plot}
+"""
+    subprocess.run(["gnuplot"], input=gp, text=True, check=True)
+
+    # ---- speed vs accuracy
+    if acc_csv and os.path.exists(acc_csv):
+        kern = {}
+        for name, b in rows:
+            p = name.split("/")
+            if p[0] == "kernel":
+                kern[(p[1], p[2])] = per_ray_ns(b)
+            if p[0] == "throughput":
+                kern[("throughput_" + p[1], p[2])] = per_ray_ns(b)
+        acc = list(csv.DictReader(open(acc_csv)))
+        print("\n| kernel | impl | ns per test | max rel. error | p99 rel. error | cases |")
+        print("|---|---|---|---|---|---|")
+        with open(os.path.join(out, "accuracy.dat"), "w") as f:
+            f.write("# ns max p99 label\n")
+            for a in acc:
+                ns = kern.get((a["kernel"], a["impl"]))
+                print(f"| {a['kernel']} | {a['impl']} | {ns:.2f} | {float(a['max']):.3g} | {float(a['p99']):.3g} | {a['cases']} |"
+                      if ns else f"| {a['kernel']} | {a['impl']} | - | {float(a['max']):.3g} | {float(a['p99']):.3g} | {a['cases']} |")
+                if ns:
+                    f.write(f"{ns} {max(float(a['max']), 1e-18)} {max(float(a['p99']), 1e-18)} \"{a['kernel']}/{a['impl']}\"\n")
+        gp = f"""set terminal pngcairo size 900,600 font ',11'
+set output '{out}/accuracy.png'
+set logscale xy
+set grid
+set xlabel 'time per ray-primitive test, ns (kernel benchmark, 1 thread)'
+set ylabel 'relative error of t against the oracle'
+set title 'Speed against accuracy (well-conditioned and stability generators)'
+set key top right
+plot '{out}/accuracy.dat' using 1:2 with points pt 7 ps 1.5 title 'max error', \\
+     '' using 1:3 with points pt 5 ps 1.2 title 'p99 error', \\
+     '' using 1:2:4 with labels offset 0,1 font ',9' notitle
+"""
+        subprocess.run(["gnuplot"], input=gp, text=True, check=True)
+
+
+if __name__ == "__main__":
+    main()

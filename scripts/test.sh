@@ -1,0 +1,10 @@
+#!/usr/bin/env bash
+# Build lockstep (Release, Ninja) and run every test: properties, replayed
+# counterexamples, the CLI and bad-input tests, and `lockstep verify` on the corpus.
+# Deep mode (>= 1000 cases per property): LOCKSTEP_DEEP=1 bash scripts/test.sh
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+ninja -C build
+ctest --test-dir build --output-on-failure -j2 --timeout 900
