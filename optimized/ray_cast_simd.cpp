@@ -28,6 +28,7 @@
 #include "core/ray_cast.h"
 #include "core/shading.h"
 #include "optimized/refine.h"
+#include "optimized/shade_simd.h"
 #include "optimized/simd_scene.h"
 
 #undef HWY_TARGET_INCLUDE
@@ -490,6 +491,7 @@ Image render(const Scene& scene, const RenderOptions& opts, RenderStats* stats) 
   const Frame frame{cam.eye, cam.right, cam.up, cam.forward};
   const SimdScene s = prepare_scene(scene, frame, true);
   const ConeBounds cb = cone_bounds(s);
+  const ShadeScene shading = prepare_shading(scene, frame);
   Image image(opts.width, opts.height);
   constexpr int kTileW = 32, kTileH = 8;
   const int tiles_x = (opts.width + kTileW - 1) / kTileW, tiles_y = (opts.height + kTileH - 1) / kTileH;
@@ -498,31 +500,40 @@ Image render(const Scene& scene, const RenderOptions& opts, RenderStats* stats) 
   auto render_tile = [&](int tx, int ty) {
     Packet p;
     PacketHits out;
+    ShadePacket sp{};
     Candidates cand;
     cull_tile(s, cb, cam, tx * kTileW, std::min(opts.width, (tx + 1) * kTileW), ty * kTileH,
               std::min(opts.height, (ty + 1) * kTileH), cand);
     for (int j = ty * kTileH; j < std::min(opts.height, (ty + 1) * kTileH); ++j) {
       for (int i0 = tx * kTileW; i0 < std::min(opts.width, (tx + 1) * kTileW); i0 += kPacket) {
         p.count = std::min(kPacket, opts.width - i0);
-        double scale[kPacket];
+        Vec3 unit[kPacket];
         for (int k = 0; k < p.count; ++k) {
           // Camera-space direction (sx, sy, 1), normalised in double then rounded.
           const Vec3 d = cam.camera_dir(i0 + k, j);
           const double len = length(d);
+          unit[k] = d / len;
           p.ox[k] = p.oy[k] = p.oz[k] = 0;
-          p.dx[k] = float(d.x / len), p.dy[k] = float(d.y / len), p.dz[k] = float(d.z / len);
+          p.dx[k] = float(unit[k].x), p.dy[k] = float(unit[k].y), p.dz[k] = float(unit[k].z);
           p.tmin[k] = float(cam.hither * len);
           p.tmax[k] = HUGE_VALF;
-          scale[k] = 1.0;  // the world ray below is unit length too, so t carries over
         }
         clear_tail(p);
         HWY_DYNAMIC_DISPATCH(TracePacket)(s, cand, p, out);
         for (int k = 0; k < p.count; ++k) {
-          const Ray ray = cam.primary(i0 + k, j);
-          Hit h = to_hit(s, out.t[k], out.id[k], scale[k]);
-          refine_hit(scene, ray, h);
-          image.set(i0 + k, j, shade(scene, ray, h));
+          // The same unit ray in world space (t carries over: both are unit length).
+          const Vec3& u = unit[k];
+          const Ray ray{cam.eye, u.x * cam.right + u.y * cam.up + u.z * cam.forward, 0.0, kInfinity};
+          Hit h = to_hit(s, out.t[k], out.id[k], 1.0);
+          // Float's t is good to ~1e-7 relative. Only a sphere seen from more than
+          // ~1000 radii away needs it better (its normal is (P - c)/r).
+          if (h.hit() && h.prim < scene.sphere_count() && h.t > 1e3 * std::abs(scene.sphere_radius[h.prim]))
+            refine_hit(scene, ray, h);
+          fill_lane(scene, frame, ray, h, sp, k);
         }
+        for (int k = p.count; k < kPacket; ++k) sp.hit[k] = 0;
+        shade_packet(shading, sp);
+        for (int k = 0; k < p.count; ++k) image.set(i0 + k, j, Vec3{sp.r[k], sp.g[k], sp.b[k]});
       }
     }
     const int n = ++done;
