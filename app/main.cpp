@@ -1,19 +1,91 @@
-// PLACEHOLDER main for bring-up
+// lockstep: the command-line tool.
+//
+//   lockstep render SCENE [--impl NAME] [--size WxH] [--threads N] -o OUT
+//   lockstep diff A B [--fail T] [--failpercent P] [--warn W] [--heatmap OUT]
+//   lockstep verify [CORPUS_DIR] [--report DIR] [--impl NAME]... [--filter SUBSTR]
+//
+// main() only dispatches and turns exceptions into exit codes (app/cli.h).
 #include <cstdio>
-#include "core/nff.h"
-#include "core/pairs.h"
-#include "core/error.h"
-int main(int argc, char** argv) {
-  using namespace lockstep;
-  try {
-    Scene s = read_nff(argv[1]);
-    RenderOptions o; o.width = o.height = argc > 3 ? atoi(argv[3]) : 256;
-    for (auto& impl : pairs().ray_cast.impls) {
-      if (impl.name == "embree") continue;
-      RenderStats st;
-      Image im = impl.fn.render(s, o, &st);
-      write_image(im, std::string(argv[2]) + "-" + std::string(impl.name) + ".png");
-      printf("%s %.3fs\n", std::string(impl.name).c_str(), st.trace_seconds);
+#include <exception>
+#include <new>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "app/cli.h"
+
+namespace cli = lockstep::cli;
+
+namespace {
+
+void print_help() {
+  std::printf(
+      "lockstep %s: textbook ray casting against optimized ray casting, proven to agree.\n"
+      "\n"
+      "usage:\n"
+      "  lockstep render SCENE.nff [--impl NAME] [--size WxH] [--threads N] -o OUT\n"
+      "      render an NFF scene with one implementation; the format follows OUT's extension\n"
+      "  lockstep diff A B [--fail T] [--failpercent P] [--warn W] [--heatmap OUT]\n"
+      "      compare two images (idiff style); exit 0 when they agree, 1 when not\n"
+      "  lockstep verify [CORPUS_DIR] [--report DIR] [--impl NAME]... [--filter SUBSTR]\n"
+      "      render every corpus case with every implementation, check against the reference,\n"
+      "      the golden images and analytic judges, and write a report\n"
+      "\n"
+      "implementations (core/pairs.h): %s\n"
+      "\n"
+      "options: --help (also after a subcommand), --version\n"
+      "exit codes: 0 ok, 1 differences/failures, 2 bad usage or bad input, 3 internal error\n",
+      LOCKSTEP_VERSION, cli::impl_names().c_str());
+}
+
+int run(int argc, char** argv, std::string& sub) {
+  std::vector<std::string_view> args(argv + 1, argv + argc);
+  if (args.empty()) throw cli::UsageError("missing subcommand (render, diff or verify)");
+  const std::string_view first = args.front();
+  if (first == "--help" || first == "-h" || first == "help") {
+    print_help();
+    return cli::kExitOk;
+  }
+  if (first == "--version" || first == "-V") {
+    std::printf("lockstep %s\n", LOCKSTEP_VERSION);
+    return cli::kExitOk;
+  }
+  const cli::Args rest = cli::Args(args).subspan(1);
+  sub = std::string(first);
+  // --version works after a subcommand too (--help is each subcommand's own).
+  for (const std::string_view a : rest) {
+    if (a == "--") break;
+    if (a == "--version" || a == "-V") {
+      std::printf("lockstep %s\n", LOCKSTEP_VERSION);
+      return cli::kExitOk;
     }
-  } catch (const InputError& e) { fprintf(stderr, "%s\n", e.what()); return 2; }
+  }
+  if (first == "render") return cli::render_main(rest);
+  if (first == "diff") return cli::diff_main(rest);
+  if (first == "verify") return cli::verify_main(rest);
+  sub.clear();
+  if (cli::is_option(first)) cli::unknown_option(first);
+  throw cli::UsageError("unknown subcommand '" + std::string(first) + "' (render, diff or verify)");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string sub;
+  try {
+    return run(argc, argv, sub);
+  } catch (const lockstep::InputError& e) {
+    std::fprintf(stderr, "lockstep: %s\n", e.what());
+    return cli::kExitBadInput;
+  } catch (const cli::UsageError& e) {
+    const std::string who = sub.empty() ? "lockstep" : "lockstep " + sub;
+    std::fprintf(stderr, "%s: %s (see %s --help)\n", who.c_str(), e.what(), who.c_str());
+    return cli::kExitBadInput;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "lockstep: out of memory\n");
+    return cli::kExitInternal;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "lockstep: internal error: %s\n", e.what());
+    return cli::kExitInternal;
+  }
 }

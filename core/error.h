@@ -19,9 +19,15 @@ class InputError : public std::runtime_error {
 
  private:
   static std::string format(const std::string& file, int line, const std::string& what) {
+    // Appended piece by piece: `":" + std::to_string(line)` trips GCC 12's -Wrestrict (a false positive).
     std::string s = file;
-    if (line > 0) s += ":" + std::to_string(line);
-    return s + ": " + what;
+    if (line > 0) {
+      s += ':';
+      s += std::to_string(line);
+    }
+    s += ": ";
+    s += what;
+    return s;
   }
   std::string file_;
   int line_;

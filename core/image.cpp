@@ -36,7 +36,9 @@ Image read_image(const std::string& path) {
   return img;
 }
 
-void write_image(const Image& image, const std::string& path) {
+void write_image(const Image& image, const std::string& path) { write_image(image, path, "zip"); }
+
+void write_image(const Image& image, const std::string& path, const std::string& exr_compression) {
   namespace fs = std::filesystem;
   const fs::path target(path);
   // Keep the extension on the temporary name: OIIO picks the format from it.
@@ -49,7 +51,7 @@ void write_image(const Image& image, const std::string& path) {
   const std::string ext = target.extension().string();
   if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".ppm")
     spec.set_format(OIIO::TypeDesc::UINT8);
-  if (ext == ".exr") spec.attribute("compression", "zip");
+  if (ext == ".exr") spec.attribute("compression", exr_compression);
   bool ok = out->open(tmp.string(), spec) && out->write_image(OIIO::TypeDesc::FLOAT, image.rgba.data());
   ok = out->close() && ok;
   std::string why = out->geterror();

@@ -37,6 +37,11 @@ struct Image {
 // accepted: grey is replicated, a missing alpha is 1.
 Image read_image(const std::string& path);
 // Throws InputError when the file cannot be written; nothing is left behind then.
+// .exr files are zip-compressed (lossless).
 void write_image(const Image& image, const std::string& path);
+// The same with another OpenEXR compression for .exr files, e.g. "pxr24" (lossy:
+// floats rounded to 24 bits, relative error <= 2^-16; the golden images use it,
+// at a quarter of zip's size).
+void write_image(const Image& image, const std::string& path, const std::string& exr_compression);
 
 }  // namespace lockstep

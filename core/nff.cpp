@@ -2,7 +2,9 @@
 
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <vector>
@@ -37,10 +39,12 @@ class Lines {
   }
   // Like next(), but the file must not end here.
   void require_next(const char* what) {
-    if (!next()) {
-      ++line_no_;
-      fail(std::string("file ends early: expected ") + what);
-    }
+    if (!next()) fail_at_end(std::string("file ends early: expected ") + what);
+  }
+  // An error about the end of the file, reported on the line after the last one.
+  [[noreturn]] void fail_at_end(const std::string& what) {
+    ++line_no_;
+    fail(what);
   }
 
   const std::vector<std::string_view>& words() const { return words_; }
@@ -58,7 +62,8 @@ class Lines {
     errno = 0;
     const double v = std::strtod(s.c_str(), &end);
     if (end == s.c_str() || *end != '\0') fail("not a number: '" + s + "'");
-    if (!std::isfinite(v) || errno == ERANGE) fail("number out of range (NaN, Inf or overflow): '" + s + "'");
+    // ERANGE also flags underflow (1e-320 reads as a denormal or 0): only overflow is an error.
+    if (!std::isfinite(v)) fail("number out of range (NaN, Inf or overflow): '" + s + "'");
     return v;
   }
   long integer(size_t i) const {
@@ -109,8 +114,16 @@ void read_view(Lines& in, View& v) {
       case 0: in.expect_count(4, "from x y z"); v.from = in.vec3(1); break;
       case 1: in.expect_count(4, "at x y z"); v.at = in.vec3(1); break;
       case 2: in.expect_count(4, "up x y z"); v.up = in.vec3(1); break;
-      case 3: in.expect_count(2, "angle degrees"); v.angle = in.number(1); break;
-      case 4: in.expect_count(2, "hither distance"); v.hither = in.number(1); break;
+      case 3:
+        in.expect_count(2, "angle degrees");
+        v.angle = in.number(1);
+        if (!(v.angle > 0 && v.angle < 180)) in.fail("camera angle must be between 0 and 180 degrees, got " + std::string(w[1]));
+        break;
+      case 4:
+        in.expect_count(2, "hither distance");
+        v.hither = in.number(1);
+        if (v.hither < 0) in.fail("hither must not be negative, got " + std::string(w[1]));
+        break;
       case 5: {
         in.expect_count(3, "resolution w h");
         const long w_ = in.integer(1), h_ = in.integer(2);
@@ -134,7 +147,11 @@ void validate_view(const View& v, const std::string& file, int line) {
   if (length(dir) == 0) fail("degenerate camera: 'from' equals 'at'");
   const Vec3 side = cross(normalize(dir), v.up);
   if (!(length(side) > 1e-9 * length(v.up))) fail("degenerate camera: 'up' is zero or parallel to the view direction");
-  if (!(v.angle > 0 && v.angle < 180)) fail("camera angle must be between 0 and 180 degrees, got " + std::to_string(v.angle));
+  if (!(v.angle > 0 && v.angle < 180)) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%g", v.angle);
+    fail(std::string("camera angle must be between 0 and 180 degrees, got ") + buf);
+  }
   if (v.hither < 0) fail("hither must not be negative");
   if (v.xres < 1 || v.yres < 1 || v.xres > kMaxResolution || v.yres > kMaxResolution)
     fail("resolution out of range (1 .. " + std::to_string(kMaxResolution) + ")");
@@ -200,8 +217,11 @@ Scene parse_nff(std::string_view text, const std::string& name) {
       if (n > kMaxPolygonVertices) in.fail("polygon with " + std::to_string(n) + " vertices is absurd");
       verts.clear();
       normals.clear();
+      const int poly_line = in.line();
       for (long i = 0; i < n; ++i) {
-        in.require_next(patch ? "a patch vertex 'x y z nx ny nz'" : "a polygon vertex 'x y z'");
+        if (!in.next())
+          in.fail_at_end("file ends early: expected vertex " + std::to_string(i + 1) + " of " + std::to_string(n) +
+                         " of the " + (patch ? "patch" : "polygon") + " on line " + std::to_string(poly_line));
         in.expect_count(patch ? 6 : 3, patch ? "x y z nx ny nz" : "x y z");
         verts.push_back(in.vec3(0));
         if (patch) {
@@ -225,8 +245,10 @@ Scene parse_nff(std::string_view text, const std::string& name) {
 }
 
 Scene read_nff(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw InputError(path, 0, "is a folder, not an NFF file");
   std::ifstream f(path, std::ios::binary);
-  if (!f) throw InputError(path, 0, "cannot open file");
+  if (!f) throw InputError(path, 0, std::filesystem::exists(path, ec) ? "cannot open file" : "no such file");
   std::ostringstream ss;
   ss << f.rdbuf();
   if (f.bad()) throw InputError(path, 0, "cannot read file");

@@ -13,7 +13,9 @@ constexpr double kF64 = 1e-11;
 
 constexpr Impl<RaySphereFn> kRaySphere[] = {
     {"reference", ref::ray_sphere, kF64},
-    {"reference_f32", ref::ray_sphere_f32, 1e-3},  // textbook in float: cancellation is expected
+    // Textbook in float: cancellation is expected. Against the double reference it
+    // agrees to 1e-4 on well-conditioned rays (measured 4.5e-5), not to 1e-5.
+    {"reference_f32", ref::ray_sphere_f32, 1e-3, 1e-4},
     {"simd", opt::simd::ray_sphere, kF32},
 };
 constexpr Impl<RayPlaneFn> kRayPlane[] = {
@@ -28,7 +30,10 @@ constexpr Impl<RayPolygonFn> kRayPolygon[] = {
 constexpr Impl<CasterFns> kRayCast[] = {
     {"reference", {ref::trace, ref::render}, kF64},
     {"simd", {opt::simd::trace, opt::simd::render}, kF32},
-    {"embree", {opt::embree::trace, opt::embree::render}, kF32},
+    // Embree 3.13.5 with RTC_SCENE_FLAG_ROBUST lets about 1 in 20000 rays through
+    // a closed mesh exactly at a shared vertex (corpus/counterexamples/
+    // watertight.shared_edge_rays.ray_cast.embree-*.txt); edges are watertight.
+    {"embree", {opt::embree::trace, opt::embree::render}, kF32, 0, "leak_vertex"},
     {"auto", {opt::autosel::trace, opt::autosel::render}, kF32},
 };
 

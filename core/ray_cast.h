@@ -13,7 +13,9 @@
 //
 // Frames: the whole scene, nearest *visible* hit (NFF sidedness: see
 // core/shading.h visible_side), shading by core/shading.h.
-//   trace        arbitrary rays -> Hit (t in units of |d| of each ray)
+//   trace        arbitrary rays -> Hit (t in units of |d| of each ray); rays
+//                start at their origin or later (0 <= tmin): sidedness is decided
+//                from where the ray starts, which a negative tmin would move
 //   render       the scene's viewpoint at opts.width x opts.height (core/camera.h)
 #pragma once
 

@@ -1,7 +1,574 @@
-// PLACEHOLDER (being written): replaced before the first commit.
+// Ray casting with Intel Embree 3: a BVH built over the scene, packets of 8 rays.
+//
+// The set-up follows Embree's tutorials/minimal/minimal.cpp: a device with an
+// error callback, one scene, geometries filled through rtcSetNewGeometryBuffer,
+// rtcCommitScene, then queries with every RTCRayHit field initialised. Spheres
+// are one RTC_GEOMETRY_TYPE_SPHERE_POINT geometry (x, y, z, |r|), the polygons'
+// triangulation one RTC_GEOMETRY_TYPE_TRIANGLE geometry; the scene is
+// RTC_SCENE_FLAG_ROBUST (no traversal shortcuts that may miss an edge).
+// Primary rays go through rtcIntersect8 in 8-pixel runs of 32 x 8 screen tiles
+// spread over the cores with TBB (the tiling of ray_cast_simd.cpp).
+//
+// Where Embree and NFF disagree, and what we do about it:
+//  * Sidedness. Embree reports every surface from both sides; NFF sees spheres
+//    only from outside (inside for r < 0) and polygons only from their front
+//    unless they transmit (core/shading.h visible_side). An intersection filter
+//    per geometry (rtcSetGeometryIntersectFilterFunction) rejects hits on the
+//    invisible side, so traversal carries on behind them. It uses our own data
+//    (sphere centres, the polygons' plane normals), not Embree's Ng, whose
+//    orientation convention for triangles is the opposite winding rule. For a
+//    sphere Embree offers the entering hit first and, if the filter rejects it,
+//    the leaving one: that is what makes r < 0 (far wall only) come out right.
+//  * Precision. Embree works in float. The scene is first moved into a local
+//    frame in double (the camera's, or the first ray's origin; simd::Frame) so
+//    that a scene far from the world origin loses nothing, and the winning hit's
+//    t is recomputed in double afterwards (optimized/refine.h).
+//  * Ray ranges. Embree wants 0 <= tnear <= tfar; rays with tmin < 0 start from
+//    o + tmin d instead; rays it cannot represent (non-finite values, d = 0,
+//    tmin = -inf) miss.
+//
+// Shading is the one ray_cast_simd.cpp uses (optimized/shade_simd.h), so the
+// two optimized renders differ only in how they find the hit.
+#include <embree3/rtcore.h>
+#include <tbb/blocked_range.h>
+#include <tbb/blocked_range2d.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <mutex>
 #include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/camera.h"
 #include "core/ray_cast.h"
+#include "core/shading.h"
+#include "optimized/refine.h"
+#include "optimized/shade_simd.h"
+#include "optimized/simd_scene.h"
+
 namespace lockstep::opt::embree {
-void trace(const Scene&, std::span<const Ray>, std::span<Hit>, RenderStats*) { throw std::logic_error("todo"); }
-Image render(const Scene&, const RenderOptions&, RenderStats*) { throw std::logic_error("todo"); }
+
+namespace {
+
+using simd::Frame;
+
+constexpr int kPacket = 8;
+// Fixed geometry ids: a hit's geomID says which array primID indexes.
+constexpr unsigned kSphereGeom = 0, kTriangleGeom = 1, kFarSphereGeom = 2;
+
+// Embree's built-in sphere test is the textbook quadratic in float: for a sphere
+// whose distance from the frame's origin (the eye) exceeds kFarRatio radii, C =
+// |o - c|^2 - r^2 loses more than eps * 256^2 ~ 4e-3 of r^2 and the disk's edge
+// visibly moves (at 1e6 radii the sphere vanishes; corpus case far-sphere).
+// Those spheres go into a user geometry that runs the stable form of Ray
+// Tracing Gems ch. 7 in double instead; all others stay RTC_GEOMETRY_TYPE_SPHERE_POINT.
+constexpr double kFarRatio = 256;
+
+// ---------------------------------------------------------------- device and errors
+const char* error_name(RTCError e) {
+  switch (e) {
+    case RTC_ERROR_NONE:
+      return "no error";
+    case RTC_ERROR_UNKNOWN:
+      return "unknown error";
+    case RTC_ERROR_INVALID_ARGUMENT:
+      return "invalid argument";
+    case RTC_ERROR_INVALID_OPERATION:
+      return "invalid operation";
+    case RTC_ERROR_OUT_OF_MEMORY:
+      return "out of memory";
+    case RTC_ERROR_UNSUPPORTED_CPU:
+      return "unsupported CPU";
+    case RTC_ERROR_CANCELLED:
+      return "cancelled";
+  }
+  return "error";
 }
+
+// What the device reported; the callback may run on Embree's build threads.
+struct ErrorLog {
+  std::mutex mutex;
+  std::string first;  // empty: nothing reported
+};
+
+void on_error(void* user, RTCError code, const char* what) {
+  auto& log = *static_cast<ErrorLog*>(user);
+  std::lock_guard<std::mutex> lock(log.mutex);
+  if (log.first.empty())
+    log.first = std::string(error_name(code)) + (what ? std::string(": ") + what : "");
+}
+
+struct Device {
+  ErrorLog log;
+  RTCDevice handle = nullptr;
+
+  Device() {
+    // No "threads=N" config: with TBB tasking Embree would turn it into a
+    // process-wide tbb::global_control. Builds run in the caller's task arena.
+    handle = rtcNewDevice(nullptr);
+    if (!handle)
+      throw std::runtime_error(std::string("embree: cannot create device: ") +
+                               error_name(rtcGetDeviceError(nullptr)));
+    rtcSetDeviceErrorFunction(handle, on_error, &log);
+  }
+  ~Device() { rtcReleaseDevice(handle); }
+  Device(const Device&) = delete;
+  Device& operator=(const Device&) = delete;
+
+  // Throws if the device has reported anything since it was created.
+  void check(const char* during) {
+    std::lock_guard<std::mutex> lock(log.mutex);
+    if (!log.first.empty())
+      throw std::runtime_error(std::string("embree: ") + during + ": " + log.first);
+  }
+};
+
+// A geometry being set up; released once attached (the scene keeps its own reference).
+struct Geometry {
+  RTCGeometry handle;
+  Geometry(RTCDevice d, RTCGeometryType type) : handle(rtcNewGeometry(d, type)) {}
+  ~Geometry() {
+    if (handle) rtcReleaseGeometry(handle);
+  }
+  Geometry(const Geometry&) = delete;
+  Geometry& operator=(const Geometry&) = delete;
+};
+
+// ---------------------------------------------------------------- the scene and its filters
+// Filter data, reached through the geometry's user pointer.
+struct SphereData {
+  const float* xyzr = nullptr;  // Embree's own vertex buffer: the centres it intersects with
+  std::vector<uint8_t> inside;  // radius < 0: only the inside is visible
+  std::vector<uint32_t> index;  // Embree primID -> the scene's sphere index
+};
+// Far spheres (user geometry): centre in the frame and |radius|, in double.
+struct FarSphereData {
+  std::vector<Vec3> center;
+  std::vector<double> radius;
+  std::vector<uint8_t> inside;
+  std::vector<uint32_t> index;  // Embree primID -> the scene's sphere index
+};
+struct TriangleData {
+  std::vector<Vec3> normal;        // the polygon's plane normal, in the frame
+  std::vector<uint8_t> two_sided;  // the polygon's material transmits: no culling
+};
+
+// Spheres: keep the hit when its side is the visible one. With P = o + t d,
+// d.(P - c) < 0 where the ray enters and > 0 where it leaves. It is evaluated in
+// double from the very floats Embree intersected with (its centre, the ray), so
+// only a ray grazing the sphere to within float rounding can be misjudged, and
+// there the two roots coincide anyway.
+void sphere_filter(const RTCFilterFunctionNArguments* args) {
+  const auto& data = *static_cast<const SphereData*>(args->geometryUserPtr);
+  const unsigned n = args->N;
+  for (unsigned i = 0; i < n; ++i) {
+    if (!args->valid[i]) continue;
+    const unsigned prim = RTCHitN_primID(args->hit, n, i);
+    const float* c = data.xyzr + 4 * size_t(prim);
+    const double t = RTCRayN_tfar(args->ray, n, i);  // the candidate hit's distance
+    const double dx = RTCRayN_dir_x(args->ray, n, i), dy = RTCRayN_dir_y(args->ray, n, i),
+                 dz = RTCRayN_dir_z(args->ray, n, i);
+    const double px = double(RTCRayN_org_x(args->ray, n, i)) - c[0] + t * dx;
+    const double py = double(RTCRayN_org_y(args->ray, n, i)) - c[1] + t * dy;
+    const double pz = double(RTCRayN_org_z(args->ray, n, i)) - c[2] + t * dz;
+    const double s = dx * px + dy * py + dz * pz;
+    const bool visible = data.inside[prim] ? s > 0 : s < 0;
+    if (!visible) args->valid[i] = 0;
+  }
+}
+
+// Far spheres: bounds for the BVH, padded by a few float ulps of the centre's
+// magnitude so that rounding the box to float cannot cut the sphere.
+void far_sphere_bounds(const RTCBoundsFunctionArguments* args) {
+  const auto& data = *static_cast<const FarSphereData*>(args->geometryUserPtr);
+  const Vec3& c = data.center[args->primID];
+  const double r = data.radius[args->primID];
+  const double pad = r + 4e-7 * (std::abs(c.x) + std::abs(c.y) + std::abs(c.z)) + 1e-30;
+  RTCBounds* b = args->bounds_o;
+  b->lower_x = float(c.x - pad), b->lower_y = float(c.y - pad), b->lower_z = float(c.z - pad);
+  b->upper_x = float(c.x + pad), b->upper_y = float(c.y + pad), b->upper_z = float(c.z + pad);
+}
+
+// Far spheres: the stable roots in double, from the float ray Embree traces;
+// the visible root is the entering one (the leaving one for r < 0), as the
+// sphere filter decides for the built-in spheres.
+void far_sphere_intersect(const RTCIntersectFunctionNArguments* args) {
+  const auto& data = *static_cast<const FarSphereData*>(args->geometryUserPtr);
+  const unsigned n = args->N, prim = args->primID;
+  RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, n);
+  RTCHitN* hit = RTCRayHitN_HitN(args->rayhit, n);
+  for (unsigned i = 0; i < n; ++i) {
+    if (!args->valid[i]) continue;
+    const Vec3 o{RTCRayN_org_x(ray, n, i), RTCRayN_org_y(ray, n, i), RTCRayN_org_z(ray, n, i)};
+    const Vec3 d{RTCRayN_dir_x(ray, n, i), RTCRayN_dir_y(ray, n, i), RTCRayN_dir_z(ray, n, i)};
+    double t0, t1;
+    if (!stable_sphere_roots(o, d, data.center[prim], data.radius[prim], t0, t1)) continue;
+    const double t = data.inside[prim] ? t1 : t0;
+    const float tf = float(t);
+    if (!(tf > RTCRayN_tnear(ray, n, i) && tf < RTCRayN_tfar(ray, n, i))) continue;
+    const Vec3 p = o + t * d - data.center[prim];
+    RTCRayN_tfar(ray, n, i) = tf;
+    RTCHitN_Ng_x(hit, n, i) = float(p.x);
+    RTCHitN_Ng_y(hit, n, i) = float(p.y);
+    RTCHitN_Ng_z(hit, n, i) = float(p.z);
+    RTCHitN_u(hit, n, i) = 0;
+    RTCHitN_v(hit, n, i) = 0;
+    RTCHitN_primID(hit, n, i) = prim;
+    RTCHitN_geomID(hit, n, i) = kFarSphereGeom;
+    RTCHitN_instID(hit, n, i, 0) = args->context->instID[0];
+  }
+}
+
+// Shadow-style queries are not used (no shadows yet); Embree still wants one.
+void far_sphere_occluded(const RTCOccludedFunctionNArguments* args) {
+  const auto& data = *static_cast<const FarSphereData*>(args->geometryUserPtr);
+  const unsigned n = args->N, prim = args->primID;
+  for (unsigned i = 0; i < n; ++i) {
+    if (!args->valid[i]) continue;
+    const Vec3 o{RTCRayN_org_x(args->ray, n, i), RTCRayN_org_y(args->ray, n, i), RTCRayN_org_z(args->ray, n, i)};
+    const Vec3 d{RTCRayN_dir_x(args->ray, n, i), RTCRayN_dir_y(args->ray, n, i), RTCRayN_dir_z(args->ray, n, i)};
+    double t0, t1;
+    if (!stable_sphere_roots(o, d, data.center[prim], data.radius[prim], t0, t1)) continue;
+    const float tf = float(data.inside[prim] ? t1 : t0);
+    if (tf > RTCRayN_tnear(args->ray, n, i) && tf < RTCRayN_tfar(args->ray, n, i))
+      RTCRayN_tfar(args->ray, n, i) = -HUGE_VALF;  // Embree's "occluded"
+  }
+}
+
+// Triangles: one-sided ones are seen only by rays against the plane normal.
+void triangle_filter(const RTCFilterFunctionNArguments* args) {
+  const auto& data = *static_cast<const TriangleData*>(args->geometryUserPtr);
+  const unsigned n = args->N;
+  for (unsigned i = 0; i < n; ++i) {
+    if (!args->valid[i]) continue;
+    const unsigned prim = RTCHitN_primID(args->hit, n, i);
+    if (data.two_sided[prim]) continue;
+    const Vec3& nn = data.normal[prim];
+    const double s = RTCRayN_dir_x(args->ray, n, i) * nn.x + RTCRayN_dir_y(args->ray, n, i) * nn.y +
+                     RTCRayN_dir_z(args->ray, n, i) * nn.z;
+    if (!(s < 0)) args->valid[i] = 0;
+  }
+}
+
+// Everything a query needs. Not movable: the geometries point at the filter data.
+// Members are destroyed in reverse order: the scene before the device.
+struct EmbreeScene {
+  Frame frame;
+  Device device;
+  SphereData spheres;
+  FarSphereData far_spheres;
+  TriangleData triangles;
+  RTCScene scene = nullptr;
+
+  ~EmbreeScene() {
+    if (scene) rtcReleaseScene(scene);
+  }
+};
+
+void attach_spheres(EmbreeScene& es, const Scene& scene) {
+  // Split: near spheres for Embree's own test, far ones for the stable user geometry.
+  std::vector<uint32_t> near;
+  for (uint32_t i = 0; i < scene.sphere_count(); ++i) {
+    const Vec3 c = es.frame.point(scene.sphere_center[i]);
+    const double r = std::abs(scene.sphere_radius[i]);
+    if (length(c) > kFarRatio * r) {
+      es.far_spheres.center.push_back(c);
+      es.far_spheres.radius.push_back(r);
+      es.far_spheres.inside.push_back(scene.sphere_radius[i] < 0);
+      es.far_spheres.index.push_back(i);
+    } else {
+      near.push_back(i);
+    }
+  }
+  if (!near.empty()) {  // Embree rejects empty buffers
+    const auto n = uint32_t(near.size());
+    Geometry g(es.device.handle, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g.handle, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                          RTC_FORMAT_FLOAT4, 4 * sizeof(float), n));
+    es.device.check("sphere buffer");
+    es.spheres.inside.resize(n);
+    es.spheres.index = near;
+    for (uint32_t k = 0; k < n; ++k) {
+      const Vec3 c = es.frame.point(scene.sphere_center[near[k]]);  // in double, then rounded
+      const double r = scene.sphere_radius[near[k]];
+      v[4 * k + 0] = float(c.x);
+      v[4 * k + 1] = float(c.y);
+      v[4 * k + 2] = float(c.z);
+      v[4 * k + 3] = float(std::abs(r));
+      es.spheres.inside[k] = r < 0;
+    }
+    es.spheres.xyzr = v;
+    rtcSetGeometryUserData(g.handle, &es.spheres);
+    rtcSetGeometryIntersectFilterFunction(g.handle, sphere_filter);
+    rtcCommitGeometry(g.handle);
+    rtcAttachGeometryByID(es.scene, g.handle, kSphereGeom);
+    es.device.check("spheres");
+  }
+  if (!es.far_spheres.index.empty()) {
+    Geometry g(es.device.handle, RTC_GEOMETRY_TYPE_USER);
+    rtcSetGeometryUserPrimitiveCount(g.handle, unsigned(es.far_spheres.index.size()));
+    rtcSetGeometryUserData(g.handle, &es.far_spheres);
+    rtcSetGeometryBoundsFunction(g.handle, far_sphere_bounds, nullptr);
+    rtcSetGeometryIntersectFunction(g.handle, far_sphere_intersect);
+    rtcSetGeometryOccludedFunction(g.handle, far_sphere_occluded);
+    rtcCommitGeometry(g.handle);
+    rtcAttachGeometryByID(es.scene, g.handle, kFarSphereGeom);
+    es.device.check("far spheres");
+  }
+}
+
+void attach_triangles(EmbreeScene& es, const Scene& scene) {
+  const uint32_t n = scene.triangle_count();
+  if (n == 0) return;
+  Geometry g(es.device.handle, RTC_GEOMETRY_TYPE_TRIANGLE);
+  const size_t nv = scene.vertex.size();
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g.handle, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                        RTC_FORMAT_FLOAT3, 3 * sizeof(float), nv));
+  auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+      g.handle, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), n));
+  es.device.check("triangle buffers");
+  for (size_t i = 0; i < nv; ++i) {
+    const Vec3 p = es.frame.point(scene.vertex[i]);
+    v[3 * i + 0] = float(p.x);
+    v[3 * i + 1] = float(p.y);
+    v[3 * i + 2] = float(p.z);
+  }
+  es.triangles.normal.resize(n);
+  es.triangles.two_sided.resize(n);
+  for (uint32_t k = 0; k < n; ++k) {
+    for (int a = 0; a < 3; ++a) idx[3 * k + a] = scene.tri_vertex[k][a];
+    const uint32_t poly = scene.tri_poly[k];
+    es.triangles.normal[k] = es.frame.dir(scene.poly_plane[poly].n);
+    es.triangles.two_sided[k] = scene.materials[scene.poly_material[poly]].two_sided();
+  }
+  rtcSetGeometryUserData(g.handle, &es.triangles);
+  rtcSetGeometryIntersectFilterFunction(g.handle, triangle_filter);
+  rtcCommitGeometry(g.handle);
+  rtcAttachGeometryByID(es.scene, g.handle, kTriangleGeom);
+  es.device.check("triangles");
+}
+
+// Device, geometry and BVH for the scene in the given frame. Builds in the
+// calling thread's task arena (Embree's TBB tasking uses the current arena).
+std::unique_ptr<EmbreeScene> build_scene(const Scene& scene, const Frame& frame) {
+  auto es = std::make_unique<EmbreeScene>();
+  es->frame = frame;
+  es->scene = rtcNewScene(es->device.handle);
+  es->device.check("rtcNewScene");
+  if (!es->scene) throw std::runtime_error("embree: cannot create scene");
+  rtcSetSceneFlags(es->scene, RTC_SCENE_FLAG_ROBUST);
+  attach_spheres(*es, scene);
+  attach_triangles(*es, scene);
+  rtcCommitScene(es->scene);  // an empty scene is fine: every ray misses
+  es->device.check("rtcCommitScene");
+  return es;
+}
+
+// ---------------------------------------------------------------- packets
+// A harmless, inactive ray in every lane: all fields set, as Embree asks.
+void clear_packet(RTCRayHit8& rh, int valid[kPacket]) {
+  for (int k = 0; k < kPacket; ++k) {
+    valid[k] = 0;
+    rh.ray.org_x[k] = rh.ray.org_y[k] = rh.ray.org_z[k] = 0;
+    rh.ray.dir_x[k] = rh.ray.dir_y[k] = 0;
+    rh.ray.dir_z[k] = 1;
+    rh.ray.tnear[k] = 0;
+    rh.ray.tfar[k] = 0;
+    rh.ray.time[k] = 0;
+    rh.ray.mask[k] = 0xffffffffu;
+    rh.ray.id[k] = unsigned(k);
+    rh.ray.flags[k] = 0;
+    rh.hit.Ng_x[k] = rh.hit.Ng_y[k] = rh.hit.Ng_z[k] = 0;
+    rh.hit.u[k] = rh.hit.v[k] = 0;
+    rh.hit.primID[k] = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+    for (int l = 0; l < RTC_MAX_INSTANCE_LEVEL_COUNT; ++l)
+      rh.hit.instID[l][k] = RTC_INVALID_GEOMETRY_ID;
+  }
+}
+
+void set_ray(RTCRayHit8& rh, int valid[kPacket], int k, const Vec3& o, const Vec3& d, double tnear,
+             double tfar) {
+  valid[k] = -1;
+  rh.ray.org_x[k] = float(o.x), rh.ray.org_y[k] = float(o.y), rh.ray.org_z[k] = float(o.z);
+  rh.ray.dir_x[k] = float(d.x), rh.ray.dir_y[k] = float(d.y), rh.ray.dir_z[k] = float(d.z);
+  rh.ray.tnear[k] = float(tnear);
+  rh.ray.tfar[k] = tfar < 3e38 ? float(tfar) : HUGE_VALF;
+}
+
+// The lane's hit: prim numbered spheres first, then polygons; t in the lane's
+// ray units (frame t / scale + shift).
+Hit to_hit(const EmbreeScene& es, const Scene& scene, const RTCRayHit8& rh, int k, double scale, double shift) {
+  Hit h;
+  const unsigned geom = rh.hit.geomID[k];
+  if (geom == RTC_INVALID_GEOMETRY_ID) return h;
+  const unsigned id = rh.hit.primID[k];
+  if (geom == kSphereGeom) {
+    h.prim = es.spheres.index[id];
+  } else if (geom == kFarSphereGeom) {
+    h.prim = es.far_spheres.index[id];
+  } else {
+    h.prim = scene.sphere_count() + scene.tri_poly[id];
+    h.tri = id;
+  }
+  h.t = double(rh.ray.tfar[k]) / scale + shift;
+  return h;
+}
+
+// Ray i of trace() in the frame: unit direction, range rescaled by scale = |d|.
+// Returns false for a ray Embree cannot take (it then misses).
+bool load_ray(const Frame& f, const Ray& r, RTCRayHit8& rh, int valid[kPacket], int k,
+              double& scale, double& shift) {
+  const Vec3 d = f.dir(r.d);
+  const double len = length(d);
+  if (!(len > 0) || !std::isfinite(len) || !is_finite(r.o) || std::isnan(r.tmin) ||
+      std::isnan(r.tmax) || !(r.tmin < r.tmax) || r.tmin == kInfinity || r.tmin == -kInfinity)
+    return false;
+  // Embree wants tnear >= 0: a range reaching behind the origin starts from o + tmin d.
+  shift = r.tmin < 0 ? r.tmin : 0.0;
+  const Vec3 o = f.point(r.o + shift * r.d);
+  if (!is_finite(o)) return false;
+  scale = len;
+  set_ray(rh, valid, k, o, d / len, (r.tmin - shift) * len, (r.tmax - shift) * len);
+  return true;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- the contract
+void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, RenderStats* stats) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (rays.empty()) {  // nothing to build a BVH for
+    if (stats) {
+      stats->build_seconds = stats->trace_seconds = 0;
+      stats->rays = 0;
+    }
+    return;
+  }
+  Frame frame;
+  frame.origin = rays[0].o;  // rays from one viewpoint keep "camera-relative" precision
+  if (!is_finite(frame.origin)) frame.origin = Vec3{0, 0, 0};
+  const auto es = build_scene(scene, frame);
+  const double build = seconds_since(t0);
+  const auto t1 = std::chrono::steady_clock::now();
+  const size_t packets = (rays.size() + kPacket - 1) / kPacket;
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, packets, 64), [&](const tbb::blocked_range<size_t>& range) {
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);  // incoherent: arbitrary rays
+        RTCRayHit8 rh;
+        alignas(32) int valid[kPacket];  // rtcIntersect8 wants it 32-byte aligned, like the packet
+        double scale[kPacket], shift[kPacket];
+        for (size_t p = range.begin(); p < range.end(); ++p) {
+          const size_t i0 = p * kPacket, n = std::min<size_t>(kPacket, rays.size() - i0);
+          clear_packet(rh, valid);
+          bool any = false;
+          for (size_t k = 0; k < n; ++k)
+            any |= load_ray(frame, rays[i0 + k], rh, valid, int(k), scale[k], shift[k]);
+          if (any) rtcIntersect8(valid, es->scene, &context, &rh);
+          for (size_t k = 0; k < n; ++k) {
+            Hit h = valid[k] ? to_hit(*es, scene, rh, int(k), scale[k], shift[k]) : Hit{};
+            refine_hit(scene, rays[i0 + k], h);
+            hits[i0 + k] = h;
+          }
+        }
+      });
+  es->device.check("rtcIntersect8");
+  if (stats) {
+    stats->build_seconds = build;
+    stats->trace_seconds = seconds_since(t1);
+    stats->rays = rays.size();
+  }
+}
+
+Image render(const Scene& scene, const RenderOptions& opts, RenderStats* stats) {
+  const Camera cam = Camera::from_view(scene.view, opts.width, opts.height);
+  // The camera's own frame: eye at the origin, x right, y up, z forward, so a
+  // primary ray is (sx, sy, 1) normalised, with its small components exact.
+  const Frame frame{cam.eye, cam.right, cam.up, cam.forward};
+  const int threads = opts.threads > 0 ? opts.threads : tbb::this_task_arena::max_concurrency();
+  tbb::task_arena arena(threads);
+
+  const auto t0 = std::chrono::steady_clock::now();
+  std::unique_ptr<EmbreeScene> es;
+  arena.execute([&] { es = build_scene(scene, frame); });  // the BVH build honours opts.threads too
+  const double build = seconds_since(t0);
+
+  const auto t1 = std::chrono::steady_clock::now();
+  const ShadeScene shading = prepare_shading(scene, frame);
+  Image image(opts.width, opts.height);
+  constexpr int kTileW = 32, kTileH = 8;
+  const int tiles_x = (opts.width + kTileW - 1) / kTileW,
+            tiles_y = (opts.height + kTileH - 1) / kTileH;
+  std::atomic<int> done{0};
+  std::mutex progress_mutex;
+  auto render_tile = [&](int tx, int ty) {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags =
+        RTC_INTERSECT_CONTEXT_FLAG_COHERENT;  // neighbouring pixels: one origin, close directions
+    RTCRayHit8 rh;
+    alignas(32) int valid[kPacket];  // rtcIntersect8 wants it 32-byte aligned, like the packet
+    ShadePacket sp{};
+    for (int j = ty * kTileH; j < std::min(opts.height, (ty + 1) * kTileH); ++j) {
+      for (int i0 = tx * kTileW; i0 < std::min(opts.width, (tx + 1) * kTileW); i0 += kPacket) {
+        const int count = std::min(kPacket, opts.width - i0);
+        Vec3 unit[kPacket];
+        clear_packet(rh, valid);
+        for (int k = 0; k < count; ++k) {
+          // Camera-space direction (sx, sy, 1), normalised in double then rounded;
+          // the hither plane is a distance along the view axis.
+          const Vec3 d = cam.camera_dir(i0 + k, j);
+          const double len = length(d);
+          unit[k] = d / len;
+          set_ray(rh, valid, k, Vec3{0, 0, 0}, unit[k], cam.hither * len, kInfinity);
+        }
+        rtcIntersect8(valid, es->scene, &context, &rh);
+        for (int k = 0; k < count; ++k) {
+          // The same unit ray in world space (t carries over: both are unit length).
+          const Vec3& u = unit[k];
+          const Ray ray{cam.eye, u.x * cam.right + u.y * cam.up + u.z * cam.forward, 0.0,
+                        kInfinity};
+          Hit h = to_hit(*es, scene, rh, k, 1.0, 0.0);
+          refine_hit(scene, ray, h);
+          fill_lane(scene, frame, ray, h, sp, k);
+        }
+        for (int k = count; k < kPacket; ++k) sp.hit[k] = 0;
+        shade_packet(shading, sp);
+        for (int k = 0; k < count; ++k) image.set(i0 + k, j, Vec3{sp.r[k], sp.g[k], sp.b[k]});
+      }
+    }
+    const int n = ++done;
+    if (opts.progress && (n % 16 == 0 || n == tiles_x * tiles_y)) {
+      std::lock_guard<std::mutex> lock(progress_mutex);
+      opts.progress(double(n) / (tiles_x * tiles_y));
+    }
+  };
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range2d<int>(0, tiles_y, 1, 0, tiles_x, 1),
+                      [&](const tbb::blocked_range2d<int>& r) {
+                        for (int ty = r.rows().begin(); ty < r.rows().end(); ++ty)
+                          for (int tx = r.cols().begin(); tx < r.cols().end(); ++tx)
+                            render_tile(tx, ty);
+                      });
+  });
+  es->device.check("rtcIntersect8");
+  if (stats) {
+    stats->build_seconds = build;
+    stats->trace_seconds = seconds_since(t1);
+    stats->rays = uint64_t(opts.width) * uint64_t(opts.height);
+  }
+  return image;
+}
+
+}  // namespace lockstep::opt::embree

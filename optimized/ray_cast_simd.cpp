@@ -196,18 +196,16 @@ void TracePacket(const SimdScene& s, const Candidates& cand, const Packet& p, Pa
   }
 }
 
-// Plane kernel: t = -(n.o + dist) / (n.d) per lane, in float.
-void PlaneT(const float* ox, const float* oy, const float* oz, const float* dx, const float* dy,
-            const float* dz, const float* tmin, const float* tmax, const float n[3], float dist,
-            float* t, size_t count) {
+// Plane kernel: t = -dist / (n.d) per lane, in float, where dist = n.o + D is
+// each ray origin's signed distance to the plane (computed in double by the caller).
+void PlaneT(const float* dx, const float* dy, const float* dz, const float* tmin, const float* tmax,
+            const float n[3], const float* dist, float* t, size_t count) {
   const DF df;
   const VF nx = hn::Set(df, n[0]), ny = hn::Set(df, n[1]), nz = hn::Set(df, n[2]);
   const VF inf = hn::Set(df, HUGE_VALF);
   for (size_t i = 0; i < count; i += hn::Lanes(df)) {
     const VF den = hn::MulAdd(nx, hn::LoadU(df, dx + i), hn::MulAdd(ny, hn::LoadU(df, dy + i), hn::Mul(nz, hn::LoadU(df, dz + i))));
-    const VF num = hn::MulAdd(nx, hn::LoadU(df, ox + i),
-                              hn::MulAdd(ny, hn::LoadU(df, oy + i), hn::MulAdd(nz, hn::LoadU(df, oz + i), hn::Set(df, dist))));
-    const VF tv = hn::Neg(hn::Div(num, den));
+    const VF tv = hn::Neg(hn::Div(hn::LoadU(df, dist + i), den));
     const MF ok = hn::And(hn::Ne(den, hn::Zero(df)),
                           hn::And(hn::Gt(tv, hn::LoadU(df, tmin + i)), hn::Lt(tv, hn::LoadU(df, tmax + i))));
     hn::StoreU(hn::IfThenElse(ok, tv, inf), df, t + i);
@@ -338,31 +336,24 @@ void trace_prepared(const SimdScene& s, const Candidates& cand, std::span<const 
   }
 }
 
-// Kernel calls: a one-primitive scene per packet, with the frame at the packet's
-// first ray origin, so that each packet keeps the precision of "camera-relative".
-// The scene's buffers are cleared and refilled, not reallocated, per packet.
-void clear_prims(SimdScene& s) {
-  s.sx.clear(), s.sy.clear(), s.sz.clear(), s.sr2.clear(), s.s_inside.clear(), s.s_prim.clear();
-  for (auto& k : s.tv)
-    for (auto& a : k) a.clear();
-  for (auto& a : s.tn) a.clear();
-  s.t_two_sided.clear(), s.t_prim.clear(), s.t_tri.clear(), s.b_center.clear(), s.b_radius.clear();
-}
-
+// Kernel calls: one primitive against packets of rays with different origins.
+// The frame's origin is the primitive's anchor (sphere centre, scene vertex), so
+// every ray keeps the precision of "primitive-relative" coordinates (as good as
+// camera-relative: the offset between ray origin and primitive is rounded to
+// float once) and its result does not depend on the other rays in its packet.
+// The scene is built once; only the rays change per packet.
 template <class AddPrims>
-void kernel(std::span<const Ray> rays, std::span<double> t, AddPrims add) {
+void kernel(std::span<const Ray> rays, std::span<double> t, const Vec3& anchor, AddPrims add) {
   SimdScene s;
   s.cull = false;
-  Candidates cand;
+  s.frame.origin = anchor;
+  add(s);
+  const Candidates cand = all_candidates(s);
   Packet p;
   PacketHits out;
   double scale[kPacket];
   for (size_t i = 0; i < rays.size(); i += kPacket) {
     const size_t n = std::min<size_t>(kPacket, rays.size() - i);
-    clear_prims(s);
-    s.frame.origin = rays[i].o;
-    add(s);
-    if (i == 0) cand = all_candidates(s);  // same primitive count for every packet
     p.count = int(n);
     for (size_t k = 0; k < n; ++k) load_ray(s.frame, rays[i + k], p, int(k), scale[k]);
     clear_tail(p);
@@ -433,12 +424,16 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 // ---------------------------------------------------------------- the contract
 void ray_sphere(std::span<const Ray> rays, const Sphere& sphere, std::span<double> t) {
-  kernel(rays, t, [&](SimdScene& s) { s.add_sphere(sphere.center, sphere.radius, 0); });
+  kernel(rays, t, sphere.center, [&](SimdScene& s) { s.add_sphere(sphere.center, sphere.radius, 0); });
 }
 
 void ray_polygon(std::span<const Ray> rays, const Scene& scene, uint32_t poly, std::span<double> t) {
-  kernel(rays, t, [&](SimdScene& s) {
-    for (uint32_t k = scene.poly_tri_first[poly]; k < scene.poly_tri_first[poly + 1]; ++k) {
+  // The anchor is the scene's first vertex, the same for every polygon of the
+  // scene: two polygons sharing an edge then round it to the same floats, which
+  // watertightness needs.
+  const uint32_t first = scene.poly_tri_first[poly];
+  kernel(rays, t, scene.vertex.empty() ? Vec3{0, 0, 0} : scene.vertex[0], [&](SimdScene& s) {
+    for (uint32_t k = first; k < scene.poly_tri_first[poly + 1]; ++k) {
       const auto& v = scene.tri_vertex[k];
       s.add_triangle(scene.vertex[v[0]], scene.vertex[v[1]], scene.vertex[v[2]], scene.poly_plane[poly].n,
                      true, 0, k);
@@ -447,21 +442,25 @@ void ray_polygon(std::span<const Ray> rays, const Scene& scene, uint32_t poly, s
 }
 
 void ray_plane(std::span<const Ray> rays, const Plane& plane, std::span<double> t) {
-  // Per packet: the plane's offset is re-expressed relative to the first ray's
-  // origin in double (n.x + d = 0 becomes n.x' + (d + n.origin) = 0), then float.
+  // Each ray in its own frame (origin at the ray's origin): the plane's offset
+  // becomes the origin's signed distance n.o + D, computed in double per ray, so
+  // a plane far from the world origin costs no precision.
+  const float nf[3] = {float(plane.n.x), float(plane.n.y), float(plane.n.z)};
   for (size_t i = 0; i < rays.size(); i += kPacket) {
     const size_t n = std::min<size_t>(kPacket, rays.size() - i);
     Packet p;
-    Frame f;
-    f.origin = rays[i].o;
+    alignas(32) float dist[kPacket] = {};
     double scale[kPacket];
     p.count = int(n);
-    for (size_t k = 0; k < n; ++k) load_ray(f, rays[i + k], p, int(k), scale[k]);
+    for (size_t k = 0; k < n; ++k) {
+      Frame f;
+      f.origin = rays[i + k].o;
+      load_ray(f, rays[i + k], p, int(k), scale[k]);
+      dist[k] = float(plane.d + dot(plane.n, rays[i + k].o));
+    }
     clear_tail(p);
-    const float nf[3] = {float(plane.n.x), float(plane.n.y), float(plane.n.z)};
-    const float dist = float(plane.d + dot(plane.n, f.origin));
     alignas(32) float out[kPacket];
-    HWY_DYNAMIC_DISPATCH(PlaneT)(p.ox, p.oy, p.oz, p.dx, p.dy, p.dz, p.tmin, p.tmax, nf, dist, out, kPacket);
+    HWY_DYNAMIC_DISPATCH(PlaneT)(p.dx, p.dy, p.dz, p.tmin, p.tmax, nf, dist, out, kPacket);
     for (size_t k = 0; k < n; ++k) t[i + k] = std::isinf(out[k]) ? kInfinity : double(out[k]) / scale[k];
   }
 }

@@ -7,4 +7,4 @@ cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 ninja -C build
-ctest --test-dir build --output-on-failure -j2 --timeout 900
+ctest --test-dir build --output-on-failure --no-tests=error -j2 --timeout 900

@@ -1,0 +1,191 @@
+#include "props/case.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <istream>
+#include <ostream>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/nff.h"
+
+namespace lockstep::props {
+
+std::string hex(double x) {
+  if (std::isnan(x)) return "nan";
+  if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%a", x);
+  return buf;
+}
+
+std::string hex(const Vec3& v) { return hex(v.x) + " " + hex(v.y) + " " + hex(v.z); }
+
+std::string hex(const Ray& r) {
+  return "o " + hex(r.o) + " d " + hex(r.d) + " tmin " + hex(r.tmin) + " tmax " + hex(r.tmax);
+}
+
+std::string dec(double x) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.17g", x);
+  return buf;
+}
+
+std::string to_nff(const Scene& s) {
+  std::ostringstream o;
+  const View& v = s.view;
+  o << "b " << hex(s.background) << "\n";
+  o << "v\nfrom " << hex(v.from) << "\nat " << hex(v.at) << "\nup " << hex(v.up) << "\nangle " << hex(v.angle)
+    << "\nhither " << hex(v.hither) << "\nresolution " << v.xres << " " << v.yres << "\n";
+  for (const Light& l : s.lights) {
+    o << "l " << hex(l.position);
+    if (l.has_color) o << " " << hex(l.color);
+    o << "\n";
+  }
+  long current = -1;
+  auto material = [&](uint32_t m) {
+    if (long(m) == current) return;
+    const Material& mt = s.materials[m];
+    o << "f " << hex(mt.color) << " " << hex(mt.kd) << " " << hex(mt.ks) << " " << hex(mt.shine) << " "
+      << hex(mt.transmittance) << " " << hex(mt.ior) << "\n";
+    current = long(m);
+  };
+  for (uint32_t i = 0; i < s.sphere_count(); ++i) {
+    material(s.sphere_material[i]);
+    o << "s " << hex(s.sphere_center[i]) << " " << hex(s.sphere_radius[i]) << "\n";
+  }
+  for (uint32_t p = 0; p < s.polygon_count(); ++p) {
+    material(s.poly_material[p]);
+    const auto vs = s.polygon_vertices(p);
+    const bool patch = s.poly_is_patch[p] != 0;
+    o << (patch ? "pp " : "p ") << vs.size() << "\n";
+    for (size_t k = 0; k < vs.size(); ++k) {
+      o << hex(vs[k]);
+      if (patch) o << " " << hex(s.vertex_normal[s.poly_first[p] + k]);
+      o << "\n";
+    }
+  }
+  return o.str();
+}
+
+void write_record(std::ostream& out, const Record& r) {
+  out << "# lockstep counterexample (props/). Floats are C99 hexfloats (%a): the case replays bit for bit.\n";
+  out << "# Format: corpus/counterexamples/README.md\n";
+  out << "property " << r.property << "\n";
+  out << "check " << r.check << "\n";
+  out << "pair " << r.pair << "\n";
+  out << "impl " << r.impl << "\n";
+  out << "generator " << r.c.generator << "\n";
+  out << "expect " << r.expect << "\n";
+  if (!r.seed.empty()) out << "seed " << r.seed << "\n";
+  for (const auto& n : r.notes) {
+    std::string line = n;
+    for (char& ch : line)
+      if (ch == '\n') ch = ' ';
+    out << "note " << line << "\n";
+  }
+  const Case& c = r.c;
+  if (c.has_sphere) out << "sphere " << hex(c.sphere.center) << " " << hex(c.sphere.radius) << "\n";
+  if (c.has_plane) out << "plane " << hex(c.plane.n) << " " << hex(c.plane.d) << "\n";
+  if (c.has_poly) out << "poly " << c.poly << "\n";
+  if (c.render_size > 0) out << "render " << c.render_size << "\n";
+  for (const Ray& ray : c.rays)
+    out << "ray " << hex(ray.o) << " " << hex(ray.d) << " " << hex(ray.tmin) << " " << hex(ray.tmax) << "\n";
+  out << "scene\n" << to_nff(c.scene) << "end\n";
+}
+
+namespace {
+
+double num(const std::string& s, const std::string& name, int line) {
+  char* end = nullptr;
+  const double v = std::strtod(s.c_str(), &end);
+  if (end == s.c_str() || *end != '\0')
+    throw std::runtime_error(name + ":" + std::to_string(line) + ": not a number: '" + s + "'");
+  return v;
+}
+
+}  // namespace
+
+Record read_record(std::istream& in, const std::string& name) {
+  Record r;
+  std::string line;
+  int line_no = 0;
+  bool have_scene = false;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream ls(line);
+    std::string key;
+    ls >> key;
+    std::vector<std::string> w;
+    for (std::string x; ls >> x;) w.push_back(x);
+    auto rest = [&]() {
+      const size_t p = line.find(' ');
+      return p == std::string::npos ? std::string() : line.substr(p + 1);
+    };
+    auto need = [&](size_t n) {
+      if (w.size() != n)
+        throw std::runtime_error(name + ":" + std::to_string(line_no) + ": '" + key + "' wants " +
+                                 std::to_string(n) + " fields");
+    };
+    auto d = [&](size_t i) { return num(w[i], name, line_no); };
+    if (key == "property") r.property = rest();
+    else if (key == "check") r.check = rest();
+    else if (key == "pair") r.pair = rest();
+    else if (key == "impl") r.impl = rest();
+    else if (key == "generator") r.c.generator = rest();
+    else if (key == "expect") r.expect = rest();
+    else if (key == "seed") r.seed = rest();
+    else if (key == "note") r.notes.push_back(rest());
+    else if (key == "sphere") {
+      need(4);
+      r.c.has_sphere = true;
+      r.c.sphere = Sphere{{d(0), d(1), d(2)}, d(3)};
+    } else if (key == "plane") {
+      need(4);
+      r.c.has_plane = true;
+      r.c.plane = Plane{{d(0), d(1), d(2)}, d(3)};
+    } else if (key == "poly") {
+      need(1);
+      r.c.has_poly = true;
+      r.c.poly = uint32_t(std::stoul(w[0]));
+    } else if (key == "render") {
+      need(1);
+      r.c.render_size = std::stoi(w[0]);
+    } else if (key == "ray") {
+      need(8);
+      r.c.rays.push_back(Ray{{d(0), d(1), d(2)}, {d(3), d(4), d(5)}, d(6), d(7)});
+    } else if (key == "scene") {
+      std::string text;
+      while (std::getline(in, line)) {
+        ++line_no;
+        if (line == "end") break;
+        text += line;
+        text += '\n';
+      }
+      r.c.scene = parse_nff(text, name);
+      have_scene = true;
+    } else {
+      throw std::runtime_error(name + ":" + std::to_string(line_no) + ": unknown key '" + key + "'");
+    }
+  }
+  if (!have_scene) throw std::runtime_error(name + ": no 'scene' block");
+  if (r.property.empty() || r.check.empty() || r.pair.empty() || r.impl.empty())
+    throw std::runtime_error(name + ": property, check, pair and impl are required");
+  if (r.c.has_poly && r.c.poly >= r.c.scene.polygon_count())
+    throw std::runtime_error(name + ": poly index out of range");
+  return r;
+}
+
+void showValue(const Case& c, std::ostream& os) {
+  os << "Case{generator " << c.generator << ", " << c.rays.size() << " rays";
+  if (c.has_sphere) os << ", sphere c " << hex(c.sphere.center) << " r " << hex(c.sphere.radius);
+  if (c.has_plane) os << ", plane n " << hex(c.plane.n) << " d " << hex(c.plane.d);
+  if (c.has_poly) os << ", poly " << c.poly;
+  os << ", " << c.scene.sphere_count() << " spheres, " << c.scene.polygon_count() << " polygons}\n";
+  for (size_t i = 0; i < c.rays.size(); ++i) os << "  ray " << i << ": " << hex(c.rays[i]) << "\n";
+  if (c.scene.prim_count() > 0 && c.scene.prim_count() < 40) os << to_nff(c.scene);
+}
+
+}  // namespace lockstep::props
