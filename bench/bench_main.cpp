@@ -168,7 +168,7 @@ void register_frames(const PairTable& table) {
         const int size = is_ref && prims > 5000 ? 128 : 512;
         const std::string bname = "frame/" + std::string(name) + "/" + std::string(impl.name) +
                                   "/threads:" + std::to_string(threads);
-        benchmark::RegisterBenchmark(bname.c_str(), [scene, size, threads, prims, fn = impl.fn](benchmark::State& st) {
+        benchmark::RegisterBenchmark(bname.c_str(), [scene, size, threads, prims, spheres = scene->sphere_count(), triangles = scene->triangle_count(), fn = impl.fn](benchmark::State& st) {
           RenderOptions opts;
           opts.width = opts.height = size;
           opts.threads = threads;
@@ -182,6 +182,8 @@ void register_frames(const PairTable& table) {
           st.SetItemsProcessed(int64_t(st.iterations()) * size * size);
           st.counters["build_ms"] = 1e3 * build / double(st.iterations());
           st.counters["prims"] = prims;
+          st.counters["spheres"] = spheres;
+          st.counters["triangles"] = triangles;
           st.counters["size"] = size;
         })->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
       }

@@ -60,7 +60,7 @@ using simd::Frame;
 
 constexpr int kPacket = 8;
 // Fixed geometry ids: a hit's geomID says which array primID indexes.
-constexpr unsigned kSphereGeom = 0, kTriangleGeom = 1, kFarSphereGeom = 2;
+constexpr unsigned kSphereGeom = 0, kTriangleGeom = 1, kFarSphereGeom = 2, kPlainSphereGeom = 3;
 
 // Embree's built-in sphere test is the textbook quadratic in float: for a sphere
 // whose distance from the frame's origin (the eye) exceeds kFarRatio radii, C =
@@ -262,6 +262,7 @@ struct EmbreeScene {
   Frame frame;
   Device device;
   SphereData spheres;
+  SphereData plain_spheres;  // no filter needed: every ray starts outside, before them
   FarSphereData far_spheres;
   TriangleData triangles;
   RTCScene scene = nullptr;
@@ -271,9 +272,44 @@ struct EmbreeScene {
   }
 };
 
-void attach_spheres(EmbreeScene& es, const Scene& scene) {
-  // Split: near spheres for Embree's own test, far ones for the stable user geometry.
-  std::vector<uint32_t> near;
+// Built-in spheres, one geometry. With a filter, the invisible side is skipped;
+// without, Embree's first root is taken as it comes.
+void attach_point_spheres(EmbreeScene& es, const Scene& scene, const std::vector<uint32_t>& ids,
+                          SphereData& data, unsigned geom_id, bool filter) {
+  if (ids.empty()) return;  // Embree rejects empty buffers
+  const auto n = uint32_t(ids.size());
+  Geometry g(es.device.handle, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g.handle, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                        RTC_FORMAT_FLOAT4, 4 * sizeof(float), n));
+  es.device.check("sphere buffer");
+  data.inside.resize(n);
+  data.index = ids;
+  for (uint32_t k = 0; k < n; ++k) {
+    const Vec3 c = es.frame.point(scene.sphere_center[ids[k]]);  // in double, then rounded
+    const double r = scene.sphere_radius[ids[k]];
+    v[4 * k + 0] = float(c.x);
+    v[4 * k + 1] = float(c.y);
+    v[4 * k + 2] = float(c.z);
+    v[4 * k + 3] = float(std::abs(r));
+    data.inside[k] = r < 0;
+  }
+  data.xyzr = v;
+  rtcSetGeometryUserData(g.handle, &data);
+  if (filter) rtcSetGeometryIntersectFilterFunction(g.handle, sphere_filter);
+  rtcCommitGeometry(g.handle);
+  rtcAttachGeometryByID(es.scene, g.handle, geom_id);
+  es.device.check("spheres");
+}
+
+// eye_reach >= 0 when every ray starts at the frame's origin and no earlier than
+// eye_reach from it (render: the hither distance along the longest primary ray).
+// A sphere with r > 0 whose surface is clearly beyond that reach is then entered
+// by every ray that meets it, so Embree's first root is always the visible one
+// and the sphere needs no filter callback (balls-4: about 1.4x faster).
+void attach_spheres(EmbreeScene& es, const Scene& scene, double eye_reach) {
+  // Split: far spheres for the stable user geometry; near ones for Embree's own
+  // test, with or without the sidedness filter.
+  std::vector<uint32_t> filtered, plain;
   for (uint32_t i = 0; i < scene.sphere_count(); ++i) {
     const Vec3 c = es.frame.point(scene.sphere_center[i]);
     const double r = std::abs(scene.sphere_radius[i]);
@@ -282,34 +318,14 @@ void attach_spheres(EmbreeScene& es, const Scene& scene) {
       es.far_spheres.radius.push_back(r);
       es.far_spheres.inside.push_back(scene.sphere_radius[i] < 0);
       es.far_spheres.index.push_back(i);
+    } else if (eye_reach >= 0 && scene.sphere_radius[i] > 0 && length(c) - r > 2 * eye_reach + 1e-4 * r) {
+      plain.push_back(i);
     } else {
-      near.push_back(i);
+      filtered.push_back(i);
     }
   }
-  if (!near.empty()) {  // Embree rejects empty buffers
-    const auto n = uint32_t(near.size());
-    Geometry g(es.device.handle, RTC_GEOMETRY_TYPE_SPHERE_POINT);
-    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g.handle, RTC_BUFFER_TYPE_VERTEX, 0,
-                                                          RTC_FORMAT_FLOAT4, 4 * sizeof(float), n));
-    es.device.check("sphere buffer");
-    es.spheres.inside.resize(n);
-    es.spheres.index = near;
-    for (uint32_t k = 0; k < n; ++k) {
-      const Vec3 c = es.frame.point(scene.sphere_center[near[k]]);  // in double, then rounded
-      const double r = scene.sphere_radius[near[k]];
-      v[4 * k + 0] = float(c.x);
-      v[4 * k + 1] = float(c.y);
-      v[4 * k + 2] = float(c.z);
-      v[4 * k + 3] = float(std::abs(r));
-      es.spheres.inside[k] = r < 0;
-    }
-    es.spheres.xyzr = v;
-    rtcSetGeometryUserData(g.handle, &es.spheres);
-    rtcSetGeometryIntersectFilterFunction(g.handle, sphere_filter);
-    rtcCommitGeometry(g.handle);
-    rtcAttachGeometryByID(es.scene, g.handle, kSphereGeom);
-    es.device.check("spheres");
-  }
+  attach_point_spheres(es, scene, filtered, es.spheres, kSphereGeom, true);
+  attach_point_spheres(es, scene, plain, es.plain_spheres, kPlainSphereGeom, false);
   if (!es.far_spheres.index.empty()) {
     Geometry g(es.device.handle, RTC_GEOMETRY_TYPE_USER);
     rtcSetGeometryUserPrimitiveCount(g.handle, unsigned(es.far_spheres.index.size()));
@@ -356,14 +372,14 @@ void attach_triangles(EmbreeScene& es, const Scene& scene) {
 
 // Device, geometry and BVH for the scene in the given frame. Builds in the
 // calling thread's task arena (Embree's TBB tasking uses the current arena).
-std::unique_ptr<EmbreeScene> build_scene(const Scene& scene, const Frame& frame) {
+std::unique_ptr<EmbreeScene> build_scene(const Scene& scene, const Frame& frame, double eye_reach = -1) {
   auto es = std::make_unique<EmbreeScene>();
   es->frame = frame;
   es->scene = rtcNewScene(es->device.handle);
   es->device.check("rtcNewScene");
   if (!es->scene) throw std::runtime_error("embree: cannot create scene");
   rtcSetSceneFlags(es->scene, RTC_SCENE_FLAG_ROBUST);
-  attach_spheres(*es, scene);
+  attach_spheres(*es, scene, eye_reach);
   attach_triangles(*es, scene);
   rtcCommitScene(es->scene);  // an empty scene is fine: every ray misses
   es->device.check("rtcCommitScene");
@@ -411,6 +427,8 @@ Hit to_hit(const EmbreeScene& es, const Scene& scene, const RTCRayHit8& rh, int 
   const unsigned id = rh.hit.primID[k];
   if (geom == kSphereGeom) {
     h.prim = es.spheres.index[id];
+  } else if (geom == kPlainSphereGeom) {
+    h.prim = es.plain_spheres.index[id];
   } else if (geom == kFarSphereGeom) {
     h.prim = es.far_spheres.index[id];
   } else {
@@ -501,7 +519,12 @@ Image render(const Scene& scene, const RenderOptions& opts, RenderStats* stats) 
 
   const auto t0 = std::chrono::steady_clock::now();
   std::unique_ptr<EmbreeScene> es;
-  arena.execute([&] { es = build_scene(scene, frame); });  // the BVH build honours opts.threads too
+  // Primary rays start at the eye, at hither along the view axis: at most
+  // hither * |camera_dir| from it (longest at the image corners).
+  double reach = 0;
+  for (const auto& [i, j] : {std::pair{0, 0}, {opts.width - 1, 0}, {0, opts.height - 1}, {opts.width - 1, opts.height - 1}})
+    reach = std::max(reach, cam.hither * length(cam.camera_dir(i, j)));
+  arena.execute([&] { es = build_scene(scene, frame, reach); });  // the BVH build honours opts.threads too
   const double build = seconds_since(t0);
 
   const auto t1 = std::chrono::steady_clock::now();
@@ -540,7 +563,7 @@ Image render(const Scene& scene, const RenderOptions& opts, RenderStats* stats) 
           const Ray ray{cam.eye, u.x * cam.right + u.y * cam.up + u.z * cam.forward, 0.0,
                         kInfinity};
           Hit h = to_hit(*es, scene, rh, k, 1.0, 0.0);
-          refine_hit(scene, ray, h);
+          refine_far_sphere_hit(scene, ray, h);
           fill_lane(scene, frame, ray, h, sp, k);
         }
         for (int k = count; k < kPacket; ++k) sp.hit[k] = 0;

@@ -524,10 +524,7 @@ Image render(const Scene& scene, const RenderOptions& opts, RenderStats* stats) 
           const Vec3& u = unit[k];
           const Ray ray{cam.eye, u.x * cam.right + u.y * cam.up + u.z * cam.forward, 0.0, kInfinity};
           Hit h = to_hit(s, out.t[k], out.id[k], 1.0);
-          // Float's t is good to ~1e-7 relative. Only a sphere seen from more than
-          // ~1000 radii away needs it better (its normal is (P - c)/r).
-          if (h.hit() && h.prim < scene.sphere_count() && h.t > 1e3 * std::abs(scene.sphere_radius[h.prim]))
-            refine_hit(scene, ray, h);
+          refine_far_sphere_hit(scene, ray, h);
           fill_lane(scene, frame, ray, h, sp, k);
         }
         for (int k = p.count; k < kPacket; ++k) sp.hit[k] = 0;

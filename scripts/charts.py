@@ -29,13 +29,25 @@ def load(path):
     return data.get("context", {}), rows
 
 
-def crossover():
+def auto_rule():
+    """(crossover, triangle weight) from optimized/ray_cast_auto.cpp: auto picks
+    embree when spheres + weight * triangles >= crossover."""
     src = os.path.join(os.path.dirname(__file__), "..", "optimized", "ray_cast_auto.cpp")
     try:
-        m = re.search(r"kCrossoverPrimitives\s*=\s*([0-9']+)", open(src).read())
-        return int(m.group(1).replace("'", "")) if m else None
+        text = open(src).read()
     except OSError:
-        return None
+        return None, 1
+    x = re.search(r"kCrossover\s*=\s*([0-9']+)", text)
+    w = re.search(r"kTriangleWeight\s*=\s*([0-9']+)", text)
+    num = lambda m: int(m.group(1).replace("'", ""))
+    return (num(x) if x else None), (num(w) if w else 1)
+
+
+def scene_size(b, weight):
+    """auto's measure of a scene: sphere-equivalents."""
+    if "spheres" in b and "triangles" in b:
+        return b["spheres"] + weight * b["triangles"]
+    return b["prims"]
 
 
 def per_ray_ns(b):
@@ -56,7 +68,9 @@ def main():
             continue
         scene, impl, threads = p[1], p[2], int(p[3].split(":")[1])
         frames[(scene, impl, threads)] = b
-    scenes = sorted({s for s, _, _ in frames}, key=lambda s: frames[next(k for k in frames if k[0] == s)]["prims"])
+    x, weight = auto_rule()
+    first = lambda s: frames[next(k for k in frames if k[0] == s)]
+    scenes = sorted({s for s, _, _ in frames}, key=lambda s: scene_size(first(s), weight))
     impls = []
     for _, i, _ in frames:
         if i not in impls:
@@ -79,19 +93,18 @@ def main():
         print(f"| {s} | {prims} | " + " | ".join(cells + cells_all) + f" | {ratio('simd')} | {ratio('embree')} | {autovs} |")
 
     with open(os.path.join(out, "scaling.dat"), "w") as f:
-        f.write("# prims " + " ".join(impls) + "  (ns per primary ray, 1 thread)\n")
+        f.write("# size " + " ".join(impls) + "  (size = spheres + %d x triangles; ns per primary ray, 1 thread)\n" % weight)
         for s in scenes:
-            prims = frames[next(k for k in frames if k[0] == s)]["prims"]
+            prims = scene_size(first(s), weight)
             vals = [per_ray_ns(frames[(s, i, 1)]) if (s, i, 1) in frames else None for i in impls]
             f.write(f"{prims:g} " + " ".join(f"{v:.3f}" if v else "NaN" for v in vals) + f"  # {s}\n")
-    x = crossover()
     plot = ", ".join(f"'{out}/scaling.dat' using 1:{k + 2} with linespoints lw 2 title '{i}'" for k, i in enumerate(impls))
     gp = f"""set terminal pngcairo size 900,600 font ',11'
 set output '{out}/scaling.png'
 set logscale xy
 set grid
 set key top left
-set xlabel 'primitives in the scene (spheres + triangles)'
+set xlabel 'scene size: spheres + {weight} x triangles (the measure auto uses)'
 set ylabel 'time per primary ray, ns (1 thread)'
 set title 'Ray casting SPD scenes: cost per ray against scene size'
 {f"set arrow from {x},graph 0 to {x},graph 1 nohead dt 2 lw 2 lc rgb 'gray40'" if x else ""}
