@@ -5,6 +5,8 @@
 //   lockstep verify [CORPUS_DIR] [--report DIR] [--impl NAME]... [--filter SUBSTR]
 //
 // main() only dispatches and turns exceptions into exit codes (app/cli.h).
+#include <embree3/rtcore_config.h>
+#include "core/ray_cast.h"
 #include <cstdio>
 #include <exception>
 #include <new>
@@ -38,6 +40,11 @@ void print_help() {
       LOCKSTEP_VERSION, cli::impl_names().c_str());
 }
 
+void print_version() {
+  std::printf("lockstep %s (simd: Highway target %s; embree %d.%d.%d)\n", LOCKSTEP_VERSION,
+              lockstep::opt::simd::target_name(), RTC_VERSION_MAJOR, RTC_VERSION_MINOR, RTC_VERSION_PATCH);
+}
+
 int run(int argc, char** argv, std::string& sub) {
   std::vector<std::string_view> args(argv + 1, argv + argc);
   if (args.empty()) throw cli::UsageError("missing subcommand (render, diff or verify)");
@@ -47,7 +54,7 @@ int run(int argc, char** argv, std::string& sub) {
     return cli::kExitOk;
   }
   if (first == "--version" || first == "-V") {
-    std::printf("lockstep %s\n", LOCKSTEP_VERSION);
+    print_version();
     return cli::kExitOk;
   }
   const cli::Args rest = cli::Args(args).subspan(1);
@@ -56,7 +63,7 @@ int run(int argc, char** argv, std::string& sub) {
   for (const std::string_view a : rest) {
     if (a == "--") break;
     if (a == "--version" || a == "-V") {
-      std::printf("lockstep %s\n", LOCKSTEP_VERSION);
+      print_version();
       return cli::kExitOk;
     }
   }

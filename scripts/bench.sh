@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Reproduce BENCHMARKS.md: build, run the benchmarks to bench/results/latest.json,
+# Reproduce BENCHMARKS.md (about 15 minutes on 2 cores; run on an idle machine): build, run the benchmarks to bench/results/latest.json,
 # measure accuracy against the oracle (props, to bench/results/accuracy.csv), and
 # draw the charts into bench/charts/. Extra arguments go to lockstep_bench, e.g.
 #   bash scripts/bench.sh --benchmark_filter='frame/balls-3'
@@ -10,8 +10,8 @@ cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 ninja -C build lockstep_bench lockstep_props
 mkdir -p bench/results bench/charts
 { lscpu | grep -E '^Model name' | sed 's/  */ /g'; echo "cores: $(nproc), $(free -g | awk '/Mem:/{print $2}') GiB"; \
-  echo "simd target: $(./build/lockstep --version 2>/dev/null | grep -i target || true)"; } > bench/results/machine.txt
+  ./build/lockstep --version; } > bench/results/machine.txt
 ./build/bench/lockstep_bench --benchmark_out=bench/results/latest.json --benchmark_out_format=json \
-  --benchmark_min_time=0.3 "$@"
+  --benchmark_min_time=0.3 --benchmark_repetitions=3 --benchmark_report_aggregates_only=true "$@"
 LOCKSTEP_ACCURACY_CSV=bench/results/accuracy.csv ./build/props/lockstep_props --gtest_filter='*Accuracy*' >/dev/null || true
 python3 scripts/charts.py bench/results/latest.json bench/results/accuracy.csv bench/charts

@@ -20,11 +20,15 @@ import sys
 def load(path):
     with open(path) as f:
         data = json.load(f)
+    # With --benchmark_repetitions, use each benchmark's median; else its one run.
+    has_median = any(b.get("aggregate_name") == "median" for b in data["benchmarks"])
     rows = []
     for b in data["benchmarks"]:
-        if b.get("run_type") == "aggregate":
+        if has_median and b.get("aggregate_name") != "median":
             continue
-        name = re.sub(r"/(real_time|process_time|manual_time)", "", b["name"])
+        if not has_median and b.get("run_type") == "aggregate":
+            continue
+        name = re.sub(r"/(real_time|process_time|manual_time)", "", b.get("run_name", b["name"]))
         rows.append((name, b))
     return data.get("context", {}), rows
 
@@ -78,19 +82,24 @@ def main():
     threads_all = max([t for _, _, t in frames] or [1])
 
     print("| scene | prims | " + " | ".join(f"{i} 1T (Mrays/s)" for i in impls) +
-          f" | simd {threads_all}T | embree {threads_all}T | auto {threads_all}T | simd/ref 1T | embree/ref 1T | auto vs best 1T |")
-    print("|---" * (2 + len(impls) + 6) + "|")
+          f" | simd {threads_all}T | embree {threads_all}T | auto {threads_all}T | simd/ref 1T | embree/ref 1T | auto vs best 1T | auto vs best {threads_all}T | embree BVH build ms 1T |")
+    print("|---" * (2 + len(impls) + 8) + "|")
     for s in scenes:
         get = lambda i, t: frames.get((s, i, t), {}).get("items_per_second")
         cells = [f"{get(i, 1) / 1e6:.2f}" if get(i, 1) else "-" for i in impls]
         cells_all = [f"{get(i, threads_all) / 1e6:.2f}" if get(i, threads_all) else "-" for i in ("simd", "embree", "auto")]
         ref = get("reference", 1)
         ratio = lambda i: f"{get(i, 1) / ref:.1f}x" if ref and get(i, 1) else "-"
-        best = max(get("simd", 1) or 0, get("embree", 1) or 0)
-        auto = get("auto", 1)
-        autovs = f"{100 * (best - auto) / best:+.1f}% slower" if auto and best and auto < best else ("best" if auto else "-")
+        eb = frames.get((s, "embree", 1), {})
+        build_ms = f"{eb['build_ms']:.1f}" if "build_ms" in eb else "-"
+        def autovs(t):
+            best = max(get("simd", t) or 0, get("embree", t) or 0)
+            auto = get("auto", t)
+            if not auto or not best:
+                return "-"
+            return f"{100 * (best - auto) / best:.1f}% slower" if auto < best else "fastest"
         prims = int(frames[next(k for k in frames if k[0] == s)]["prims"])
-        print(f"| {s} | {prims} | " + " | ".join(cells + cells_all) + f" | {ratio('simd')} | {ratio('embree')} | {autovs} |")
+        print(f"| {s} | {prims} | " + " | ".join(cells + cells_all) + f" | {ratio('simd')} | {ratio('embree')} | {autovs(1)} | {autovs(threads_all)} | {build_ms} |")
 
     with open(os.path.join(out, "scaling.dat"), "w") as f:
         f.write("# size " + " ".join(impls) + "  (size = spheres + %d x triangles; ns per primary ray, 1 thread)\n" % weight)
@@ -122,6 +131,11 @@ plot {plot}
                 kern[(p[1], p[2])] = per_ray_ns(b)
             if p[0] == "throughput":
                 kern[("throughput_" + p[1], p[2])] = per_ray_ns(b)
+        print("\n| in a scene (4096 rays x 256 primitives, trace, 1 thread) | impl | ns per ray-primitive test | tests/s |")
+        print("|---|---|---|---|")
+        for (k, impl), ns in kern.items():
+            if k.startswith("throughput_"):
+                print(f"| {k[len('throughput_'):]} | {impl} | {ns:.3f} | {1 / ns:.2f} G |")
         acc = list(csv.DictReader(open(acc_csv)))
         print("\n| kernel | impl | ns per test | max rel. error | p99 rel. error | cases |")
         print("|---|---|---|---|---|---|")
@@ -133,17 +147,17 @@ plot {plot}
                       if ns else f"| {a['kernel']} | {a['impl']} | - | {float(a['max']):.3g} | {float(a['p99']):.3g} | {a['cases']} |")
                 if ns:
                     f.write(f"{ns} {max(float(a['max']), 1e-18)} {max(float(a['p99']), 1e-18)} \"{a['kernel']}/{a['impl']}\"\n")
-        gp = f"""set terminal pngcairo size 900,600 font ',11'
+        gp = f"""set terminal pngcairo size 900,600 font ',11' noenhanced
 set output '{out}/accuracy.png'
 set logscale xy
 set grid
-set xlabel 'time per ray-primitive test, ns (kernel benchmark, 1 thread)'
+set xlabel 'time per ray, ns (kernel benchmark: one primitive, 4096 rays, 1 thread)'
 set ylabel 'relative error of t against the oracle'
-set title 'Speed against accuracy (well-conditioned and stability generators)'
+set title 'Speed against accuracy: error of t against the oracle on well-conditioned rays (accuracy property)'
 set key top right
 plot '{out}/accuracy.dat' using 1:2 with points pt 7 ps 1.5 title 'max error', \\
      '' using 1:3 with points pt 5 ps 1.2 title 'p99 error', \\
-     '' using 1:2:4 with labels offset 0,1 font ',9' notitle
+     '' using 1:2:4 with labels left offset 1,0.6 font ',9' notitle
 """
         subprocess.run(["gnuplot"], input=gp, text=True, check=True)
 
