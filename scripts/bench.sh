@@ -13,5 +13,10 @@ mkdir -p bench/results bench/charts
   ./build/lockstep --version; } > bench/results/machine.txt
 ./build/bench/lockstep_bench --benchmark_out=bench/results/latest.json --benchmark_out_format=json \
   --benchmark_min_time=0.3 --benchmark_repetitions=3 --benchmark_report_aggregates_only=true "$@"
-LOCKSTEP_ACCURACY_CSV=bench/results/accuracy.csv ./build/props/lockstep_props --gtest_filter='*Accuracy*' >/dev/null || true
-python3 scripts/charts.py bench/results/latest.json bench/results/accuracy.csv bench/charts
+rm -f bench/results/accuracy.csv bench/results/stability.csv
+LOCKSTEP_NO_SAVE=1 LOCKSTEP_ACCURACY_CSV=bench/results/accuracy.csv ./build/props/lockstep_props --gtest_filter='*Accuracy*' >/dev/null || true
+# Where each method breaks (deep mode: >= 1000 cases per property).
+LOCKSTEP_NO_SAVE=1 LOCKSTEP_DEEP=1 LOCKSTEP_STABILITY_CSV=bench/results/stability.csv \
+  ./build/props/lockstep_props --gtest_filter='Stability*:Watertight*:Degenerate*' >/dev/null || true
+LOCKSTEP_STABILITY_CSV=bench/results/stability.csv \
+  python3 scripts/charts.py bench/results/latest.json bench/results/accuracy.csv bench/charts | tee bench/results/tables.md

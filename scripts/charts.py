@@ -162,5 +162,41 @@ plot '{out}/accuracy.dat' using 1:2 with points pt 7 ps 1.5 title 'max error', \
         subprocess.run(["gnuplot"], input=gp, text=True, check=True)
 
 
+def stability_table(path):
+    """Where each method breaks: per (check, generator, pair), each implementation's
+    share of classified failures by label (explained = the oracle predicts it)."""
+    rows = list(csv.DictReader(open(path)))
+    impls, keys, cell = [], [], {}
+    for r in rows:
+        k = (r["check"], r["generator"], r["pair"])
+        if r["check"] == "accuracy":
+            continue
+        if k not in keys:
+            keys.append(k)
+        if r["impl"] not in impls:
+            impls.append(r["impl"])
+        c = cell.setdefault((k, r["impl"]), {"rays": int(r["rays"]), "labels": {}})
+        if r["label"] != "ok":
+            c["labels"][r["label"]] = int(r["count"])
+    print("\n| check | generator | pair | " + " | ".join(impls) + " |")
+    print("|---" * (3 + len(impls)) + "|")
+    for k in keys:
+        cells = []
+        for i in impls:
+            c = cell.get((k, i))
+            if not c:
+                cells.append("")
+                continue
+            wrong = {l: n for l, n in c["labels"].items() if l not in ("silhouette", "no_contact", "ill")}
+            if not wrong:
+                cells.append(f"right on all {c['rays']}")
+            else:
+                share = lambda n: f"{100 * n / c['rays']:.1f}%" if 100 * n / c["rays"] >= 0.1 else f"{n} of {c['rays']}"
+                cells.append(", ".join(f"{l} {share(n)}" for l, n in sorted(wrong.items(), key=lambda x: -x[1])))
+        print(f"| {k[0]} | {k[1]} | {k[2]} | " + " | ".join(cells) + " |")
+
+
 if __name__ == "__main__":
     main()
+    if os.environ.get("LOCKSTEP_STABILITY_CSV") and os.path.exists(os.environ["LOCKSTEP_STABILITY_CSV"]):
+        stability_table(os.environ["LOCKSTEP_STABILITY_CSV"])
