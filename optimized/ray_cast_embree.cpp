@@ -197,22 +197,29 @@ void far_sphere_bounds(const RTCBoundsFunctionArguments* args) {
 
 // Far spheres: the stable roots in double, from the float ray Embree traces;
 // the visible root is the entering one (the leaving one for r < 0), as the
-// sphere filter decides for the built-in spheres.
+// sphere filter decides for the built-in spheres. False when it is not in the
+// ray's (tnear, tfar); else t in float and the hit point relative to the centre.
+bool far_sphere_hit(const FarSphereData& data, unsigned prim, RTCRayN* ray, unsigned n, unsigned i, float& tf,
+                    Vec3& p) {
+  const Vec3 o{RTCRayN_org_x(ray, n, i), RTCRayN_org_y(ray, n, i), RTCRayN_org_z(ray, n, i)};
+  const Vec3 d{RTCRayN_dir_x(ray, n, i), RTCRayN_dir_y(ray, n, i), RTCRayN_dir_z(ray, n, i)};
+  double t0, t1;
+  if (!stable_sphere_roots(o, d, data.center[prim], data.radius[prim], t0, t1)) return false;
+  const double t = data.inside[prim] ? t1 : t0;
+  tf = float(t);
+  p = o + t * d - data.center[prim];
+  return tf > RTCRayN_tnear(ray, n, i) && tf < RTCRayN_tfar(ray, n, i);
+}
+
 void far_sphere_intersect(const RTCIntersectFunctionNArguments* args) {
   const auto& data = *static_cast<const FarSphereData*>(args->geometryUserPtr);
   const unsigned n = args->N, prim = args->primID;
   RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, n);
   RTCHitN* hit = RTCRayHitN_HitN(args->rayhit, n);
   for (unsigned i = 0; i < n; ++i) {
-    if (!args->valid[i]) continue;
-    const Vec3 o{RTCRayN_org_x(ray, n, i), RTCRayN_org_y(ray, n, i), RTCRayN_org_z(ray, n, i)};
-    const Vec3 d{RTCRayN_dir_x(ray, n, i), RTCRayN_dir_y(ray, n, i), RTCRayN_dir_z(ray, n, i)};
-    double t0, t1;
-    if (!stable_sphere_roots(o, d, data.center[prim], data.radius[prim], t0, t1)) continue;
-    const double t = data.inside[prim] ? t1 : t0;
-    const float tf = float(t);
-    if (!(tf > RTCRayN_tnear(ray, n, i) && tf < RTCRayN_tfar(ray, n, i))) continue;
-    const Vec3 p = o + t * d - data.center[prim];
+    float tf;
+    Vec3 p;
+    if (!args->valid[i] || !far_sphere_hit(data, prim, ray, n, i, tf, p)) continue;
     RTCRayN_tfar(ray, n, i) = tf;
     RTCHitN_Ng_x(hit, n, i) = float(p.x);
     RTCHitN_Ng_y(hit, n, i) = float(p.y);
@@ -230,13 +237,9 @@ void far_sphere_occluded(const RTCOccludedFunctionNArguments* args) {
   const auto& data = *static_cast<const FarSphereData*>(args->geometryUserPtr);
   const unsigned n = args->N, prim = args->primID;
   for (unsigned i = 0; i < n; ++i) {
-    if (!args->valid[i]) continue;
-    const Vec3 o{RTCRayN_org_x(args->ray, n, i), RTCRayN_org_y(args->ray, n, i), RTCRayN_org_z(args->ray, n, i)};
-    const Vec3 d{RTCRayN_dir_x(args->ray, n, i), RTCRayN_dir_y(args->ray, n, i), RTCRayN_dir_z(args->ray, n, i)};
-    double t0, t1;
-    if (!stable_sphere_roots(o, d, data.center[prim], data.radius[prim], t0, t1)) continue;
-    const float tf = float(data.inside[prim] ? t1 : t0);
-    if (tf > RTCRayN_tnear(args->ray, n, i) && tf < RTCRayN_tfar(args->ray, n, i))
+    float tf;
+    Vec3 p;
+    if (args->valid[i] && far_sphere_hit(data, prim, args->ray, n, i, tf, p))
       RTCRayN_tfar(args->ray, n, i) = -HUGE_VALF;  // Embree's "occluded"
   }
 }
