@@ -39,42 +39,32 @@ auto guarded(F&& f) {
   }
 }
 
+// One Subject per implementation of a kernel pair; `call` adapts the pair's
+// function signature to (case, polygon, out).
+template <class Fn, class Call>
+void add_kernel_subjects(std::vector<Subject>& out, const Pair<Fn>& pair, Kernel kernel, Call call) {
+  for (size_t i = 0; i < pair.impls.size(); ++i) {
+    Subject s;
+    s.info = info_of(pair, i);
+    s.kernel = kernel;
+    s.tol = pair.tol;
+    const Fn fn = pair.impls[i].fn;
+    s.run_kernel = [fn, call](const Case& c, uint32_t poly, std::span<double> t) {
+      guarded([&] { call(fn, c, poly, t); return 0; });
+    };
+    out.push_back(s);
+  }
+}
+
 std::vector<Subject> build_subjects() {
   std::vector<Subject> out;
   const PairTable& t = pairs();
-  for (size_t i = 0; i < t.ray_sphere.impls.size(); ++i) {
-    Subject s;
-    s.info = info_of(t.ray_sphere, i);
-    s.kernel = Kernel::sphere;
-    s.tol = t.ray_sphere.tol;
-    const RaySphereFn fn = t.ray_sphere.impls[i].fn;
-    s.run_kernel = [fn](const Case& c, uint32_t, std::span<double> out) {
-      guarded([&] { fn(c.rays, c.sphere, out); return 0; });
-    };
-    out.push_back(s);
-  }
-  for (size_t i = 0; i < t.ray_plane.impls.size(); ++i) {
-    Subject s;
-    s.info = info_of(t.ray_plane, i);
-    s.kernel = Kernel::plane;
-    s.tol = t.ray_plane.tol;
-    const RayPlaneFn fn = t.ray_plane.impls[i].fn;
-    s.run_kernel = [fn](const Case& c, uint32_t, std::span<double> out) {
-      guarded([&] { fn(c.rays, c.plane, out); return 0; });
-    };
-    out.push_back(s);
-  }
-  for (size_t i = 0; i < t.ray_polygon.impls.size(); ++i) {
-    Subject s;
-    s.info = info_of(t.ray_polygon, i);
-    s.kernel = Kernel::polygon;
-    s.tol = t.ray_polygon.tol;
-    const RayPolygonFn fn = t.ray_polygon.impls[i].fn;
-    s.run_kernel = [fn](const Case& c, uint32_t poly, std::span<double> out) {
-      guarded([&] { fn(c.rays, c.scene, poly, out); return 0; });
-    };
-    out.push_back(s);
-  }
+  add_kernel_subjects(out, t.ray_sphere, Kernel::sphere,
+                      [](RaySphereFn fn, const Case& c, uint32_t, std::span<double> r) { fn(c.rays, c.sphere, r); });
+  add_kernel_subjects(out, t.ray_plane, Kernel::plane,
+                      [](RayPlaneFn fn, const Case& c, uint32_t, std::span<double> r) { fn(c.rays, c.plane, r); });
+  add_kernel_subjects(out, t.ray_polygon, Kernel::polygon, [](RayPolygonFn fn, const Case& c, uint32_t poly,
+                                                              std::span<double> r) { fn(c.rays, c.scene, poly, r); });
   for (size_t i = 0; i < t.ray_cast.impls.size(); ++i) {
     Subject s;
     s.info = info_of(t.ray_cast, i);
