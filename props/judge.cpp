@@ -257,23 +257,6 @@ void probe(const Subject& s) {
   }
 }
 
-size_t Verdict::count(Outcome::Kind k) const {
-  return size_t(std::count_if(rays.begin(), rays.end(), [k](const Outcome& o) { return o.kind == k; }));
-}
-
-std::string Verdict::first_failure() const {
-  for (const Outcome& o : rays)
-    if (o.kind == Outcome::unexplained) return o.detail;
-  return "";
-}
-
-int Verdict::first_with_label(const std::string& label) const {
-  for (size_t i = 0; i < rays.size(); ++i)
-    if ((rays[i].kind == Outcome::explained || rays[i].kind == Outcome::unexplained) && rays[i].label == label)
-      return int(i);
-  return -1;
-}
-
 Case with_ray(const Case& c, size_t i) {
   Case one = c;
   one.rays = {c.rays[i]};

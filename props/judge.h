@@ -31,6 +31,7 @@
 #include "core/pairs.h"
 #include "props/case.h"
 #include "props/oracle.h"
+#include "props/verdict.h"
 
 namespace lockstep::props {
 
@@ -76,24 +77,6 @@ const Subject* find_subject(const std::string& pair, const std::string& impl);
 const Subject& reference_of(const std::string& pair);
 // Throws Placeholder if the implementation is a placeholder.
 void probe(const Subject& s);
-
-struct Outcome {
-  enum Kind { ok, explained, unexplained, skipped } kind = ok;
-  std::string label;   // cause: ok, grazing, cancellation, near_edge, leak_edge, nan, ...
-  double err = 0;      // relative error of t (vs oracle, or vs reference for agreement); inf: hit/miss differ
-  bool both_hit = false;
-  std::string detail;  // input as hexfloats, both outputs, the oracle, the error
-};
-
-struct Verdict {
-  std::vector<Outcome> rays;
-  size_t count(Outcome::Kind k) const;
-  bool passed() const { return count(Outcome::unexplained) == 0; }
-  // The first unexplained outcome's detail (or "").
-  std::string first_failure() const;
-  // The index of the first outcome (any kind but ok/skipped) with the given label, or -1.
-  int first_with_label(const std::string& label) const;
-};
 
 // The checks. pair/impl come from the Subject; generator capabilities are the caller's business.
 Verdict check_accuracy(const Subject& s, const Case& c);

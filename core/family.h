@@ -1,0 +1,188 @@
+// lockstep core: the registry's row types (types only; the rows live in pairs/).
+//
+// A *family* is one algorithm with one input type and one output kind, e.g.
+// ray_cast (NFF scene -> image) or composite (layer stack -> image). Each
+// family is a value of one iterable type per output kind (ImageFamily now;
+// mesh families come with marching cubes), listed by pairs/registry.h. Its
+// first implementation is always the reference. props/, bench/, the corpus
+// (`lockstep verify`) and the CLI (`render --impl`, `verify --impl/--filter`)
+// iterate over the registry and never name a family's functions.
+//
+// Typed entry points become rows through image_family<In>(): every
+// implementation of a family takes the same `const In&`, checked by the
+// compiler; the row stores them behind a type-erased Input.
+#pragma once
+
+#include <any>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/image.h"
+
+namespace lockstep {
+
+// ---------------------------------------------------------------- one run
+
+// What the harness asks of one frame. threads = 0: all cores.
+struct FrameOptions {
+  int width = 256;
+  int height = 256;
+  int threads = 0;
+  std::function<void(double)> progress;  // fraction done, may be empty; called from one thread at a time
+};
+
+// What an implementation reports about its own run. The harness times the run
+// (core/timer.h); an implementation only reports what the harness cannot see.
+struct FrameStats {
+  double build_seconds = 0;  // acceleration structure (Embree BVH), inside the run; 0 when none
+  uint64_t items = 0;        // rays traced, or pixels composited
+  std::string chosen;        // for auto: which implementation it picked and why
+};
+
+// ---------------------------------------------------------------- tolerances
+
+// An implementation's documented failure that we report but do not fix here
+// (a third-party library's, or a textbook method's). The properties classify
+// exactly this label as explained, at most max_rate of the cases of its class
+// (e.g. rays through a shared mesh vertex); a run over the rate fails.
+struct KnownFailure {
+  std::string_view label;  // empty: none
+  double max_rate = 0;     // per case of its class, measured with margin
+  std::string_view per;    // the class the rate divides by, e.g. "shared-vertex ray"
+};
+
+// Agreement of two images of a family: a pixel fails when its largest channel
+// differs by more than color_abs; at most 1 - pixel_fraction of the pixels may
+// fail, and no pixel may ever differ by more than hard_abs (or be NaN), whatever
+// the budget says. depth_abs < 0: depth planes are not compared.
+struct ImageTolerance {
+  double color_abs = 1.0 / 255;
+  double pixel_fraction = 0.999;
+  double hard_abs = 0.5;
+  double depth_abs = -1;
+};
+
+// ---------------------------------------------------------------- image families
+
+// A family's input, loaded from a file by the family's loader. value holds a
+// std::shared_ptr<const In> of the family's input type.
+struct Input {
+  std::any value;
+  std::string source;        // the file it came from (for messages and reports)
+  int width = 0, height = 0; // its natural frame size (0: none; then the caller must give one)
+  Vec3 background;           // what an empty pixel shows (for analytic judges)
+};
+
+template <class In>
+const In& input_as(const Input& in) {
+  return *std::any_cast<const std::shared_ptr<const In>&>(in.value);
+}
+
+struct ImageImpl {
+  std::string_view name;
+  std::function<Image(const Input&, const FrameOptions&, FrameStats*)> render;
+  double accuracy = 0;   // bound against the oracle, in the family's unit (stated in its row)
+  KnownFailure known;
+  std::string_view peer; // non-empty: a production library's implementation (e.g. "OpenImageIO 2.4")
+  bool threaded = true;  // false: single-threaded by design (the reference)
+};
+
+// An analytic judge: for every pixel, whether it must be covered, computed from
+// the input in closed form (never through an implementation). Cases name it in
+// corpus/manifest.txt.
+enum class Cover : uint8_t { kMiss, kHit, kSkip };
+struct ImageJudge {
+  std::string_view name;
+  std::string_view what;
+  // Throws InputError when the input is not what the judge needs.
+  std::function<void(const Input&)> check;
+  std::function<std::vector<Cover>(const Input&, int width, int height)> coverage;
+};
+
+// An input for benchmarks: built by the family (deterministic), timed by bench/.
+struct BenchInput {
+  std::string name;      // e.g. "balls-3", "2-layers"
+  Input input;
+  int width = 0, height = 0;
+  double bytes = 0;      // > 0: bytes a run must move (reads + writes); bench adds a memcpy yardstick
+  std::vector<std::pair<std::string, double>> counters;  // shown beside the rate
+  bool heavy_for_reference = false;  // the reference runs this at a quarter of the size
+};
+
+struct ImageFamily {
+  std::string_view name;     // "ray_cast"
+  std::string_view what;     // one line for --help
+  std::string_view input;    // what load() reads, e.g. "an NFF scene (.nff)"
+  std::string_view unit;     // "rays" or "pixels": what FrameStats::items counts
+  bool sized = true;         // --size applies (false: the size is the input's)
+  ImageTolerance tol;        // agreement with the reference, per frame
+  std::function<Input(const std::string& path)> load;  // throws InputError
+  std::vector<ImageImpl> impls;  // impls.front() is the reference
+  std::vector<ImageJudge> judges;
+  std::function<std::vector<BenchInput>()> bench;  // may be empty
+
+  const ImageImpl& reference() const { return impls.front(); }
+  const ImageImpl* find(std::string_view n) const {
+    for (const auto& i : impls)
+      if (i.name == n) return &i;
+    return nullptr;
+  }
+  const ImageJudge* find_judge(std::string_view n) const {
+    for (const auto& j : judges)
+      if (j.name == n) return &j;
+    return nullptr;
+  }
+};
+
+// ---------------------------------------------------------------- typed adapter
+
+template <class In>
+using RenderOf = Image (*)(const In&, const FrameOptions&, FrameStats*);
+
+template <class In>
+struct TypedImpl {
+  std::string_view name;
+  RenderOf<In> render;
+  double accuracy = 0;
+  KnownFailure known = {};
+  std::string_view peer = {};
+  bool threaded = true;
+};
+
+template <class In>
+Input make_input(In value, std::string source, int width, int height, Vec3 background = {}) {
+  Input in;
+  in.value = std::shared_ptr<const In>(std::make_shared<In>(std::move(value)));
+  in.source = std::move(source);
+  in.width = width;
+  in.height = height;
+  in.background = background;
+  return in;
+}
+
+template <class In>
+ImageImpl erase(const TypedImpl<In>& t) {
+  ImageImpl i;
+  i.name = t.name;
+  i.render = [fn = t.render](const Input& in, const FrameOptions& o, FrameStats* s) { return fn(input_as<In>(in), o, s); };
+  i.accuracy = t.accuracy;
+  i.known = t.known;
+  i.peer = t.peer;
+  i.threaded = t.threaded;
+  return i;
+}
+
+// Every implementation of one family takes the same input type In.
+template <class In>
+std::vector<ImageImpl> erase_all(std::span<const TypedImpl<In>> impls) {
+  std::vector<ImageImpl> out;
+  for (const auto& t : impls) out.push_back(erase(t));
+  return out;
+}
+
+}  // namespace lockstep
