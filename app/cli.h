@@ -1,5 +1,5 @@
 // lockstep CLI: what the subcommands share (argument parsing, validation,
-// implementation lookup through the pair table, the progress line).
+// family and implementation lookup through the registry, the progress line).
 //
 // Exit codes, for every subcommand:
 //   0  ok (images agree, every case passes)
@@ -29,7 +29,7 @@
 
 #include "core/error.h"
 #include "core/nff.h"
-#include "core/pairs.h"
+#include "pairs/registry.h"
 
 namespace lockstep::cli {
 
@@ -46,9 +46,14 @@ class UsageError : public std::runtime_error {
 
 using Args = std::span<const std::string_view>;
 
-// The subcommands (app/render.cpp, app/diff.cpp, app/verify.cpp). args excludes
-// the program and subcommand names.
+// The subcommands (app/render.cpp, app/diff.cpp, app/verify.cpp,
+// app/composite.cpp). args excludes the program and subcommand names.
 int render_main(Args args);
+int composite_main(Args args);
+
+struct Run;
+// The one-line summary render and composite print on stderr (app/render.cpp).
+std::string run_summary(const std::string& who, const ImageFamily& f, const ImageImpl& impl, const Run& r);
 int diff_main(Args args);
 int verify_main(Args args);
 
@@ -121,26 +126,58 @@ inline void parse_size(std::string_view s, int& w, int& h) {
   h = int(parse_long("--size height", s.substr(x + 1), 1, kMaxResolution));
 }
 
-// ---------------------------------------------------------------- implementations (pair table)
+// ---------------------------------------------------------------- families and implementations (the registry)
 
-inline const Pair<CasterFns>& casters() { return pairs().ray_cast; }
+inline const ImageFamily& find_family(std::string_view name) {
+  if (const ImageFamily* f = registry().find_image(name)) return *f;
+  throw UsageError("unknown family '" + std::string(name) + "' (known: " + registry().image_names() + ")");
+}
 
-// "reference, simd, embree, auto" from the table.
-inline std::string impl_names(std::string_view sep = ", ") {
+// The family whose files end in path's extension (".nff": ray_cast).
+inline const ImageFamily& family_for_path(const std::string& path) {
+  const std::string ext = std::filesystem::path(path).extension().string();
+  for (const ImageFamily& f : registry().image)
+    if (!f.extension.empty() && f.extension == ext) return f;
+  std::string known;
+  for (const ImageFamily& f : registry().image)
+    if (!f.extension.empty()) known += (known.empty() ? "" : ", ") + std::string(f.extension) + " (" + std::string(f.name) + ")";
+  throw InputError(path, 0, "no family reads '" + ext + "' files (known: " + known + ")");
+}
+
+// "reference, simd, embree, auto"
+inline std::string impl_names(const ImageFamily& f, std::string_view sep = ", ") {
   std::string s;
-  for (const auto& i : casters().impls) {
+  for (const auto& i : f.impls) {
     if (!s.empty()) s += sep;
     s += i.name;
   }
   return s;
 }
 
-inline const Impl<CasterFns>& find_impl(std::string_view name) {
-  if (const auto* i = casters().find(name)) return *i;
-  throw UsageError("unknown implementation '" + std::string(name) + "' (known: " + impl_names() + ")");
+inline const ImageImpl& find_impl(const ImageFamily& f, std::string_view name) {
+  if (const auto* i = f.find(name)) return *i;
+  throw UsageError("unknown implementation '" + std::string(name) + "' of " + std::string(f.name) +
+                   " (known: " + impl_names(f) + ")");
 }
 
-inline const Impl<CasterFns>& reference_impl() { return casters().impls.front(); }
+// Every family's implementations, "ray_cast: reference, simd, ...; composite: ...".
+inline std::string all_impl_names() {
+  std::string s;
+  for (const ImageFamily& f : registry().image) {
+    if (!s.empty()) s += "; ";
+    s += std::string(f.name) + ": " + impl_names(f);
+  }
+  return s;
+}
+
+// "2.41M"
+inline std::string rate(double per_second) {
+  char buf[32];
+  if (per_second >= 1e6) std::snprintf(buf, sizeof buf, "%.2fM", per_second / 1e6);
+  else if (per_second >= 1e3) std::snprintf(buf, sizeof buf, "%.1fk", per_second / 1e3);
+  else std::snprintf(buf, sizeof buf, "%.0f", per_second);
+  return buf;
+}
 
 // ---------------------------------------------------------------- files
 
@@ -196,9 +233,5 @@ class Progress {
   int last_ = -1;
   std::chrono::steady_clock::time_point start_;
 };
-
-inline double seconds_since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
 
 }  // namespace lockstep::cli

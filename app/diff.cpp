@@ -18,8 +18,8 @@ void print_help(const CompareOptions& d) {
       "fails when its largest channel error exceeds T; the images agree when at most P percent\n"
       "of the pixels fail and no pixel exceeds H. Numbers may be written as fractions (1/255).\n"
       "\n"
-      "  --fail T          per-pixel failure threshold (default %.6g = 1/255, the pair table's)\n"
-      "  --failpercent P   percent of pixels allowed to fail (default %.3g, the pair table's)\n"
+      "  --fail T          per-pixel failure threshold (default %.6g = 1/255, ray_cast's)\n"
+      "  --failpercent P   percent of pixels allowed to fail (default %.3g, ray_cast's)\n"
       "  --warn W          per-pixel warning threshold (default %.6g)\n"
       "  --hardfail H      any pixel above H fails outright (default: off)\n"
       "  --heatmap OUT     write a heat map of the error (black 0, blue, green, yellow, red at the max)\n"
@@ -33,9 +33,11 @@ void print_help(const CompareOptions& d) {
 
 int diff_main(Args args) {
   CompareOptions opt;
-  // Defaults from the pair table: a pixel within color_abs on pixel_fraction of the image.
-  opt.fail_threshold = casters().tol.color_abs;
-  opt.fail_percent = 100.0 * (1.0 - casters().tol.pixel_fraction);
+  // Defaults from the registry's first family (ray_cast): a pixel within
+  // color_abs on pixel_fraction of the image.
+  const ImageTolerance& tol = registry().image.front().tol;
+  opt.fail_threshold = tol.color_abs;
+  opt.fail_percent = 100.0 * (1.0 - tol.pixel_fraction);
   std::string a_path, b_path, heat_path, value;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string_view a = args[i];

@@ -6,7 +6,7 @@
 //
 // main() only dispatches and turns exceptions into exit codes (app/cli.h).
 #include <embree3/rtcore_config.h>
-#include "core/ray_cast.h"
+#include "optimized/ray_cast.h"
 #include <cstdio>
 #include <exception>
 #include <new>
@@ -22,22 +22,23 @@ namespace {
 
 void print_help() {
   std::printf(
-      "lockstep %s: textbook ray casting against optimized ray casting, proven to agree.\n"
+      "lockstep %s: textbook graphics algorithms against optimized ones, proven to agree.\n"
       "\n"
       "usage:\n"
-      "  lockstep render SCENE.nff [--impl NAME] [--size WxH] [--threads N] -o OUT\n"
-      "      render an NFF scene with one implementation; the format follows OUT's extension\n"
+      "  lockstep render INPUT [--impl NAME] [--size WxH] [--threads N] -o OUT\n"
+      "      render an input (.nff scene, .stack of layers) with one implementation of its family;\n"
+      "      the format follows OUT's extension\n"
       "  lockstep diff A B [--fail T] [--failpercent P] [--warn W] [--heatmap OUT]\n"
       "      compare two images (idiff style); exit 0 when they agree, 1 when not\n"
       "  lockstep verify [CORPUS_DIR] [--report DIR] [--impl NAME]... [--filter SUBSTR]\n"
       "      render every corpus case with every implementation, check against the reference,\n"
       "      the golden images and analytic judges, and write a report\n"
       "\n"
-      "implementations (core/pairs.h): %s\n"
+      "families and implementations (pairs/registry.h): %s\n"
       "\n"
       "options: --help (also after a subcommand), --version\n"
       "exit codes: 0 ok, 1 differences/failures, 2 bad usage or bad input, 3 internal error\n",
-      LOCKSTEP_VERSION, cli::impl_names().c_str());
+      LOCKSTEP_VERSION, cli::all_impl_names().c_str());
 }
 
 void print_version() {

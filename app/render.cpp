@@ -1,10 +1,11 @@
-// lockstep render: one scene, one implementation, one image.
+// lockstep render: one input, one implementation, one image. The family is
+// the one whose files end in the input's extension (pairs/registry.h).
 #include <cstdio>
 #include <string>
 
 #include "app/cli.h"
+#include "app/run.h"
 #include "core/image.h"
-#include "core/nff.h"
 
 namespace lockstep::cli {
 
@@ -12,34 +13,47 @@ namespace {
 
 void print_help() {
   std::printf(
-      "usage: lockstep render SCENE.nff [--impl NAME] [--size WxH] [--threads N] -o OUT\n"
+      "usage: lockstep render INPUT [--impl NAME] [--size WxH] [--threads N] -o OUT\n"
       "\n"
-      "Ray casts an NFF scene and writes the image; the format follows OUT's extension\n"
-      "(.exr and .tif keep float values, .png clamps to 8 bits).\n"
+      "Renders INPUT with one implementation of the family that reads it and writes the\n"
+      "image; the format follows OUT's extension (.exr and .tif keep float values, .png\n"
+      "clamps to 8 bits).\n"
+      "\n");
+  for (const ImageFamily& f : registry().image)
+    std::printf("  %-10s %s from %s; --impl %s (default: %.*s)\n", std::string(f.name).c_str(),
+                std::string(f.what).c_str(), std::string(f.input).c_str(), impl_names(f, "|").c_str(),
+                int(f.default_impl.size()), f.default_impl.data());
+  std::printf(
       "\n"
-      "  --impl NAME     implementation, one of: %s (default: auto)\n"
-      "  --size WxH      image size, 1..%d each (default: the scene's 'resolution')\n"
+      "  --impl NAME     implementation (default: the family's, above)\n"
+      "  --size WxH      image size, 1..%d each (default: the input's own; ray_cast: 'resolution')\n"
       "  --threads N     worker threads, N >= 1 (default: all cores; the reference is single-threaded)\n"
       "  -o, --output F  the image to write (required)\n"
       "\n"
-      "Prints one summary line (implementation, size, build and trace seconds, rays/s,\n"
-      "and which implementation 'auto' chose) on stderr.\n"
-      "Exit codes: 0 ok, 2 bad usage or bad scene (nothing written), 3 internal error.\n",
-      impl_names().c_str(), kMaxResolution);
-}
-
-std::string rate(double per_second) {
-  char buf[32];
-  if (per_second >= 1e6) std::snprintf(buf, sizeof buf, "%.2fM", per_second / 1e6);
-  else if (per_second >= 1e3) std::snprintf(buf, sizeof buf, "%.1fk", per_second / 1e3);
-  else std::snprintf(buf, sizeof buf, "%.0f", per_second);
-  return buf;
+      "Prints one summary line (implementation, size, build and run seconds, rate, and which\n"
+      "implementation 'auto' chose) on stderr.\n"
+      "Exit codes: 0 ok, 2 bad usage or bad input (nothing written), 3 internal error.\n",
+      kMaxResolution);
 }
 
 }  // namespace
 
+// The summary line of render and composite: "lockstep render: simd 512x512 build
+// 0.000 s, trace 0.010 s, 26.21M rays/s, wall 0.010 s".
+std::string run_summary(const std::string& who, const ImageFamily& f, const ImageImpl& impl, const Run& r) {
+  const double run_s = r.seconds - r.stats.build_seconds;
+  char buf[200];
+  std::snprintf(buf, sizeof buf, " %dx%d build %.3f s, %.*s %.3f s, %s %.*s/s, wall %.3f s", r.image.width,
+                r.image.height, r.stats.build_seconds, int(f.verb.size()), f.verb.data(), run_s,
+                rate(double(r.stats.items) / (run_s > 0 ? run_s : 1e-9)).c_str(), int(f.unit.size()), f.unit.data(),
+                r.seconds);
+  std::string line = who + ": " + std::string(impl.name) + buf;
+  if (!r.stats.chosen.empty()) line += ", chose " + r.stats.chosen;
+  return line;
+}
+
 int render_main(Args args) {
-  std::string scene_path, out_path, impl_name = "auto", value;
+  std::string in_path, out_path, impl_name, value;
   int width = 0, height = 0, threads = 0;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string_view a = args[i];
@@ -56,51 +70,40 @@ int render_main(Args args) {
       out_path = value;
     } else if (is_option(a)) {
       unknown_option(a);
-    } else if (scene_path.empty()) {
-      scene_path = std::string(a);
+    } else if (in_path.empty()) {
+      in_path = std::string(a);
     } else {
-      throw UsageError("unexpected argument '" + std::string(a) + "' (one scene per call)");
+      throw UsageError("unexpected argument '" + std::string(a) + "' (one input per call)");
     }
   }
-  if (scene_path.empty()) throw UsageError("missing SCENE");
+  if (in_path.empty()) throw UsageError("missing INPUT");
   if (out_path.empty()) throw UsageError("missing -o OUT");
-  const Impl<CasterFns>& impl = find_impl(impl_name);
+  const ImageFamily& family = family_for_path(in_path);
+  const ImageImpl& impl = find_impl(family, impl_name.empty() ? family.default_impl : impl_name);
+  if (!family.sized && width > 0) throw UsageError("--size does not apply to " + std::string(family.name));
 
   // Everything that can be wrong with the input is found before rendering, so
   // an error never leaves an output behind.
   check_output_image(out_path);
-  const Scene scene = read_nff(scene_path);
+  const Input input = family.load(in_path);
 
-  RenderOptions opts;
-  opts.width = width > 0 ? width : scene.view.xres;
-  opts.height = height > 0 ? height : scene.view.yres;
+  FrameOptions opts;
+  opts.width = width > 0 ? width : input.width;
+  opts.height = height > 0 ? height : input.height;
   opts.threads = threads;
   Progress progress("lockstep render: " + std::string(impl.name));
   opts.progress = [&progress](double f) { progress(f); };
-
-  RenderStats stats;
-  const auto start = std::chrono::steady_clock::now();
-  Image image;
+  Run r;
   try {
-    image = impl.fn.render(scene, opts, &stats);
+    r = run_frame(family, impl, input, opts, false);
   } catch (...) {
     progress.finish();
     throw;
   }
-  const double wall = seconds_since(start);
   progress.finish();
-  write_image(image, out_path);
-
-  const double trace_s = stats.trace_seconds > 0 ? stats.trace_seconds : wall;
-  std::string line = "lockstep render: " + std::string(impl.name) + " " + std::to_string(opts.width) + "x" +
-                     std::to_string(opts.height);
-  char buf[160];
-  std::snprintf(buf, sizeof buf, " build %.3f s, trace %.3f s, %s rays/s, wall %.3f s", stats.build_seconds,
-                stats.trace_seconds, rate(double(stats.rays) / trace_s).c_str(), wall);
-  line += buf;
-  if (!stats.chosen.empty()) line += ", chose " + stats.chosen;
-  line += " -> " + out_path;
-  std::fprintf(stderr, "%s\n", line.c_str());
+  if (!r.ok) throw std::runtime_error(std::string(impl.name) + " " + r.error);
+  write_image(r.image, out_path);
+  std::fprintf(stderr, "%s -> %s\n", run_summary("lockstep render", family, impl, r).c_str(), out_path.c_str());
   return kExitOk;
 }
 

@@ -1,10 +1,13 @@
-// lockstep benchmarks (Google Benchmark), registered from the pair table.
+// lockstep benchmarks (Google Benchmark), registered from the registry
+// (pairs/registry.h) and the ray-casting kernel rows (pairs/ray_cast.h).
 //
 //   kernel/<pair>/<impl>          one primitive against 4096 rays, single thread:
 //                                 items/s = ray-primitive tests per second
-//   frame/<scene>/<impl>/threads:N  the SPD scene rendered from its viewpoint:
-//                                 items/s = primary rays per second; counters
-//                                 build_ms (Embree BVH) and prims
+//   throughput/<prims>/<impl>     trace() of 4096 rays against 256 primitives
+//   frame/<family>/<input>/<impl>/threads:N  every image family's bench inputs
+//                                 (pairs/<family>.cpp), rendered whole: items/s =
+//                                 output pixels (primary rays) per second;
+//                                 counters build_ms (Embree BVH) and the input's own
 //
 // Reproduce the tables in BENCHMARKS.md with scripts/bench.sh. The reference is
 // scalar and single-threaded by design, so it only runs with threads:1, and on
@@ -12,7 +15,9 @@
 // brute force costs the same for every ray, so the rate carries over).
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <cstdlib>
 #include <filesystem>
 #include <random>
@@ -20,11 +25,13 @@
 #include <thread>
 #include <vector>
 
+#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include "core/error.h"
 #include "core/nff.h"
-#include "core/pairs.h"
+#include "pairs/ray_cast.h"
+#include "pairs/registry.h"
 
 namespace lockstep {
 namespace {
@@ -76,7 +83,7 @@ void register_kernel(const Pair<Fn>& pair, Call call) {
   }
 }
 
-void register_kernels(const PairTable& table) {
+void register_kernels(const RayCastRows& table) {
   const Sphere sphere{{0, 0, 0}, 1.0};
   register_kernel(table.ray_sphere, [sphere](RaySphereFn fn, const std::vector<Ray>& r, std::vector<double>& t) {
     fn(r, sphere, t);
@@ -119,7 +126,7 @@ Scene throughput_scene(bool spheres) {
   return s;
 }
 
-void register_throughput(const PairTable& table) {
+void register_throughput(const RayCastRows& table) {
   for (bool spheres : {true, false}) {
     auto scene = std::make_shared<Scene>(throughput_scene(spheres));
     const double prims = double(scene->sphere_count() + scene->polygon_count() * (spheres ? 1 : 2));
@@ -146,46 +153,69 @@ void register_throughput(const PairTable& table) {
   }
 }
 
-// ---------------------------------------------------------------- frames
-std::string spd_dir() {
-  if (const char* e = std::getenv("LOCKSTEP_SPD_DIR")) return e;
-  return LOCKSTEP_SPD_DIR;
+// ---------------------------------------------------------------- frames (every image family)
+// frame/<family>/<input>/<impl>/threads:N: the family's bench inputs
+// (ImageFamily::bench) rendered whole; items/s = output pixels per second
+// (primary rays for ray_cast). Inputs that say how many bytes a run must move
+// get frame/<family>/<input>/memcpy/threads:N beside them: memcpy of the same
+// bytes (half read, half written) in the same run, the bandwidth yardstick.
+void register_memcpy(const std::string& base, double bytes, int threads) {
+  const std::string bname = base + "/memcpy/threads:" + std::to_string(threads);
+  benchmark::RegisterBenchmark(bname.c_str(), [bytes, threads](benchmark::State& st) {
+    const size_t n = size_t(bytes / 2);
+    std::vector<char> src(n, 1), dst(n, 0);  // touched once here, not in the loop
+    tbb::task_arena arena(threads);
+    for (auto _ : st) {
+      arena.execute([&] {
+        const size_t chunk = std::max<size_t>(1 << 20, n / size_t(8 * threads));
+        tbb::parallel_for(size_t(0), (n + chunk - 1) / chunk, [&](size_t k) {
+          const size_t lo = k * chunk, len = std::min(chunk, n - lo);
+          std::memcpy(dst.data() + lo, src.data() + lo, len);
+        });
+      });
+      benchmark::DoNotOptimize(dst.data());
+      benchmark::ClobberMemory();
+    }
+    st.SetBytesProcessed(int64_t(double(st.iterations()) * 2 * double(n)));
+  })->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
 }
 
-void register_frames(const PairTable& table) {
-  const char* scenes[] = {"balls-1", "balls-2", "balls-3", "balls-4", "balls-5", "tetra-3",
-                          "mount-3", "gears-2", "teapot-2", "sombrero-2"};
+void register_frames(const Registry& reg) {
   const int all_threads = int(std::max(1u, std::thread::hardware_concurrency()));
-  for (const char* name : scenes) {
-    const std::string path = spd_dir() + "/" + name + ".nff";
-    if (!std::filesystem::exists(path)) continue;
-    auto scene = std::make_shared<Scene>(read_nff(path));
-    const uint32_t prims = scene->sphere_count() + scene->triangle_count();
-    for (const auto& impl : table.ray_cast.impls) {
-      const bool is_ref = impl.name == "reference";
+  for (const ImageFamily& fam : reg.image) {
+    if (!fam.bench) continue;
+    for (const BenchInput& in : fam.bench()) {
+      const std::string base = "frame/" + std::string(fam.name) + "/" + in.name;
+      auto input = std::make_shared<const BenchInput>(in);
       for (int threads : {1, all_threads}) {
-        if (is_ref && threads != 1) continue;  // the reference is single-threaded by design
-        const int size = is_ref && prims > 5000 ? 128 : 512;
-        const std::string bname = "frame/" + std::string(name) + "/" + std::string(impl.name) +
-                                  "/threads:" + std::to_string(threads);
-        benchmark::RegisterBenchmark(bname.c_str(), [scene, size, threads, prims, spheres = scene->sphere_count(), triangles = scene->triangle_count(), fn = impl.fn](benchmark::State& st) {
-          RenderOptions opts;
-          opts.width = opts.height = size;
-          opts.threads = threads;
-          double build = 0;
-          for (auto _ : st) {
-            RenderStats stats;
-            Image img = fn.render(*scene, opts, &stats);
-            benchmark::DoNotOptimize(img.rgba.data());
-            build += stats.build_seconds;
-          }
-          st.SetItemsProcessed(int64_t(st.iterations()) * size * size);
-          st.counters["build_ms"] = 1e3 * build / double(st.iterations());
-          st.counters["prims"] = prims;
-          st.counters["spheres"] = spheres;
-          st.counters["triangles"] = triangles;
-          st.counters["size"] = size;
-        })->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
+        for (const ImageImpl& impl : fam.impls) {
+          if (!impl.threaded && threads != 1) continue;  // the reference is single-threaded by design
+          // Brute force costs the same for every pixel: the reference runs heavy
+          // inputs at a quarter of the size per side and the rate carries over.
+          const int div = !impl.threaded && in.heavy_for_reference ? 4 : 1;
+          const std::string bname = base + "/" + std::string(impl.name) + "/threads:" + std::to_string(threads);
+          benchmark::RegisterBenchmark(bname.c_str(), [input, div, threads, sized = fam.sized, fn = impl.render](benchmark::State& st) {
+            FrameOptions opts;
+            opts.width = input->width / div;
+            opts.height = input->height / div;
+            opts.threads = threads;
+            double build = 0;
+            uint64_t pixels = 0;
+            for (auto _ : st) {
+              FrameStats stats;
+              Image img = fn(input->input, opts, &stats);
+              benchmark::DoNotOptimize(img.rgba.data());
+              build += stats.build_seconds;
+              pixels = uint64_t(img.width) * uint64_t(img.height);
+            }
+            st.SetItemsProcessed(int64_t(st.iterations() * pixels));
+            if (input->bytes > 0) st.SetBytesProcessed(int64_t(double(st.iterations()) * input->bytes));
+            st.counters["build_ms"] = 1e3 * build / double(st.iterations());
+            st.counters["size"] = sized ? opts.width : input->width;
+            for (const auto& [k, v] : input->counters) st.counters[k] = v;
+          })->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
+        }
+        if (in.bytes > 0) register_memcpy(base, in.bytes, threads);
       }
     }
   }
@@ -196,9 +226,9 @@ void register_frames(const PairTable& table) {
 
 int main(int argc, char** argv) {
   try {
-    lockstep::register_kernels(lockstep::pairs());
-    lockstep::register_throughput(lockstep::pairs());
-    lockstep::register_frames(lockstep::pairs());
+    lockstep::register_kernels(lockstep::ray_cast_rows());
+    lockstep::register_throughput(lockstep::ray_cast_rows());
+    lockstep::register_frames(lockstep::registry());
   } catch (const lockstep::InputError& e) {
     std::fprintf(stderr, "lockstep_bench: %s\n", e.what());
     return 2;

@@ -67,6 +67,17 @@ struct ImageTolerance {
   double depth_abs = -1;
 };
 
+// One implementation of a typed entry point Fn (kernel rows, and the typed rows
+// an image family is built from).
+template <class Fn>
+struct Impl {
+  std::string_view name;
+  Fn fn;
+  double accuracy;   // bound against the oracle on well-conditioned input, in the family's unit
+  double agree = 0;  // agreement with the reference when the family's default does not fit (0: the default)
+  KnownFailure known = {};
+};
+
 // ---------------------------------------------------------------- image families
 
 // A family's input, loaded from a file by the family's loader. value holds a
@@ -119,6 +130,9 @@ struct ImageFamily {
   std::string_view what;     // one line for --help
   std::string_view input;    // what load() reads, e.g. "an NFF scene (.nff)"
   std::string_view unit;     // "rays" or "pixels": what FrameStats::items counts
+  std::string_view verb;     // what a run does, for the CLI's line: "trace", "composite"
+  std::string_view extension;     // files `lockstep render` hands to this family (".nff")
+  std::string_view default_impl;  // `lockstep render` without --impl
   bool sized = true;         // --size applies (false: the size is the input's)
   ImageTolerance tol;        // agreement with the reference, per frame
   std::function<Input(const std::string& path)> load;  // throws InputError

@@ -16,7 +16,8 @@ namespace lockstep {
 
 struct Image {
   int width = 0, height = 0;
-  std::vector<float> rgba;  // width * height * 4
+  std::vector<float> rgba;   // width * height * 4
+  std::vector<float> depth;  // width * height, or empty: no depth plane (raster families fill it)
 
   Image() = default;
   Image(int w, int h) : width(w), height(h), rgba(size_t(w) * size_t(h) * 4, 0.0f) {}

@@ -1,10 +1,25 @@
 #include "core/metrics.h"
 
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
 namespace lockstep {
+
+namespace {
+
+// An ImageBuf over the image's own pixels (no copy; read only).
+OIIO::ImageBuf wrap(const Image& img) {
+  const OIIO::ImageSpec spec(img.width, img.height, 4, OIIO::TypeDesc::FLOAT);
+  return OIIO::ImageBuf(spec, const_cast<float*>(img.rgba.data()));
+}
+
+bool has_nan(const float* p) { return std::isnan(p[0]) || std::isnan(p[1]) || std::isnan(p[2]) || std::isnan(p[3]); }
+
+}  // namespace
 
 ImageError compare_images(const Image& a, const Image& b, const CompareOptions& opt) {
   ImageError e;
@@ -15,64 +30,55 @@ ImageError compare_images(const Image& a, const Image& b, const CompareOptions& 
     return e;
   }
   e.pixels = long(a.width) * long(a.height);
-  double sum = 0, sum2 = 0;
-  for (int y = 0; y < a.height; ++y)
-    for (int x = 0; x < a.width; ++x) {
-      const float* p = a.pixel(x, y);
-      const float* q = b.pixel(x, y);
-      double worst = 0;
-      for (int c = 0; c < 4; ++c) {
-        double d = std::abs(double(p[c]) - double(q[c]));
-        if (std::isnan(d)) d = kInfinity;  // NaN in one image is the worst possible error
-        worst = std::max(worst, d);
-        if (c < 3) {
-          sum += std::min(d, 1e30);
-          sum2 += std::min(d * d, 1e30);
-        }
-      }
-      if (worst > e.max_error) {
-        e.max_error = worst;
-        e.max_x = x;
-        e.max_y = y;
-      }
-      if (worst > opt.fail_threshold) ++e.pixels_failed;
-      if (worst > opt.warn_threshold) ++e.pixels_warned;
+  if (e.pixels == 0) return e;
+  const OIIO::ImageBuf A = wrap(a), B = wrap(b);
+  const auto r = OIIO::ImageBufAlgo::compare(A, B, float(opt.fail_threshold), float(opt.warn_threshold));
+  e.max_error = r.maxerror;
+  e.max_x = r.maxx;
+  e.max_y = r.maxy;
+  e.mean_error = r.meanerror;
+  e.rms_error = r.rms_error;
+  e.psnr = r.rms_error > 0 ? r.PSNR : kInfinity;
+  e.pixels_failed = long(r.nfail);
+  e.pixels_warned = long(r.nwarn);
+  if (std::isfinite(opt.hard_fail))
+    e.over_hard = long(OIIO::ImageBufAlgo::compare(A, B, float(opt.hard_fail), float(opt.hard_fail)).nfail);
+  // NaN: idiff skips it; here it is the worst possible error, and fails every threshold.
+  for (long i = 0; i < e.pixels; ++i) {
+    const float *p = &a.rgba[size_t(i) * 4], *q = &b.rgba[size_t(i) * 4];
+    if (!has_nan(p) && !has_nan(q)) continue;
+    if (!(e.max_error == kInfinity)) {
+      e.max_x = int(i % a.width);
+      e.max_y = int(i / a.width);
     }
-  const double n = double(e.pixels) * 3;
-  e.mean_error = n > 0 ? sum / n : 0;
-  e.rms_error = n > 0 ? std::sqrt(sum2 / n) : 0;
-  e.psnr = e.rms_error > 0 ? 20.0 * std::log10(1.0 / e.rms_error) : kInfinity;
-  e.pass = e.percent_failed() <= opt.fail_percent && e.max_error <= opt.hard_fail;
+    e.max_error = kInfinity;
+    ++e.pixels_failed;
+    ++e.pixels_warned;
+    ++e.over_hard;
+  }
+  e.pass = e.percent_failed() <= opt.fail_percent && e.over_hard == 0 && e.max_error <= opt.hard_fail;
   return e;
 }
 
 Image error_heatmap(const Image& a, const Image& b, double scale) {
+  namespace iba = OIIO::ImageBufAlgo;
   const int w = std::min(a.width, b.width), h = std::min(a.height, b.height);
+  const OIIO::ROI roi(0, w, 0, h, 0, 1, 0, 4);
+  const OIIO::ImageBuf err = iba::maxchan(iba::absdiff(wrap(a), wrap(b), roi));
+  if (scale <= 0) {
+    const auto stats = iba::computePixelStats(err);
+    scale = !stats.max.empty() && stats.max[0] > 0 ? stats.max[0] : 1;
+  }
+  // black, blue, green, yellow, red: 0 .. scale
+  static constexpr float kKnots[] = {0, 0, 0, 0, 0, 1, 0, 1, 0, 1, 1, 0, 1, 0, 0};
+  const OIIO::ImageBuf map = iba::color_map(iba::clamp(iba::mul(err, float(1 / scale)), 0.0f, 1.0f), 0, 5, 3, kKnots);
   Image out(w, h);
-  std::vector<double> err(size_t(w) * size_t(h));
-  double mx = 0;
+  map.get_pixels(OIIO::ROI(0, w, 0, h, 0, 1, 0, 3), OIIO::TypeDesc::FLOAT, out.rgba.data(), 4 * sizeof(float));
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
-      double worst = 0;
-      for (int c = 0; c < 4; ++c) worst = std::max(worst, double(std::abs(a.pixel(x, y)[c] - b.pixel(x, y)[c])));
-      err[size_t(y) * size_t(w) + size_t(x)] = worst;
-      mx = std::max(mx, worst);
-    }
-  if (scale <= 0) scale = mx > 0 ? mx : 1;
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      const double e = err[size_t(y) * size_t(w) + size_t(x)];
-      if (e == 0) {
-        out.set(x, y, {0, 0, 0});
-        continue;
-      }
-      // Even a tiny error stays visible: start at dim blue.
-      const double t = std::clamp(e / scale, 0.0, 1.0);
-      Vec3 c;
-      if (t < 1.0 / 3) c = {0, 3 * t, 0.4 + 0.6 * (1 - 3 * t)};
-      else if (t < 2.0 / 3) c = {3 * t - 1, 1, 0};
-      else c = {1, 1 - (3 * t - 2), 0};
-      out.set(x, y, c);
+      float* p = out.pixel(x, y);
+      p[3] = 1;
+      if (has_nan(a.pixel(x, y)) || has_nan(b.pixel(x, y))) p[0] = 1, p[1] = 0, p[2] = 1;
     }
   return out;
 }

@@ -7,7 +7,7 @@
 // constant (its generic traversal, and the sidedness filter callbacks). So auto
 // measures the scene's size and picks simd below a crossover, Embree above.
 //
-// The crossover, measured: 512 x 512, one thread (RenderOptions.threads = 1),
+// The crossover, measured: 512 x 512, one thread (FrameOptions.threads = 1),
 // wall time of the whole render call including Embree's device and BVH build,
 // best of 7, AVX-512 machine (Highway target AVX3), Embree 3.13.5. SPD scenes
 // from /work/shared/spd; the last four are SPD scenes cut short (the first N
@@ -55,7 +55,7 @@
 // build (about 0.2 us per primitive) dominates, but costs little in absolute terms.
 #include <string>
 
-#include "core/ray_cast.h"
+#include "optimized/ray_cast.h"
 
 namespace lockstep::opt::autosel {
 
@@ -70,7 +70,7 @@ uint64_t scene_size(const Scene& scene) {
   return uint64_t(scene.sphere_count()) + kTriangleWeight * uint64_t(scene.triangle_count());
 }
 
-// For RenderStats::chosen, e.g.
+// For FrameStats::chosen, e.g.
 //   "embree (size 5556 = 0 spheres + 6 x 926 triangles >= crossover 3000)".
 std::string reason(const Scene& scene) {
   const bool embree = prefers_embree(scene);
@@ -84,7 +84,7 @@ std::string reason(const Scene& scene) {
 
 bool prefers_embree(const Scene& scene) { return scene_size(scene) >= kCrossover; }
 
-void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, RenderStats* stats) {
+void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, FrameStats* stats) {
   if (prefers_embree(scene))
     embree::trace(scene, rays, hits, stats);
   else
@@ -92,7 +92,7 @@ void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, R
   if (stats) stats->chosen = reason(scene);
 }
 
-Image render(const Scene& scene, const RenderOptions& opts, RenderStats* stats) {
+Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   Image image =
       prefers_embree(scene) ? embree::render(scene, opts, stats) : simd::render(scene, opts, stats);
   if (stats) stats->chosen = reason(scene);

@@ -46,8 +46,9 @@
 #include <vector>
 
 #include "core/camera.h"
-#include "core/ray_cast.h"
+#include "optimized/ray_cast.h"
 #include "core/shading.h"
+#include "core/timer.h"
 #include "optimized/refine.h"
 #include "optimized/shade_simd.h"
 #include "optimized/simd_scene.h"
@@ -460,19 +461,15 @@ bool load_ray(const Frame& f, const Ray& r, RTCRayHit8& rh, int valid[kPacket], 
   return true;
 }
 
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
 }  // namespace
 
 // ---------------------------------------------------------------- the contract
-void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, RenderStats* stats) {
-  const auto t0 = std::chrono::steady_clock::now();
+void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, FrameStats* stats) {
+  const Stopwatch build_timer;
   if (rays.empty()) {  // nothing to build a BVH for
     if (stats) {
-      stats->build_seconds = stats->trace_seconds = 0;
-      stats->rays = 0;
+      stats->build_seconds = 0;
+      stats->items = 0;
     }
     return;
   }
@@ -480,8 +477,7 @@ void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, R
   frame.origin = rays[0].o;  // rays from one viewpoint keep "camera-relative" precision
   if (!is_finite(frame.origin)) frame.origin = Vec3{0, 0, 0};
   const auto es = build_scene(scene, frame);
-  const double build = seconds_since(t0);
-  const auto t1 = std::chrono::steady_clock::now();
+  const double build = build_timer.seconds();
   const size_t packets = (rays.size() + kPacket - 1) / kPacket;
   tbb::parallel_for(
       tbb::blocked_range<size_t>(0, packets, 64), [&](const tbb::blocked_range<size_t>& range) {
@@ -507,12 +503,11 @@ void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, R
   es->device.check("rtcIntersect8");
   if (stats) {
     stats->build_seconds = build;
-    stats->trace_seconds = seconds_since(t1);
-    stats->rays = rays.size();
+    stats->items = rays.size();
   }
 }
 
-Image render(const Scene& scene, const RenderOptions& opts, RenderStats* stats) {
+Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   const Camera cam = Camera::from_view(scene.view, opts.width, opts.height);
   // The camera's own frame: eye at the origin, x right, y up, z forward, so a
   // primary ray is (sx, sy, 1) normalised, with its small components exact.
@@ -520,7 +515,7 @@ Image render(const Scene& scene, const RenderOptions& opts, RenderStats* stats) 
   const int threads = opts.threads > 0 ? opts.threads : tbb::this_task_arena::max_concurrency();
   tbb::task_arena arena(threads);
 
-  const auto t0 = std::chrono::steady_clock::now();
+  const Stopwatch build_timer;
   std::unique_ptr<EmbreeScene> es;
   // Primary rays start at the eye, at hither along the view axis: at most
   // hither * |camera_dir| from it (longest at the image corners).
@@ -528,9 +523,8 @@ Image render(const Scene& scene, const RenderOptions& opts, RenderStats* stats) 
   for (const auto& [i, j] : {std::pair{0, 0}, {opts.width - 1, 0}, {0, opts.height - 1}, {opts.width - 1, opts.height - 1}})
     reach = std::max(reach, cam.hither * length(cam.camera_dir(i, j)));
   arena.execute([&] { es = build_scene(scene, frame, reach); });  // the BVH build honours opts.threads too
-  const double build = seconds_since(t0);
+  const double build = build_timer.seconds();
 
-  const auto t1 = std::chrono::steady_clock::now();
   const ShadeScene shading = prepare_shading(scene, frame);
   Image image(opts.width, opts.height);
   constexpr int kTileW = 32, kTileH = 8;
@@ -591,8 +585,7 @@ Image render(const Scene& scene, const RenderOptions& opts, RenderStats* stats) 
   es->device.check("rtcIntersect8");
   if (stats) {
     stats->build_seconds = build;
-    stats->trace_seconds = seconds_since(t1);
-    stats->rays = uint64_t(opts.width) * uint64_t(opts.height);
+    stats->items = uint64_t(opts.width) * uint64_t(opts.height);
   }
   return image;
 }

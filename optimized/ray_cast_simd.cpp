@@ -20,12 +20,11 @@
 //    from fusing these products, which would break the symmetry.)
 #include <algorithm>
 #include <atomic>
-#include <chrono>
 #include <cmath>
 #include <mutex>
 
 #include "core/camera.h"
-#include "core/ray_cast.h"
+#include "optimized/ray_cast.h"
 #include "core/shading.h"
 #include "optimized/refine.h"
 #include "optimized/shade_simd.h"
@@ -416,10 +415,6 @@ void cull_tile(const SimdScene& s, const ConeBounds& cb, const Camera& cam, int 
   }
 }
 
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
 }  // namespace
 
 // ---------------------------------------------------------------- the contract
@@ -465,8 +460,7 @@ void ray_plane(std::span<const Ray> rays, const Plane& plane, std::span<double> 
   }
 }
 
-void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, RenderStats* stats) {
-  const auto t0 = std::chrono::steady_clock::now();
+void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, FrameStats* stats) {
   Frame f;
   if (!rays.empty()) f.origin = rays[0].o;
   const SimdScene s = prepare_scene(scene, f, true);
@@ -478,13 +472,11 @@ void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, R
                     });
   for (size_t i = 0; i < rays.size(); ++i) refine_hit(scene, rays[i], hits[i]);
   if (stats) {
-    stats->trace_seconds = seconds_since(t0);
-    stats->rays = rays.size();
+    stats->items = rays.size();
   }
 }
 
-Image render(const Scene& scene, const RenderOptions& opts, RenderStats* stats) {
-  const auto t0 = std::chrono::steady_clock::now();
+Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   const Camera cam = Camera::from_view(scene.view, opts.width, opts.height);
   // The camera's own frame: eye at the origin, x right, y up, z forward.
   const Frame frame{cam.eye, cam.right, cam.up, cam.forward};
@@ -548,8 +540,7 @@ Image render(const Scene& scene, const RenderOptions& opts, RenderStats* stats) 
                       });
   });
   if (stats) {
-    stats->trace_seconds = seconds_since(t0);
-    stats->rays = uint64_t(opts.width) * uint64_t(opts.height);
+    stats->items = uint64_t(opts.width) * uint64_t(opts.height);
   }
   return image;
 }

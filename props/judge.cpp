@@ -20,11 +20,11 @@ ImplInfo info_of(const Pair<Fn>& p, size_t i) {
   ImplInfo in;
   in.pair = std::string(p.name);
   in.name = std::string(p.impls[i].name);
-  in.bound = p.impls[i].oracle_t_rel;
+  in.bound = p.impls[i].accuracy;
   in.eps = in.bound > 1e-9 ? kF32Eps : kF64Eps;
   in.is_reference = i == 0;
-  in.agree_t_rel = p.impls[i].agree_t_rel;
-  in.known_failure = std::string(p.impls[i].known_failure);
+  in.agree_t_rel = p.impls[i].agree;
+  in.known_failure = std::string(p.impls[i].known.label);
   in.mode = (i == 0 || p.impls[i].name.starts_with(p.impls[0].name)) ? Mode::textbook : Mode::robust;
   return in;
 }
@@ -58,7 +58,7 @@ void add_kernel_subjects(std::vector<Subject>& out, const Pair<Fn>& pair, Kernel
 
 std::vector<Subject> build_subjects() {
   std::vector<Subject> out;
-  const PairTable& t = pairs();
+  const RayCastRows& t = ray_cast_rows();
   add_kernel_subjects(out, t.ray_sphere, Kernel::sphere,
                       [](RaySphereFn fn, const Case& c, uint32_t, std::span<double> r) { fn(c.rays, c.sphere, r); });
   add_kernel_subjects(out, t.ray_plane, Kernel::plane,
@@ -248,7 +248,7 @@ void probe(const Subject& s) {
   c.rays = {Ray{{0, 0, 0}, {0, 0, -1}, 0, kInfinity}};
   if (s.kernel == Kernel::frame) {
     run_trace(s, c);
-    RenderOptions opts;
+    FrameOptions opts;
     opts.width = opts.height = 2;
     opts.threads = 1;
     guarded([&] { return s.render(c.scene, opts, nullptr); });
@@ -537,7 +537,7 @@ Verdict check_degenerate(const Subject& s, const Case& c) {
 Verdict check_render(const Subject& s, const Case& c) {
   Verdict v;
   const Subject& ref = reference_of(s.info.pair);
-  RenderOptions opts;
+  FrameOptions opts;
   opts.width = opts.height = c.render_size;
   opts.threads = 1;
   const Image a = guarded([&] { return s.render(c.scene, opts, nullptr); });

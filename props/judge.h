@@ -28,7 +28,7 @@
 #include <string>
 #include <vector>
 
-#include "core/pairs.h"
+#include "pairs/ray_cast.h"
 #include "props/case.h"
 #include "props/oracle.h"
 #include "props/verdict.h"

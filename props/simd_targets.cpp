@@ -10,7 +10,8 @@
 
 #include "core/metrics.h"
 #include "core/nff.h"
-#include "core/pairs.h"
+#include "optimized/ray_cast.h"
+#include "pairs/ray_cast.h"
 
 namespace lockstep {
 namespace {
@@ -23,7 +24,7 @@ struct TargetGuard {
 TEST(SimdTargets, EveryCompiledTargetRendersLikeTheReference) {
   const auto targets = hwy::SupportedAndGeneratedTargets();
   ASSERT_FALSE(targets.empty());
-  const auto& pair = pairs().ray_cast;
+  const auto& pair = ray_cast_rows().ray_cast;
   const auto* simd = pair.find("simd");
   ASSERT_NE(simd, nullptr);
   CompareOptions cmp;
@@ -32,7 +33,7 @@ TEST(SimdTargets, EveryCompiledTargetRendersLikeTheReference) {
   for (const char* name : {"balls-1", "gears-2", "teapot-2", "sidedness"}) {
     const std::string path = std::string(LOCKSTEP_CORPUS_DIR) + "/scenes/" + name + ".nff";
     const Scene scene = read_nff(path);
-    RenderOptions opts;
+    FrameOptions opts;
     opts.width = 96;
     opts.height = 64;
     opts.threads = 1;

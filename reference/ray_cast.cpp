@@ -4,10 +4,9 @@
 // Source: Appel 1968 / Whitted 1980 without the recursive rays; the loop is
 // the one in every lecture: for each pixel, for each object, keep the nearest.
 // Scalar, double precision, single-threaded, on purpose.
-#include <chrono>
 
 #include "core/camera.h"
-#include "core/ray_cast.h"
+#include "reference/ray_cast.h"
 #include "core/shading.h"
 #include "reference/ray_polygon.h"
 #include "reference/ray_sphere.h"
@@ -50,17 +49,14 @@ Hit nearest_hit(const Scene& scene, const Ray& ray) {
 
 }  // namespace
 
-void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, RenderStats* stats) {
-  const auto start = std::chrono::steady_clock::now();
+void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, FrameStats* stats) {
   for (size_t i = 0; i < rays.size(); ++i) hits[i] = nearest_hit(scene, rays[i]);
   if (stats) {
-    stats->trace_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    stats->rays = rays.size();
+    stats->items = rays.size();
   }
 }
 
-Image render(const Scene& scene, const RenderOptions& opts, RenderStats* stats) {
-  const auto start = std::chrono::steady_clock::now();
+Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   const Camera camera = Camera::from_view(scene.view, opts.width, opts.height);
   Image image(opts.width, opts.height);
   for (int j = 0; j < opts.height; ++j) {
@@ -71,8 +67,7 @@ Image render(const Scene& scene, const RenderOptions& opts, RenderStats* stats) 
     if (opts.progress) opts.progress(double(j + 1) / opts.height);
   }
   if (stats) {
-    stats->trace_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    stats->rays = uint64_t(opts.width) * uint64_t(opts.height);
+    stats->items = uint64_t(opts.width) * uint64_t(opts.height);
   }
   return image;
 }

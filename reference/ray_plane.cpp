@@ -5,7 +5,7 @@
 // substituting P(t) = o + t d gives N.o + t N.d + D = 0, so
 //     t = -(N.o + D) / (N.d),
 // and N.d = 0 means the ray runs parallel to the plane: no hit.
-#include "core/ray_cast.h"
+#include "reference/ray_cast.h"
 
 namespace lockstep::ref {
 

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "core/ray_cast.h"
+#include "reference/ray_cast.h"
 
 namespace lockstep::ref {
 

@@ -2,7 +2,7 @@
 // See reference/ray_sphere.h for the derivation.
 #include "reference/ray_sphere.h"
 
-#include "core/ray_cast.h"
+#include "reference/ray_cast.h"
 
 namespace lockstep::ref {
 

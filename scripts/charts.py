@@ -68,9 +68,9 @@ def main():
     frames = {}
     for name, b in rows:
         p = name.split("/")
-        if p[0] != "frame":
+        if p[0] != "frame" or p[1] != "ray_cast":
             continue
-        scene, impl, threads = p[1], p[2], int(p[3].split(":")[1])
+        scene, impl, threads = p[2], p[3], int(p[4].split(":")[1])
         frames[(scene, impl, threads)] = b
     x, weight = auto_rule()
     first = lambda s: frames[next(k for k in frames if k[0] == s)]

@@ -1,5 +1,6 @@
-// lockstep verify: analytic judges, for corpus cases where the reference itself
-// is expected to be wrong (or where "right" has a closed form worth checking).
+// lockstep pairs: the ray-casting family's analytic judges, for corpus cases
+// where the reference itself is expected to be wrong (or where "right" has a
+// closed form worth checking).
 //
 // A judge says, for every pixel-centre ray, whether it must hit the scene or
 // must see the background, computed in double straight from the geometry, and
@@ -15,10 +16,10 @@
 //           a ray hits iff it enters the intersection of the faces' half-spaces
 //           beyond hither (slab clipping, Kay & Kajiya 1986 with planes).
 //
-// An image pixel counts as "hit" when its colour differs from the background
-// colour: with NFF's ambient term (core/shading.h) a hit is never exactly the
-// background as long as the material has kd > 0 and a non-black colour, which
-// the judged scenes in the corpus have.
+// verify counts an image pixel as "hit" when its colour differs from the
+// background colour: with NFF's ambient term (core/shading.h) a hit is never
+// exactly the background as long as the material has kd > 0 and a non-black
+// colour, which the judged scenes in the corpus have.
 #pragma once
 
 #include <cmath>
@@ -28,17 +29,15 @@
 
 #include "core/camera.h"
 #include "core/error.h"
-#include "core/image.h"
+#include "core/family.h"
 #include "core/scene.h"
 
-namespace lockstep::cli {
+namespace lockstep::ray_cast_judges {
 
 // Boundary margin in pixels (1/1000 of the pixel pitch). An absolute angle such
 // as 1e-6 rad would be meaningless here: the far-sphere case's whole disk
 // subtends 1e-8 rad.
 inline constexpr double kJudgeMargin = 1e-3;
-
-enum class Cover : uint8_t { kMiss, kHit, kSkip };
 
 enum class JudgeKind { kReference, kDisk, kConvex };
 
@@ -124,47 +123,4 @@ inline std::vector<Cover> analytic_coverage(const Scene& s, JudgeKind kind, int 
   return cover;
 }
 
-struct JudgeResult {
-  long expected_hit = 0;   // pixels that must be hit
-  long expected_miss = 0;  // pixels that must be background
-  long skipped = 0;        // on the boundary
-  long missed = 0;         // must be hit, shows background (a hole, a leak)
-  long spurious = 0;       // must be background, shows something
-  long wrong() const { return missed + spurious; }
-};
-
-// Checks image against coverage; mask (if given) becomes a picture of it:
-// green hit as it must, dark grey background as it must, red a missing hit,
-// magenta a spurious hit, blue skipped.
-inline JudgeResult judge_image(const Image& img, const std::vector<Cover>& cover, const Vec3& background,
-                               Image* mask) {
-  JudgeResult r;
-  if (mask) *mask = Image(img.width, img.height);
-  const float bg[3] = {float(background.x), float(background.y), float(background.z)};
-  for (int j = 0; j < img.height; ++j)
-    for (int i = 0; i < img.width; ++i) {
-      const float* p = img.pixel(i, j);
-      const bool is_bg = p[0] == bg[0] && p[1] == bg[1] && p[2] == bg[2];
-      Vec3 colour;
-      switch (cover[size_t(j) * size_t(img.width) + size_t(i)]) {
-        case Cover::kSkip:
-          ++r.skipped;
-          colour = {0.2, 0.3, 1.0};
-          break;
-        case Cover::kHit:
-          ++r.expected_hit;
-          if (is_bg) ++r.missed;
-          colour = is_bg ? Vec3{1, 0, 0} : Vec3{0, 0.6, 0};
-          break;
-        case Cover::kMiss:
-          ++r.expected_miss;
-          if (!is_bg) ++r.spurious;
-          colour = is_bg ? Vec3{0.15, 0.15, 0.15} : Vec3{1, 0, 1};
-          break;
-      }
-      if (mask) mask->set(i, j, colour);
-    }
-  return r;
-}
-
-}  // namespace lockstep::cli
+}  // namespace lockstep::ray_cast_judges

@@ -1,0 +1,120 @@
+// lockstep verify: reading corpus/manifest.txt (its format: the comment at its top).
+#include <cctype>
+#include <fstream>
+#include <sstream>
+
+#include "app/verify.h"
+
+namespace lockstep::cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::vector<std::string> split(std::string_view s, char sep) {
+  std::vector<std::string> out;
+  size_t i = 0;
+  while (i <= s.size()) {
+    size_t j = s.find(sep, i);
+    if (j == std::string_view::npos) j = s.size();
+    if (j > i) out.emplace_back(s.substr(i, j - i));
+    i = j + 1;
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<Case> read_manifest(const fs::path& dir) {
+  const std::string path = (dir / "manifest.txt").string();
+  std::ifstream f(path);
+  if (!f) throw InputError(path, 0, fs::is_directory(dir) ? "cannot open the manifest" : "no such corpus folder");
+  std::vector<Case> cases;
+  std::string text;
+  int line_no = 0;
+  while (std::getline(f, text)) {
+    ++line_no;
+    if (const size_t hash = text.find('#'); hash != std::string::npos) text.resize(hash);
+    std::istringstream words(text);
+    std::vector<std::string> w;
+    for (std::string x; words >> x;) w.push_back(x);
+    if (w.empty()) continue;
+    auto fail = [&](const std::string& what) -> void { throw InputError(path, line_no, what); };
+    Case c;
+    c.line = line_no;
+    // The optional family column: a line starting with a family's name.
+    c.family = registry().find_image(w[0]);
+    if (c.family) w.erase(w.begin());
+    else c.family = &registry().image.front();
+    const ImageFamily& fam = *c.family;
+    if (w.size() < 2 || w.size() > 8)
+      fail("expected '[family] case input [size [impls [fail [failpercent [judge [ref]]]]]]', got " +
+           std::to_string(w.size()) + " fields after the family");
+    c.name = w[0];
+    for (char ch : c.name)
+      if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '-' || ch == '_' || ch == '.'))
+        fail("case name '" + c.name + "' may only use letters, digits, '-', '_' and '.'");
+    for (const Case& other : cases)
+      if (other.name == c.name) fail("case '" + c.name + "' given twice (first on line " + std::to_string(other.line) + ")");
+    c.input_path = (dir / w[1]).string();
+    c.cmp.fail_threshold = fam.tol.color_abs;
+    c.cmp.fail_percent = 100.0 * (1.0 - fam.tol.pixel_fraction);
+    c.cmp.hard_fail = fam.tol.hard_abs;
+    auto given = [&](size_t i) { return w.size() > i && w[i] != "-"; };
+    try {
+      if (given(2)) {
+        if (!fam.sized) fail(std::string(fam.name) + " takes its size from the input: size must be '-'");
+        parse_size(w[2], c.width, c.height);
+      }
+      if (given(3)) {
+        c.impls = split(w[3], ',');
+        for (const std::string& n : c.impls) {
+          (void)find_impl(fam, n);
+          if (n == fam.reference().name) fail("impls: the reference is always run; list the others");
+        }
+      }
+      if (given(4)) c.cmp.fail_threshold = parse_number("fail", w[4], 0, 1e30);
+      if (given(5)) c.cmp.fail_percent = parse_number("failpercent", w[5], 0, 100);
+    } catch (const UsageError& e) {
+      fail(e.what());
+    }
+    if (given(6) && w[6] != "reference") {
+      c.judge = fam.find_judge(w[6]);
+      if (!c.judge) {
+        std::string known = "reference";
+        for (const auto& j : fam.judges) known += ", " + std::string(j.name);
+        fail("judge of " + std::string(fam.name) + " must be one of " + known + ", got '" + w[6] + "'");
+      }
+    }
+    if (given(7)) {
+      if (!c.judge) fail("a 'ref=' expectation needs an analytic judge");
+      const std::string& r = w[7];
+      if (r == "ref=right") {
+        c.ref_expect = RefExpect::kRight;
+      } else if (r.starts_with("ref=wrong")) {
+        c.ref_expect = RefExpect::kWrong;
+        if (r.size() > 9) {
+          if (r[9] != ':') fail("expected 'ref=right', 'ref=wrong' or 'ref=wrong:REASON', got '" + r + "'");
+          c.ref_reason = r.substr(10);
+        }
+      } else {
+        fail("expected 'ref=right', 'ref=wrong' or 'ref=wrong:REASON', got '" + r + "'");
+      }
+    }
+    cases.push_back(std::move(c));
+  }
+  if (f.bad()) throw InputError(path, 0, "cannot read the manifest");
+  if (cases.empty()) throw InputError(path, 0, "no cases in the manifest");
+  return cases;
+}
+
+void load_inputs(std::vector<Case>& cases) {
+  for (Case& c : cases) {
+    c.input = c.family->load(c.input_path);
+    if (c.frame_width() <= 0 || c.frame_height() <= 0)
+      throw InputError(c.input_path, 0, "no size: give one in the manifest");
+    if (c.judge) c.judge->check(c.input);
+  }
+}
+
+}  // namespace lockstep::cli

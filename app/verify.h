@@ -1,0 +1,81 @@
+// lockstep verify: the pieces (manifest, generic image verification, report).
+//
+//   app/manifest.cpp      reads CORPUS/manifest.txt into Cases (a family column;
+//                         ray_cast is the default)
+//   app/verify_image.cpp  one case of any image family: the reference against its
+//                         golden, every implementation against the reference, the
+//                         analytic judge, heat maps and masks
+//   app/report.cpp        the table on stdout and report.md
+//   app/verify.cpp        verify_main: options, the loop over cases
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "app/cli.h"
+#include "core/family.h"
+#include "core/metrics.h"
+
+namespace lockstep::cli {
+
+// Reference against its own golden image: the same code on the same input must
+// give the same floats; 1e-4 leaves room for a different libm's pow/sqrt.
+inline constexpr double kGoldenTolerance = 1e-4;
+// Goldens are stored as OpenEXR pxr24: floats rounded to 24 bits (relative error
+// <= 2^-16, so within 1e-4 for values up to 6), a quarter of zip's size.
+inline constexpr const char* kGoldenCompression = "pxr24";
+
+enum class RefExpect { kAny, kRight, kWrong };
+
+struct Case {
+  const ImageFamily* family = nullptr;
+  std::string name;
+  std::string input_path;     // as resolved against the corpus folder
+  int line = 0;               // in the manifest
+  int width = 0, height = 0;  // 0: the input's own size
+  std::vector<std::string> impls;  // to compare with the reference; empty: all of the family
+  CompareOptions cmp;
+  const ImageJudge* judge = nullptr;  // null: judged against the reference only
+  RefExpect ref_expect = RefExpect::kAny;
+  std::string ref_reason;  // why the reference is expected to be wrong
+  Input input;             // loaded by the family
+  int frame_width() const { return width > 0 ? width : input.width; }
+  int frame_height() const { return height > 0 ? height : input.height; }
+};
+
+struct Row {
+  std::string case_name, family, impl;
+  bool ran = false;  // rendered without throwing
+  ImageError err;    // against the reference (the golden image for the reference row)
+  double seconds = 0, speedup = 0;
+  bool pass = false;
+  std::string note;
+  std::string image, heat, mask;  // report files, relative to the report folder
+};
+
+struct VerifyOptions {
+  std::vector<std::string> only;  // --impl: only these besides the reference
+  int threads = 0;
+  bool regolden = false;
+  bool no_report = false;
+  std::filesystem::path golden_dir, report_dir;
+};
+
+// app/manifest.cpp. Throws InputError naming manifest:line.
+std::vector<Case> read_manifest(const std::filesystem::path& corpus_dir);
+// Loads every case's input and checks its judge can judge it (InputError otherwise).
+void load_inputs(std::vector<Case>& cases);
+
+// app/verify_image.cpp: rows for one case (printed as they come); verdict
+// lines of analytic judges are appended to verdicts.
+std::vector<Row> verify_case(const Case& c, const VerifyOptions& o, std::vector<std::string>& verdicts);
+
+// app/report.cpp
+void print_header();
+void print_row(const Row& r);
+void write_report(const std::filesystem::path& dir, const std::vector<Case>& cases, const std::vector<Row>& rows,
+                  const std::vector<std::string>& verdicts, bool all_pass, int threads);
+std::string fmt(const char* f, double v);
+
+}  // namespace lockstep::cli

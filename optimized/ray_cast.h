@@ -1,0 +1,37 @@
+// lockstep optimized: ray casting, the same contract as core/ray_cast.h, fast.
+//
+//   opt::simd     optimized/ray_cast_simd.cpp    Highway 8-ray packets, TBB tiles
+//   opt::embree   optimized/ray_cast_embree.cpp  Embree 3 (a production peer)
+//   opt::autosel  optimized/ray_cast_auto.cpp    simd or embree by scene size
+#pragma once
+
+#include <span>
+
+#include "core/ray_cast.h"
+
+namespace lockstep {
+
+namespace opt::simd {
+void ray_sphere(std::span<const Ray> rays, const Sphere& sphere, std::span<double> t);
+void ray_plane(std::span<const Ray> rays, const Plane& plane, std::span<double> t);
+void ray_polygon(std::span<const Ray> rays, const Scene& scene, uint32_t poly, std::span<double> t);
+void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, FrameStats* stats);
+Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats);
+// Name of the Highway target the kernels dispatch to on this machine (e.g. "AVX2").
+const char* target_name();
+}  // namespace opt::simd
+
+namespace opt::embree {
+void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, FrameStats* stats);
+Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats);
+}  // namespace opt::embree
+
+namespace opt::autosel {
+// Picks simd below the measured crossover (BENCHMARKS.md), embree above.
+void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, FrameStats* stats);
+Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats);
+// True when auto would use embree for this scene.
+bool prefers_embree(const Scene& scene);
+}  // namespace opt::autosel
+
+}  // namespace lockstep

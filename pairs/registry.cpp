@@ -1,0 +1,15 @@
+// lockstep pairs: the registry's one list. One line per family.
+#include "pairs/registry.h"
+
+#include "pairs/ray_cast.h"
+
+namespace lockstep {
+
+const Registry& registry() {
+  static const Registry r{{
+      ray_cast_family(),
+  }};
+  return r;
+}
+
+}  // namespace lockstep

@@ -1,0 +1,40 @@
+// lockstep pairs: the registry of every algorithm family.
+//
+// props/, bench/, `lockstep verify` and the CLI iterate over this and nothing
+// else: a family that is listed here is tested, benchmarked and verifiable; a
+// row that is not reachable from here does not exist. Adding a family is its
+// contract header, its reference and optimized files, its row file in pairs/
+// and one line in pairs/registry.cpp.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/family.h"
+
+namespace lockstep {
+
+struct Registry {
+  std::vector<ImageFamily> image;  // families whose output is an image
+
+  const ImageFamily* find_image(std::string_view name) const {
+    for (const auto& f : image)
+      if (f.name == name) return &f;
+    return nullptr;
+  }
+  // "ray_cast, composite"
+  std::string image_names(std::string_view sep = ", ") const {
+    std::string s;
+    for (const auto& f : image) {
+      if (!s.empty()) s += sep;
+      s += f.name;
+    }
+    return s;
+  }
+};
+
+// Built once, on first use; immutable.
+const Registry& registry();
+
+}  // namespace lockstep

@@ -1,0 +1,29 @@
+// lockstep reference: ray casting, the textbook way (declarations; the
+// contract and the function types are in core/ray_cast.h).
+//
+//   ray_sphere   reference/ray_sphere.cpp   (Glassner ch. 2, the quadratic)
+//   ray_plane    reference/ray_plane.cpp
+//   ray_polygon  reference/ray_polygon.cpp  (plane, then the crossings test)
+//   trace/render reference/ray_cast.cpp     (brute force over every primitive)
+#pragma once
+
+#include <span>
+
+#include "core/ray_cast.h"
+
+namespace lockstep {
+
+namespace ref {
+// Textbook, double precision.
+void ray_sphere(std::span<const Ray> rays, const Sphere& sphere, std::span<double> t);
+void ray_plane(std::span<const Ray> rays, const Plane& plane, std::span<double> t);
+void ray_polygon(std::span<const Ray> rays, const Scene& scene, uint32_t poly, std::span<double> t);
+// The same textbook formulas evaluated in float (inputs rounded to float), for
+// the speed/accuracy chart: how much the method, not the code, loses.
+void ray_sphere_f32(std::span<const Ray> rays, const Sphere& sphere, std::span<double> t);
+void ray_plane_f32(std::span<const Ray> rays, const Plane& plane, std::span<double> t);
+void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, FrameStats* stats);
+Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats);
+}  // namespace ref
+
+}  // namespace lockstep
