@@ -8,15 +8,18 @@
 //   alpha straight|premultiplied     optional: overrides every layer's own marking
 //   order ftb|btf                    optional: front-to-back (default) or back-to-front
 //   storage float|unorm8             optional: composite in float (default) or 8 bits
+//   early_stop on|off                optional: front-to-back stops where alpha reaches 1 (default on)
 //   front.png                        one layer per line, front first; paths are
 //   back.exr                         relative to the .stack file
 //
 // Without an override a PNG (or any 8-bit integer format) layer is straight
 // alpha (its format's definition) and an EXR layer premultiplied (OpenEXR's).
 //
-// Storage: with unorm8 every layer is held as 8-bit premultiplied RGBA
-// (rgba8, quantised once by to_unorm8), the way 8-bit compositors store it;
-// the float images are then ignored by the implementations.
+// Storage: with unorm8 every layer is also held as 8-bit RGBA (rgba8,
+// quantised once by to_unorm8) in the layer's own representation; straight
+// layers are premultiplied in 8 bits (ref::premultiply8) when composited, the
+// way 8-bit compositors do it. The float pixels are then ignored by the
+// implementations (image.width/height still give the size).
 #pragma once
 
 #include <cstdint>

@@ -12,6 +12,13 @@
 namespace lockstep::opt {
 namespace simd {
 Image composite(const LayerStack& stack, const FrameOptions& opts, FrameStats* stats);
+// The same into a caller's buffer of width * height * 4 floats (its contents are
+// ignored: every value is written once, with streaming stores). For timing
+// without the allocation and first touch of a fresh Image, and for callers that
+// reuse a frame buffer.
+void composite_into(const LayerStack& stack, const FrameOptions& opts, float* out, FrameStats* stats);
+// The Highway target the kernels dispatch to on this CPU (e.g. "AVX3").
+const char* composite_target_name();
 }
 namespace oiio {
 Image composite(const LayerStack& stack, const FrameOptions& opts, FrameStats* stats);
