@@ -5,6 +5,7 @@
 //   lockstep verify [CORPUS_DIR] [--report DIR] [--impl NAME]... [--filter SUBSTR]
 //
 // main() only dispatches and turns exceptions into exit codes (app/cli.h).
+#include <OpenImageIO/oiioversion.h>
 #include <embree3/rtcore_config.h>
 #include "optimized/ray_cast.h"
 #include <cstdio>
@@ -28,6 +29,9 @@ void print_help() {
       "  lockstep render INPUT [--impl NAME] [--size WxH] [--threads N] -o OUT\n"
       "      render an input (.nff scene, .stack of layers) with one implementation of its family;\n"
       "      the format follows OUT's extension\n"
+      "  lockstep composite LAYER... | --stack FILE [--alpha straight|premultiplied] [--order ftb|btf]\n"
+      "                   [--impl NAME] [--threads N] -o OUT\n"
+      "      composite RGBA layers (front first) with 'over'\n"
       "  lockstep diff A B [--fail T] [--failpercent P] [--warn W] [--heatmap OUT]\n"
       "      compare two images (idiff style); exit 0 when they agree, 1 when not\n"
       "  lockstep verify [CORPUS_DIR] [--report DIR] [--impl NAME]... [--filter SUBSTR]\n"
@@ -42,13 +46,21 @@ void print_help() {
 }
 
 void print_version() {
-  std::printf("lockstep %s (simd: Highway target %s; embree %d.%d.%d)\n", LOCKSTEP_VERSION,
-              lockstep::opt::simd::target_name(), RTC_VERSION_MAJOR, RTC_VERSION_MINOR, RTC_VERSION_PATCH);
+  std::printf("lockstep %s (simd: Highway target %s; embree %d.%d.%d; OpenImageIO %s)\n", LOCKSTEP_VERSION,
+              lockstep::opt::simd::target_name(), RTC_VERSION_MAJOR, RTC_VERSION_MINOR, RTC_VERSION_PATCH,
+              OIIO_VERSION_STRING);
+  // Every family and implementation built into this binary; peers are production libraries.
+  for (const lockstep::ImageFamily& f : lockstep::registry().image) {
+    std::printf("  %-10s", std::string(f.name).c_str());
+    for (const lockstep::ImageImpl& i : f.impls)
+      std::printf(" %s%s", std::string(i.name).c_str(), i.peer.empty() ? "" : (" [peer: " + std::string(i.peer) + "]").c_str());
+    std::printf("\n");
+  }
 }
 
 int run(int argc, char** argv, std::string& sub) {
   std::vector<std::string_view> args(argv + 1, argv + argc);
-  if (args.empty()) throw cli::UsageError("missing subcommand (render, diff or verify)");
+  if (args.empty()) throw cli::UsageError("missing subcommand (render, composite, diff or verify)");
   const std::string_view first = args.front();
   if (first == "--help" || first == "-h" || first == "help") {
     print_help();
@@ -71,9 +83,10 @@ int run(int argc, char** argv, std::string& sub) {
   if (first == "render") return cli::render_main(rest);
   if (first == "diff") return cli::diff_main(rest);
   if (first == "verify") return cli::verify_main(rest);
+  if (first == "composite") return cli::composite_main(rest);
   sub.clear();
   if (cli::is_option(first)) cli::unknown_option(first);
-  throw cli::UsageError("unknown subcommand '" + std::string(first) + "' (render, diff or verify)");
+  throw cli::UsageError("unknown subcommand '" + std::string(first) + "' (render, composite, diff or verify)");
 }
 
 }  // namespace

@@ -118,11 +118,12 @@ struct ImageJudge {
 // An input for benchmarks: built by the family (deterministic), timed by bench/.
 struct BenchInput {
   std::string name;      // e.g. "balls-3", "2-layers"
-  Input input;
+  Input input;           // ready, or empty when make is set
+  std::function<Input()> make;  // builds a large input only while its benchmarks run
   int width = 0, height = 0;
   double bytes = 0;      // > 0: bytes a run must move (reads + writes); bench adds a memcpy yardstick
   std::vector<std::pair<std::string, double>> counters;  // shown beside the rate
-  bool heavy_for_reference = false;  // the reference runs this at a quarter of the size
+  bool heavy_for_reference = false;  // the reference runs this at a quarter of the size per side
 };
 
 struct ImageFamily {

@@ -1,6 +1,7 @@
 // lockstep pairs: the registry's one list. One line per family.
 #include "pairs/registry.h"
 
+#include "pairs/composite.h"
 #include "pairs/ray_cast.h"
 
 namespace lockstep {
@@ -8,6 +9,7 @@ namespace lockstep {
 const Registry& registry() {
   static const Registry r{{
       ray_cast_family(),
+      composite_family(),
   }};
   return r;
 }

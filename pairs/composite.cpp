@@ -1,0 +1,91 @@
+// lockstep pairs: the compositing family's row (see reference/composite.h for
+// the contract, props/composite/ for the properties and their bounds).
+#include "pairs/composite.h"
+
+#include <span>
+
+#include "core/layers.h"
+#include "optimized/composite.h"
+#include "reference/composite.h"
+#include "reference/synthetic_stack.h"
+
+namespace lockstep {
+
+namespace {
+
+// Accuracy against the exact (rational) oracle, in float ulps of the result's
+// largest term for float stacks (props/composite/README.md states and derives
+// every bound; 8-bit stacks are judged in levels there).
+constexpr TypedImpl<LayerStack> kImpls[] = {
+    {"reference", ref::composite, 4, {}, {}, false},
+    {"simd", opt::simd::composite, 4},
+    {"oiio", opt::oiio::composite, 4, {}, "OpenImageIO ImageBufAlgo::over"},
+};
+
+Input load_stack(const std::string& path) {
+  LayerStack s = read_stack(path, std::nullopt);
+  const int w = s.width(), h = s.height();
+  return make_input<LayerStack>(std::move(s), path, w, h);
+}
+
+// Benchmarks at 4096^2: 2 layers (float and 8-bit, premultiplied and straight),
+// 8 and 32 layers that become opaque from layer 2 on (front-to-back can stop
+// early) and that never do. bytes = every layer read once + the output written.
+std::vector<BenchInput> bench_stacks() {
+  struct Spec {
+    const char* name;
+    int layers, opaque_from;
+    Alpha alpha;
+    Storage storage;
+  };
+  const Spec specs[] = {
+      {"2-layers", 2, -1, Alpha::premultiplied, Storage::f32},
+      {"2-layers-straight", 2, -1, Alpha::straight, Storage::f32},
+      {"2-layers-unorm8", 2, -1, Alpha::premultiplied, Storage::unorm8},
+      {"8-layers-opaque-early", 8, 2, Alpha::premultiplied, Storage::f32},
+      {"8-layers", 8, -1, Alpha::premultiplied, Storage::f32},
+      {"32-layers-opaque-early", 32, 2, Alpha::premultiplied, Storage::f32},
+      {"32-layers", 32, -1, Alpha::premultiplied, Storage::f32},
+  };
+  constexpr int kSize = 4096;
+  std::vector<BenchInput> out;
+  for (const Spec& s : specs) {
+    BenchInput b;
+    b.name = s.name;
+    b.width = b.height = kSize;
+    b.make = [s] {
+      return make_input<LayerStack>(synthetic_stack(kSize, kSize, s.layers, s.opaque_from, s.alpha, s.storage, 7),
+                                    s.name, kSize, kSize);
+    };
+    const double px = double(kSize) * kSize;
+    const double in_bytes = s.storage == Storage::unorm8 ? 4 : 16;
+    b.bytes = px * (in_bytes * s.layers + 16);  // the output is float RGBA
+    b.counters = {{"layers", double(s.layers)}};
+    out.push_back(std::move(b));
+  }
+  return out;
+}
+
+}  // namespace
+
+ImageFamily composite_family() {
+  ImageFamily f;
+  f.name = "composite";
+  f.what = "alpha compositing of layer stacks (over: straight/premultiplied, front-to-back/back-to-front)";
+  f.input = "a layer stack (.stack)";
+  f.unit = "pixels";
+  f.verb = "composite";
+  f.extension = ".stack";
+  f.default_impl = "simd";
+  f.sized = false;
+  // Agreement with the reference: within one 8-bit level on every pixel (the
+  // float cases in corpus/manifest.txt set their own, tighter threshold).
+  f.tol.color_abs = 1.0 / 255 + 1e-6;
+  f.tol.pixel_fraction = 1.0;
+  f.load = load_stack;
+  f.impls = erase_all<LayerStack>(kImpls);
+  f.bench = bench_stacks;
+  return f;
+}
+
+}  // namespace lockstep

@@ -1,0 +1,11 @@
+// lockstep pairs: the compositing family's row (a layer stack -> an image).
+#pragma once
+
+#include "core/family.h"
+
+namespace lockstep {
+
+// reference, simd, oiio (OpenImageIO's ImageBufAlgo::over, a production peer).
+ImageFamily composite_family();
+
+}  // namespace lockstep
