@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <OpenImageIO/imageio.h>
+#include <hwy/targets.h>
 
 #include <atomic>
 #include <bit>
@@ -37,6 +38,42 @@ TEST(CompositeSmoke, Mul255IsExactForAll65536Pairs) {
       ASSERT_EQ(int(ref::mul255(uint8_t(x), uint8_t(a))), exact) << "x=" << x << " a=" << a;
     }
   }
+}
+
+// The same exhaustively through opt::simd's 16-bit lanes: premultiplying a
+// straight layer whose pixel (x, a) is (x, 255 - x, x, a) computes mul255 for
+// every pair; a transparent-black front of alpha a over an opaque back of
+// colour x computes x (255 - a) / 255 for every pair.
+TEST(CompositeSmoke, SimdMul255IsExactForAll65536Pairs) {
+  LayerStack one, two;
+  one.storage = two.storage = Storage::unorm8;
+  Layer straight;
+  straight.alpha = Alpha::straight;
+  straight.image.width = straight.image.height = 256;  // the float pixels are ignored with unorm8
+  straight.rgba8.resize(256 * 256 * 4);
+  Layer front = straight, back = straight;
+  front.alpha = back.alpha = Alpha::premultiplied;
+  for (int a = 0; a < 256; ++a)
+    for (int x = 0; x < 256; ++x) {
+      uint8_t* p = &straight.rgba8[size_t(a * 256 + x) * 4];
+      p[0] = uint8_t(x), p[1] = uint8_t(255 - x), p[2] = uint8_t(x), p[3] = uint8_t(a);
+      uint8_t* f = &front.rgba8[size_t(a * 256 + x) * 4];
+      f[0] = f[1] = f[2] = 0, f[3] = uint8_t(a);
+      uint8_t* b = &back.rgba8[size_t(a * 256 + x) * 4];
+      b[0] = b[1] = b[2] = uint8_t(x), b[3] = 255;
+    }
+  one.layers = {straight};
+  two.layers = {front, back};
+  const Image p = opt::simd::composite(one, {}, nullptr);
+  const Image o = opt::simd::composite(two, {}, nullptr);
+  for (int a = 0; a < 256; ++a)
+    for (int x = 0; x < 256; ++x) {
+      const float* pp = p.pixel(x, a);
+      const float* op = o.pixel(x, a);
+      ASSERT_EQ(pp[0], float((2 * x * a + 255) / 510) / 255.0f) << "x=" << x << " a=" << a;
+      ASSERT_EQ(pp[1], float((2 * (255 - x) * a + 255) / 510) / 255.0f) << "x=" << x << " a=" << a;
+      ASSERT_EQ(op[0], float((2 * x * (255 - a) + 255) / 510) / 255.0f) << "x=" << x << " a=" << a;
+    }
 }
 
 TEST(CompositeSmoke, EightBitHelpers) {
@@ -117,7 +154,8 @@ TEST_P(Agreement, SimdAndOiioMatchTheReference) {
   // index 2 on (early termination happens), and one with a single layer.
   for (const auto& [w, h, n, opaque_from, seed] :
        std::vector<std::tuple<int, int, int, int, uint64_t>>{{67, 45, 6, 2, 1}, {1, 1, 3, -1, 2}, {300, 7, 2, 0, 3},
-                                                              {33, 40, 1, -1, 4}, {129, 70, 9, 4, 5}}) {
+                                                              {33, 40, 1, -1, 4}, {129, 70, 9, 4, 5},
+                                                              {256, 128, 16, -1, 6}}) {
     LayerStack s = synthetic_stack(w, h, n, opaque_from, c.alpha, c.storage, seed);
     s.order = c.order;
     s.early_stop = c.early_stop;
@@ -165,6 +203,27 @@ INSTANTIATE_TEST_SUITE_P(CompositeSmoke, Agreement, ::testing::ValuesIn(all_case
                              if (ch == '/' || ch == '-') ch = '_';
                            return n;
                          });
+
+// Every Highway target compiled in and supported here (AVX2, AVX-512, ...):
+// bit-identical to the reference on premultiplied float and on 8 bits.
+TEST(CompositeSmoke, EveryHighwayTargetMatchesTheReference) {
+  for (const int64_t t : hwy::SupportedAndGeneratedTargets()) {
+    hwy::SetSupportedTargetsForTest(t);
+    EXPECT_EQ(std::string(opt::simd::composite_target_name()), std::string(hwy::TargetName(t)));
+    for (Storage st : {Storage::f32, Storage::unorm8})
+      for (Alpha a : {Alpha::straight, Alpha::premultiplied}) {
+        const LayerStack s = synthetic_stack(77, 23, 5, 2, a, st, 7);
+        const Diff d = compare(opt::simd::composite(s, {}, nullptr), ref::composite(s, {}, nullptr));
+        std::printf("  %-8s %-6s %-13s %u ulps\n", hwy::TargetName(t), name_of(st), name_of(a), d.max_ulps);
+        if (st == Storage::unorm8 || a == Alpha::premultiplied) {
+          EXPECT_EQ(d.max_ulps, 0u) << hwy::TargetName(t);
+        } else {
+          EXPECT_LE(d.max_abs, 1e-6) << hwy::TargetName(t);
+        }
+      }
+  }
+  hwy::SetSupportedTargetsForTest(0);  // back to the real CPU
+}
 
 TEST(CompositeSmoke, EdgeAlphasAgree) {
   // Alpha exactly 0 and 1, tiny alphas and a colour over an empty pixel.
@@ -218,6 +277,29 @@ TEST(CompositeSmoke, BadStacksAreInputErrors) {
   LayerStack q = synthetic_stack(8, 8, 2, -1, Alpha::straight, Storage::f32, 1);
   q.storage = Storage::unorm8;  // no rgba8
   EXPECT_THROW(opt::simd::composite(q, {}, nullptr), InputError);
+}
+
+TEST(CompositeSmoke, CorpusStacksAgree) {
+  int count = 0;
+  for (const auto& e : fs::directory_iterator(LOCKSTEP_CORPUS_DIR "/stacks")) {
+    if (e.path().extension() != ".stack") continue;
+    ++count;
+    const LayerStack s = read_stack(e.path().string(), std::nullopt);
+    FrameOptions o;
+    o.threads = 2;
+    const Image r = ref::composite(s, o, nullptr);
+    const Diff ds = compare(opt::simd::composite(s, o, nullptr), r);
+    const Diff dox = compare(opt::oiio::composite(s, o, nullptr), r);
+    std::printf("  %-22s %zu layers %s %s  simd: %u ulps (%.3g abs)  oiio: %u ulps (%.3g abs)\n",
+                e.path().filename().c_str(), s.layers.size(), name_of(s.order), name_of(s.storage), ds.max_ulps,
+                ds.max_abs, dox.max_ulps, dox.max_abs);
+    EXPECT_LE(ds.max_abs, 1e-6) << e.path();
+    EXPECT_LE(dox.max_abs, 1e-6) << e.path();
+    if (s.storage == Storage::unorm8) {
+      EXPECT_EQ(ds.max_abs, 0.0) << e.path();
+    }
+  }
+  EXPECT_GE(count, 5);
 }
 
 // ---------------------------------------------------------------- tiling
