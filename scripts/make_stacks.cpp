@@ -25,7 +25,8 @@ using lockstep::Image;
 using lockstep::LayerStack;
 using lockstep::Storage;
 
-void write_file(const fs::path& p, const OIIO::ImageSpec& spec, OIIO::TypeDesc type, const void* data) {
+void write_file(const fs::path& p, const OIIO::ImageSpec& spec, OIIO::TypeDesc type,
+                const void* data) {
   auto out = OIIO::ImageOutput::create(p.string());
   if (!out || !out->open(p.string(), spec) || !out->write_image(type, data) || !out->close()) {
     std::fprintf(stderr, "%s: cannot write: %s\n", p.string().c_str(), OIIO::geterror().c_str());
@@ -54,7 +55,8 @@ void write_exr(const Image& img, const fs::path& p) {
   write_file(p, spec, OIIO::TypeDesc::FLOAT, img.rgba.data());
 }
 
-void write_stack(const fs::path& p, const std::string& header, const std::vector<std::string>& files) {
+void write_stack(const fs::path& p, const std::string& header,
+                 const std::vector<std::string>& files) {
   std::ofstream f(p);
   f << header;
   for (const auto& name : files) f << name << "\n";
@@ -64,8 +66,8 @@ void write_stack(const fs::path& p, const std::string& header, const std::vector
   }
 }
 
-std::vector<std::string> write_layers(const LayerStack& s, const fs::path& dir, const std::string& prefix,
-                                      bool png) {
+std::vector<std::string> write_layers(const LayerStack& s, const fs::path& dir,
+                                      const std::string& prefix, bool png) {
   std::vector<std::string> names;
   for (size_t l = 0; l < s.layers.size(); ++l) {
     const std::string name = prefix + "-" + std::to_string(l) + (png ? ".png" : ".exr");
@@ -88,7 +90,8 @@ Image edge_layer(int n, int shift, bool premultiplied) {
   for (int y = 0; y < n; ++y) {
     for (int x = 0; x < n; ++x) {
       const float a = alphas[((x / 8) + shift * (y / 8)) % 8];
-      const float c[3] = {float(x) / float(n - 1), float(y) / float(n - 1), float((x + y) % 17) / 16.0f};
+      const float c[3] = {float(x) / float(n - 1), float(y) / float(n - 1),
+                          float((x + y) % 17) / 16.0f};
       float* p = img.pixel(x, y);
       for (int k = 0; k < 3; ++k) p[k] = premultiplied ? c[k] * a : c[k];
       p[3] = a;
@@ -115,14 +118,17 @@ int main(int argc, char** argv) {
   }
   // Three premultiplied float EXR layers, composited back to front.
   {
-    const LayerStack s = lockstep::synthetic_stack(64, 64, 3, -1, Alpha::premultiplied, Storage::f32, 12);
-    write_stack(dir / "premult-exr.stack", "# Three premultiplied EXR layers, back to front.\norder btf\n",
+    const LayerStack s =
+        lockstep::synthetic_stack(64, 64, 3, -1, Alpha::premultiplied, Storage::f32, 12);
+    write_stack(dir / "premult-exr.stack",
+                "# Three premultiplied EXR layers, back to front.\norder btf\n",
                 write_layers(s, dir, "premult-exr", false));
   }
   // Eight layers, opaque from the third on except a few holes: front-to-back
   // stops early almost everywhere.
   {
-    const LayerStack s = lockstep::synthetic_stack(128, 128, 8, 2, Alpha::straight, Storage::f32, 13);
+    const LayerStack s =
+        lockstep::synthetic_stack(128, 128, 8, 2, Alpha::straight, Storage::f32, 13);
     write_stack(dir / "opaque-early.stack",
                 "# Eight straight PNG layers, opaque from the third on (except small holes):\n"
                 "# front to back stops early over most of the frame.\norder ftb\nearly_stop on\n",
@@ -141,7 +147,8 @@ int main(int argc, char** argv) {
   // 8-bit compositing of three straight PNG layers.
   {
     const LayerStack s = lockstep::synthetic_stack(80, 80, 3, 2, Alpha::straight, Storage::f32, 14);
-    write_stack(dir / "unorm8.stack", "# Three straight PNG layers composited in 8 bits.\nstorage unorm8\n",
+    write_stack(dir / "unorm8.stack",
+                "# Three straight PNG layers composited in 8 bits.\nstorage unorm8\n",
                 write_layers(s, dir, "unorm8", true));
   }
   std::printf("wrote the corpus stacks to %s\n", dir.string().c_str());
