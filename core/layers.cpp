@@ -58,7 +58,8 @@ void check_same_size(const Layer& first, const Layer& l, const std::string& file
   throw InputError(file, line,
                    "layer '" + l.source + "' is " + std::to_string(l.image.width) + "x" +
                        std::to_string(l.image.height) + " but layer '" + first.source + "' is " +
-                       std::to_string(first.image.width) + "x" + std::to_string(first.image.height) +
+                       std::to_string(first.image.width) + "x" +
+                       std::to_string(first.image.height) +
                        "; every layer of a stack must have the same size");
 }
 
@@ -79,15 +80,17 @@ Layer read_layer(const std::string& path, std::optional<Alpha> alpha_override) {
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
     throw InputError(path, 0, "layer has no pixels");
   if (int64_t(spec.width) * int64_t(spec.height) > (int64_t(1) << 28))
-    throw InputError(path, 0, "layer is too large (" + std::to_string(spec.width) + "x" +
-                                  std::to_string(spec.height) + "; at most 2^28 pixels)");
+    throw InputError(path, 0,
+                     "layer is too large (" + std::to_string(spec.width) + "x" +
+                         std::to_string(spec.height) + "; at most 2^28 pixels)");
   const int nc = spec.nchannels;
   int ca = spec.alpha_channel;
   if (ca < 0) ca = find_channel(spec, "A");
   if (ca < 0 || nc < 2)
-    throw InputError(path, 0, "has no alpha channel (" + std::to_string(nc) + " channel" +
-                                  (nc == 1 ? "" : "s") + ": " + channel_list(spec) +
-                                  "); lockstep composite needs RGBA");
+    throw InputError(path, 0,
+                     "has no alpha channel (" + std::to_string(nc) + " channel" +
+                         (nc == 1 ? "" : "s") + ": " + channel_list(spec) +
+                         "); lockstep composite needs RGBA");
   // Colour channels: R, G, B by name, else the non-alpha channels in file order
   // (a grey + alpha file replicates its grey).
   int cc[3] = {find_channel(spec, "R"), find_channel(spec, "G"), find_channel(spec, "B")};
@@ -125,8 +128,9 @@ Layer read_layer(const std::string& path, std::optional<Alpha> alpha_override) {
                         spec.format.basetype == OIIO::TypeDesc::HALF ||
                         spec.format.basetype == OIIO::TypeDesc::DOUBLE;
   const bool declared_straight = spec.get_int_attribute("oiio:UnassociatedAlpha", 0) != 0;
-  layer.alpha = alpha_override ? *alpha_override
-                               : (is_float && !declared_straight ? Alpha::premultiplied : Alpha::straight);
+  layer.alpha = alpha_override
+                    ? *alpha_override
+                    : (is_float && !declared_straight ? Alpha::premultiplied : Alpha::straight);
   layer.image = Image(spec.width, spec.height);
   const int src_channel[4] = {cc[0], cc[1], cc[2], ca};
   for (int y = 0; y < spec.height; ++y) {
@@ -137,9 +141,15 @@ Layer read_layer(const std::string& path, std::optional<Alpha> alpha_override) {
         const float v = buf[i * size_t(nc) + size_t(src_channel[c])];
         if (std::isnan(v) || v < 0 || std::isinf(v)) {
           std::ostringstream m;
-          m << "pixel (" << x << ", " << y << ") channel " << channel_name(c) << " is "
-            << (std::isnan(v) ? "NaN" : std::isinf(v) ? (v < 0 ? "-inf" : "inf") : "negative (" + std::to_string(v) + ")")
-            << "; layers must hold finite values >= 0";
+          m << "pixel (" << x << ", " << y << ") channel " << channel_name(c) << " is ";
+          if (std::isnan(v)) {
+            m << "NaN";
+          } else if (std::isinf(v)) {
+            m << (v < 0 ? "-inf" : "inf");
+          } else {
+            m << "negative (" << v << ")";
+          }
+          m << "; layers must hold finite values >= 0";
           throw InputError(path, 0, m.str());
         }
         d[c] = v;
@@ -178,7 +188,8 @@ LayerStack read_stack(const std::string& path, std::optional<Alpha> alpha_overri
       // One word: a layer's file name. File names need an extension (OIIO picks
       // the format from it), so a bare word is a misspelt keyword.
       if (s.find('.') == std::string::npos && s.find('/') == std::string::npos)
-        throw InputError(path, line, "unknown keyword '" + s + "' (or a layer file without an extension)");
+        throw InputError(path, line,
+                         "unknown keyword '" + s + "' (or a layer file without an extension)");
       entries.push_back({s, line});
       continue;
     }
@@ -187,7 +198,8 @@ LayerStack read_stack(const std::string& path, std::optional<Alpha> alpha_overri
     if (key == "alpha") {
       stack_alpha = parse_alpha(value);
       if (!stack_alpha)
-        throw InputError(path, line, "alpha must be 'straight' or 'premultiplied', not '" + value + "'");
+        throw InputError(path, line,
+                         "alpha must be 'straight' or 'premultiplied', not '" + value + "'");
     } else if (key == "order") {
       const auto o = parse_order(value);
       if (!o) throw InputError(path, line, "order must be 'ftb' or 'btf', not '" + value + "'");
@@ -205,8 +217,10 @@ LayerStack read_stack(const std::string& path, std::optional<Alpha> alpha_overri
         throw InputError(path, line, "early_stop must be 'on' or 'off', not '" + value + "'");
       }
     } else {
-      throw InputError(path, line,
-                       "unknown keyword '" + key + "' (expected alpha, order, storage, early_stop, or one layer file per line)");
+      throw InputError(
+          path, line,
+          "unknown keyword '" + key +
+              "' (expected alpha, order, storage, early_stop, or one layer file per line)");
     }
   }
   if (f.bad()) throw InputError(path, 0, "cannot read stack: read error");
@@ -249,10 +263,13 @@ void check_stack(const LayerStack& stack) {
     check_same_size(first, l, src, 0);
     if (stack.storage == Storage::unorm8) {
       if (l.rgba8.size() != n)
-        throw InputError(src, 0, "layer '" + l.source + "' has no 8-bit pixels (storage unorm8 needs to_unorm8)");
+        throw InputError(
+            src, 0,
+            "layer '" + l.source + "' has no 8-bit pixels (storage unorm8 needs to_unorm8)");
     } else if (l.image.rgba.size() != n) {
-      throw InputError(src, 0, "layer '" + l.source + "' holds " + std::to_string(l.image.rgba.size()) +
-                                   " floats, not width * height * 4 = " + std::to_string(n));
+      throw InputError(src, 0,
+                       "layer '" + l.source + "' holds " + std::to_string(l.image.rgba.size()) +
+                           " floats, not width * height * 4 = " + std::to_string(n));
     }
   }
 }

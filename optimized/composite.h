@@ -16,10 +16,11 @@ Image composite(const LayerStack& stack, const FrameOptions& opts, FrameStats* s
 // ignored: every value is written once, with streaming stores). For timing
 // without the allocation and first touch of a fresh Image, and for callers that
 // reuse a frame buffer.
-void composite_into(const LayerStack& stack, const FrameOptions& opts, float* out, FrameStats* stats);
+void composite_into(const LayerStack& stack, const FrameOptions& opts, float* out,
+                    FrameStats* stats);
 // The Highway target the kernels dispatch to on this CPU (e.g. "AVX3").
 const char* composite_target_name();
-}
+}  // namespace simd
 namespace oiio {
 Image composite(const LayerStack& stack, const FrameOptions& opts, FrameStats* stats);
 }

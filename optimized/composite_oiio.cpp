@@ -63,7 +63,8 @@ Image composite(const LayerStack& stack, const FrameOptions& opts, FrameStats* s
   Image out(w, h);
   std::vector<uint8_t> out8;
   if (eight) out8.resize(size_t(w) * size_t(h) * 4);
-  OIIO::ImageBuf result(spec, eight ? static_cast<void*>(out8.data()) : static_cast<void*>(out.rgba.data()));
+  OIIO::ImageBuf result(
+      spec, eight ? static_cast<void*>(out8.data()) : static_cast<void*>(out.rgba.data()));
 
   if (L == 1) {
     if (!OIIO::ImageBufAlgo::copy(result, *layers[0], OIIO::TypeUnknown, {}, nthreads))

@@ -49,11 +49,11 @@ inline constexpr size_t kBlock = 64;
 // The stack, flattened: layers in the order they are composited (seq[0] first:
 // the front for front-to-back, the back for back-to-front).
 struct Plan {
-  std::vector<const float*> f;     // float RGBA per layer (Storage::f32)
-  std::vector<const uint8_t*> q;   // 8-bit RGBA per layer (Storage::unorm8)
-  std::vector<uint8_t> straight;   // 1: the layer is straight alpha
-  bool ftb = true;                 // the accumulator is in front of the next layer
-  bool early_stop = false;         // front-to-back with stack.early_stop
+  std::vector<const float*> f;    // float RGBA per layer (Storage::f32)
+  std::vector<const uint8_t*> q;  // 8-bit RGBA per layer (Storage::unorm8)
+  std::vector<uint8_t> straight;  // 1: the layer is straight alpha
+  bool ftb = true;                // the accumulator is in front of the next layer
+  bool early_stop = false;        // front-to-back with stack.early_stop
 };
 
 // ---- scalar pixels, for vector tails and the scalar target. The same
@@ -108,8 +108,8 @@ inline bool copy8_px(const uint8_t* s, int straight, uint8_t* o) {
 
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "optimized/composite_simd.cpp"
-#include "hwy/foreach_target.h"  // IWYU pragma: keep
 #include "hwy/cache_control.h"
+#include "hwy/foreach_target.h"  // IWYU pragma: keep
 #include "hwy/highway.h"
 
 HWY_BEFORE_NAMESPACE();
@@ -197,13 +197,14 @@ bool OverF(const float* f, int fs, const float* b, int bs, float* out, size_t n,
   size_t i = 0;
   if (stream && !CanStream(out)) stream = 0;
   if (stream)
-    for (; i < total && !Aligned(out + i, N); i += 4) ok = over_px(f + i, fs, b + i, bs, out + i) && ok;
+    for (; i < total && !Aligned(out + i, N); i += 4)
+      ok = over_px(f + i, fs, b + i, bs, out + i) && ok;
   for (; i + N <= total; i += N) {
     auto fv = hn::LoadU(d, f + i);
     auto bv = hn::LoadU(d, b + i);
     if (fs) fv = PremF(fv, is_alpha);
     if (bs) bv = PremF(bv, is_alpha);
-    const auto transparency = hn::Sub(one, AlphaF(fv));  // 1 - af
+    const auto transparency = hn::Sub(one, AlphaF(fv));     // 1 - af
     const auto r = hn::Add(fv, hn::Mul(transparency, bv));  // Cf + (1 - af) Cb, no FMA
     opaque = hn::And(opaque, hn::Or(hn::Eq(r, one), colour));
     if (stream) {
@@ -250,7 +251,8 @@ bool OpaqueF(const float* s, size_t n) {
   const auto one = hn::Set(d, 1.0f);
   auto opaque = hn::Eq(one, one);
   size_t i = 0;
-  for (; i + N <= total; i += N) opaque = hn::And(opaque, hn::Or(hn::Eq(hn::LoadU(d, s + i), one), colour));
+  for (; i + N <= total; i += N)
+    opaque = hn::And(opaque, hn::Or(hn::Eq(hn::LoadU(d, s + i), one), colour));
   for (; i < total; i += 4)
     if (s[i + 3] != 1.0f) return false;
   return hn::AllTrue(d, opaque);
@@ -258,7 +260,9 @@ bool OpaqueF(const float* s, size_t n) {
 
 // ---- 8 bits, in 16-bit lanes (4 per pixel).
 
-HWY_INLINE hn::Vec<DU16> Load8(const uint8_t* p) { return hn::PromoteTo(DU16(), hn::LoadU(DU8H(), p)); }
+HWY_INLINE hn::Vec<DU16> Load8(const uint8_t* p) {
+  return hn::PromoteTo(DU16(), hn::LoadU(DU8H(), p));
+}
 HWY_INLINE void Store8(hn::Vec<DU16> v, uint8_t* p) {
   // Every lane is <= 255: the signed demotion is exact.
   hn::StoreU(hn::DemoteTo(DU8H(), hn::BitCast(DI16(), v)), DU8H(), p);
@@ -266,11 +270,13 @@ HWY_INLINE void Store8(hn::Vec<DU16> v, uint8_t* p) {
 // Each pixel's alpha (lane 3 of its 4) in all four lanes: a byte shuffle
 // within 128-bit blocks (2 pixels per block).
 HWY_INLINE hn::Vec<DU16> Alpha8(hn::Vec<DU16> v) {
-  alignas(16) static constexpr uint8_t kPattern[16] = {6, 7, 6, 7, 6, 7, 6, 7, 14, 15, 14, 15, 14, 15, 14, 15};
+  alignas(16) static constexpr uint8_t kPattern[16] = {6,  7,  6,  7,  6,  7,  6,  7,
+                                                       14, 15, 14, 15, 14, 15, 14, 15};
   const auto idx = hn::BitCast(DU16(), hn::LoadDup128(DU8F(), kPattern));
   return hn::TableLookupBytes(v, idx);
 }
-// round(x a / 255) exactly: t = x a + 128 (<= 65153), (t + (t >> 8)) >> 8 (<= 65407 before the shift).
+// round(x a / 255) exactly: t = x a + 128 (<= 65153), (t + (t >> 8)) >> 8 (<= 65407 before the
+// shift).
 HWY_INLINE hn::Vec<DU16> Mul255(hn::Vec<DU16> x, hn::Vec<DU16> a) {
   const auto t = hn::Add(hn::Mul(x, a), hn::Set(DU16(), 128));
   return hn::ShiftRight<8>(hn::Add(t, hn::ShiftRight<8>(t)));
@@ -293,7 +299,7 @@ bool Over8(const uint8_t* f, int fs, const uint8_t* b, int bs, uint8_t* out, siz
     auto bv = Load8(b + i);
     if (fs) fv = Prem8(fv, is_alpha);
     if (bs) bv = Prem8(bv, is_alpha);
-    const auto transparency = hn::Sub(full, Alpha8(fv));             // 255 - af
+    const auto transparency = hn::Sub(full, Alpha8(fv));                  // 255 - af
     const auto r = hn::Min(hn::Add(fv, Mul255(bv, transparency)), full);  // saturating
     opaque = hn::And(opaque, hn::Or(hn::Eq(r, full), colour));
     Store8(r, out + i);
@@ -357,14 +363,15 @@ void Flush() { hwy::FlushStream(); }
 
 // Composites the accumulator `acc` (already premultiplied) with the next layer
 // in the plan's order: under it front to back, over it back to front.
-HWY_INLINE bool CombineF(const Plan& P, const float* acc, int acc_st, const float* layer, int layer_st,
-                         float* dst, size_t n, int stream) {
+HWY_INLINE bool CombineF(const Plan& P, const float* acc, int acc_st, const float* layer,
+                         int layer_st, float* dst, size_t n, int stream) {
   return P.ftb ? OverF(acc, acc_st, layer, layer_st, dst, n, stream)
                : OverF(layer, layer_st, acc, acc_st, dst, n, stream);
 }
-HWY_INLINE bool Combine8(const Plan& P, const uint8_t* acc, int acc_st, const uint8_t* layer, int layer_st,
-                         uint8_t* dst, size_t n) {
-  return P.ftb ? Over8(acc, acc_st, layer, layer_st, dst, n) : Over8(layer, layer_st, acc, acc_st, dst, n);
+HWY_INLINE bool Combine8(const Plan& P, const uint8_t* acc, int acc_st, const uint8_t* layer,
+                         int layer_st, uint8_t* dst, size_t n) {
+  return P.ftb ? Over8(acc, acc_st, layer, layer_st, dst, n)
+               : Over8(layer, layer_st, acc, acc_st, dst, n);
 }
 
 void ChunkF(const Plan& P, size_t p0, size_t n, float* out) {
@@ -386,7 +393,8 @@ void ChunkF(const Plan& P, size_t p0, size_t n, float* out) {
     const float* s0 = f[0] + 4 * (p0 + b0);
     const float* s1 = f[1] + 4 * (p0 + b0);
     float* dst = L == 2 ? out + 4 * b0 : acc + 4 * b0;
-    if (P.early_stop && OpaqueF(s0, bn)) {  // the front layer covers the block: the next is not read
+    if (P.early_stop &&
+        OpaqueF(s0, bn)) {  // the front layer covers the block: the next is not read
       CopyF(s0, st[0], dst, bn, L == 2);
       done[k] = true;
     } else {
@@ -400,7 +408,8 @@ void ChunkF(const Plan& P, size_t p0, size_t n, float* out) {
     for (size_t k = 0; k < blocks; ++k) {
       if (done[k]) continue;
       const size_t b0 = k * kBlock, bn = std::min(kBlock, n - b0);
-      done[k] = CombineF(P, acc + 4 * b0, 0, f[l] + 4 * (p0 + b0), st[l], acc + 4 * b0, bn, 0) && P.early_stop;
+      done[k] = CombineF(P, acc + 4 * b0, 0, f[l] + 4 * (p0 + b0), st[l], acc + 4 * b0, bn, 0) &&
+                P.early_stop;
       open -= done[k];
     }
   }
@@ -429,7 +438,8 @@ void Chunk8(const Plan& P, size_t p0, size_t n, float* out) {
     if (L == 1 || (P.early_stop && Opaque8(s0, bn))) {
       done[k] = Copy8(s0, st[0], acc + 4 * b0, bn) && P.early_stop;
     } else {
-      done[k] = Combine8(P, s0, st[0], q[1] + 4 * (p0 + b0), st[1], acc + 4 * b0, bn) && P.early_stop;
+      done[k] =
+          Combine8(P, s0, st[0], q[1] + 4 * (p0 + b0), st[1], acc + 4 * b0, bn) && P.early_stop;
     }
     open -= done[k];
   }
@@ -437,7 +447,8 @@ void Chunk8(const Plan& P, size_t p0, size_t n, float* out) {
     for (size_t k = 0; k < blocks; ++k) {
       if (done[k]) continue;
       const size_t b0 = k * kBlock, bn = std::min(kBlock, n - b0);
-      done[k] = Combine8(P, acc + 4 * b0, 0, q[l] + 4 * (p0 + b0), st[l], acc + 4 * b0, bn) && P.early_stop;
+      done[k] = Combine8(P, acc + 4 * b0, 0, q[l] + 4 * (p0 + b0), st[l], acc + 4 * b0, bn) &&
+                P.early_stop;
       open -= done[k];
     }
   }
@@ -478,7 +489,8 @@ namespace ck = composite_kernels;
 
 const char* composite_target_name() { return HWY_DYNAMIC_DISPATCH(ck::CompositeTargetName)(); }
 
-void composite_into(const LayerStack& stack, const FrameOptions& opts, float* out, FrameStats* stats) {
+void composite_into(const LayerStack& stack, const FrameOptions& opts, float* out,
+                    FrameStats* stats) {
   check_stack(stack);
   const int w = stack.width(), h = stack.height();
   ck::Plan plan;
@@ -498,7 +510,8 @@ void composite_into(const LayerStack& stack, const FrameOptions& opts, float* ou
   // tasks at 4096^2 for TBB to balance, each many chunks long.
   const int band = std::max(1, std::min(h, int((size_t(1) << 16) / size_t(w))));
   parallel_tiles(w, h, w, band, opts.threads, opts.progress, [&](int, int y0, int, int y1) {
-    HWY_DYNAMIC_DISPATCH(ck::CompositeRange)(&plan, size_t(y0) * size_t(w), size_t(y1) * size_t(w), out);
+    HWY_DYNAMIC_DISPATCH(ck::CompositeRange)
+    (&plan, size_t(y0) * size_t(w), size_t(y1) * size_t(w), out);
   });
   if (stats) stats->items = uint64_t(w) * uint64_t(h);
 }

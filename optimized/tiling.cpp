@@ -50,7 +50,8 @@ void parallel_tiles(int width, int height, int tile_w, int tile_h, int threads,
     tbb::parallel_for(tbb::blocked_range2d<int>(0, tiles_y, 1, 0, tiles_x, 1),
                       [&](const tbb::blocked_range2d<int>& r) {
                         for (int ty = r.rows().begin(); ty < r.rows().end(); ++ty)
-                          for (int tx = r.cols().begin(); tx < r.cols().end(); ++tx) run_tile(tx, ty);
+                          for (int tx = r.cols().begin(); tx < r.cols().end(); ++tx)
+                            run_tile(tx, ty);
                       });
   });
   if (progress) {

@@ -199,7 +199,8 @@ Image composite(const LayerStack& stack, const FrameOptions& opts, FrameStats* s
       d[2] = v.b;
       d[3] = v.a;
     }
-    if (opts.progress && (i + 1) % (size_t(1) << 20) == 0) opts.progress(double(i + 1) / double(count));
+    if (opts.progress && (i + 1) % (size_t(1) << 20) == 0)
+      opts.progress(double(i + 1) / double(count));
   }
   if (opts.progress) opts.progress(1.0);
   if (stats) stats->items = count;

@@ -52,8 +52,8 @@ struct Hole {
 
 }  // namespace
 
-LayerStack synthetic_stack(int width, int height, int layers, int opaque_from, Alpha alpha, Storage storage,
-                           uint64_t seed) {
+LayerStack synthetic_stack(int width, int height, int layers, int opaque_from, Alpha alpha,
+                           Storage storage, uint64_t seed) {
   LayerStack stack;
   stack.source = "synthetic " + std::to_string(width) + "x" + std::to_string(height) + " " +
                  std::to_string(layers) + " layers, seed " + std::to_string(seed);
@@ -64,12 +64,14 @@ LayerStack synthetic_stack(int width, int height, int layers, int opaque_from, A
     layer.alpha = alpha;
     layer.source = stack.source + ", layer " + std::to_string(l);
     layer.image = Image(width, height);
-    const Field colour[3] = {Field(rng, width, height), Field(rng, width, height), Field(rng, width, height)};
+    const Field colour[3] = {Field(rng, width, height), Field(rng, width, height),
+                             Field(rng, width, height)};
     const Field coverage(rng, width, height);
     const bool opaque = opaque_from >= 0 && l >= opaque_from;
     Hole holes[3];
     const float radius = 0.04f * float(width < height ? width : height) + 1.0f;
-    for (Hole& h : holes) h = {rng.range(0, float(width)), rng.range(0, float(height)), radius * radius};
+    for (Hole& h : holes)
+      h = {rng.range(0, float(width)), rng.range(0, float(height)), radius * radius};
     for (int y = 0; y < height; ++y) {
       for (int x = 0; x < width; ++x) {
         float a = 0.02f + 0.96f * coverage.at(x, y);  // strictly inside (0, 1)

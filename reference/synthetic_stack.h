@@ -19,7 +19,7 @@
 
 namespace lockstep {
 
-LayerStack synthetic_stack(int width, int height, int layers, int opaque_from, Alpha alpha, Storage storage,
-                           uint64_t seed);
+LayerStack synthetic_stack(int width, int height, int layers, int opaque_from, Alpha alpha,
+                           Storage storage, uint64_t seed);
 
 }  // namespace lockstep

@@ -1,9 +1,9 @@
 // Smoke tests of the compositing family's library code: exact 8-bit rounding,
 // opt::simd and opt::oiio against the reference on synthetic stacks, the tiling
 // helper, and the stack reader's errors. (The property tests live in props/.)
-#include <gtest/gtest.h>
-
 #include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+#include <hwy/targets.h>
 
 #include <atomic>
 #include <bit>
@@ -37,6 +37,42 @@ TEST(CompositeSmoke, Mul255IsExactForAll65536Pairs) {
       ASSERT_EQ(int(ref::mul255(uint8_t(x), uint8_t(a))), exact) << "x=" << x << " a=" << a;
     }
   }
+}
+
+// The same exhaustively through opt::simd's 16-bit lanes: premultiplying a
+// straight layer whose pixel (x, a) is (x, 255 - x, x, a) computes mul255 for
+// every pair; a transparent-black front of alpha a over an opaque back of
+// colour x computes x (255 - a) / 255 for every pair.
+TEST(CompositeSmoke, SimdMul255IsExactForAll65536Pairs) {
+  LayerStack one, two;
+  one.storage = two.storage = Storage::unorm8;
+  Layer straight;
+  straight.alpha = Alpha::straight;
+  straight.image.width = straight.image.height = 256;  // the float pixels are ignored with unorm8
+  straight.rgba8.resize(256 * 256 * 4);
+  Layer front = straight, back = straight;
+  front.alpha = back.alpha = Alpha::premultiplied;
+  for (int a = 0; a < 256; ++a)
+    for (int x = 0; x < 256; ++x) {
+      uint8_t* p = &straight.rgba8[size_t(a * 256 + x) * 4];
+      p[0] = uint8_t(x), p[1] = uint8_t(255 - x), p[2] = uint8_t(x), p[3] = uint8_t(a);
+      uint8_t* f = &front.rgba8[size_t(a * 256 + x) * 4];
+      f[0] = f[1] = f[2] = 0, f[3] = uint8_t(a);
+      uint8_t* b = &back.rgba8[size_t(a * 256 + x) * 4];
+      b[0] = b[1] = b[2] = uint8_t(x), b[3] = 255;
+    }
+  one.layers = {straight};
+  two.layers = {front, back};
+  const Image p = opt::simd::composite(one, {}, nullptr);
+  const Image o = opt::simd::composite(two, {}, nullptr);
+  for (int a = 0; a < 256; ++a)
+    for (int x = 0; x < 256; ++x) {
+      const float* pp = p.pixel(x, a);
+      const float* op = o.pixel(x, a);
+      ASSERT_EQ(pp[0], float((2 * x * a + 255) / 510) / 255.0f) << "x=" << x << " a=" << a;
+      ASSERT_EQ(pp[1], float((2 * (255 - x) * a + 255) / 510) / 255.0f) << "x=" << x << " a=" << a;
+      ASSERT_EQ(op[0], float((2 * x * (255 - a) + 255) / 510) / 255.0f) << "x=" << x << " a=" << a;
+    }
 }
 
 TEST(CompositeSmoke, EightBitHelpers) {
@@ -116,8 +152,12 @@ TEST_P(Agreement, SimdAndOiioMatchTheReference) {
   // Odd sizes: vector tails, chunk and band remainders. 6 layers, opaque from
   // index 2 on (early termination happens), and one with a single layer.
   for (const auto& [w, h, n, opaque_from, seed] :
-       std::vector<std::tuple<int, int, int, int, uint64_t>>{{67, 45, 6, 2, 1}, {1, 1, 3, -1, 2}, {300, 7, 2, 0, 3},
-                                                              {33, 40, 1, -1, 4}, {129, 70, 9, 4, 5}}) {
+       std::vector<std::tuple<int, int, int, int, uint64_t>>{{67, 45, 6, 2, 1},
+                                                             {1, 1, 3, -1, 2},
+                                                             {300, 7, 2, 0, 3},
+                                                             {33, 40, 1, -1, 4},
+                                                             {129, 70, 9, 4, 5},
+                                                             {256, 128, 16, -1, 6}}) {
     LayerStack s = synthetic_stack(w, h, n, opaque_from, c.alpha, c.storage, seed);
     s.order = c.order;
     s.early_stop = c.early_stop;
@@ -131,9 +171,11 @@ TEST_P(Agreement, SimdAndOiioMatchTheReference) {
     EXPECT_EQ(ss.items, rs.items);
     EXPECT_EQ(os.items, rs.items);
     const Diff ds = compare(simd, r), dox = compare(oiio, r);
-    std::printf("  %-40s %3dx%-3d %d layers  simd: %u ulps (%.3g abs, %.3g levels)  oiio: %u ulps (%.3g abs, %.3g levels)\n",
-                name(c).c_str(), w, h, n, ds.max_ulps, ds.max_abs, ds.max_levels, dox.max_ulps, dox.max_abs,
-                dox.max_levels);
+    std::printf(
+        "  %-40s %3dx%-3d %d layers  simd: %u ulps (%.3g abs, %.3g levels)  oiio: %u ulps (%.3g "
+        "abs, %.3g levels)\n",
+        name(c).c_str(), w, h, n, ds.max_ulps, ds.max_abs, ds.max_levels, dox.max_ulps, dox.max_abs,
+        dox.max_levels);
     if (c.storage == Storage::unorm8) {
       EXPECT_EQ(ds.max_abs, 0.0) << "simd 8-bit must equal the reference exactly";
       EXPECT_LE(dox.max_levels, 1.0 + 1e-6) << "oiio 8-bit within 1 level";
@@ -166,6 +208,29 @@ INSTANTIATE_TEST_SUITE_P(CompositeSmoke, Agreement, ::testing::ValuesIn(all_case
                            return n;
                          });
 
+// Every Highway target compiled in and supported here (AVX2, AVX-512, ...):
+// bit-identical to the reference on premultiplied float and on 8 bits.
+TEST(CompositeSmoke, EveryHighwayTargetMatchesTheReference) {
+  for (const int64_t t : hwy::SupportedAndGeneratedTargets()) {
+    hwy::SetSupportedTargetsForTest(t);
+    EXPECT_EQ(std::string(opt::simd::composite_target_name()), std::string(hwy::TargetName(t)));
+    for (Storage st : {Storage::f32, Storage::unorm8})
+      for (Alpha a : {Alpha::straight, Alpha::premultiplied}) {
+        const LayerStack s = synthetic_stack(77, 23, 5, 2, a, st, 7);
+        const Diff d =
+            compare(opt::simd::composite(s, {}, nullptr), ref::composite(s, {}, nullptr));
+        std::printf("  %-8s %-6s %-13s %u ulps\n", hwy::TargetName(t), name_of(st), name_of(a),
+                    d.max_ulps);
+        if (st == Storage::unorm8 || a == Alpha::premultiplied) {
+          EXPECT_EQ(d.max_ulps, 0u) << hwy::TargetName(t);
+        } else {
+          EXPECT_LE(d.max_abs, 1e-6) << hwy::TargetName(t);
+        }
+      }
+  }
+  hwy::SetSupportedTargetsForTest(0);  // back to the real CPU
+}
+
 TEST(CompositeSmoke, EdgeAlphasAgree) {
   // Alpha exactly 0 and 1, tiny alphas and a colour over an empty pixel.
   LayerStack s;
@@ -194,7 +259,9 @@ TEST(CompositeSmoke, EdgeAlphasAgree) {
     EXPECT_LE(d.max_abs, 1e-6) << name_of(o);
     LayerStack s8 = s;
     to_unorm8(s8);
-    EXPECT_EQ(compare(opt::simd::composite(s8, {}, nullptr), ref::composite(s8, {}, nullptr)).max_abs, 0.0);
+    EXPECT_EQ(
+        compare(opt::simd::composite(s8, {}, nullptr), ref::composite(s8, {}, nullptr)).max_abs,
+        0.0);
   }
 }
 
@@ -220,6 +287,29 @@ TEST(CompositeSmoke, BadStacksAreInputErrors) {
   EXPECT_THROW(opt::simd::composite(q, {}, nullptr), InputError);
 }
 
+TEST(CompositeSmoke, CorpusStacksAgree) {
+  int count = 0;
+  for (const auto& e : fs::directory_iterator(LOCKSTEP_CORPUS_DIR "/stacks")) {
+    if (e.path().extension() != ".stack") continue;
+    ++count;
+    const LayerStack s = read_stack(e.path().string(), std::nullopt);
+    FrameOptions o;
+    o.threads = 2;
+    const Image r = ref::composite(s, o, nullptr);
+    const Diff ds = compare(opt::simd::composite(s, o, nullptr), r);
+    const Diff dox = compare(opt::oiio::composite(s, o, nullptr), r);
+    std::printf("  %-22s %zu layers %s %s  simd: %u ulps (%.3g abs)  oiio: %u ulps (%.3g abs)\n",
+                e.path().filename().c_str(), s.layers.size(), name_of(s.order), name_of(s.storage),
+                ds.max_ulps, ds.max_abs, dox.max_ulps, dox.max_abs);
+    EXPECT_LE(ds.max_abs, 1e-6) << e.path();
+    EXPECT_LE(dox.max_abs, 1e-6) << e.path();
+    if (s.storage == Storage::unorm8) {
+      EXPECT_EQ(ds.max_abs, 0.0) << e.path();
+    }
+  }
+  EXPECT_GE(count, 5);
+}
+
 // ---------------------------------------------------------------- tiling
 
 TEST(CompositeSmoke, ParallelTilesCoverEveryPixelOnceWithMonotoneProgress) {
@@ -228,16 +318,17 @@ TEST(CompositeSmoke, ParallelTilesCoverEveryPixelOnceWithMonotoneProgress) {
   std::vector<double> reports;
   std::atomic<int> inside{0};
   bool overlapped = false;
-  opt::parallel_tiles(w, h, 16, 8, 2,
-                      [&](double f) {
-                        if (++inside > 1) overlapped = true;
-                        reports.push_back(f);
-                        --inside;
-                      },
-                      [&](int x0, int y0, int x1, int y1) {
-                        for (int y = y0; y < y1; ++y)
-                          for (int x = x0; x < x1; ++x) ++hits[size_t(y) * w + x];
-                      });
+  opt::parallel_tiles(
+      w, h, 16, 8, 2,
+      [&](double f) {
+        if (++inside > 1) overlapped = true;
+        reports.push_back(f);
+        --inside;
+      },
+      [&](int x0, int y0, int x1, int y1) {
+        for (int y = y0; y < y1; ++y)
+          for (int x = x0; x < x1; ++x) ++hits[size_t(y) * w + x];
+      });
   for (auto& c : hits) ASSERT_EQ(c.load(), 1);
   EXPECT_FALSE(overlapped);
   ASSERT_FALSE(reports.empty());
@@ -251,7 +342,8 @@ class Files : public ::testing::Test {
  protected:
   void SetUp() override {
     dir = fs::temp_directory_path() /
-          ("lockstep-composite-smoke-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "-" +
+          ("lockstep-composite-smoke-" +
+           std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "-" +
            ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(dir);
     fs::create_directories(dir);
@@ -263,7 +355,8 @@ class Files : public ::testing::Test {
     const std::string p = (dir / name).string();
     auto out = OIIO::ImageOutput::create(p);
     EXPECT_TRUE(out);
-    OIIO::ImageSpec spec(w, h, nc, name.ends_with(".png") ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT);
+    OIIO::ImageSpec spec(w, h, nc,
+                         name.ends_with(".png") ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT);
     if (nc == 4) spec.alpha_channel = 3;
     spec.attribute("oiio:UnassociatedAlpha", 1);
     EXPECT_TRUE(out->open(p, spec));
@@ -305,16 +398,18 @@ TEST_F(Files, PngIsReadStraightAndExrPremultiplied) {
   EXPECT_EQ(s.layers[0].image.rgba[3], 128.0f / 255.0f);
   EXPECT_EQ(s.layers[1].image.rgba[0], 0.25f);
   EXPECT_EQ(s.width(), 4);
-  const LayerStack o = read_stack(text("o.stack", "alpha premultiplied\norder btf\nstorage unorm8\na.png\nb.exr\n"),
-                                  std::nullopt);
+  const LayerStack o =
+      read_stack(text("o.stack", "alpha premultiplied\norder btf\nstorage unorm8\na.png\nb.exr\n"),
+                 std::nullopt);
   EXPECT_EQ(o.layers[0].alpha, Alpha::premultiplied);
   EXPECT_EQ(o.order, Order::back_to_front);
   EXPECT_EQ(o.storage, Storage::unorm8);
   EXPECT_EQ(o.layers[0].rgba8[0], 200);
   EXPECT_EQ(o.layers[0].rgba8[3], 128);
   // The caller's override wins over the file's line.
-  EXPECT_EQ(read_stack(text("p.stack", "alpha premultiplied\na.png\n"), Alpha::straight).layers[0].alpha,
-            Alpha::straight);
+  EXPECT_EQ(
+      read_stack(text("p.stack", "alpha premultiplied\na.png\n"), Alpha::straight).layers[0].alpha,
+      Alpha::straight);
 }
 
 TEST_F(Files, ReadErrorsNameTheFileAndLine) {
@@ -334,17 +429,20 @@ TEST_F(Files, ReadErrorsNameTheFileAndLine) {
     const std::string p = write("full.png", 64, 64, 4, v);
     std::ifstream in(p, std::ios::binary);
     std::string bytes((std::istreambuf_iterator<char>(in)), {});
-    std::ofstream((dir / "trunc.png").string(), std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+    std::ofstream((dir / "trunc.png").string(), std::ios::binary)
+        << bytes.substr(0, bytes.size() / 2);
   }
 
-  auto expect = [&](const std::string& body, const std::string& line_prefix, const std::string& what) {
+  auto expect = [&](const std::string& body, const std::string& line_prefix,
+                    const std::string& what) {
     const std::string p = text("t.stack", body);
     const std::string e = error_of(p);
+    std::printf("  %s\n", e.substr(dir.string().size() + 1).c_str());
     EXPECT_NE(e.find(p + line_prefix), std::string::npos) << "message: " << e;
     EXPECT_NE(e.find(what), std::string::npos) << "message: " << e << "\nexpected: " << what;
   };
-  expect("ok.png\nrgb.png\n", ":2: ",
-         "has no alpha channel (3 channels: R,G,B); lockstep composite needs RGBA");
+  expect("ok.png\nrgb.png\n",
+         ":2: ", "has no alpha channel (3 channels: R,G,B); lockstep composite needs RGBA");
   expect("nan.exr\n", ":1: ", "pixel (2, 1) channel G is NaN");
   expect("# negative\nneg.exr\n", ":2: ", "pixel (3, 2) channel A is negative");
   expect("ok.png\nbig.png\n", ":2: ", "is 5x3 but layer");
@@ -354,6 +452,12 @@ TEST_F(Files, ReadErrorsNameTheFileAndLine) {
   expect("ok.png\nfrobnicate\n", ":2: ", "unknown keyword 'frobnicate'");
   expect("ok.png\nnot-there.png\n", ":2: ", "not-there.png: cannot read layer: no such file");
   expect("trunc.png\n", ":1: ", "trunc.png: cannot read layer");
+  std::ofstream((dir / "empty.png").string()) << "";
+  std::ofstream((dir / "garbage.exr").string()) << "this is not an EXR file";
+  expect("empty.png\n", ":1: ", "empty.png: cannot read layer");
+  expect("garbage.exr\n", ":1: ", "garbage.exr: cannot read layer");
+  fs::create_directories(dir / "adir.png");
+  expect("adir.png\n", ":1: ", "adir.png: cannot read layer: is a directory");
   expect("order sideways\nok.png\n", ":1: ", "order must be 'ftb' or 'btf'");
   expect("alpha maybe\nok.png\n", ":1: ", "alpha must be");
   expect("storage half\nok.png\n", ":1: ", "storage must be");
@@ -363,7 +467,8 @@ TEST_F(Files, ReadErrorsNameTheFileAndLine) {
     read_layers({(dir / "ok.png").string(), (dir / "rgb.png").string()}, std::nullopt);
     ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("rgb.png: has no alpha channel"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("rgb.png: has no alpha channel"), std::string::npos)
+        << e.what();
   }
   EXPECT_THROW(read_layers({}, std::nullopt), InputError);
 }
