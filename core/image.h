@@ -7,20 +7,52 @@
 // half-written output behind.
 #pragma once
 
+#include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/math.h"
 
 namespace lockstep {
 
+// An allocator that leaves new floats uninitialised (value-initialisation of a
+// 256 MB frame is a whole extra pass over memory). Image(w, h) still zeroes
+// explicitly; Image::uninitialized() is for renderers that write every pixel.
+template <class T>
+struct NoInitAllocator : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = NoInitAllocator<U>;
+  };
+  NoInitAllocator() = default;
+  template <class U>
+  NoInitAllocator(const NoInitAllocator<U>&) {}
+  template <class U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+
 struct Image {
   int width = 0, height = 0;
-  std::vector<float> rgba;   // width * height * 4
+  std::vector<float, NoInitAllocator<float>> rgba;  // width * height * 4
   std::vector<float> depth;  // width * height, or empty: no depth plane (raster families fill it)
 
   Image() = default;
   Image(int w, int h) : width(w), height(h), rgba(size_t(w) * size_t(h) * 4, 0.0f) {}
+  // Every pixel left for the caller to write.
+  static Image uninitialized(int w, int h) {
+    Image img;
+    img.width = w;
+    img.height = h;
+    img.rgba.resize(size_t(w) * size_t(h) * 4);
+    return img;
+  }
   float* pixel(int x, int y) { return rgba.data() + (size_t(y) * size_t(width) + size_t(x)) * 4; }
   const float* pixel(int x, int y) const {
     return rgba.data() + (size_t(y) * size_t(width) + size_t(x)) * 4;

@@ -60,7 +60,7 @@ Image composite(const LayerStack& stack, const FrameOptions& opts, FrameStats* s
     }
   }
 
-  Image out(w, h);
+  Image out = Image::uninitialized(w, h);  // ImageBufAlgo::over writes every pixel
   std::vector<uint8_t> out8;
   if (eight) out8.resize(size_t(w) * size_t(h) * 4);
   OIIO::ImageBuf result(

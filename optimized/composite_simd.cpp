@@ -520,7 +520,7 @@ Image composite(const LayerStack& stack, const FrameOptions& opts, FrameStats* s
   check_stack(stack);
   // Image's constructor zero-fills (one extra write pass of the output, and the
   // first touch of its pages); composite_into() lets a caller reuse a buffer.
-  Image out(stack.width(), stack.height());
+  Image out = Image::uninitialized(stack.width(), stack.height());  // every pixel is written below
   composite_into(stack, opts, out.rgba.data(), stats);
   return out;
 }
