@@ -17,6 +17,18 @@
 
 namespace lockstep {
 
+// A known, documented failure of a third-party library that we report but cannot
+// fix here: the outcome label it shows up as, and the most it may happen, as a
+// share of the rays of its class (`per`: "vertex" = rays entering a closed mesh
+// exactly through a shared vertex). The properties classify exactly this failure
+// as explained, fail a run whose count is over max_rate, and fail on any other
+// failure; see props/README.md.
+struct KnownFailure {
+  std::string_view label;  // empty = none
+  double max_rate = 0;
+  std::string_view per;
+};
+
 template <class Fn>
 struct Impl {
   std::string_view name;
@@ -25,10 +37,11 @@ struct Impl {
   // Agreement with the reference: relative error of t, when the pair's
   // Tolerance::t_rel does not fit this implementation (0 = the pair's).
   double agree_t_rel = 0;
-  // A known, documented failure of a third-party library that we report but
-  // cannot fix here (empty = none). The properties classify exactly this failure
-  // as explained and still fail on any other; see props/README.md.
-  std::string_view known_failure = {};
+  KnownFailure known_failure = {};
+  // Unit roundoff of the arithmetic that decides hit/miss and which primitive,
+  // when t is then refined in a wider type (0 = inferred from oracle_t_rel:
+  // looser than 1e-9 is float, else double).
+  double decide_eps = 0;
 };
 
 // Agreement tolerances against the reference.
