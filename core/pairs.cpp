@@ -38,8 +38,9 @@ constexpr Impl<CasterFns> kRayCast[] = {
     // Embree 3.13.5 with RTC_SCENE_FLAG_ROBUST lets some rays through a closed mesh
     // exactly at a shared vertex (corpus/counterexamples/
     // watertight.shared_edge_rays.ray_cast.embree-*.txt); edges are watertight.
-    // Measured in deep mode: see BENCHMARKS.md, "Where each method breaks".
-    {"embree", {opt::embree::trace, opt::embree::render}, kRefined, 0, {"leak_vertex", 1e-3, "vertex"}, kF32Eps},
+    // Measured: 36 of 43608 vertex rays (0.083%, shared_edge_rays, 20000 cases;
+    // 95% upper limit 0.11%); the cap is 0.15% of vertex rays.
+    {"embree", {opt::embree::trace, opt::embree::render}, kRefined, 0, {"leak_vertex", 1.5e-3, "vertex"}, kF32Eps},
     {"auto", {opt::autosel::trace, opt::autosel::render}, kRefined, 0, {}, kF32Eps},
 };
 

@@ -413,7 +413,9 @@ PolygonAnswer polygon_query(const Ray& ray, const Scene& scene, uint32_t poly, b
       const LD cosu = std::fabs(dotl(nn, l3(ray.d))) / (two_area * norml(l3(ray.d)));
       if (two_area > 0 && cosu > 0 && tdist > 0) {
         const LD k = r * diam / (two_area * cosu * tdist);
-        L.kappa(k * diam, "sliver");
+        // Every implementation takes the plane from the scene (Newell's normal in
+        // double), so locally, in units of float, this weighs 2^-29 as the offset above.
+        L.kappa(k * diam * 0x1p-29L, "sliver");
         W.kappa(k * diam, "sliver");
         W.kappa(k * vmax, "translation");  // the vertices' own coordinates, far from the origin
       }
