@@ -168,10 +168,14 @@ Outcome judge(const OracleHit& o, double t, const ImplInfo& im) {
   // A refined implementation keeps its kernel's t where double sees no hit at all
   // (optimized/refine.h): only where that decision is within the band, and then
   // with as many ulps of the decisions' arithmetic as the bound has of double.
-  const bool kernel_t = im.refined && c.margin <= band;
-  const Conditioning& tc = kernel_t ? o.local : t_view(o, im);
-  const double bound = kernel_t ? im.bound * (im.eps / kF64Eps) : im.bound;
-  const double allowed = bound * std::max(1.0, tc.kappa / kWellKappa);
+  // (Polygons: refine always recomputes t from the plane unless it is parallel.)
+  const bool kernel_t = im.refined && o.root >= 0 && c.margin <= band;
+  const Conditioning& tr = t_view(o, im);
+  const double allowed_refined = im.bound * std::max(1.0, tr.kappa / kWellKappa);
+  const double allowed_kernel = im.bound * (im.eps / kF64Eps) * std::max(1.0, o.local.kappa / kWellKappa);
+  const bool use_kernel = kernel_t && allowed_kernel > allowed_refined;
+  const Conditioning& tc = use_kernel ? o.local : tr;
+  const double allowed = use_kernel ? allowed_kernel : allowed_refined;
   const std::string why = c.margin_why;
   if (out.err <= allowed) {
     out.kind = Outcome::explained;
