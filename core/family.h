@@ -52,7 +52,7 @@ struct FrameStats {
 // (e.g. rays through a shared mesh vertex); a run over the rate fails.
 struct KnownFailure {
   std::string_view label;  // empty: none
-  double max_rate = 0;     // per case of its class, measured with margin
+  double max_rate = 0;     // per case of its class, measured with margin (a binomial test at 1e-6 enforces it)
   std::string_view per;    // the class the rate divides by, e.g. "shared-vertex ray"
 };
 
@@ -76,6 +76,9 @@ struct Impl {
   double accuracy;   // bound against the oracle on well-conditioned input, in the family's unit
   double agree = 0;  // agreement with the reference when the family's default does not fit (0: the default)
   KnownFailure known = {};
+  // Unit roundoff of the arithmetic that decides (hit/miss, which primitive) when
+  // the result is then refined in a wider type (0: inferred from accuracy).
+  double decide_eps = 0;
 };
 
 // ---------------------------------------------------------------- image families

@@ -21,6 +21,11 @@ namespace {
 // quadratic formula loses digits even when the case is not pathological.
 constexpr double kF32 = 2e-5;
 constexpr double kF64 = 1e-11;
+// Traces that decide in float and then recompute the winner's t in double
+// (optimized/refine.h: the stable sphere form, the plane equation): t is
+// double-accurate, the decisions carry float's unit roundoff.
+constexpr double kRefined = 1e-13;
+constexpr double kF32Eps = 0x1p-24;
 
 constexpr Impl<RaySphereFn> kRaySphere[] = {
     {"reference", ref::ray_sphere, kF64},
@@ -40,12 +45,14 @@ constexpr Impl<RayPolygonFn> kRayPolygon[] = {
 };
 constexpr Impl<CasterFns> kRayCast[] = {
     {"reference", {ref::trace, ref::render}, kF64},
-    {"simd", {opt::simd::trace, opt::simd::render}, kF32},
-    // Embree 3.13.5 with RTC_SCENE_FLAG_ROBUST lets about 1 in 20000 rays through
-    // a closed mesh exactly at a shared vertex (corpus/counterexamples/
+    {"simd", {opt::simd::trace, opt::simd::render}, kRefined, 0, {}, kF32Eps},
+    // Embree 3.13.5 with RTC_SCENE_FLAG_ROBUST lets some rays through a closed mesh
+    // exactly at a shared vertex (corpus/counterexamples/
     // watertight.shared_edge_rays.ray_cast.embree-*.txt); edges are watertight.
-    {"embree", {opt::embree::trace, opt::embree::render}, kF32, 0, {"leak_vertex", 0, "shared-vertex ray"}},
-    {"auto", {opt::autosel::trace, opt::autosel::render}, kF32},
+    // Measured: 36 of 43608 vertex rays (0.083%, shared_edge_rays, 20000 cases;
+    // 95% upper limit 0.11%); the cap is 0.15% of vertex rays.
+    {"embree", {opt::embree::trace, opt::embree::render}, kRefined, 0, {"leak_vertex", 1.5e-3, "vertex"}, kF32Eps},
+    {"auto", {opt::autosel::trace, opt::autosel::render}, kRefined, 0, {}, kF32Eps},
 };
 
 // Agreement in t can be no tighter than what a float implementation promises
@@ -58,7 +65,8 @@ const RayCastRows kRows{
     {"ray_plane", "rays_at_plane", {.t_rel = kAgreeT}, kRayPlane},
     {"ray_polygon", "rays_at_polygon", {.t_rel = kAgreeT}, kRayPolygon},
     // Frames: every pixel within 1/255 on at least 99.9% of pixels (issue #2).
-    {"ray_cast", "scenes", {.t_rel = kAgreeT, .color_abs = 1.0 / 255, .pixel_fraction = 0.999}, kRayCast},
+    // Every non-reference ray_cast refines t in double: kRefined + kF64.
+    {"ray_cast", "scenes", {.t_rel = kRefined + kF64, .color_abs = 1.0 / 255, .pixel_fraction = 0.999}, kRayCast},
 };
 
 // ---------------------------------------------------------------- the family's typed pieces

@@ -21,10 +21,13 @@ ImplInfo info_of(const Pair<Fn>& p, size_t i) {
   in.pair = std::string(p.name);
   in.name = std::string(p.impls[i].name);
   in.bound = p.impls[i].accuracy;
-  in.eps = in.bound > 1e-9 ? kF32Eps : kF64Eps;
+  in.eps = p.impls[i].decide_eps > 0 ? p.impls[i].decide_eps : (in.bound > 1e-9 ? kF32Eps : kF64Eps);
+  in.refined = p.impls[i].decide_eps > 0 && in.bound <= 1e-9;
   in.is_reference = i == 0;
   in.agree_t_rel = p.impls[i].agree;
   in.known_failure = std::string(p.impls[i].known.label);
+  in.known_max_rate = p.impls[i].known.max_rate;
+  in.known_per = std::string(p.impls[i].known.per);
   in.mode = (i == 0 || p.impls[i].name.starts_with(p.impls[0].name)) ? Mode::textbook : Mode::robust;
   return in;
 }
@@ -85,6 +88,17 @@ std::string prim_text(const Hit& h) {
 
 const Conditioning& view_of(const OracleHit& o, Mode m) { return m == Mode::textbook ? o.textbook : o.local; }
 double band_of(const ImplInfo& im) { return (im.mode == Mode::textbook ? kTextbookBand : kRobustBand) * im.eps; }
+
+// The conditioning of t in the frame the implementation computes t in (a hit's
+// OracleHit: root >= 0 for spheres). Textbook: world plus its own cancellation.
+// Robust kernels: relative to the ray/primitive (local). Traces that refine in
+// double: the sphere's stable form works relative to its centre (local), the
+// polygon's plane equation n.o + d in world coordinates (world).
+const Conditioning& t_view(const OracleHit& o, const ImplInfo& im) {
+  if (im.mode == Mode::textbook) return o.textbook;
+  if (im.refined && o.root < 0) return o.world;
+  return o.local;
+}
 
 std::vector<double> run_kernel(const Subject& s, const Case& c, uint32_t poly) {
   std::vector<double> t(c.rays.size(), -12345.0);
@@ -151,12 +165,26 @@ Outcome judge(const OracleHit& o, double t, const ImplInfo& im) {
   out.both_hit = true;
   out.err = rel_error(t, o.t);
   if (out.err <= im.bound) return out;
-  const double allowed = im.bound * std::max(1.0, c.kappa / kWellKappa);
+  // A refined implementation keeps its kernel's t where double sees no hit at all
+  // (optimized/refine.h): only where that decision is within the band, and then
+  // with as many ulps of the decisions' arithmetic as the bound has of double.
+  // (Polygons: refine always recomputes t from the plane unless it is parallel.)
+  const bool kernel_t = im.refined && o.root >= 0 && c.margin <= band;
+  const Conditioning& tr = t_view(o, im);
+  const double allowed_refined = im.bound * std::max(1.0, tr.kappa / kWellKappa);
+  const double allowed_kernel = im.bound * (im.eps / kF64Eps) * std::max(1.0, o.local.kappa / kWellKappa);
+  const bool use_kernel = kernel_t && allowed_kernel > allowed_refined;
+  const Conditioning& tc = use_kernel ? o.local : tr;
+  const double allowed = use_kernel ? allowed_kernel : allowed_refined;
+  const std::string why = c.margin_why;
   if (out.err <= allowed) {
     out.kind = Outcome::explained;
-    out.label = c.kappa_why[0] ? c.kappa_why : "ill_conditioned";
-  } else if (c.margin <= band) {
-    out.kind = Outcome::explained;  // e.g. the other root, across tmin
+    out.label = tc.kappa_why[0] ? tc.kappa_why : "ill_conditioned";
+  } else if (o.root >= 0 && c.margin <= band && (why == "near_tmin" || why == "near_tmax")) {
+    // A sphere root within the band of tmin/tmax: the implementation may take the
+    // other root. Nothing else excuses a t error: a polygon hit near an edge has
+    // one t, and it must be within the bound.
+    out.kind = Outcome::explained;
     out.label = c.margin_why;
   } else {
     out.kind = Outcome::unexplained;
@@ -199,13 +227,9 @@ Outcome judge_trace(const OracleTrace& o, const Hit& h, const ImplInfo& im) {
     }
     return out;
   }
-  // t against the oracle's answer for the prim it chose.
-  Outcome k = judge(o.per_prim[h.prim], h.t, im);
-  if (k.kind == Outcome::unexplained && c.margin <= band) {
-    k.kind = Outcome::explained;
-    k.label = c.margin_why;
-  }
-  return k;
+  // t against the oracle's answer for the prim it chose: the same primitive has
+  // one t (or, for a sphere root at tmin, two), whatever the other decisions' margins.
+  return judge(o.per_prim[h.prim], h.t, im);
 }
 
 std::string oracle_trace_text(const OracleTrace& o) {
@@ -216,6 +240,43 @@ std::string oracle_trace_text(const OracleTrace& o) {
 }
 
 }  // namespace
+
+// ---------------------------------------------------------------- frames and rates
+
+std::string known_label(const ImplInfo& im) { return "known_" + im.name + "_" + im.known_failure; }
+
+bool well_in_frame(const OracleHit& o, const ImplInfo& im) { return ill_why(o, im).empty(); }
+
+std::string ill_why(const OracleHit& o, const ImplInfo& im) {
+  if (im.mode == Mode::textbook) {
+    if (well_conditioned(o)) return "";
+    return o.world.margin < kWellMargin ? o.world.margin_why : o.world.kappa_why;
+  }
+  const Conditioning& tc = o.hit ? t_view(o, im) : o.local;
+  if (o.local.margin < kWellMargin) return o.local.margin_why[0] ? o.local.margin_why : "margin";
+  if (!(tc.kappa <= kWellKappa)) return tc.kappa_why[0] ? tc.kappa_why : "kappa";
+  return "";
+}
+
+long known_failure_cap(long n, double max_rate) {
+  if (n <= 0 || max_rate <= 0) return 0;
+  if (max_rate >= 1) return n;
+  // Upper tail of Binomial(n, p), summed from the pmf in log space.
+  const double p = max_rate, lq = std::log1p(-p), lp = std::log(p);
+  auto log_pmf = [&](long k) {
+    return std::lgamma(double(n) + 1) - std::lgamma(double(k) + 1) - std::lgamma(double(n - k) + 1) + double(k) * lp +
+           double(n - k) * lq;
+  };
+  // P(X >= k+1) < 1e-6: the smallest such k is the cap.
+  double tail = 0;
+  std::vector<double> pmf(size_t(n) + 1);
+  for (long k = 0; k <= n; ++k) pmf[size_t(k)] = std::exp(log_pmf(k));
+  for (long k = n; k >= 0; --k) {
+    if (tail + pmf[size_t(k)] >= 1e-6) return k;  // P(X >= k) >= 1e-6, P(X >= k+1) < 1e-6
+    tail += pmf[size_t(k)];
+  }
+  return 0;
+}
 
 // ---------------------------------------------------------------- subjects
 
@@ -273,9 +334,9 @@ Verdict check_accuracy(const Subject& s, const Case& c) {
     for (size_t i = 0; i < c.rays.size(); ++i) {
       const OracleHit o = oracle_kernel(s.kernel, c, c.rays[i], c.poly);
       Outcome out;
-      if (!well_conditioned(o)) {
+      if (!well_in_frame(o, im)) {
         out.kind = Outcome::skipped;
-        out.label = std::string("ill:") + (o.world.margin < kWellMargin ? o.world.margin_why : o.world.kappa_why);
+        out.label = "ill:" + ill_why(o, im);
       } else if (std::isnan(t[i]) || (t[i] < kInfinity) != o.hit) {
         out.kind = Outcome::unexplained;
         out.label = std::isnan(t[i]) ? "nan" : (o.hit ? "false_miss" : "false_hit");
@@ -299,9 +360,9 @@ Verdict check_accuracy(const Subject& s, const Case& c) {
     const OracleTrace o = oracle_trace(c.scene, c.rays[i]);
     Outcome out;
     const Hit& h = hits[i];
-    if (!well_conditioned(o.best)) {
+    if (!well_in_frame(o.best, im)) {
       out.kind = Outcome::skipped;
-      out.label = std::string("ill:") + (o.best.world.margin < kWellMargin ? o.best.world.margin_why : o.best.world.kappa_why);
+      out.label = "ill:" + ill_why(o.best, im);
     } else if (std::isnan(h.t) || h.hit() != o.best.hit) {
       out.kind = Outcome::unexplained;
       out.label = std::isnan(h.t) ? "nan" : (o.best.hit ? "false_miss" : "false_hit");
@@ -341,7 +402,7 @@ Verdict check_agreement(const Subject& s, const Case& c) {
     for (size_t i = 0; i < c.rays.size(); ++i) {
       const OracleHit o = oracle_kernel(s.kernel, c, c.rays[i], c.poly);
       Outcome out;
-      if (!well_conditioned(o)) {
+      if (!well_in_frame(o, s.info) || !well_in_frame(o, ref.info)) {
         out.kind = Outcome::skipped;
         out.label = "ill";
       } else if (std::isnan(t[i]) || (t[i] < kInfinity) != (tr[i] < kInfinity)) {
@@ -371,7 +432,7 @@ Verdict check_agreement(const Subject& s, const Case& c) {
     const Hit& h = hits[i];
     const Hit& r = ref_hits[i];
     auto is_tied = [&](uint32_t p) { return std::find(o.tied.begin(), o.tied.end(), p) != o.tied.end(); };
-    if (!well_conditioned(o.best)) {
+    if (!well_in_frame(o.best, s.info) || !well_in_frame(o.best, ref.info)) {
       out.kind = Outcome::skipped;
       out.label = "ill";
     } else if (std::isnan(h.t) || h.hit() != r.hit()) {
@@ -447,6 +508,8 @@ Verdict check_watertight(const Subject& s, const Case& c) {
     const bool hit = t[i] < kInfinity;
     std::string touching;
     for (uint32_t p : o.touching) touching += " " + std::to_string(p);
+    if (o.contact && o.transversal)
+      out.cls = o.touching.size() >= 3 ? "vertex" : (o.touching.size() == 2 ? "edge" : "face");
     if (std::isnan(t[i])) {
       out.kind = Outcome::unexplained;
       out.label = "nan";
@@ -461,21 +524,34 @@ Verdict check_watertight(const Subject& s, const Case& c) {
       out.kind = (s.info.mode == Mode::textbook && o.touching.size() >= 2) ? Outcome::explained : Outcome::unexplained;
       // A library's known failure (pair table, Impl::known_failure) is reported
       // under its own label; any other leak still fails.
-      if (out.kind == Outcome::unexplained && out.label == s.info.known_failure) {
+      if (out.kind == Outcome::unexplained && !s.info.known_failure.empty() && out.label == s.info.known_failure) {
         out.kind = Outcome::explained;
-        out.label = "known_" + s.info.name + "_" + out.label;
+        out.label = known_label(s.info);
       }
     } else {
       out.both_hit = true;
       out.err = rel_error(t[i], o.t);
       const bool prim_ok = s.kernel != Kernel::frame ||
                            std::find(o.touching.begin(), o.touching.end(), hits[i].prim) != o.touching.end();
+      // t within the bound, scaled by the condition number of the worst polygon at
+      // the contact (in the frame the implementation computes t in), as in Stability.
+      double kappa = 1;
+      std::string why = "ill_conditioned";
+      for (uint32_t p : o.touching) {
+        const OracleHit op = oracle_polygon(c.rays[i], c.scene, p - c.scene.sphere_count());
+        const Conditioning& tc = t_view(op, s.info);
+        if (tc.kappa > kappa) kappa = tc.kappa, why = tc.kappa_why[0] ? tc.kappa_why : "ill_conditioned";
+      }
+      const double allowed = s.info.bound * std::max(1.0, kappa / kWellKappa);
       if (!prim_ok) {
         out.kind = Outcome::unexplained;
         out.label = "wrong_prim";
-      } else if (!(out.err <= s.info.bound)) {
+      } else if (!(out.err <= allowed)) {
         out.kind = Outcome::unexplained;
         out.label = "t_error";
+      } else if (out.err > s.info.bound) {
+        out.kind = Outcome::explained;
+        out.label = why;
       }
     }
     out.detail = ray_line(c, i) + "; " + s.info.name + " " +

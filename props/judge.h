@@ -16,9 +16,9 @@
 // every implementation whose name starts with the reference's (reference_f32).
 // They are judged with the textbook conditioning (world coordinates plus the
 // textbook formula's own cancellation); the others with the local conditioning
-// (relative to the ray origin). The arithmetic's unit roundoff is inferred from
-// the implementation's accuracy bound in the table: bounds looser than 1e-9 mean
-// float (2^-24), tighter mean double (2^-53).
+// (relative to the ray origin). The decisions' unit roundoff is the table's
+// Impl::decide_eps, or else inferred from the implementation's accuracy bound:
+// bounds looser than 1e-9 mean float (2^-24), tighter mean double (2^-53).
 #pragma once
 
 #include <cstdint>
@@ -51,8 +51,29 @@ struct ImplInfo {
   Mode mode = Mode::robust;
   bool is_reference = false;
   double agree_t_rel = 0;       // Impl::agree_t_rel (0 = the pair's tolerance)
-  std::string known_failure;    // Impl::known_failure: this label is explained, never hidden
+  // t refined in a wider type than the decisions (Impl::decide_eps set): t is
+  // judged in the frame the refinement computes in (sphere: centre-relative;
+  // polygon: the world plane equation), decisions with eps.
+  bool refined = false;
+  // Impl::known_failure: this label is explained, never hidden, and its count per
+  // ray of class known_per is capped at known_max_rate (props_main.cpp).
+  std::string known_failure;
+  double known_max_rate = 0;
+  std::string known_per;
 };
+
+// The label a known failure is reported under ("known_embree_leak_vertex").
+std::string known_label(const ImplInfo& im);
+// Well-conditioned in the frame the implementation computes in: textbook
+// implementations in world coordinates (oracle's world view), the others with
+// the local decision margins and the kappa of the frame their t comes from.
+bool well_in_frame(const OracleHit& o, const ImplInfo& im);
+// Why a ray is not well-conditioned for this implementation ("" if it is).
+std::string ill_why(const OracleHit& o, const ImplInfo& im);
+// The most known failures a run may show: the largest count k with
+// P(X >= k) >= 1e-6 for X ~ Binomial(n, max_rate), i.e. more than this is
+// evidence (at 1e-6) that the true rate is over max_rate.
+long known_failure_cap(long n, double max_rate);
 
 // One implementation of one pair, callable on a Case.
 struct Subject {

@@ -396,6 +396,30 @@ PolygonAnswer polygon_query(const Ray& ray, const Scene& scene, uint32_t poly, b
     const LD diam = std::hypot(hi_x - lo_x, hi_y - lo_y);
     const LD t = to_ld(a.t), tdist = std::fabs(t) * norml(l3(ray.d));
     const L3 P3 = l3(a.p);
+    // The plane itself, as implementations compute it from the vertices: moving a
+    // vertex by e turns the normal by up to e diam / (2 area), which moves the plane
+    // at the hit point (r from the farthest vertex) by r times that, i.e. t by that
+    // over |u.n|. Large for slivers (area ~ 0 against diam^2). Perturbations are
+    // relative to the polygon's size (local) or to its coordinates (world).
+    {
+      const L3 nn = l3(pl.n);
+      const LD two_area = norml(nn);  // exact Newell vector: |n| = 2 area (for exactly coplanar vertices)
+      LD r = 0, vmax = 0;
+      for (const Vec3& q : v) {
+        const L3 ql = l3(q);
+        r = std::max(r, norml(L3{ql.x - P3.x, ql.y - P3.y, ql.z - P3.z}));
+        vmax = std::max(vmax, norml(ql));
+      }
+      const LD cosu = std::fabs(dotl(nn, l3(ray.d))) / (two_area * norml(l3(ray.d)));
+      if (two_area > 0 && cosu > 0 && tdist > 0) {
+        const LD k = r * diam / (two_area * cosu * tdist);
+        // Every implementation takes the plane from the scene (Newell's normal in
+        // double), so locally, in units of float, this weighs 2^-29 as the offset above.
+        L.kappa(k * diam * 0x1p-29L, "sliver");
+        W.kappa(k * diam, "sliver");
+        W.kappa(k * vmax, "translation");  // the vertices' own coordinates, far from the origin
+      }
+    }
     L.margin(dist / (LD(kl) * tdist + tdist + diam), "near_edge");
     W.margin(dist / (LD(kw) * tdist + norml(P3) + diam), "near_edge");
     bool facing = true;

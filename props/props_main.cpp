@@ -107,11 +107,21 @@ struct Tally {
   long cases = 0, rays = 0, ok = 0, explained = 0, unexplained = 0, skipped = 0;
   std::map<std::string, long> labels;  // explained/unexplained labels
   std::map<std::string, long> skipped_labels;
+  // Rays per class (watertight: vertex, edge, face), and which class each label
+  // was seen in: rates divide by the rays of their class.
+  std::map<std::string, long> class_rays;
+  std::map<std::string, std::string> label_class;  // label -> its class ("*" if several)
   std::vector<double> errors;  // relative t errors where both hit (judged rays)
   void add(const Verdict& v) {
     ++cases;
     for (const Outcome& o : v.rays) {
       ++rays;
+      if (!o.cls.empty()) ++class_rays[o.cls];
+      if (o.kind == Outcome::explained || o.kind == Outcome::unexplained) {
+        const std::string l = (o.kind == Outcome::unexplained ? "UNEXPLAINED " : "") + o.label;
+        auto [it, fresh] = label_class.emplace(l, o.cls);
+        if (!fresh && it->second != o.cls) it->second = "*";
+      }
       switch (o.kind) {
         case Outcome::ok: ++ok; break;
         case Outcome::explained: ++explained; ++labels[o.label]; break;
@@ -120,6 +130,13 @@ struct Tally {
       }
       if (o.kind != Outcome::skipped && o.both_hit && std::isfinite(o.err)) errors.push_back(o.err);
     }
+  }
+  // The denominator of a label's rate: the rays of its class, or all rays.
+  std::pair<long, std::string> per(const std::string& label) const {
+    auto it = label_class.find(label);
+    if (it == label_class.end() || it->second.empty() || it->second == "*") return {rays, ""};
+    auto c = class_rays.find(it->second);
+    return {c == class_rays.end() ? rays : c->second, it->second};
   }
   double max_error() const { return errors.empty() ? 0 : *std::max_element(errors.begin(), errors.end()); }
   double p99() const {
@@ -183,11 +200,13 @@ std::vector<TableRow>& table() {
   return t;
 }
 
-std::string labels_text(const std::map<std::string, long>& labels, long rays) {
+std::string labels_text(const std::map<std::string, long>& labels, long rays, const Tally* t = nullptr) {
   std::string s;
   for (const auto& [l, n] : labels) {
     if (!s.empty()) s += ", ";
-    s += l + " " + std::to_string(n) + " (" + g3(100.0 * double(n) / double(std::max(1L, rays))) + "%)";
+    const auto [den, cls] = t ? t->per(l) : std::pair<long, std::string>{rays, ""};
+    s += l + " " + std::to_string(n) + " (" + g3(100.0 * double(n) / double(std::max(1L, den))) + "%" +
+         (cls.empty() ? "" : " of " + std::to_string(den) + " " + cls + " rays") + ")";
   }
   return s.empty() ? "-" : s;
 }
@@ -201,7 +220,7 @@ void print_table() {
     const Tally& t = r.tally;
     std::cout << r.check << " | " << r.generator << " | " << r.pair << " | " << r.impl << " | " << t.cases << " | "
               << t.rays << " | " << t.ok << " | " << t.explained << " | " << t.unexplained << " | " << t.skipped
-              << " | " << labels_text(t.labels, t.rays) << "\n";
+              << " | " << labels_text(t.labels, t.rays, &t) << "\n";
   }
 }
 
@@ -316,7 +335,13 @@ void run_property(const Spec& spec) {
             << "seed " << p.seed << ", max_success " << p.maxSuccess << ", " << g3(seconds) << " s): ok " << tally.ok
             << ", explained " << tally.explained << ", unexplained " << tally.unexplained << ", skipped "
             << tally.skipped << "\n";
-  if (!tally.labels.empty()) std::cout << "[ lockstep ]   labels: " << labels_text(tally.labels, tally.rays) << "\n";
+  if (!tally.labels.empty())
+    std::cout << "[ lockstep ]   labels: " << labels_text(tally.labels, tally.rays, &tally) << "\n";
+  if (!tally.class_rays.empty()) {
+    std::cout << "[ lockstep ]   rays per class:";
+    for (const auto& [c, n] : tally.class_rays) std::cout << " " << c << " " << n;
+    std::cout << "\n";
+  }
   if (!tally.skipped_labels.empty())
     std::cout << "[ lockstep ]   skipped (not well-conditioned): " << labels_text(tally.skipped_labels, tally.rays)
               << "\n";
@@ -331,11 +356,32 @@ void run_property(const Spec& spec) {
                   g3(tally.p99()) + "," + std::to_string(tally.errors.size()) + "," + g3(s.info.bound)});
   }
   if (const char* csv = env("LOCKSTEP_STABILITY_CSV")) {
+    // rays: the label's denominator, the rays of its class `per` (empty: all rays).
     std::vector<std::string> rows;
     const std::string k = spec.check + "," + spec.generator + "," + s.info.pair + "," + s.info.name + ",";
-    rows.push_back(k + "ok," + std::to_string(tally.ok) + "," + std::to_string(tally.rays));
-    for (const auto& [l, n] : tally.labels) rows.push_back(k + l + "," + std::to_string(n) + "," + std::to_string(tally.rays));
-    upsert_csv(csv, "check,generator,pair,impl,label,count,rays", 5, rows);
+    rows.push_back(k + "ok," + std::to_string(tally.ok) + "," + std::to_string(tally.rays) + ",");
+    for (const auto& [l, n] : tally.labels) {
+      const auto [den, cls] = tally.per(l);
+      rows.push_back(k + l + "," + std::to_string(n) + "," + std::to_string(den) + "," + cls);
+    }
+    for (const auto& [c, n] : tally.class_rays)
+      rows.push_back(k + "class:" + c + "," + std::to_string(n) + "," + std::to_string(tally.rays) + ",");
+    upsert_csv(csv, "check,generator,pair,impl,label,count,rays,per", 5, rows);
+  }
+
+  // A known failure's rate: over the cap (at 1e-6 significance) fails the run.
+  if (!s.info.known_failure.empty() && (tally.class_rays.count(s.info.known_per) || tally.labels.count(known_label(s.info)))) {
+    const std::string label = known_label(s.info);
+    const long n = tally.class_rays.count(s.info.known_per) ? tally.class_rays.at(s.info.known_per) : 0;
+    const long k = tally.labels.count(label) ? tally.labels.at(label) : 0;
+    const long cap = known_failure_cap(n, s.info.known_max_rate);
+    std::cout << "[ lockstep ]   known failure " << label << ": " << k << " of " << n << " " << s.info.known_per
+              << " rays (" << g3(n ? 100.0 * double(k) / double(n) : 0.0) << "%); stated max rate "
+              << g3(100 * s.info.known_max_rate) << "%, at most " << cap << " of " << n << " in a run\n";
+    EXPECT_LE(k, cap) << property << ": known failure " << label << " on " << k << " of " << n << " "
+                      << s.info.known_per << " rays (" << g3(n ? 100.0 * double(k) / double(n) : 0.0)
+                      << "%), over its stated max rate " << g3(100 * s.info.known_max_rate)
+                      << "% (core/pairs.cpp; at most " << cap << " expected at 1e-6 significance)";
   }
 
   if (measure && measured_unexplained > 0) {

@@ -21,6 +21,7 @@ struct Outcome {
   std::string label;   // cause: ok, grazing, cancellation, near_edge, leak_edge, nan, ...
   double err = 0;      // relative error of t (vs oracle, or vs reference for agreement); inf: hit/miss differ
   bool both_hit = false;
+  std::string cls;     // the ray's class, for rates per class (watertight: vertex, edge, face); "" = none
   std::string detail;  // input as hexfloats, both outputs, the oracle, the error
 };
 

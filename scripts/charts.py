@@ -175,9 +175,12 @@ def stability_table(path):
             keys.append(k)
         if r["impl"] not in impls:
             impls.append(r["impl"])
-        c = cell.setdefault((k, r["impl"]), {"rays": int(r["rays"]), "labels": {}})
-        if r["label"] != "ok":
-            c["labels"][r["label"]] = int(r["count"])
+        c = cell.setdefault((k, r["impl"]), {"rays": 0, "labels": {}})
+        if r["label"] == "ok":
+            c["rays"] = int(r["rays"])
+        elif not r["label"].startswith("class:"):
+            # rates divide by the rays of the label's class (per), else by all rays
+            c["labels"][r["label"]] = (int(r["count"]), int(r["rays"]), r.get("per") or "")
     print("\n| check | generator | pair | " + " | ".join(impls) + " |")
     print("|---" * (3 + len(impls)) + "|")
     for k in keys:
@@ -191,8 +194,13 @@ def stability_table(path):
             if not wrong:
                 cells.append(f"right on all {c['rays']}")
             else:
-                share = lambda n: f"{100 * n / c['rays']:.1f}%" if 100 * n / c["rays"] >= 0.1 else f"{n} of {c['rays']}"
-                cells.append(", ".join(f"{l} {share(n)}" for l, n in sorted(wrong.items(), key=lambda x: -x[1])))
+                def share(v):
+                    n, den, per = v
+                    of = f" {per} rays" if per else ""
+                    if 100 * n / den >= 0.1:
+                        return f"{100 * n / den:.1f}%" + (f" of {den}{of}" if per else "")
+                    return f"{n} of {den}{of}"
+                cells.append(", ".join(f"{l} {share(v)}" for l, v in sorted(wrong.items(), key=lambda x: -x[1][0] / x[1][1])))
         print(f"| {k[0]} | {k[1]} | {k[2]} | " + " | ".join(cells) + " |")
 
 

@@ -622,11 +622,12 @@ Case shared_edge_rays() {
     const int64_t what = *int_in(0, 2);  // 0 vertex, 1 edge, 2 inside the face
     Vec3 target;
     Vec3 nsum{0, 0, 0};
+    std::vector<Vec3> incident;  // normals of the faces through the target
     if (what == 0) {
       const uint32_t vi = face[size_t(*int_in(0, int64_t(nv) - 1))];
       target = m.verts[vi];
       for (size_t g = 0; g < m.faces.size(); ++g)
-        if (std::find(m.faces[g].begin(), m.faces[g].end(), vi) != m.faces[g].end()) nsum += fn[g];
+        if (std::find(m.faces[g].begin(), m.faces[g].end(), vi) != m.faces[g].end()) nsum += fn[g], incident.push_back(fn[g]);
     } else if (what == 1) {
       const size_t e = size_t(*int_in(0, int64_t(nv) - 1));
       const uint32_t a = face[e], b = face[(e + 1) % nv];
@@ -634,7 +635,8 @@ Case shared_edge_rays() {
       target = m.verts[a] + (m.verts[b] - m.verts[a]) * lambda;
       for (size_t g = 0; g < m.faces.size(); ++g) {
         const auto& fg = m.faces[g];
-        if (std::find(fg.begin(), fg.end(), a) != fg.end() && std::find(fg.begin(), fg.end(), b) != fg.end()) nsum += fn[g];
+        if (std::find(fg.begin(), fg.end(), a) != fg.end() && std::find(fg.begin(), fg.end(), b) != fg.end())
+          nsum += fn[g], incident.push_back(fn[g]);
       }
     } else {
       int64_t w[3] = {*int_in(1, 14), *int_in(1, 14), 0};
@@ -643,10 +645,27 @@ Case shared_edge_rays() {
       const Vec3 a = m.verts[face[0]], b = m.verts[face[1]], cc = m.verts[face[2]];
       target = a + (b - a) * (double(w[1]) / 16) + (cc - a) * (double(w[2]) / 16);
       nsum = fn[f];
+      incident.push_back(fn[f]);
     }
     Vec3 dir = normalize(nsum);
-    const Vec3 wobble = *unit_dir() * *uniform(0, 0.3);
-    if (dot(normalize(dir + wobble), dir) > 0.9) dir = normalize(dir + wobble);
+    bool oblique = *chance(1, 2);
+    if (oblique) {
+      // Oblique: any direction from which every face through the target is seen
+      // from its front, at least 0.05 (about 3 degrees) off each face's plane; the
+      // mesh is convex, so the target is the ray's first contact. Rejection
+      // sampling, else the near-normal direction below.
+      oblique = false;
+      for (int attempt = 0; attempt < 64 && !oblique; ++attempt) {
+        const Vec3 u = *unit_dir();
+        bool ok = true;
+        for (const Vec3& nf : incident) ok &= dot(u, nf) > 0.05;
+        if (ok) dir = u, oblique = true;
+      }
+    }
+    if (!oblique) {  // near the mean normal: within about 26 degrees
+      const Vec3 wobble = *unit_dir() * *uniform(0, 0.3);
+      if (dot(normalize(dir + wobble), dir) > 0.9) dir = normalize(dir + wobble);
+    }
     const double dist = *log_uniform(0.5, 20) * std::ldexp(1.0, scale);
     const Vec3 o = round_to(target + dir * dist, grid);
     Vec3 d = target - o;  // exact: the ray passes exactly through target at t = 1
