@@ -13,8 +13,12 @@
 // them as they are.
 //
 // ---- stated bounds (derivations in README.md)
-//  float, vs the oracle (accuracy): subject.float_ulps ulps of
+//  float, vs the oracle (accuracy): float_bound(s, N) = 1/2 + float_ulps (N - 1) ulps of
 //        max(|exact|, largest term, 2^-126); largest term = floor (ftb) or floor_w (btf).
+//        Premultiplied over f + (1 - a) b rounds 1 - a, the product and the sum, each
+//        within 1/2 ulp of the largest term: 1.5 ulps per over (simd, oiio). The
+//        reference's straight formula rounds two products, a sum and a division per
+//        over, and converts between representations: 3 ulps per over.
 //  8 bits, vs the oracle (accuracy): bound8() levels, derived per pixel:
 //        back-to-front  sum_k T_k (r_k + d_k),  r_k = 1/2 for every over (k < N-1),
 //                       d_k = 1/2 for the colour of a straight layer (premultiply8);
@@ -23,7 +27,7 @@
 //                       alpha's error (alpha channel: e_{N-1});
 //        T_k the exact transmittance (levels/255) in front of layer k, c_k its
 //        exact premultiplied colour level.
-//  agreement with the reference: float subject.float_ulps + reference.float_ulps
+//  agreement with the reference: float float_bound(s, N) + float_bound(reference, N)
 //        (the same scale); 8 bits subject.levels8.
 //  straight vs premultiplied: each within its accuracy bound (the premultiplied
 //        stack +1 ulp for the float premultiply); after unpremultiplying,
@@ -31,7 +35,7 @@
 //        (dC + s* da) / a_out (float); ok when within 1 level / 4 accuracy bounds of
 //        s*, explained (premul8_loss_*, small_alpha) between that and the bound.
 //  ftb == btf: |ftb - btf| <= the two accuracy bounds added; exact in the oracle.
-//  associativity: grouped stacks within 3 float_ulps / the two 8-bit bounds
+//  associativity: grouped stacks within 3 float_bound(s, N) / the two 8-bit bounds
 //        added of the oracle; ref::over_premultiplied triples within kAssocUlps
 //        of each other, exactly equal in the oracle.
 //  early stop: on == off bit for bit; |out - full| <= b ulps of the visible
@@ -59,8 +63,8 @@ namespace lockstep::props::composite {
 struct CompositeSubject {
   std::string name;
   Image (*fn)(const LayerStack&, const FrameOptions&, FrameStats*);
-  double float_ulps;  // vs the oracle, ulps of max(|exact|, largest term, 2^-126), stacks of <= 8
-                      // layers
+  double float_ulps;  // per over, vs the oracle: float_bound() = 1/2 + float_ulps (N - 1) ulps
+                      // of max(|exact|, largest term, 2^-126) for N layers
   int levels8;        // 8 bits, vs the reference (levels)
   bool is_reference;
 };
@@ -74,6 +78,12 @@ std::vector<CompositeSubject> composite_subjects();
 // exact value (1 - a, the product and the sum rounded: 3u per over, relative to
 // the largest term), so they are within 6 of each other.
 inline constexpr double kAssocUlps = 6;
+
+// The float bound of a subject on a stack of `layers` layers (ulps, see above):
+// 1/2 for the first layer (a straight layer's premultiply), float_ulps per over.
+inline double float_bound(const CompositeSubject& s, size_t layers) {
+  return 0.5 + s.float_ulps * double(layers > 0 ? layers - 1 : 0);
+}
 
 // The derived 8-bit bound (levels) of channel ch of pixel px against the oracle.
 double bound8(const StackCase& c, int px, int ch);

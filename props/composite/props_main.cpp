@@ -8,6 +8,11 @@
 // Environment:
 //   RC_PARAMS="max_success=100 seed=..."   RapidCheck's own (case count, seed, reproduce=...)
 //   LOCKSTEP_DEEP=1 (or a count)            deep mode: at least 1000 cases per property
+//   LOCKSTEP_COMPOSITE_CASES=dir           saved cases replayed by Replay.counterexamples
+//                                           (default props/composite/counterexamples)
+//   LOCKSTEP_MEASURE=1                      run every case even after a failure (no shrinking), so
+//                                           that the statistics cover the whole run; fails at the
+//                                           end
 // main() puts both into RC_PARAMS before RapidCheck reads it (no rc::detail), and
 // picks a seed when none is given, so that every summary line and failure names it.
 #include <gtest/gtest.h>
@@ -17,6 +22,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <random>
@@ -25,6 +32,7 @@
 
 #include "props/composite/checks.h"
 #include "props/composite/gen.h"
+#include "props/composite/mutants.h"
 #include "props/composite/oracle.h"
 #include "reference/composite.h"
 
@@ -87,6 +95,14 @@ struct Tally {
       if (o.kind == Outcome::skipped || !std::isfinite(o.err)) continue;
       double& m = max_err[c.generator];
       m = std::max(m, o.err);
+      if (!c.is8()) {  // float error by layer count (the bounds grow with it)
+        double& ml = max_err["float_layers=" + std::to_string(c.layers.size())];
+        ml = std::max(ml, o.err);
+      }
+      if (!c.is8()) {  // float error by layer count (the bounds grow with it)
+        double& ml = max_err["float_layers=" + std::to_string(c.layers.size())];
+        ml = std::max(ml, o.err);
+      }
       (c.is8() ? max_8 : max_f) = std::max(c.is8() ? max_8 : max_f, o.err);
     }
   }
@@ -126,12 +142,18 @@ class Property : public testing::Test {
     std::string first;
     const auto t0 = std::chrono::steady_clock::now();
     const std::string name = std::string(check_.name) + "." + subject_.name;
+    const bool measure = env("LOCKSTEP_MEASURE") != nullptr;
+    long measured_failures = 0;
     const bool ok = rc::check(name, [&] {
       const StackCase c = *gen;
       const Verdict v = check_.fn(subject_, c);
       if (!failed) tally.add(c, v);
       if (!v.passed()) {
         if (!failed) first = v.first_failure();
+        if (measure) {  // keep going: the statistics cover every case; the test fails at the end
+          ++measured_failures;
+          return;
+        }
         failed = true;
         RC_FAIL(v.first_failure());
       }
@@ -140,6 +162,10 @@ class Property : public testing::Test {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::cout << "[ lockstep ] " << name << " (seed " << seed_ << ", " << secs
               << " s): " << tally.text() << "\n";
+    if (ok && measured_failures > 0)
+      FAIL() << name << ": " << measured_failures
+             << " cases with unexplained outcomes (LOCKSTEP_MEASURE); seed " << seed_
+             << "; first:\n  " << first;
     if (!ok)
       FAIL() << name << " failed; seed " << seed_ << " (RC_PARAMS=\"seed=" << seed_
              << "\" reruns it; RapidCheck printed the shrunk case above)\nfirst failure before "
@@ -216,7 +242,82 @@ class RoundTripExhaustive : public testing::Test {
   CompositeSubject s_;
 };
 
+// A deliberately broken compositor must fail its designated check (and the
+// summary says which other checks catch it too). Runs every check quietly-ish:
+// RapidCheck still prints the shrunk counterexample of each catch.
+class MutantTest : public testing::Test {
+ public:
+  explicit MutantTest(Mutant m) : m_(std::move(m)) {}
+  void TestBody() override {
+    std::string caught, missed;
+    bool designated = m_.caught_by.empty();
+    for (const NamedCheck& c : composite_checks()) {
+      const rc::Gen<StackCase> gen = one_of(c.generators);
+      long cases = 0, first_fail = 0;
+      if (m_.caught_by.empty() && c.needs_reference_peer)
+        continue;  // agreement: the reference's own bugs
+      const bool ok =
+          rc::check("mutant " + std::string(m_.bug) + " vs " + std::string(c.name), [&] {
+            const StackCase sc = *gen;
+            ++cases;
+            const Verdict v = c.fn(m_.subject, sc);
+            if (!v.passed() && first_fail == 0) first_fail = cases;
+            RC_ASSERT(v.passed());
+          });
+      (ok ? missed : caught) +=
+          " " + std::string(c.name) + (ok ? "" : "(case " + std::to_string(first_fail) + ")");
+      if (!ok && c.name == m_.caught_by) designated = true;
+      if (m_.caught_by.empty()) EXPECT_TRUE(ok) << "the unbroken copy fails " << c.name;
+    }
+    std::cout << "[ lockstep ] Mutant " << m_.bug << " (" << m_.what << "): caught by{" << caught
+              << " }, missed by{" << missed << " }\n";
+    EXPECT_TRUE(designated) << m_.bug << " was not caught by " << m_.caught_by;
+  }
+
+ private:
+  Mutant m_;
+};
+
+// Every saved case (counterexamples/*.stack) through every check and subject;
+// fails on any unexplained outcome (the reference's NaN/inf cases fail until fixed).
+class Replay : public testing::Test {
+ public:
+  void TestBody() override {
+    namespace fs = std::filesystem;
+    const fs::path dir = env("LOCKSTEP_COMPOSITE_CASES") ? env("LOCKSTEP_COMPOSITE_CASES")
+                                                         : LOCKSTEP_COMPOSITE_CASES;
+    std::vector<fs::path> files;
+    for (const auto& e : fs::directory_iterator(dir))
+      if (e.path().extension() == ".stack") files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    for (const fs::path& f : files) {
+      std::ifstream in(f);
+      const StackCase c = read_case(in, f.string());
+      for (const NamedCheck& chk : composite_checks())
+        for (const CompositeSubject& s : composite_subjects()) {
+          if (chk.needs_reference_peer && s.is_reference) continue;
+          const Verdict v = chk.fn(s, c);
+          std::map<std::string, int> labels;
+          for (const Outcome& o : v.rays)
+            if (o.kind != Outcome::ok)
+              ++labels[(o.kind == Outcome::unexplained ? "UNEXPLAINED " : "") + o.label];
+          std::string text;
+          for (const auto& [k, n] : labels) text += " " + k + ":" + std::to_string(n);
+          std::cout << "[ lockstep ] replay " << f.filename().string() << " " << chk.name << "."
+                    << s.name << ":" << (text.empty() ? " ok" : text) << "\n";
+          EXPECT_TRUE(v.passed()) << f.string() << " " << chk.name << "." << s.name << "\n  "
+                                  << v.first_failure();
+        }
+    }
+  }
+};
+
 void register_tests(const std::string& seed) {
+  testing::RegisterTest("Replay", "counterexamples", nullptr, nullptr, __FILE__, __LINE__,
+                        []() -> testing::Test* { return new Replay(); });
+  for (const Mutant& m : mutants())
+    testing::RegisterTest("Mutants", std::string(m.bug).c_str(), nullptr, nullptr, __FILE__,
+                          __LINE__, [m]() -> testing::Test* { return new MutantTest(m); });
   for (const NamedCheck& c : composite_checks())
     for (const CompositeSubject& s : composite_subjects()) {
       if (c.needs_reference_peer && s.is_reference) continue;
