@@ -107,50 +107,50 @@ Rgba8 load8(const Layer& l, size_t i) {
   return {p[0], p[1], p[2], p[3]};
 }
 
-// The accumulator of one pixel in the representation of the layer that is
-// composited next. Each layer is composited in its own representation (the
-// straight formula for straight layers), so a stack of straight layers never
-// leaves straight alpha until the end; the accumulator is converted only where
-// the stack switches representation.
-struct Accumulator {
-  Rgba value;
-  Alpha alpha;
-  void convert_to(Alpha want) {
-    if (alpha == want) return;
-    value = want == Alpha::premultiplied ? premultiply(value) : unpremultiply(value);
-    alpha = want;
-  }
-};
+// Which formula a stack is composited with. A stack of straight layers only is
+// composited with the straight formula throughout (so the reference really
+// exercises it) and premultiplied once at the end. A stack that mixes the two
+// is composited premultiplied: its straight layers are premultiplied as they
+// are read. Converting a premultiplied accumulator back to straight instead
+// would divide by its alpha, and a bright colour over a tiny alpha then
+// overflows (2^-21 / 2^-149 = inf) or, at alpha = 0, loses an additive colour
+// that straight alpha cannot hold (props/composite found both).
+Alpha working_representation(const LayerStack& stack) {
+  for (const Layer& l : stack.layers)
+    if (l.alpha == Alpha::premultiplied) return Alpha::premultiplied;
+  return Alpha::straight;
+}
+
+// Layer k's pixel i in the working representation.
+Rgba load_as(const LayerStack& stack, size_t k, size_t i, Alpha rep) {
+  const Rgba v = load(stack.layers[k], i);
+  return rep == Alpha::premultiplied && stack.layers[k].alpha == Alpha::straight ? premultiply(v) : v;
+}
+
+Rgba over_in(Alpha rep, Rgba front, Rgba back) {
+  return rep == Alpha::straight ? over_straight(front, back) : over_premultiplied(front, back);
+}
 
 // One float pixel: layers front first in `stack.layers`.
-Rgba composite_pixel(const LayerStack& stack, size_t i) {
-  const auto& layers = stack.layers;
-  const size_t n = layers.size();
+Rgba composite_pixel(const LayerStack& stack, size_t i, Alpha rep) {
+  const size_t n = stack.layers.size();
+  Rgba acc;
   if (stack.order == Order::front_to_back) {
     // Front to back: the accumulator is in front; each new layer goes UNDER it.
-    Accumulator acc{load(layers[0], i), layers[0].alpha};
+    acc = load_as(stack, 0, i, rep);
     for (size_t k = 1; k < n; ++k) {
       // Once the pixel is fully covered nothing behind can show: stop (exactly
       // 1 only, so that the result is the same as without stopping).
-      if (stack.early_stop && acc.value.a == 1.0f) break;
-      acc.convert_to(layers[k].alpha);
-      const Rgba layer = load(layers[k], i);
-      acc.value = acc.alpha == Alpha::straight ? over_straight(acc.value, layer)
-                                               : over_premultiplied(acc.value, layer);
+      if (stack.early_stop && acc.a == 1.0f) break;
+      acc = over_in(rep, acc, load_as(stack, k, i, rep));
     }
-    acc.convert_to(Alpha::premultiplied);  // the contract's output representation
-    return acc.value;
+  } else {
+    // Back to front (the painter's order): each layer goes OVER the result so far.
+    acc = load_as(stack, n - 1, i, rep);
+    for (size_t k = n - 1; k-- > 0;) acc = over_in(rep, load_as(stack, k, i, rep), acc);
   }
-  // Back to front (the painter's order): each layer goes OVER the result so far.
-  Accumulator acc{load(layers[n - 1], i), layers[n - 1].alpha};
-  for (size_t k = n - 1; k-- > 0;) {
-    acc.convert_to(layers[k].alpha);
-    const Rgba layer = load(layers[k], i);
-    acc.value = acc.alpha == Alpha::straight ? over_straight(layer, acc.value)
-                                             : over_premultiplied(layer, acc.value);
-  }
-  acc.convert_to(Alpha::premultiplied);
-  return acc.value;
+  // The contract's output representation.
+  return rep == Alpha::straight ? premultiply(acc) : acc;
 }
 
 // One 8-bit pixel. 8-bit compositors work premultiplied: straight layers are
@@ -182,6 +182,7 @@ Image composite(const LayerStack& stack, const FrameOptions& opts, FrameStats* s
   const int w = stack.width(), h = stack.height();
   Image out(w, h);
   const size_t count = size_t(w) * size_t(h);
+  const Alpha rep = working_representation(stack);
   for (size_t i = 0; i < count; ++i) {
     float* d = &out.rgba[i * 4];
     if (stack.storage == Storage::unorm8) {
@@ -193,7 +194,7 @@ Image composite(const LayerStack& stack, const FrameOptions& opts, FrameStats* s
       d[2] = float(q.b) / 255.0f;
       d[3] = float(q.a) / 255.0f;
     } else {
-      const Rgba v = composite_pixel(stack, i);
+      const Rgba v = composite_pixel(stack, i, rep);
       d[0] = v.r;
       d[1] = v.g;
       d[2] = v.b;

@@ -179,7 +179,7 @@ StackLayer as_layer(const StackCase& c, const Image& img) {
   if (c.is8()) {
     for (float v : img.rgba) l.rgba8.push_back(uint8_t(std::max(0, level_of(v))));
   } else {
-    l.rgba = img.rgba;
+    l.rgba.assign(img.rgba.begin(), img.rgba.end());
   }
   return l;
 }

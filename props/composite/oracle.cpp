@@ -146,6 +146,10 @@ PixelTruth truth(const StackCase& c, int px, double eps, bool groupings) {
 const char* reference_straight_loss(const StackCase& c, int px) {
   const size_t n = c.layers.size();
   if (c.is8()) return "";  // 8 bits: premultiplied throughout
+  // A stack with any premultiplied layer is composited premultiplied throughout
+  // (straight layers premultiplied as read): no straight accumulator, no loss.
+  for (size_t k = 0; k < n; ++k)
+    if (c.layers[k].alpha == Alpha::premultiplied) return "";
   std::vector<Q4> raw(n);
   for (size_t k = 0; k < n; ++k)
     for (int ch = 0; ch < 4; ++ch) raw[k][ch] = Q(double(c.value(int(k), px, ch)));

@@ -76,10 +76,10 @@ inline const LD4& floor_visible_for(const PixelTruth& t, Order o) {
   return o == Order::front_to_back ? t.floor_visible : t.floor_visible_w;
 }
 
-// The loss of the reference's straight accumulator at pixel px (ref::composite
-// keeps the accumulator in the representation of the next layer, converting a
-// premultiplied accumulator to straight before a straight layer): simulated
-// exactly, in the reference's order. Returns "" when none, else the label:
+// The loss of the reference's straight accumulator at pixel px: simulated
+// exactly, in the reference's order. ref::composite composites a stack of
+// straight layers only with the straight formula, and every other stack
+// premultiplied (so mixed stacks have no straight accumulator and no loss). Returns "" when none, else the label:
 //   additive_at_alpha0   alpha 0 with colour != 0 (premultiplied "emission"): straight
 //                        cannot hold it; the colour is dropped (kStraightClear)
 //   straight_overflow    |C / alpha| > FLT_MAX: the straight colour is not a float
