@@ -26,7 +26,11 @@ class InputError : public std::runtime_error {
       s += std::to_string(line);
     }
     s += ": ";
-    s += what;
+    // One line, always: libraries' messages (OpenImageIO's) may hold several.
+    std::string w = what;
+    while (!w.empty() && (w.back() == '\n' || w.back() == '\r')) w.pop_back();
+    for (size_t i = 0; (i = w.find('\n', i)) != std::string::npos;) w.replace(i, 1, "; ");
+    s += w;
     return s;
   }
   std::string file_;

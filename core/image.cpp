@@ -7,10 +7,12 @@
 #include <filesystem>
 
 #include "core/error.h"
+#include "core/quiet_stderr.h"
 
 namespace lockstep {
 
 Image read_image(const std::string& path) {
+  const QuietStderr quiet;  // libpng's own lines; the error comes back through OIIO
   auto in = OIIO::ImageInput::open(path);
   if (!in) {
     std::string why = OIIO::geterror();

@@ -11,6 +11,8 @@
 // of 1: compositing it would silently hide everything behind it).
 #include "core/layers.h"
 
+#include "core/quiet_stderr.h"
+
 #include <OpenImageIO/imageio.h>
 
 #include <cmath>
@@ -74,6 +76,7 @@ Layer read_layer(const std::string& path, std::optional<Alpha> alpha_override) {
   // straight-alpha files (PNG, unassociated TIFF) while reading them.
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);
+  const QuietStderr quiet;  // libpng's own lines; the error comes back through OIIO
   auto in = OIIO::ImageInput::open(path, &config);
   if (!in) throw InputError(path, 0, "cannot read layer: " + OIIO::geterror());
   const OIIO::ImageSpec spec = in->spec();
