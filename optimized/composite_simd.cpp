@@ -4,7 +4,7 @@
 // RGBA: a vector holds whole pixels (4 floats per 128-bit block) and each
 // pixel's alpha is broadcast within its block. Highway compiles the kernels for
 // each target (AVX2, AVX-512, ...) and dispatches to the best the CPU has, as in
-// ray_cast_simd.cpp.
+// ray_cast_simd_kernels.cpp.
 //
 // Memory traffic is the cost, so every image is streamed through memory once:
 // the frame is cut into bands of rows (TBB, optimized/tiling.h), a band into

@@ -1,6 +1,8 @@
 // lockstep optimized: ray casting, the same contract as core/ray_cast.h, fast.
 //
 //   opt::simd     optimized/ray_cast_simd.cpp    Highway 8-ray packets, TBB tiles
+//                 (kernels: ray_cast_simd_kernels.cpp; float scene: simd_scene.cpp;
+//                 per-tile culling: cone_cull.cpp; tiles: tiling.h)
 //   opt::embree   optimized/ray_cast_embree.cpp  Embree 3 (a production peer)
 //   opt::autosel  optimized/ray_cast_auto.cpp    simd or embree by scene size
 #pragma once

@@ -7,7 +7,8 @@
 // triangulation one RTC_GEOMETRY_TYPE_TRIANGLE geometry; the scene is
 // RTC_SCENE_FLAG_ROBUST (no traversal shortcuts that may miss an edge).
 // Primary rays go through rtcIntersect8 in 8-pixel runs of 32 x 8 screen tiles
-// spread over the cores with TBB (the tiling of ray_cast_simd.cpp).
+// spread over the cores by opt::parallel_tiles (optimized/tiling.h), the tiling
+// ray_cast_simd.cpp uses.
 //
 // Where Embree and NFF disagree, and what we do about it:
 //  * Sidedness. Embree reports every surface from both sides; NFF sees spheres
@@ -31,12 +32,10 @@
 // two optimized renders differ only in how they find the hit.
 #include <embree3/rtcore.h>
 #include <tbb/blocked_range.h>
-#include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -52,6 +51,7 @@
 #include "optimized/refine.h"
 #include "optimized/shade_simd.h"
 #include "optimized/simd_scene.h"
+#include "optimized/tiling.h"
 
 namespace lockstep::opt::embree {
 
@@ -512,8 +512,6 @@ Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   // The camera's own frame: eye at the origin, x right, y up, z forward, so a
   // primary ray is (sx, sy, 1) normalised, with its small components exact.
   const Frame frame{cam.eye, cam.right, cam.up, cam.forward};
-  const int threads = opts.threads > 0 ? opts.threads : tbb::this_task_arena::max_concurrency();
-  tbb::task_arena arena(threads);
 
   const Stopwatch build_timer;
   std::unique_ptr<EmbreeScene> es;
@@ -522,17 +520,16 @@ Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   double reach = 0;
   for (const auto& [i, j] : {std::pair{0, 0}, {opts.width - 1, 0}, {0, opts.height - 1}, {opts.width - 1, opts.height - 1}})
     reach = std::max(reach, cam.hither * length(cam.camera_dir(i, j)));
-  arena.execute([&] { es = build_scene(scene, frame, reach); });  // the BVH build honours opts.threads too
+  // The BVH build honours opts.threads too: Embree's TBB tasking builds in the
+  // calling thread's arena.
+  tbb::task_arena(resolve_threads(opts.threads)).execute([&] { es = build_scene(scene, frame, reach); });
   const double build = build_timer.seconds();
 
   const ShadeScene shading = prepare_shading(scene, frame);
   Image image(opts.width, opts.height);
   constexpr int kTileW = 32, kTileH = 8;
-  const int tiles_x = (opts.width + kTileW - 1) / kTileW,
-            tiles_y = (opts.height + kTileH - 1) / kTileH;
-  std::atomic<int> done{0};
-  std::mutex progress_mutex;
-  auto render_tile = [&](int tx, int ty) {
+  // One tile: the scratch lives on the stack of the thread that runs it.
+  auto render_tile = [&](int x0, int y0, int x1, int y1) {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     context.flags =
@@ -540,8 +537,8 @@ Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
     RTCRayHit8 rh;
     alignas(32) int valid[kPacket];  // rtcIntersect8 wants it 32-byte aligned, like the packet
     ShadePacket sp{};
-    for (int j = ty * kTileH; j < std::min(opts.height, (ty + 1) * kTileH); ++j) {
-      for (int i0 = tx * kTileW; i0 < std::min(opts.width, (tx + 1) * kTileW); i0 += kPacket) {
+    for (int j = y0; j < y1; ++j) {
+      for (int i0 = x0; i0 < x1; i0 += kPacket) {
         const int count = std::min(kPacket, opts.width - i0);
         Vec3 unit[kPacket];
         clear_packet(rh, valid);
@@ -568,20 +565,8 @@ Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
         for (int k = 0; k < count; ++k) image.set(i0 + k, j, Vec3{sp.r[k], sp.g[k], sp.b[k]});
       }
     }
-    const int n = ++done;
-    if (opts.progress && (n % 16 == 0 || n == tiles_x * tiles_y)) {
-      std::lock_guard<std::mutex> lock(progress_mutex);
-      opts.progress(double(n) / (tiles_x * tiles_y));
-    }
   };
-  arena.execute([&] {
-    tbb::parallel_for(tbb::blocked_range2d<int>(0, tiles_y, 1, 0, tiles_x, 1),
-                      [&](const tbb::blocked_range2d<int>& r) {
-                        for (int ty = r.rows().begin(); ty < r.rows().end(); ++ty)
-                          for (int tx = r.cols().begin(); tx < r.cols().end(); ++tx)
-                            render_tile(tx, ty);
-                      });
-  });
+  parallel_tiles(opts.width, opts.height, kTileW, kTileH, opts.threads, opts.progress, render_tile);
   es->device.check("rtcIntersect8");
   if (stats) {
     stats->build_seconds = build;

@@ -1,0 +1,27 @@
+// lockstep optimized: the Highway ray-casting kernels (ray_cast_simd_kernels.cpp).
+//
+// Entry points that dispatch, at run time, to the best target the CPU has
+// (HWY_DYNAMIC_DISPATCH). They see only float data already moved into a frame
+// (optimized/simd_scene.h); what a packet's lanes mean, and what is done with
+// the answers, is up to the caller (optimized/ray_cast_simd.cpp).
+#pragma once
+
+#include <cstddef>
+
+#include "optimized/simd_scene.h"
+
+namespace lockstep::opt::simd {
+
+// The nearest hit of each of the packet's p.count rays among the candidates:
+// out.t (in the packet's units, within (tmin, tmax)) and out.id (see
+// PacketHits; -1: no hit). Lanes past p.count must hold a harmless ray.
+void trace_packet(const SimdScene& s, const Candidates& cand, const Packet& p, PacketHits& out);
+
+// Plane kernel: t = -dist / (n.d) per ray, in float, where dist = n.o + D is
+// each ray origin's signed distance to the plane (computed in double by the
+// caller); +inf where the ray is parallel or t is outside (tmin, tmax).
+// count is a multiple of kPacket; the arrays need not be aligned.
+void plane_t(const float* dx, const float* dy, const float* dz, const float* tmin, const float* tmax,
+             const float n[3], const float* dist, float* t, size_t count);
+
+}  // namespace lockstep::opt::simd
