@@ -413,11 +413,88 @@ PolygonAnswer polygon_query(const Ray& ray, const Scene& scene, uint32_t poly, b
       const LD cosu = std::fabs(dotl(nn, l3(ray.d))) / (two_area * norml(l3(ray.d)));
       if (two_area > 0 && cosu > 0 && tdist > 0) {
         const LD k = r * diam / (two_area * cosu * tdist);
-        // Every implementation takes the plane from the scene (Newell's normal in
-        // double), so locally, in units of float, this weighs 2^-29 as the offset above.
+        // Implementations that take the plane from the scene (Newell's normal in
+        // double: refined traces) see this locally, in units of float, weighted 2^-29 as
+        // the offset above; the float polygon kernels do not (below).
         L.kappa(k * diam * 0x1p-29L, "sliver");
         W.kappa(k * diam, "sliver");
         W.kappa(k * vmax, "translation");  // the vertices' own coordinates, far from the origin
+      }
+    }
+    // The float polygon kernels (kernel queries: !visible) take no plane from the scene.
+    // optimized/ray_cast_simd.cpp intersects the scene's triangles with Woop et al.'s
+    // sheared test in float: the vertices and the ray origin rounded to float relative
+    // to the anchor a (the scene's first vertex, shared so that shared edges round
+    // alike), the vertices' offsets from the origin formed in float, then, with kz the
+    // dominant axis of the unit direction u, s_i the lateral offset of vertex i from the
+    // ray in the kz-plane and tau_i = (v_i - o)_kz / u_kz its depth, the edge functions
+    // U_i = s_j x s_k (det = sum U_i: twice the triangle's area seen along the ray) and
+    // t = sum U_i tau_i / det. So the 2^-29 terms above (a plane computed in double)
+    // do not describe them; their t moves, per unit of float's roundoff, by
+    //   positions  moving v_i by e moves the triangle's plane at P by lambda_i (n.e)
+    //              (lambda_i: P's barycentrics in the triangle T holding it), the origin
+    //              by n.e; e componentwise relative to |v_i - a|, |o - a| (rounding into
+    //              the frame) and |v_i - o| (the offsets): over h = |n.u| t, the origin's
+    //              distance to the plane;
+    //   edges      each U_i relatively perturbed product by product moves t by
+    //              dU_i (tau_i - t) / det: sum (|s_jx s_ky| + |s_jy s_kx| + |U_i|)
+    //              |tau_i - t| / (|det| t), large where T seen along the ray is a sliver.
+    // These are condition numbers (one relative perturbation per quantity), as every
+    // kappa here: the few roundings per quantity are what the bound's ulps per unit of
+    // kappa cover. The positions term is labelled by its larger factor: the ray's
+    // obliquity t / h ("parallel") or the coordinates' size against t ("translation").
+    // Traces (visible) decide in their own frames and refine a polygon's t in double
+    // (judged in the world view): unchanged.
+    if (!visible && tdist > 0) {
+      const L3 dl = l3(ray.d), nn = l3(pl.n);
+      const LD dm = norml(dl), nm = norml(nn);
+      const LD u_[3] = {dl.x / dm, dl.y / dm, dl.z / dm};
+      const LD n_[3] = {std::fabs(nn.x / nm), std::fabs(nn.y / nm), std::fabs(nn.z / nm)};
+      const LD h = std::fabs(dotl(nn, dl)) / (nm * dm) * tdist;
+      const int kz = std::fabs(u_[2]) >= std::fabs(u_[0]) && std::fabs(u_[2]) >= std::fabs(u_[1])
+                         ? 2
+                         : (std::fabs(u_[1]) >= std::fabs(u_[0]) ? 1 : 0);
+      const int kx = (kz + 1) % 3, ky = (kz + 2) % 3;
+      const Vec3 anchor = scene.vertex.empty() ? Vec3{0, 0, 0} : scene.vertex[0];
+      auto nsum = [&](const Vec3& p, const Vec3& q) {  // sum_k |n_k| |p - q|_k
+        return n_[0] * std::fabs(LD(p.x) - LD(q.x)) + n_[1] * std::fabs(LD(p.y) - LD(q.y)) +
+               n_[2] * std::fabs(LD(p.z) - LD(q.z));
+      };
+      LD pos = -1, edges = 0, inside = -INFINITY;
+      for (uint32_t k = scene.poly_tri_first[poly]; k < scene.poly_tri_first[poly + 1]; ++k) {
+        const auto& tv = scene.tri_vertex[k];
+        LD s[3][2], tau[3];  // lateral offsets; depths relative to P's, tau_i - t
+        for (int i = 0; i < 3; ++i) {
+          const Vec3& q = scene.vertex[tv[i]];
+          const LD rel[3] = {LD(q.x) - P3.x, LD(q.y) - P3.y, LD(q.z) - P3.z};
+          tau[i] = rel[kz] / u_[kz];
+          s[i][0] = rel[kx] - u_[kx] * tau[i];
+          s[i][1] = rel[ky] - u_[ky] * tau[i];
+        }
+        LD U[3], det = 0;
+        for (int i = 0; i < 3; ++i) {
+          U[i] = s[(i + 1) % 3][0] * s[(i + 2) % 3][1] - s[(i + 1) % 3][1] * s[(i + 2) % 3][0];
+          det += U[i];
+        }
+        if (!(det != 0)) continue;  // no area seen along the ray: the kernel never hits it
+        LD lam_min = INFINITY, p = 0, e = 0;
+        for (int i = 0; i < 3; ++i) {
+          const int j = (i + 1) % 3, l = (i + 2) % 3;
+          lam_min = std::min(lam_min, U[i] / det);
+          const Vec3& q = scene.vertex[tv[i]];
+          p += std::fabs(U[i] / det) * (nsum(q, anchor) + nsum(q, ray.o));
+          e += (std::fabs(s[j][0] * s[l][1]) + std::fabs(s[j][1] * s[l][0]) + std::fabs(U[i])) * std::fabs(tau[i]);
+        }
+        e /= std::fabs(det) * tdist;
+        // T: the triangle holding P (largest smallest barycentric); on a shared edge the worse.
+        if (lam_min > inside + 1e-9L) pos = p, edges = e;
+        else if (lam_min >= inside - 1e-9L) pos = std::max(pos, p), edges = std::max(edges, e);
+        inside = std::max(inside, lam_min);
+      }
+      if (pos >= 0 && h > 0) {
+        const LD k_pos = (nsum(ray.o, anchor) + pos) / h, oblique = tdist / h;
+        L.kappa(k_pos, oblique >= k_pos / oblique ? "parallel" : "translation");
+        L.kappa(edges, "sliver");
       }
     }
     L.margin(dist / (LD(kl) * tdist + tdist + diam), "near_edge");
