@@ -41,10 +41,10 @@
 #include <rapidcheck.h>
 
 #include "pairs/ray_cast.h"
-#include "props/case.h"
-#include "props/gen/gen.h"
-#include "props/judge.h"
-#include "props/oracle.h"
+#include "props/ray_cast/case.h"
+#include "props/ray_cast/generators.h"
+#include "props/ray_cast/checks.h"
+#include "props/ray_cast/oracle.h"
 
 namespace rc::detail {
 TestListener& globalTestListener();

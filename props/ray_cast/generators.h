@@ -22,7 +22,7 @@
 #include <rapidcheck.h>
 
 #include "core/math.h"
-#include "props/case.h"
+#include "props/ray_cast/case.h"
 
 namespace lockstep::props::gen {
 

@@ -29,8 +29,8 @@
 #include <vector>
 
 #include "pairs/ray_cast.h"
-#include "props/case.h"
-#include "props/oracle.h"
+#include "props/ray_cast/case.h"
+#include "props/ray_cast/oracle.h"
 #include "props/verdict.h"
 
 namespace lockstep::props {

@@ -1,4 +1,4 @@
-#include "props/judge.h"
+#include "props/ray_cast/checks.h"
 
 #include <algorithm>
 #include <cmath>

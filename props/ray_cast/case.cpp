@@ -1,4 +1,4 @@
-#include "props/case.h"
+#include "props/ray_cast/case.h"
 
 #include <cmath>
 #include <cstdio>

@@ -1,6 +1,6 @@
 // The oracle: exact rational decisions (CGAL::Gmpq), t through MPFR at 256 bits.
 // This is the only translation unit that includes CGAL.
-#include "props/oracle.h"
+#include "props/ray_cast/oracle.h"
 
 #include <algorithm>
 #include <cmath>

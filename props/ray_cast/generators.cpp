@@ -1,4 +1,4 @@
-#include "props/gen/gen.h"
+#include "props/ray_cast/generators.h"
 
 #include <algorithm>
 #include <bit>
