@@ -4,7 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "props/ray_cast/generators.h"
+#include "props/gen/numbers.h"
 
 namespace lockstep::props::composite {
 

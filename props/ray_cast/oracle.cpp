@@ -15,7 +15,7 @@
 #include <CGAL/Polygon_2_algorithms.h>
 #include <CGAL/Simple_cartesian.h>
 
-namespace lockstep::props {
+namespace lockstep::props::ray_cast {
 
 namespace {
 
@@ -602,4 +602,4 @@ OracleContact oracle_contact(const Scene& scene, const Ray& ray) {
   return c;
 }
 
-}  // namespace lockstep::props
+}  // namespace lockstep::props::ray_cast
