@@ -1,7 +1,7 @@
 // lockstep props: what a family hands to the generic property driver.
 //
 // A family's properties (props/<family>/) are values of one type-erased Property:
-// one check, one generator, one implementation. The driver (props/driver.cpp)
+// one check, one generator, one implementation. The driver (props/driver/)
 // registers each as its own GoogleTest test, runs it as a RapidCheck property with
 // a seed fixed per property, tallies the outcomes, enforces known-failure caps,
 // writes counterexample files (header by the driver, case text by the family) and

@@ -10,7 +10,7 @@
 // the oracle's value, the error and the bound.
 //
 // The checks do not know the test driver: props/composite/properties.cpp wraps
-// them as properties of the generic driver (props/driver.cpp).
+// them as properties of the generic driver (props/driver/).
 //
 // ---- stated bounds (derivations in README.md)
 //  float, vs the oracle (accuracy): float_bound(s, N) = 1/2 + float_ulps (N - 1) ulps of

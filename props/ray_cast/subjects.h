@@ -43,7 +43,7 @@ struct ImplInfo {
   // polygon: the world plane equation), decisions with eps.
   bool refined = false;
   // Impl::known: this label is explained, never hidden, and its count per unit
-  // of class known.per is capped at known.max_rate (props/driver.cpp).
+  // of class known.per is capped at known.max_rate (props/driver/).
   KnownFailure known;
 };
 

@@ -1,4 +1,4 @@
-// lockstep props: the generic property driver (the only file that uses RapidCheck's
+// lockstep props/driver: the generic property driver (the only file that uses RapidCheck's
 // internals, rc::detail).
 //
 // For every family of the registry (pairs/registry.h), its provider
@@ -24,10 +24,6 @@
 //   LOCKSTEP_MAX_SHRINK_RUNS=n              cap on property runs while shrinking (default 2000)
 //   LOCKSTEP_MEASURE=1                      run every case even after a failure (no shrinking), so that
 //                                           the statistics cover the whole run; implied by the CSV variables
-#include <fcntl.h>
-#include <sys/file.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -44,13 +40,15 @@
 #include <rapidcheck.h>
 
 #include "pairs/registry.h"
+#include "props/driver/records.h"
+#include "props/driver/tally.h"
 #include "props/property.h"
 
 namespace rc::detail {
 TestListener& globalTestListener();
 }
 
-namespace lockstep::props {
+namespace lockstep::props::driver {
 namespace {
 
 namespace fs = std::filesystem;
@@ -78,237 +76,15 @@ rc::detail::TestParams params(const std::string& property) {
   return p;
 }
 
+// Shrinking a case of 20 rays can take minutes; past this many runs after the
+// first failure every candidate "passes", so RapidCheck stops at the smallest so far.
+long max_shrink_runs() {
+  return env("LOCKSTEP_MAX_SHRINK_RUNS") ? std::atol(env("LOCKSTEP_MAX_SHRINK_RUNS")) : 2000;
+}
+
 fs::path counterexample_dir() {
   if (const char* d = env("LOCKSTEP_COUNTEREXAMPLE_DIR")) return d;
   return LOCKSTEP_COUNTEREXAMPLE_DIR;
-}
-
-std::string g3(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", x);
-  return buf;
-}
-
-// ---------------------------------------------------------------- known failures
-
-// The most known failures a run may show: the largest count k with
-// P(X >= k) >= 1e-6 for X ~ Binomial(n, max_rate), i.e. more than this is
-// evidence (at 1e-6) that the true rate is over max_rate.
-long known_failure_cap(long n, double max_rate) {
-  if (n <= 0 || max_rate <= 0) return 0;
-  if (max_rate >= 1) return n;
-  // Upper tail of Binomial(n, p), summed from the pmf in log space.
-  const double p = max_rate, lq = std::log1p(-p), lp = std::log(p);
-  auto log_pmf = [&](long k) {
-    return std::lgamma(double(n) + 1) - std::lgamma(double(k) + 1) - std::lgamma(double(n - k) + 1) + double(k) * lp +
-           double(n - k) * lq;
-  };
-  // P(X >= k+1) < 1e-6: the smallest such k is the cap.
-  double tail = 0;
-  std::vector<double> pmf(size_t(n) + 1);
-  for (long k = 0; k <= n; ++k) pmf[size_t(k)] = std::exp(log_pmf(k));
-  for (long k = n; k >= 0; --k) {
-    if (tail + pmf[size_t(k)] >= 1e-6) return k;  // P(X >= k) >= 1e-6, P(X >= k+1) < 1e-6
-    tail += pmf[size_t(k)];
-  }
-  return 0;
-}
-
-// ---------------------------------------------------------------- tallies and CSV
-
-struct Tally {
-  long cases = 0, rays = 0, ok = 0, explained = 0, unexplained = 0, skipped = 0;
-  std::map<std::string, long> labels;  // explained/unexplained labels
-  std::map<std::string, long> skipped_labels;
-  // Units per class (watertight: vertex, edge, face rays), and which class each
-  // label was seen in: rates divide by the units of their class.
-  std::map<std::string, long> class_rays;
-  std::map<std::string, std::string> label_class;  // label -> its class ("*" if several)
-  std::map<std::string, std::vector<double>> errors;  // measured errors per unit ("": the property's)
-  void add(const Verdict& v) {
-    ++cases;
-    for (const Outcome& o : v.rays) {
-      ++rays;
-      if (!o.cls.empty()) ++class_rays[o.cls];
-      if (o.kind == Outcome::explained || o.kind == Outcome::unexplained) {
-        const std::string l = (o.kind == Outcome::unexplained ? "UNEXPLAINED " : "") + o.label;
-        auto [it, fresh] = label_class.emplace(l, o.cls);
-        if (!fresh && it->second != o.cls) it->second = "*";
-      }
-      switch (o.kind) {
-        case Outcome::ok: ++ok; break;
-        case Outcome::explained: ++explained; ++labels[o.label]; break;
-        case Outcome::unexplained: ++unexplained; ++labels["UNEXPLAINED " + o.label]; break;
-        case Outcome::skipped: ++skipped; ++skipped_labels[o.label]; break;
-      }
-      if (o.kind != Outcome::skipped && o.measured && std::isfinite(o.err)) errors[o.unit].push_back(o.err);
-    }
-  }
-  // The denominator of a label's rate: the units of its class, or all units.
-  std::pair<long, std::string> per(const std::string& label) const {
-    auto it = label_class.find(label);
-    if (it == label_class.end() || it->second.empty() || it->second == "*") return {rays, ""};
-    auto c = class_rays.find(it->second);
-    return {c == class_rays.end() ? rays : c->second, it->second};
-  }
-  static double max_of(const std::vector<double>& e) { return e.empty() ? 0 : *std::max_element(e.begin(), e.end()); }
-  static double p99_of(std::vector<double> e) {
-    if (e.empty()) return 0;
-    const size_t k = std::min(e.size() - 1, size_t(std::ceil(0.99 * double(e.size()))) - 1);
-    std::nth_element(e.begin(), e.begin() + long(k), e.end());
-    return e[k];
-  }
-  const std::vector<double>* default_errors() const {
-    auto it = errors.find("");
-    return it == errors.end() ? nullptr : &it->second;
-  }
-};
-
-// Rewrites rows of a CSV keyed by their first key_cols fields, under an exclusive lock
-// (ctest runs several test processes at once).
-void upsert_csv(const std::string& path, const std::string& header, size_t key_cols,
-                const std::vector<std::string>& rows) {
-  const int fd = ::open(path.c_str(), O_RDWR | O_CREAT, 0644);
-  if (fd < 0) {
-    std::cerr << "cannot open " << path << "\n";
-    return;
-  }
-  ::flock(fd, LOCK_EX);
-  std::string text;
-  char buf[4096];
-  for (ssize_t n; (n = ::read(fd, buf, sizeof buf)) > 0;) text.append(buf, size_t(n));
-  auto key = [&](const std::string& line) {
-    size_t pos = 0;
-    for (size_t k = 0; k < key_cols && pos != std::string::npos; ++k) pos = line.find(',', pos + (k ? 1 : 0));
-    return line.substr(0, pos);
-  };
-  std::vector<std::string> lines;
-  std::istringstream in(text);
-  for (std::string l; std::getline(in, l);)
-    if (!l.empty() && l != header) lines.push_back(l);
-  for (const std::string& r : rows) {
-    auto it = std::find_if(lines.begin(), lines.end(), [&](const std::string& l) { return key(l) == key(r); });
-    if (it != lines.end()) *it = r;
-    else lines.push_back(r);
-  }
-  std::string out = header + "\n";
-  for (const auto& l : lines) out += l + "\n";
-  ::lseek(fd, 0, SEEK_SET);
-  if (::ftruncate(fd, 0) != 0 || ::write(fd, out.data(), out.size()) != ssize_t(out.size()))
-    std::cerr << "cannot write " << path << "\n";
-  ::flock(fd, LOCK_UN);
-  ::close(fd);
-}
-
-// The outcome table of this process, printed at exit.
-struct TableRow {
-  std::string family, check, generator, pair, impl;
-  Tally tally;
-};
-std::vector<TableRow>& table() {
-  static std::vector<TableRow> t;
-  return t;
-}
-
-std::string labels_text(const std::map<std::string, long>& labels, long rays, const Tally* t = nullptr) {
-  std::string s;
-  for (const auto& [l, n] : labels) {
-    if (!s.empty()) s += ", ";
-    const auto [den, cls] = t ? t->per(l) : std::pair<long, std::string>{rays, ""};
-    s += l + " " + std::to_string(n) + " (" + g3(100.0 * double(n) / double(std::max(1L, den))) + "%" +
-         (cls.empty() ? "" : " of " + std::to_string(den) + " " + cls + " rays") + ")";
-  }
-  return s.empty() ? "-" : s;
-}
-
-void print_table() {
-  if (table().empty()) return;
-  std::cout << "\n==== lockstep props: outcome table (units judged against the oracle) ====\n";
-  std::cout << "family | check | generator | pair | impl | cases | units | ok | explained (classified) | unexplained | "
-               "skipped | labels\n";
-  for (const TableRow& r : table()) {
-    const Tally& t = r.tally;
-    std::cout << r.family << " | " << r.check << " | " << r.generator << " | " << r.pair << " | " << r.impl << " | "
-              << t.cases << " | " << t.rays << " | " << t.ok << " | " << t.explained << " | " << t.unexplained
-              << " | " << t.skipped << " | " << labels_text(t.labels, t.rays, &t) << "\n";
-  }
-}
-
-// ---------------------------------------------------------------- counterexample files
-
-// A counterexample file: the driver's header, then the family's case text.
-//   family    ray_cast (the default: files from before families had the field) | composite | ...
-//   property  <check>.<generator>.<pair>.<impl>
-//   check     the Property::check ("all": every property of the family)
-//   pair      the typed row; impl the implementation ("all": every implementation)
-//   expect    pass | classified <label>
-//   seed, note   informational
-// Every other line (in order) is the family's case text.
-struct Record {
-  std::string family = "ray_cast", property, check, pair, impl, expect = "pass", seed;
-  std::vector<std::string> notes;
-  std::string text;  // the family's case text
-};
-
-const std::set<std::string>& header_keys() {
-  static const std::set<std::string> k = {"family", "property", "check", "pair", "impl", "expect", "seed", "note"};
-  return k;
-}
-
-void write_record(const fs::path& path, const Record& r) {
-  std::error_code ec;
-  fs::create_directories(path.parent_path(), ec);
-  std::ofstream out(path);
-  out << "# lockstep counterexample (props/). Floats are C99 hexfloats (%a): the case replays bit for bit.\n";
-  out << "# Format: corpus/counterexamples/README.md\n";
-  out << "family " << r.family << "\n";
-  out << "property " << r.property << "\n";
-  out << "check " << r.check << "\n";
-  out << "pair " << r.pair << "\n";
-  out << "impl " << r.impl << "\n";
-  out << "expect " << r.expect << "\n";
-  if (!r.seed.empty()) out << "seed " << r.seed << "\n";
-  for (const auto& n : r.notes) {
-    std::string line = n;
-    for (char& ch : line)
-      if (ch == '\n') ch = ' ';
-    out << "note " << line << "\n";
-  }
-  out << r.text;
-}
-
-Record read_record(const fs::path& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path.string() + ": cannot read");
-  Record r;
-  for (std::string line; std::getline(in, line);) {
-    const size_t sp = line.find(' ');
-    const std::string key = line.substr(0, sp);
-    const std::string rest = sp == std::string::npos ? "" : line.substr(sp + 1);
-    if (!header_keys().count(key)) {
-      r.text += line + "\n";
-      continue;
-    }
-    if (key == "family") r.family = rest;
-    else if (key == "property") r.property = rest;
-    else if (key == "check") r.check = rest;
-    else if (key == "pair") r.pair = rest;
-    else if (key == "impl") r.impl = rest;
-    else if (key == "expect") r.expect = rest;
-    else if (key == "seed") r.seed = rest;
-    else r.notes.push_back(rest);
-  }
-  if (r.check.empty() || r.pair.empty() || r.impl.empty())
-    throw std::runtime_error(path.string() + ": check, pair and impl are required");
-  return r;
-}
-
-fs::path next_free(const std::string& id) {
-  const fs::path dir = counterexample_dir();
-  for (int n = 1;; ++n) {
-    fs::path p = dir / (id + "-" + std::to_string(n) + ".txt");
-    if (!fs::exists(p)) return p;
-  }
 }
 
 // ---------------------------------------------------------------- one property
@@ -336,9 +112,7 @@ RunResult run_property(const Property& prop, const RunOptions& opt) {
   Tally tally;
   std::string last_failure;
   long runs = 0, first_fail = 0;
-  // Shrinking a case of 20 rays can take minutes; past this many runs after the
-  // first failure every candidate "passes", so RapidCheck stops at the smallest so far.
-  long runs_since_failure = 0;
+  long runs_since_failure = 0;  // while shrinking: see max_shrink_runs()
   // Measurement mode: run every case (no early stop, no shrinking) so that the
   // error statistics cover the whole run; the test still fails at the end.
   const bool measure =
@@ -367,7 +141,7 @@ RunResult run_property(const Property& prop, const RunOptions& opt) {
         tags.insert((o.kind == Outcome::unexplained ? "UNEXPLAINED " : "") + o.label);
       if (o.kind == Outcome::explained && save_classified > 0 && classified_saved[o.label] < save_classified) {
         ++classified_saved[o.label];
-        write_record(next_free(id), record("classified " + o.label, {o.detail}, ran.text(long(i))));
+        write_record(next_free(counterexample_dir(), id), record("classified " + o.label, {o.detail}, ran.text(long(i))));
       }
     }
     if (opt.report)
@@ -376,7 +150,7 @@ RunResult run_property(const Property& prop, const RunOptions& opt) {
       if (first_fail == 0) first_fail = runs;
       last_failure = v.first_failure();
       if (save_failures) {
-        if (failure_file.empty()) failure_file = next_free(id);
+        if (failure_file.empty()) failure_file = next_free(counterexample_dir(), id);
         std::vector<std::string> notes;
         for (const Outcome& o : v.rays)
           if (o.kind == Outcome::unexplained) notes.push_back(o.detail);
@@ -558,12 +332,13 @@ void replay_all() {
 void run_mutant(const std::string& family, const Mutant& m) {
   std::string caught, missed;
   bool designated = m.caught_by.empty();
-  std::set<std::string> checks_seen;
   for (const Property& p : m.properties) {
     const RunResult r = run_property(p, {.report = false, .max_shrink_runs = 0});
     (r.passed ? missed : caught) += " " + p.suite + (r.passed ? "" : "(case " + std::to_string(r.first_failing_case) + ")");
     if (!r.passed && p.check == m.caught_by) designated = true;
-    if (m.caught_by.empty()) EXPECT_TRUE(r.passed) << "the unbroken copy fails " << p.test_name() << "\n" << r.message;
+    if (m.caught_by.empty()) {
+      EXPECT_TRUE(r.passed) << "the unbroken copy fails " << p.test_name() << "\n" << r.message;
+    }
   }
   std::cout << "[ lockstep ] Mutant " << family << "/" << m.name << " (" << m.what << "): caught by{" << caught
             << " }, missed by{" << missed << " }\n";
@@ -614,7 +389,7 @@ void register_all() {
       all_properties().push_back(std::move(p));
       const Property* q = &all_properties().back();
       unique(q->test_name());
-      add(q->suite, q->name, [q] { run_property(*q, {.report = true, .max_shrink_runs = env("LOCKSTEP_MAX_SHRINK_RUNS") ? std::atol(env("LOCKSTEP_MAX_SHRINK_RUNS")) : 2000}); });
+      add(q->suite, q->name, [q] { run_property(*q, {.report = true, .max_shrink_runs = max_shrink_runs()}); });
     }
     for (FixedTest& t : fp.fixed) {
       unique(t.suite + "." + t.name);
@@ -638,12 +413,12 @@ void register_all() {
 }
 
 }  // namespace
-}  // namespace lockstep::props
+}  // namespace lockstep::props::driver
 
 int main(int argc, char** argv) {
   ::testing::InitGoogleTest(&argc, argv);
-  lockstep::props::register_all();
+  lockstep::props::driver::register_all();
   const int rc = RUN_ALL_TESTS();
-  lockstep::props::print_table();
+  lockstep::props::driver::print_table();
   return rc;
 }
