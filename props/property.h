@@ -41,6 +41,7 @@ struct Property {
   std::string impl;       // the implementation's name in that row
   double bound = 0;       // printed beside the measured error
   std::string unit = "relative t error";  // what Outcome::err measures (default unit of the outcomes)
+  std::string units = "rays";             // what one Outcome judges, plural (summary lines)
   KnownFailure known;     // a documented failure: explained as known_<impl>_<label>, capped per `per` unit
   bool save_classified = false;  // LOCKSTEP_SAVE_CLASSIFIED applies (textbook implementations)
   bool accuracy_csv = false;     // rows in LOCKSTEP_ACCURACY_CSV

@@ -70,6 +70,7 @@ Property property(const NamedCheck& chk, const CompositeSubject& s) {
   p.impl = s.name;
   p.bound = s.float_ulps;
   p.unit = "float ulps";
+  p.units = "pixels";
   const auto gen = std::make_shared<const rc::Gen<StackCase>>(one_of(chk.generators));
   const CheckFn fn = chk.fn;
   p.run = [gen, fn, s] {

@@ -182,25 +182,25 @@ RunResult run_property(const Property& prop, const RunOptions& opt) {
   if (!opt.report) return out;
 
   // Report.
-  std::cout << "[ lockstep ] " << id << ": " << tally.cases << " cases, " << tally.rays << " units ("
+  std::cout << "[ lockstep ] " << id << ": " << tally.cases << " cases, " << tally.rays << " " << prop.units << " ("
             << "seed " << p.seed << ", max_success " << p.maxSuccess << ", " << g3(seconds) << " s): ok " << tally.ok
             << ", explained " << tally.explained << ", unexplained " << tally.unexplained << ", skipped "
             << tally.skipped << "\n";
   if (!tally.labels.empty())
-    std::cout << "[ lockstep ]   labels: " << labels_text(tally.labels, tally.rays, &tally) << "\n";
+    std::cout << "[ lockstep ]   labels: " << labels_text(tally.labels, tally.rays, prop.units, &tally) << "\n";
   if (!tally.class_rays.empty()) {
-    std::cout << "[ lockstep ]   units per class:";
+    std::cout << "[ lockstep ]   " << prop.units << " per class:";
     for (const auto& [c, n] : tally.class_rays) std::cout << " " << c << " " << n;
     std::cout << "\n";
   }
   if (!tally.skipped_labels.empty())
-    std::cout << "[ lockstep ]   skipped (not well-conditioned): " << labels_text(tally.skipped_labels, tally.rays)
+    std::cout << "[ lockstep ]   skipped (not well-conditioned): " << labels_text(tally.skipped_labels, tally.rays, prop.units)
               << "\n";
   for (const auto& [unit, e] : tally.errors)
     std::cout << "[ lockstep ]   " << (unit.empty() ? prop.unit : unit) << " (judged): max " << g3(Tally::max_of(e))
-              << " p99 " << g3(Tally::p99_of(e)) << " over " << e.size() << " units"
+              << " p99 " << g3(Tally::p99_of(e)) << " over " << e.size() << " " << prop.units
               << (unit.empty() && prop.bound > 0 ? "; bound " + g3(prop.bound) : "") << "\n";
-  table().push_back({prop.family, prop.check, prop.generator, prop.pair, prop.impl, tally});
+  table().push_back({prop.family, prop.check, prop.generator, prop.pair, prop.impl, prop.units, tally});
   if (const char* csv = env("LOCKSTEP_ACCURACY_CSV"); csv && prop.accuracy_csv && tally.default_errors()) {
     const auto& e = *tally.default_errors();
     upsert_csv(csv, "kernel,impl,generator,max,p99,cases,bound", 3,
@@ -230,11 +230,11 @@ RunResult run_property(const Property& prop, const RunOptions& opt) {
       const long n = tally.class_rays.count(per) ? tally.class_rays.at(per) : 0;
       const long k = tally.labels.count(label) ? tally.labels.at(label) : 0;
       const long cap = known_failure_cap(n, kf.max_rate);
-      std::cout << "[ lockstep ]   known failure " << label << ": " << k << " of " << n << " " << per << " units ("
+      std::cout << "[ lockstep ]   known failure " << label << ": " << k << " of " << n << " " << per << " " << prop.units << " ("
                 << g3(n ? 100.0 * double(k) / double(n) : 0.0) << "%); stated max rate " << g3(100 * kf.max_rate)
                 << "%, at most " << cap << " of " << n << " in a run\n";
       EXPECT_LE(k, cap) << id << ": known failure " << label << " on " << k << " of " << n << " " << per
-                        << " units (" << g3(n ? 100.0 * double(k) / double(n) : 0.0)
+                        << " " << prop.units << " (" << g3(n ? 100.0 * double(k) / double(n) : 0.0)
                         << "%), over its stated max rate " << g3(100 * kf.max_rate) << "% (pairs/" << prop.family
                         << ".cpp; at most " << cap << " expected at 1e-6 significance)";
     }

@@ -116,13 +116,14 @@ std::vector<TableRow>& table() {
   return t;
 }
 
-std::string labels_text(const std::map<std::string, long>& labels, long rays, const Tally* t) {
+std::string labels_text(const std::map<std::string, long>& labels, long rays, const std::string& units,
+                        const Tally* t) {
   std::string s;
   for (const auto& [l, n] : labels) {
     if (!s.empty()) s += ", ";
     const auto [den, cls] = t ? t->per(l) : std::pair<long, std::string>{rays, ""};
     s += l + " " + std::to_string(n) + " (" + g3(100.0 * double(n) / double(std::max(1L, den))) + "%" +
-         (cls.empty() ? "" : " of " + std::to_string(den) + " " + cls + " rays") + ")";
+         (cls.empty() ? "" : " of " + std::to_string(den) + " " + cls + " " + units) + ")";
   }
   return s.empty() ? "-" : s;
 }
@@ -136,7 +137,7 @@ void print_table() {
     const Tally& t = r.tally;
     std::cout << r.family << " | " << r.check << " | " << r.generator << " | " << r.pair << " | " << r.impl << " | "
               << t.cases << " | " << t.rays << " | " << t.ok << " | " << t.explained << " | " << t.unexplained
-              << " | " << t.skipped << " | " << labels_text(t.labels, t.rays, &t) << "\n";
+              << " | " << t.skipped << " | " << labels_text(t.labels, t.rays, r.units, &t) << "\n";
   }
 }
 

@@ -35,8 +35,9 @@ struct Tally {
   const std::vector<double>* default_errors() const;  // the property's own unit, or null
 };
 
-// "label n (x% of m <class> rays), ..."
-std::string labels_text(const std::map<std::string, long>& labels, long rays, const Tally* t = nullptr);
+// "label n (x% of m <class> <units>), ..."
+std::string labels_text(const std::map<std::string, long>& labels, long rays, const std::string& units,
+                        const Tally* t = nullptr);
 
 // Rewrites rows of a CSV keyed by their first key_cols fields, under an exclusive lock
 // (ctest runs several test processes at once).
@@ -45,7 +46,7 @@ void upsert_csv(const std::string& path, const std::string& header, size_t key_c
 
 // The outcome table of this process, printed at exit.
 struct TableRow {
-  std::string family, check, generator, pair, impl;
+  std::string family, check, generator, pair, impl, units;
   Tally tally;
 };
 std::vector<TableRow>& table();
