@@ -19,9 +19,10 @@ namespace lockstep::props {
 struct Outcome {
   enum Kind { ok, explained, unexplained, skipped } kind = ok;
   std::string label;   // cause: ok, grazing, cancellation, near_edge, leak_edge, nan, ...
-  double err = 0;      // relative error of t (vs oracle, or vs reference for agreement); inf: hit/miss differ
-  bool both_hit = false;
-  std::string cls;     // the ray's class, for rates per class (watertight: vertex, edge, face); "" = none
+  double err = 0;      // the error, in the property's unit (ray casting: relative error of t); inf: hit/miss differ
+  bool measured = false;  // err is a measured error (both hit, both finite...): counted in max and p99
+  std::string unit;    // err's unit when it is not the property's (Property::unit); groups the statistics
+  std::string cls;     // the unit's class, for rates per class (watertight: vertex, edge, face rays); "" = none
   std::string detail;  // input as hexfloats, both outputs, the oracle, the error
 };
 

@@ -5,22 +5,40 @@
 #include <cmath>
 #include <cstdio>
 #include <sstream>
+#include <stdexcept>
 
-#include "optimized/composite.h"
+#include "pairs/registry.h"
 #include "props/composite/oracle.h"
 #include "reference/composite.h"
 
 namespace lockstep::props::composite {
 
-std::vector<CompositeSubject> composite_subjects() {
+std::vector<CompositeSubject> subjects_of(const ImageFamily& f) {
   // float_ulps: per over (checks.h: derived 1.5 for premultiplied over, 3 for the
-  // reference's straight formula); levels8: the bound against the reference
-  // (measured 0: every implementation rounds x a / 255 exactly, the same way).
-  return {
-      {"reference", &ref::composite, 3, 0, true},
-      {"simd", &opt::simd::composite, 1.5, 1, false},
-      {"oiio", &opt::oiio::composite, 1.5, 1, false},
-  };
+  // reference's straight formula), stated in the row; levels8: the family's
+  // agreement tolerance (1/255 + 1e-6: one level; measured 0: every
+  // implementation rounds x a / 255 exactly, the same way).
+  const int levels8 = int(std::floor(f.tol.color_abs * 255));
+  std::vector<CompositeSubject> out;
+  for (size_t i = 0; i < f.impls.size(); ++i) {
+    const ImageImpl& im = f.impls[i];
+    auto render = im.render;
+    auto fn = [render](const LayerStack& st, const FrameOptions& o, FrameStats* s) {
+      const int w = st.width(), h = st.height();
+      return render(make_input<LayerStack>(st, "props/composite", w, h), o, s);
+    };
+    out.push_back({std::string(im.name), fn, im.accuracy, i == 0 ? 0 : levels8, i == 0});
+  }
+  return out;
+}
+
+const std::vector<CompositeSubject>& composite_subjects() {
+  static const std::vector<CompositeSubject> s = [] {
+    const ImageFamily* f = registry().find_image("composite");
+    if (!f) throw std::runtime_error("the registry has no family 'composite'");
+    return subjects_of(*f);
+  }();
+  return s;
 }
 
 namespace {
@@ -142,12 +160,12 @@ Outcome make(Outcome::Kind k, std::string label, double err, std::string detail)
   o.kind = k;
   o.label = std::move(label);
   o.err = err;
-  o.both_hit = true;
+  o.measured = true;
   o.detail = std::move(detail);
   return o;
 }
 
-CompositeSubject reference_subject() { return composite_subjects().front(); }
+const CompositeSubject& reference_subject() { return composite_subjects().front(); }
 
 // The reference's straight-accumulator loss at this pixel (oracle.h), "" for other subjects.
 std::string ref_loss(const CompositeSubject& s, const StackCase& c, int px) {

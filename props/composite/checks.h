@@ -9,8 +9,8 @@
 // stacks. Outcome::detail names the input (hexfloats / levels), every output,
 // the oracle's value, the error and the bound.
 //
-// The checks do not know the test main: the generic property driver can call
-// them as they are.
+// The checks do not know the test driver: props/composite/properties.cpp wraps
+// them as properties of the generic driver (props/driver/).
 //
 // ---- stated bounds (derivations in README.md)
 //  float, vs the oracle (accuracy): float_bound(s, N) = 1/2 + float_ulps (N - 1) ulps of
@@ -49,6 +49,7 @@
 //        unpremultiply8(p) correctly rounded; |c' - c| <= floor(1/2 + 127.5/a).
 #pragma once
 
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -62,16 +63,20 @@ namespace lockstep::props::composite {
 
 struct CompositeSubject {
   std::string name;
-  Image (*fn)(const LayerStack&, const FrameOptions&, FrameStats*);
+  std::function<Image(const LayerStack&, const FrameOptions&, FrameStats*)> fn;
   double float_ulps;  // per over, vs the oracle: float_bound() = 1/2 + float_ulps (N - 1) ulps
                       // of max(|exact|, largest term, 2^-126) for N layers
   int levels8;        // 8 bits, vs the reference (levels)
   bool is_reference;
 };
 
-// ref::composite, opt::simd::composite, opt::oiio::composite with their bounds
-// (the one place they are listed; the reference first).
-std::vector<CompositeSubject> composite_subjects();
+// The subjects of the registry's composite family (pairs/composite.cpp), the
+// reference first: name and entry point from the row, float_ulps = the row's
+// ImageImpl::accuracy (float ulps per over), levels8 = the family's agreement
+// tolerance in whole levels (0 for the reference itself).
+std::vector<CompositeSubject> subjects_of(const ImageFamily& family);
+// subjects_of(the registry's "composite"), built once.
+const std::vector<CompositeSubject>& composite_subjects();
 
 // ref::over_premultiplied: (a over b) over c vs a over (b over c), ulps of
 // max(|exact|, largest input channel, 2^-126): each grouping is within 3 of the

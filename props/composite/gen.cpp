@@ -4,7 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "props/gen/gen.h"
+#include "props/gen/numbers.h"
 
 namespace lockstep::props::composite {
 

@@ -1,7 +1,7 @@
 // lockstep props/composite: named RapidCheck generators of StackCases.
 //
 // Built like props/gen: every number comes from integers that shrink
-// meaningfully (props/gen/gen.h: int_towards, int_in, chance), at full width
+// meaningfully (props/gen/numbers.h: int_towards, int_in, chance), at full width
 // whatever RapidCheck's size. Sizes shrink towards 1x1, layer counts towards 2,
 // values towards 1/2 (alpha) and simple colours, and the "which special value"
 // choices towards the ordinary value first, so that a shrunk counterexample

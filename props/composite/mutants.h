@@ -1,5 +1,5 @@
 // lockstep props/composite: deliberately broken compositors, to show that the
-// checks can fail (props_main.cpp: Mutants.<bug> must be caught).
+// checks can fail (properties.cpp: Mutants.composite__<bug> must be caught).
 //
 // Each is a local copy of the textbook premultiplied path (straight layers
 // premultiplied first, then over, front-to-back with early stop or

@@ -1,6 +1,6 @@
 // The oracle: exact rational decisions (CGAL::Gmpq), t through MPFR at 256 bits.
 // This is the only translation unit that includes CGAL.
-#include "props/oracle.h"
+#include "props/ray_cast/oracle.h"
 
 #include <algorithm>
 #include <cmath>
@@ -15,7 +15,7 @@
 #include <CGAL/Polygon_2_algorithms.h>
 #include <CGAL/Simple_cartesian.h>
 
-namespace lockstep::props {
+namespace lockstep::props::ray_cast {
 
 namespace {
 
@@ -679,4 +679,4 @@ OracleContact oracle_contact(const Scene& scene, const Ray& ray) {
   return c;
 }
 
-}  // namespace lockstep::props
+}  // namespace lockstep::props::ray_cast

@@ -1,4 +1,4 @@
-#include "props/gen/gen.h"
+#include "props/ray_cast/generators.h"
 
 #include <algorithm>
 #include <bit>
@@ -6,200 +6,13 @@
 #include <map>
 
 #include "core/camera.h"
+#include "props/gen/numbers.h"
+#include "props/ray_cast/meshes.h"
 
-namespace lockstep::props::gen {
+namespace lockstep::props::ray_cast {
 
 using rc::Gen;
-
-// ---------------------------------------------------------------- numbers
-
-Gen<int64_t> int_towards(int64_t lo, int64_t hi, int64_t target) {
-  target = std::clamp(target, lo, hi);
-  const int64_t up = hi - target, down = target - lo, m = std::min(up, down);
-  return rc::gen::map(rc::gen::resize(rc::kNominalSize, rc::gen::inRange<int64_t>(0, hi - lo + 1)),
-                      [=](int64_t u) {
-                        if (u <= 2 * m) {
-                          const int64_t k = (u + 1) / 2;
-                          return (u % 2) ? target + k : target - k;
-                        }
-                        const int64_t r = u - 2 * m;
-                        return up > down ? target + m + r : target - m - r;
-                      });
-}
-
-Gen<int64_t> int_in(int64_t lo, int64_t hi) { return int_towards(lo, hi, lo); }
-
-Gen<bool> chance(int num, int den) {
-  return rc::gen::map(int_in(0, den - 1), [=](int64_t k) { return k >= den - num; });
-}
-
-namespace {
-constexpr int64_t kMant = int64_t(1) << 52;
-}
-
-Gen<double> log_uniform(double lo, double hi) {
-  const int e_lo = std::ilogb(lo), e_hi = std::ilogb(hi);
-  return rc::gen::map(rc::gen::pair(int_towards(e_lo, e_hi, std::clamp(0, e_lo, e_hi)), int_in(0, kMant - 1)),
-                      [=](std::pair<int64_t, int64_t> em) {
-                        const double x = std::ldexp(1.0 + double(em.second) / double(kMant), int(em.first));
-                        return std::clamp(x, lo, hi);
-                      });
-}
-
-Gen<double> signed_log_uniform(double lo, double hi) {
-  return rc::gen::map(rc::gen::pair(log_uniform(lo, hi), chance(1, 2)),
-                      [](std::pair<double, bool> v) { return v.second ? -v.first : v.first; });
-}
-
-Gen<double> uniform(double lo, double hi) {
-  return rc::gen::map(int_in(0, kMant), [=](int64_t m) { return lo + (hi - lo) * (double(m) / double(kMant)); });
-}
-
-Gen<double> bit_pattern() {
-  return rc::gen::map(rc::gen::resize(rc::kNominalSize, rc::gen::arbitrary<uint64_t>()),
-                      [](uint64_t b) { return std::bit_cast<double>(b); });
-}
-
-Gen<double> finite_bit_pattern() {
-  return rc::gen::map(bit_pattern(), [](double x) { return std::isfinite(x) ? x : std::ldexp(1.0, 1000); });
-}
-
-double nudge(double x, int64_t k) {
-  for (; k > 0; --k) x = std::nextafter(x, kInfinity);
-  for (; k < 0; ++k) x = std::nextafter(x, -kInfinity);
-  return x;
-}
-
-Gen<double> nudged(double x, int max_ulps) {
-  return rc::gen::map(int_towards(-max_ulps, max_ulps, 0), [x](int64_t k) { return nudge(x, k); });
-}
-
-Gen<Vec3> unit_dir() {
-  const auto c = int_towards(-(1 << 20), 1 << 20, 0);
-  return rc::gen::map(rc::gen::tuple(c, c, c), [](std::tuple<int64_t, int64_t, int64_t> v) {
-    Vec3 d{double(std::get<0>(v)), double(std::get<1>(v)), double(std::get<2>(v))};
-    if (d == Vec3{0, 0, 0}) d = {0, 0, 1};
-    return normalize(d);
-  });
-}
-
-Gen<double> dyadic(int bits, int exp) {
-  return rc::gen::map(int_towards(-(int64_t(1) << bits), int64_t(1) << bits, 0),
-                      [exp](int64_t m) { return std::ldexp(double(m), exp); });
-}
-
-// ---------------------------------------------------------------- meshes
-
-namespace {
-
-double round_to(double x, int grid_exp) { return std::ldexp(std::nearbyint(std::ldexp(x, -grid_exp)), grid_exp); }
-Vec3 round_to(const Vec3& v, int grid_exp) {
-  return {round_to(v.x, grid_exp), round_to(v.y, grid_exp), round_to(v.z, grid_exp)};
-}
-
-// Orients every face counter-clockwise seen from outside (convex meshes around the origin).
-void orient_outward(Mesh& m) {
-  for (auto& f : m.faces) {
-    const Vec3 a = m.verts[f[0]], b = m.verts[f[1]], c = m.verts[f[2]];
-    Vec3 centroid{0, 0, 0};
-    for (uint32_t i : f) centroid += m.verts[i];
-    centroid = centroid / double(f.size());
-    if (dot(cross(b - a, c - a), centroid) < 0) std::reverse(f.begin(), f.end());
-  }
-}
-
-}  // namespace
-
-Mesh octahedron() {
-  Mesh m;
-  m.verts = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-  for (uint32_t x : {0u, 1u})
-    for (uint32_t y : {2u, 3u})
-      for (uint32_t z : {4u, 5u}) m.faces.push_back({x, y, z});
-  orient_outward(m);
-  return m;
-}
-
-Mesh icosahedron(int grid_bits) {
-  Mesh m;
-  const double p = (1 + std::sqrt(5.0)) / 2;
-  const double raw[12][3] = {{-1, p, 0}, {1, p, 0}, {-1, -p, 0}, {1, -p, 0}, {0, -1, p}, {0, 1, p},
-                             {0, -1, -p}, {0, 1, -p}, {p, 0, -1}, {p, 0, 1}, {-p, 0, -1}, {-p, 0, 1}};
-  const double s = 1 / std::sqrt(1 + p * p);
-  for (auto& v : raw) m.verts.push_back(round_to(Vec3{v[0] * s, v[1] * s, v[2] * s}, -grid_bits));
-  const uint32_t f[20][3] = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-                             {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
-                             {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
-  for (auto& t : f) m.faces.push_back({t[0], t[1], t[2]});
-  orient_outward(m);
-  return m;
-}
-
-Mesh icosphere(int level, int grid_bits) {
-  Mesh m = icosahedron(60);  // unrounded first
-  for (int l = 0; l < level; ++l) {
-    std::map<std::pair<uint32_t, uint32_t>, uint32_t> mid;
-    auto midpoint = [&](uint32_t a, uint32_t b) {
-      const auto key = std::minmax(a, b);
-      auto it = mid.find(key);
-      if (it != mid.end()) return it->second;
-      m.verts.push_back(normalize(m.verts[a] + m.verts[b]));
-      return mid[key] = uint32_t(m.verts.size() - 1);
-    };
-    std::vector<std::vector<uint32_t>> faces;
-    for (const auto& t : m.faces) {
-      const uint32_t a = midpoint(t[0], t[1]), b = midpoint(t[1], t[2]), c = midpoint(t[2], t[0]);
-      faces.push_back({t[0], a, c});
-      faces.push_back({t[1], b, a});
-      faces.push_back({t[2], c, b});
-      faces.push_back({a, b, c});
-    }
-    m.faces = std::move(faces);
-  }
-  for (Vec3& v : m.verts) v = round_to(v, -grid_bits);
-  orient_outward(m);
-  return m;
-}
-
-Mesh tessellated_cube(int n, bool quads) {
-  Mesh m;
-  std::map<std::tuple<int, int, int>, uint32_t> index;
-  auto vert = [&](int i, int j, int k) {  // grid coordinates 0..n
-    const auto key = std::make_tuple(i, j, k);
-    auto it = index.find(key);
-    if (it != index.end()) return it->second;
-    m.verts.push_back({std::ldexp(2.0 * i - n, 0) / n, std::ldexp(2.0 * j - n, 0) / n, std::ldexp(2.0 * k - n, 0) / n});
-    return index[key] = uint32_t(m.verts.size() - 1);
-  };
-  // n is 1, 2 or 4 so that the grid coordinates are dyadic.
-  for (int axis = 0; axis < 3; ++axis) {
-    for (int side : {0, n}) {
-      for (int a = 0; a < n; ++a) {
-        for (int b = 0; b < n; ++b) {
-          auto at = [&](int u, int v) {
-            int c[3];
-            c[axis] = side;
-            c[(axis + 1) % 3] = u;
-            c[(axis + 2) % 3] = v;
-            return vert(c[0], c[1], c[2]);
-          };
-          const uint32_t q[4] = {at(a, b), at(a + 1, b), at(a + 1, b + 1), at(a, b + 1)};
-          if (quads) {
-            m.faces.push_back({q[0], q[1], q[2], q[3]});
-          } else if ((a + b) % 2) {
-            m.faces.push_back({q[0], q[1], q[2]});
-            m.faces.push_back({q[0], q[2], q[3]});
-          } else {
-            m.faces.push_back({q[0], q[1], q[3]});
-            m.faces.push_back({q[1], q[2], q[3]});
-          }
-        }
-      }
-    }
-  }
-  orient_outward(m);
-  return m;
-}
+using namespace gen;
 
 // ---------------------------------------------------------------- case pieces
 
@@ -738,7 +551,7 @@ Gen<Case> exec() {
 
 }  // namespace
 
-const std::vector<Named>& registry() {
+const std::vector<Named>& generators() {
   static const std::vector<Named> r = {
       {"rays_at_sphere", kSphereKernel, false,
        "one sphere, rays from outside (1.05-100 radii) aimed at or near it, from inside, and anywhere",
@@ -770,10 +583,10 @@ const std::vector<Named>& registry() {
   return r;
 }
 
-const Named* find(std::string_view name) {
-  for (const Named& n : registry())
+const Named* find_generator(std::string_view name) {
+  for (const Named& n : generators())
     if (n.name == name) return &n;
   return nullptr;
 }
 
-}  // namespace lockstep::props::gen
+}  // namespace lockstep::props::ray_cast

@@ -1,6 +1,6 @@
 // lockstep props: one generated test case, and its bit-exact text form.
 //
-// Every generator in props/gen produces a Case: a scene (always valid, so that
+// Every generator in generators.h produces a Case: a scene (always valid, so that
 // it can be written as NFF and traced), a batch of rays, and which kernel
 // subjects it carries (a sphere, a plane, a polygon of the scene). The text form
 // writes every double as a C99 hexfloat (%a), so a counterexample file replays
@@ -17,7 +17,7 @@
 #include "core/math.h"
 #include "core/scene.h"
 
-namespace lockstep::props {
+namespace lockstep::props::ray_cast {
 
 struct Case {
   std::string generator;
@@ -42,23 +42,18 @@ std::string dec(double x);
 // The scene as NFF with every number as a hexfloat.
 std::string to_nff(const Scene& scene);
 
-// A counterexample file: the case plus what to check and what to expect.
-struct Record {
-  std::string property;  // e.g. stability.far_small_spheres.ray_sphere.reference_f32
-  std::string check;     // agreement | accuracy | stability | watertight | degenerate | render
-  std::string pair;      // ray_sphere | ray_plane | ray_polygon | ray_cast
-  std::string impl;
-  std::string expect = "pass";  // "pass" or "classified <label>"
-  std::string seed;
-  std::vector<std::string> notes;  // informational: outputs, errors (ignored on replay)
-  Case c;
-};
+// The case's text form: the body of a counterexample file after the driver's
+// header (corpus/counterexamples/README.md): generator, sphere, plane, poly,
+// render, one "ray" line per ray, then the scene as NFF up to "end".
+void write_case(std::ostream& out, const Case& c);
+std::string case_text(const Case& c);
+// Throws std::runtime_error (naming `name` and the line) on a malformed text.
+Case read_case(const std::string& text, const std::string& name);
 
-void write_record(std::ostream& out, const Record& r);
-// Throws std::runtime_error on a malformed file.
-Record read_record(std::istream& in, const std::string& name);
+// The same case with only ray i (for one-ray counterexample files).
+Case with_ray(const Case& c, size_t i);
 
 // For RapidCheck's counterexample printing.
 void showValue(const Case& c, std::ostream& os);
 
-}  // namespace lockstep::props
+}  // namespace lockstep::props::ray_cast

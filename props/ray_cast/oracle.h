@@ -33,7 +33,7 @@
 #include "core/math.h"
 #include "core/scene.h"
 
-namespace lockstep::props {
+namespace lockstep::props::ray_cast {
 
 using f128 = __float128;
 
@@ -96,4 +96,4 @@ std::string hex128(f128 x);  // %Qa
 // |a - b| / |b| in 113 bits (0 when both are equal, including infinities).
 double rel_error(double a, f128 b);
 
-}  // namespace lockstep::props
+}  // namespace lockstep::props::ray_cast

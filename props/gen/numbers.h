@@ -1,4 +1,4 @@
-// lockstep props: generators.
+// lockstep props: number generators shared by every family's case generators.
 //
 // RapidCheck's own double generator is mostly small integers and shrinks to
 // nothing interesting, so every number here is built from integers that shrink
@@ -8,25 +8,16 @@
 // degenerate configuration itself). Every integer range is generated at full
 // width whatever RapidCheck's "size" is (gen::resize), so the first cases are
 // as varied as the last.
-//
-// Case generators are registered by name; the pair table (core/pairs.cpp) names
-// the well-conditioned one of each algorithm, and the stability generators are
-// listed here with the kernels they exercise.
 #pragma once
 
 #include <cstdint>
-#include <span>
-#include <string_view>
-#include <vector>
 
 #include <rapidcheck.h>
 
 #include "core/math.h"
-#include "props/case.h"
 
 namespace lockstep::props::gen {
 
-// ---------------------------------------------------------------- numbers
 // Integer in [lo, hi], uniformly, shrinking towards target (zig-zag: target,
 // target+1, target-1, ...).
 rc::Gen<int64_t> int_towards(int64_t lo, int64_t hi, int64_t target);
@@ -53,39 +44,5 @@ rc::Gen<double> nudged(double x, int max_ulps);
 rc::Gen<Vec3> unit_dir();
 // Multiple of 2^exp with |m| <= 2^bits (exact, for geometry that must be exact).
 rc::Gen<double> dyadic(int bits, int exp);
-
-// ---------------------------------------------------------------- geometry helpers (deterministic)
-// Closed triangle/quad meshes with vertices on a dyadic grid (shared vertices are
-// the same doubles). faces index into verts, counter-clockwise seen from outside.
-struct Mesh {
-  std::vector<Vec3> verts;
-  std::vector<std::vector<uint32_t>> faces;
-};
-Mesh octahedron();
-Mesh icosahedron(int grid_bits);          // vertices rounded to 2^-grid_bits
-Mesh icosphere(int level, int grid_bits);  // subdivided icosahedron, on the unit sphere
-Mesh tessellated_cube(int n, bool quads);  // n x n cells per face, as quads or triangle pairs
-
-// ---------------------------------------------------------------- named case generators
-enum Kinds : unsigned {
-  kSphereKernel = 1u << 0,
-  kPlaneKernel = 1u << 1,
-  kPolygonKernel = 1u << 2,
-  kTrace = 1u << 3,
-  kRender = 1u << 4,
-  kWatertight = 1u << 5,
-  kDegenerate = 1u << 6,
-};
-
-struct Named {
-  std::string_view name;
-  unsigned kinds;      // which checks the cases support
-  bool stability;      // a stability generator (ill-conditioned on purpose)
-  std::string_view what;
-  rc::Gen<Case> gen;
-};
-
-const std::vector<Named>& registry();
-const Named* find(std::string_view name);
 
 }  // namespace lockstep::props::gen

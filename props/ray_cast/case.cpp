@@ -1,4 +1,4 @@
-#include "props/case.h"
+#include "props/ray_cast/case.h"
 
 #include <cmath>
 #include <cstdio>
@@ -10,7 +10,7 @@
 
 #include "core/nff.h"
 
-namespace lockstep::props {
+namespace lockstep::props::ray_cast {
 
 std::string hex(double x) {
   if (std::isnan(x)) return "nan";
@@ -69,23 +69,8 @@ std::string to_nff(const Scene& s) {
   return o.str();
 }
 
-void write_record(std::ostream& out, const Record& r) {
-  out << "# lockstep counterexample (props/). Floats are C99 hexfloats (%a): the case replays bit for bit.\n";
-  out << "# Format: corpus/counterexamples/README.md\n";
-  out << "property " << r.property << "\n";
-  out << "check " << r.check << "\n";
-  out << "pair " << r.pair << "\n";
-  out << "impl " << r.impl << "\n";
-  out << "generator " << r.c.generator << "\n";
-  out << "expect " << r.expect << "\n";
-  if (!r.seed.empty()) out << "seed " << r.seed << "\n";
-  for (const auto& n : r.notes) {
-    std::string line = n;
-    for (char& ch : line)
-      if (ch == '\n') ch = ' ';
-    out << "note " << line << "\n";
-  }
-  const Case& c = r.c;
+void write_case(std::ostream& out, const Case& c) {
+  out << "generator " << c.generator << "\n";
   if (c.has_sphere) out << "sphere " << hex(c.sphere.center) << " " << hex(c.sphere.radius) << "\n";
   if (c.has_plane) out << "plane " << hex(c.plane.n) << " " << hex(c.plane.d) << "\n";
   if (c.has_poly) out << "poly " << c.poly << "\n";
@@ -93,6 +78,18 @@ void write_record(std::ostream& out, const Record& r) {
   for (const Ray& ray : c.rays)
     out << "ray " << hex(ray.o) << " " << hex(ray.d) << " " << hex(ray.tmin) << " " << hex(ray.tmax) << "\n";
   out << "scene\n" << to_nff(c.scene) << "end\n";
+}
+
+std::string case_text(const Case& c) {
+  std::ostringstream o;
+  write_case(o, c);
+  return o.str();
+}
+
+Case with_ray(const Case& c, size_t i) {
+  Case one = c;
+  one.rays = {c.rays[i]};
+  return one;
 }
 
 namespace {
@@ -107,8 +104,9 @@ double num(const std::string& s, const std::string& name, int line) {
 
 }  // namespace
 
-Record read_record(std::istream& in, const std::string& name) {
-  Record r;
+Case read_case(const std::string& text_in, const std::string& name) {
+  Case c;
+  std::istringstream in(text_in);
   std::string line;
   int line_no = 0;
   bool have_scene = false;
@@ -130,32 +128,25 @@ Record read_record(std::istream& in, const std::string& name) {
                                  std::to_string(n) + " fields");
     };
     auto d = [&](size_t i) { return num(w[i], name, line_no); };
-    if (key == "property") r.property = rest();
-    else if (key == "check") r.check = rest();
-    else if (key == "pair") r.pair = rest();
-    else if (key == "impl") r.impl = rest();
-    else if (key == "generator") r.c.generator = rest();
-    else if (key == "expect") r.expect = rest();
-    else if (key == "seed") r.seed = rest();
-    else if (key == "note") r.notes.push_back(rest());
+    if (key == "generator") c.generator = rest();
     else if (key == "sphere") {
       need(4);
-      r.c.has_sphere = true;
-      r.c.sphere = Sphere{{d(0), d(1), d(2)}, d(3)};
+      c.has_sphere = true;
+      c.sphere = Sphere{{d(0), d(1), d(2)}, d(3)};
     } else if (key == "plane") {
       need(4);
-      r.c.has_plane = true;
-      r.c.plane = Plane{{d(0), d(1), d(2)}, d(3)};
+      c.has_plane = true;
+      c.plane = Plane{{d(0), d(1), d(2)}, d(3)};
     } else if (key == "poly") {
       need(1);
-      r.c.has_poly = true;
-      r.c.poly = uint32_t(std::stoul(w[0]));
+      c.has_poly = true;
+      c.poly = uint32_t(std::stoul(w[0]));
     } else if (key == "render") {
       need(1);
-      r.c.render_size = std::stoi(w[0]);
+      c.render_size = std::stoi(w[0]);
     } else if (key == "ray") {
       need(8);
-      r.c.rays.push_back(Ray{{d(0), d(1), d(2)}, {d(3), d(4), d(5)}, d(6), d(7)});
+      c.rays.push_back(Ray{{d(0), d(1), d(2)}, {d(3), d(4), d(5)}, d(6), d(7)});
     } else if (key == "scene") {
       std::string text;
       while (std::getline(in, line)) {
@@ -164,18 +155,16 @@ Record read_record(std::istream& in, const std::string& name) {
         text += line;
         text += '\n';
       }
-      r.c.scene = parse_nff(text, name);
+      c.scene = parse_nff(text, name);
       have_scene = true;
     } else {
       throw std::runtime_error(name + ":" + std::to_string(line_no) + ": unknown key '" + key + "'");
     }
   }
   if (!have_scene) throw std::runtime_error(name + ": no 'scene' block");
-  if (r.property.empty() || r.check.empty() || r.pair.empty() || r.impl.empty())
-    throw std::runtime_error(name + ": property, check, pair and impl are required");
-  if (r.c.has_poly && r.c.poly >= r.c.scene.polygon_count())
+  if (c.has_poly && c.poly >= c.scene.polygon_count())
     throw std::runtime_error(name + ": poly index out of range");
-  return r;
+  return c;
 }
 
 void showValue(const Case& c, std::ostream& os) {
@@ -188,4 +177,4 @@ void showValue(const Case& c, std::ostream& os) {
   if (c.scene.prim_count() > 0 && c.scene.prim_count() < 40) os << to_nff(c.scene);
 }
 
-}  // namespace lockstep::props
+}  // namespace lockstep::props::ray_cast

@@ -1,0 +1,25 @@
+// lockstep props: which property provider tests which registry family.
+//
+// One row per family of pairs/registry.cpp. The driver (driver/driver.cpp) registers
+// every property a provider lists, and a failing Registry.<family>_has_properties
+// test for a registered family that has no row here (and
+// Registry.<family>_is_registered for a row whose family is not registered).
+#include "props/property.h"
+
+namespace lockstep::props {
+namespace ray_cast {
+FamilyProperties properties(const ImageFamily&);
+}
+namespace composite {
+FamilyProperties properties(const ImageFamily&);
+}
+
+const std::vector<ProviderRow>& property_providers() {
+  static const std::vector<ProviderRow> rows = {
+      {"ray_cast", ray_cast::properties},
+      {"composite", composite::properties},
+  };
+  return rows;
+}
+
+}  // namespace lockstep::props
