@@ -162,6 +162,77 @@ plot '{out}/accuracy.dat' using 1:2 with points pt 7 ps 1.5 title 'max error', \
         subprocess.run(["gnuplot"], input=gp, text=True, check=True)
 
 
+# Error of each compositing path against the exact (Gmpq) oracle, absolute, in
+# [0, 1] units: the deep-mode maxima of props/composite (props/composite/README.md):
+# float 3.99 ulps (reference) / 3.23 ulps (simd, oiio) of values <= 1, i.e. at most
+# that many times 2^-24; 8 bits 2.69 levels (every implementation), i.e. 2.69 / 255.
+COMPOSITE_ERROR = {
+    ("reference", "float"): 3.99 * 2**-24, ("simd", "float"): 3.23 * 2**-24, ("oiio", "float"): 3.23 * 2**-24,
+    ("reference", "unorm8"): 2.69 / 255, ("simd", "unorm8"): 2.69 / 255, ("oiio", "unorm8"): 2.69 / 255,
+}
+
+
+def composite(rows, out):
+    """The compositing family: Mpix/s and GB/s per stack, implementation and thread
+    count, memcpy of the same bytes as the yardstick; speed against error."""
+    fr = {}
+    for name, b in rows:
+        p = name.split("/")
+        if p[0] != "frame" or p[1] != "composite":
+            continue
+        fr[(p[2], p[3], int(p[4].split(":")[1]))] = b
+    if not fr:
+        return
+    stacks = []
+    for s, _, _ in fr:
+        if s not in stacks:
+            stacks.append(s)
+    threads = sorted({t for _, _, t in fr})
+    print("\n| stack (4096 x 4096) | " + " | ".join(f"{i} {t}T Mpix/s (GB/s)" for t in threads for i in ("reference", "simd", "oiio") if (t == 1 or i != "reference")) +
+          " | memcpy 2T GB/s | simd / memcpy 2T | simd / oiio 2T | simd first run 2T ms |")
+    ncol = 1 + sum(1 for t in threads for i in ("reference", "simd", "oiio") if (t == 1 or i != "reference")) + 4
+    print("|---" * ncol + "|")
+    for s in stacks:
+        def cell(i, t):
+            b = fr.get((s, i, t))
+            if not b:
+                return "-"
+            gb = f" ({b['bytes_per_second'] / 1e9:.1f})" if "bytes_per_second" in b else ""
+            return f"{b['items_per_second'] / 1e6:.1f}{gb}"
+        cells = [cell(i, t) for t in threads for i in ("reference", "simd", "oiio") if (t == 1 or i != "reference")]
+        tt = threads[-1]
+        simd, oiio, mc = fr.get((s, "simd", tt)), fr.get((s, "oiio", tt)), fr.get((s, "memcpy", tt))
+        mcs = f"{mc['bytes_per_second'] / 1e9:.1f}" if mc else "-"
+        vs_mc = f"{100 * simd['bytes_per_second'] / mc['bytes_per_second']:.0f}%" if simd and mc else "-"
+        vs_oiio = f"{simd['items_per_second'] / oiio['items_per_second']:.1f}x" if simd and oiio else "-"
+        first = f"{simd['first_ms']:.0f}" if simd and "first_ms" in simd else "-"
+        print(f"| {s} | " + " | ".join(cells) + f" | {mcs} | {vs_mc} | {vs_oiio} | {first} |")
+    # speed against error: 2-layer stacks, the most threads
+    tt = threads[-1]
+    with open(os.path.join(out, "composite.dat"), "w") as f:
+        f.write("# Mpix/s abs_error label\n")
+        for stack, storage, rep in (("2-layers", "float", "premultiplied"), ("2-layers-straight", "float", "straight"),
+                                    ("2-layers-unorm8", "unorm8", "premultiplied")):
+            for i in ("reference", "simd", "oiio"):
+                b = fr.get((stack, i, tt)) or fr.get((stack, i, 1))
+                if not b:
+                    continue
+                t_used = tt if (stack, i, tt) in fr else 1
+                f.write(f"{b['items_per_second'] / 1e6} {COMPOSITE_ERROR[(i, storage)]} \"{i} {storage} {rep} {t_used}T\"\n")
+    gp = f"""set terminal pngcairo size 900,600 font ',11' noenhanced
+set output '{out}/composite.png'
+set logscale xy
+set grid
+set xlabel 'Mpix/s, 2-layer over at 4096 x 4096 (reference 1 thread, others {tt})'
+set ylabel 'max abs. error against the exact oracle (deep mode)'
+set title 'Compositing: speed against accuracy (float vs 8-bit, straight vs premultiplied)'
+set key off
+set yrange [1e-8:0.1]
+plot '{out}/composite.dat' using 1:2 with points pt 7 ps 1.5, '' using 1:2:3 with labels left offset 1,0.6 font ',9'
+"""
+    subprocess.run(["gnuplot"], input=gp, text=True, check=True)
+
+
 def stability_table(path):
     """Where each method breaks: per (check, generator, pair), each implementation's
     share of classified failures by label (explained = the oracle predicts it)."""
@@ -206,5 +277,6 @@ def stability_table(path):
 
 if __name__ == "__main__":
     main()
+    composite(load(sys.argv[1])[1], sys.argv[-1])
     if os.environ.get("LOCKSTEP_STABILITY_CSV") and os.path.exists(os.environ["LOCKSTEP_STABILITY_CSV"]):
         stability_table(os.environ["LOCKSTEP_STABILITY_CSV"])
