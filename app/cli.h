@@ -54,6 +54,9 @@ int composite_main(Args args);
 struct Run;
 // The one-line summary render and composite print on stderr (app/render.cpp).
 std::string run_summary(const std::string& who, const ImageFamily& f, const ImageImpl& impl, const Run& r);
+// One run for render and composite: progress on stderr, errors propagate (app/render.cpp).
+Run run_for_cli(const std::string& who, const ImageFamily& family, const ImageImpl& impl, const Input& input,
+                FrameOptions opts);
 int diff_main(Args args);
 int verify_main(Args args);
 

@@ -108,17 +108,7 @@ int composite_main(Args args) {
 
   FrameOptions opts;
   opts.threads = threads;
-  Progress progress("lockstep composite: " + std::string(impl.name));
-  opts.progress = [&progress](double f) { progress(f); };
-  Run r;
-  try {
-    r = run_frame(family, impl, input, opts, false);
-  } catch (...) {
-    progress.finish();
-    throw;
-  }
-  progress.finish();
-  if (!r.ok) throw std::runtime_error(std::string(impl.name) + " " + r.error);
+  const Run r = run_for_cli("lockstep composite", family, impl, input, opts);
   const Stopwatch writing;
   write_image(r.image, out_path);
   std::fprintf(stderr,

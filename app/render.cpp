@@ -52,6 +52,22 @@ std::string run_summary(const std::string& who, const ImageFamily& f, const Imag
   return line;
 }
 
+Run run_for_cli(const std::string& who, const ImageFamily& family, const ImageImpl& impl, const Input& input,
+                FrameOptions opts) {
+  Progress progress(who + ": " + std::string(impl.name));
+  opts.progress = [&progress](double f) { progress(f); };
+  Run r;
+  try {
+    r = run_frame(family, impl, input, opts, false);
+  } catch (...) {
+    progress.finish();
+    throw;
+  }
+  progress.finish();
+  if (!r.ok) throw std::runtime_error(std::string(impl.name) + " " + r.error);
+  return r;
+}
+
 int render_main(Args args) {
   std::string in_path, out_path, impl_name, value;
   int width = 0, height = 0, threads = 0;
@@ -91,17 +107,7 @@ int render_main(Args args) {
   opts.width = width > 0 ? width : input.width;
   opts.height = height > 0 ? height : input.height;
   opts.threads = threads;
-  Progress progress("lockstep render: " + std::string(impl.name));
-  opts.progress = [&progress](double f) { progress(f); };
-  Run r;
-  try {
-    r = run_frame(family, impl, input, opts, false);
-  } catch (...) {
-    progress.finish();
-    throw;
-  }
-  progress.finish();
-  if (!r.ok) throw std::runtime_error(std::string(impl.name) + " " + r.error);
+  const Run r = run_for_cli("lockstep render", family, impl, input, opts);
   write_image(r.image, out_path);
   std::fprintf(stderr, "%s -> %s\n", run_summary("lockstep render", family, impl, r).c_str(), out_path.c_str());
   return kExitOk;
