@@ -124,7 +124,8 @@ struct BenchInput {
   Input input;           // ready, or empty when make is set
   std::function<Input()> make;  // builds a large input only while its benchmarks run
   int width = 0, height = 0;
-  double bytes = 0;      // > 0: bytes a run must move (reads + writes); bench adds a memcpy yardstick
+  double bytes = 0;      // > 0: bytes a run must move (reads + writes): bytes_per_second
+  bool yardstick = true; // with bytes > 0: bench adds a memcpy yardstick moving the same bytes
   std::vector<std::pair<std::string, double>> counters;  // shown beside the rate
   bool heavy_for_reference = false;  // the reference runs this at a quarter of the size per side
 };

@@ -38,7 +38,9 @@ enum class Storage : uint8_t { f32, unorm8 };
 struct Layer {
   Image image;                 // float RGBA as the file holds it (straight or premultiplied per `alpha`)
   Alpha alpha = Alpha::premultiplied;
-  std::vector<uint8_t> rgba8;  // Storage::unorm8 only: 8-bit RGBA in this layer's `alpha` representation
+  // Storage::unorm8 only: 8-bit RGBA in this layer's `alpha` representation (Image's
+  // allocator: large buffers page-aligned and a page apart, see core/image.h)
+  std::vector<uint8_t, NoInitAllocator<uint8_t>> rgba8;
   std::string source;          // file name, for messages
 };
 
