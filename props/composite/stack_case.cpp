@@ -30,7 +30,7 @@ LayerStack StackCase::to_stack() const {
     for (int px = 0; px < pixels(); ++px)
       for (int ch = 0; ch < 4; ++ch)
         L.image.rgba[size_t(px) * 4 + size_t(ch)] = value(int(k), px, ch);
-    if (is8()) L.rgba8 = layers[k].rgba8;
+    if (is8()) L.rgba8.assign(layers[k].rgba8.begin(), layers[k].rgba8.end());
     L.source = "layer" + std::to_string(k);
     s.layers.push_back(std::move(L));
   }
