@@ -3,7 +3,7 @@
 // This is the lighting model, in double precision, as the reference evaluates it
 // per hit. The optimized renders (simd, embree) evaluate the same formula 8 hits
 // at a time in float (optimized/shade_simd.h, pow as exp(shine log x)); their
-// frames are held to the reference within 1/255 per channel (core/pairs.h), so
+// frames are held to the reference within 1/255 per channel (pairs/ray_cast.cpp), so
 // the comparison covers both the intersection code and that vectorised shading.
 //
 // Local illumination, Phong (Foley et al., 16.1; Phong 1975), no shadows:
