@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <new>
 #include <string>
@@ -46,14 +47,23 @@ struct NoInitAllocator : std::allocator<T> {
   NoInitAllocator() = default;
   template <class U>
   NoInitAllocator(const NoInitAllocator<U>&) {}
+  // The block is bytes + 2 pages from plain operator new, the buffer starts on
+  // the first page boundary past a pointer-sized header that remembers the
+  // block. (Not aligned operator new: glibc's memalign asks for more than it
+  // keeps, so a freed frame could not take the next one of the same size and
+  // every "warm" frame was fresh pages again.)
   T* allocate(size_t n) {
     if (n * sizeof(T) < kSpacedBytes) return std::allocator<T>::allocate(n);
-    if (n > std::allocator_traits<std::allocator<T>>::max_size(*this)) throw std::bad_array_new_length();
-    return static_cast<T*>(::operator new(n * sizeof(T) + kPage, std::align_val_t(kPage)));
+    if (n > std::allocator_traits<std::allocator<T>>::max_size(*this) - 2 * kPage / sizeof(T))
+      throw std::bad_array_new_length();
+    char* block = static_cast<char*>(::operator new(n * sizeof(T) + 2 * kPage));
+    const uintptr_t start = (reinterpret_cast<uintptr_t>(block) + sizeof(char*) + kPage - 1) & ~uintptr_t(kPage - 1);
+    reinterpret_cast<char**>(start)[-1] = block;
+    return reinterpret_cast<T*>(start);
   }
   void deallocate(T* p, size_t n) noexcept {
     if (n * sizeof(T) < kSpacedBytes) return std::allocator<T>::deallocate(p, n);
-    ::operator delete(p, n * sizeof(T) + kPage, std::align_val_t(kPage));
+    ::operator delete(reinterpret_cast<char**>(p)[-1]);
   }
   template <class U>
   void construct(U* p) noexcept {
