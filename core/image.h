@@ -23,8 +23,9 @@ namespace lockstep {
 // 256 MB frame is a whole extra pass over memory). Image(w, h) still zeroes
 // explicitly; Image::uninitialized() is for renderers that write every pixel.
 //
-// Large buffers (kSpacedBytes and up) start on a page and are followed by one
-// unused page of address space (never touched, so never backed by memory).
+// Large buffers (kSpacedBytes and up) start on a page and are followed by at
+// least a page (less 8 bytes) of unused address space, never touched, so never
+// backed by memory: consecutive buffers are never a power of two apart.
 // Without the gap, buffers allocated one after another from a heap that does
 // not use mmap for them (the benchmarks' mallopt(M_MMAP_MAX, 0)) sit exactly
 // size + 16 bytes apart: two 4096^2 float layers 256 MiB + 16 B apart, the same
