@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <new>
 #include <string>
@@ -22,8 +23,9 @@ namespace lockstep {
 // 256 MB frame is a whole extra pass over memory). Image(w, h) still zeroes
 // explicitly; Image::uninitialized() is for renderers that write every pixel.
 //
-// Large buffers (kSpacedBytes and up) start on a page and are followed by one
-// unused page of address space (never touched, so never backed by memory).
+// Large buffers (kSpacedBytes and up) start on a page and are followed by at
+// least a page (less 8 bytes) of unused address space, never touched, so never
+// backed by memory: consecutive buffers are never a power of two apart.
 // Without the gap, buffers allocated one after another from a heap that does
 // not use mmap for them (the benchmarks' mallopt(M_MMAP_MAX, 0)) sit exactly
 // size + 16 bytes apart: two 4096^2 float layers 256 MiB + 16 B apart, the same
@@ -46,14 +48,23 @@ struct NoInitAllocator : std::allocator<T> {
   NoInitAllocator() = default;
   template <class U>
   NoInitAllocator(const NoInitAllocator<U>&) {}
+  // The block is bytes + 2 pages from plain operator new, the buffer starts on
+  // the first page boundary past a pointer-sized header that remembers the
+  // block. (Not aligned operator new: glibc's memalign asks for more than it
+  // keeps, so a freed frame could not take the next one of the same size and
+  // every "warm" frame was fresh pages again.)
   T* allocate(size_t n) {
     if (n * sizeof(T) < kSpacedBytes) return std::allocator<T>::allocate(n);
-    if (n > std::allocator_traits<std::allocator<T>>::max_size(*this)) throw std::bad_array_new_length();
-    return static_cast<T*>(::operator new(n * sizeof(T) + kPage, std::align_val_t(kPage)));
+    if (n > std::allocator_traits<std::allocator<T>>::max_size(*this) - 2 * kPage / sizeof(T))
+      throw std::bad_array_new_length();
+    char* block = static_cast<char*>(::operator new(n * sizeof(T) + 2 * kPage));
+    const uintptr_t start = (reinterpret_cast<uintptr_t>(block) + sizeof(char*) + kPage - 1) & ~uintptr_t(kPage - 1);
+    reinterpret_cast<char**>(start)[-1] = block;
+    return reinterpret_cast<T*>(start);
   }
   void deallocate(T* p, size_t n) noexcept {
     if (n * sizeof(T) < kSpacedBytes) return std::allocator<T>::deallocate(p, n);
-    ::operator delete(p, n * sizeof(T) + kPage, std::align_val_t(kPage));
+    ::operator delete(reinterpret_cast<char**>(p)[-1]);
   }
   template <class U>
   void construct(U* p) noexcept {
