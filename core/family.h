@@ -28,12 +28,44 @@ namespace lockstep {
 
 // ---------------------------------------------------------------- one run
 
+// A family's own settings for one frame, as name=value strings (e.g. the
+// raster families' shading=phong, spp=4). The family lists the names it knows
+// (ImageFamily::params); the CLI turns `--NAME VALUE` into one, the corpus a
+// `name=value` field. A flag without a value is "1".
+struct Params {
+  std::vector<std::pair<std::string, std::string>> items;
+
+  // The value of name, or def when it is not set.
+  std::string get(std::string_view name, std::string_view def = {}) const {
+    for (auto it = items.rbegin(); it != items.rend(); ++it)
+      if (it->first == name) return it->second;
+    return std::string(def);
+  }
+  void set(std::string name, std::string value) { items.emplace_back(std::move(name), std::move(value)); }
+  // "shading=phong spp=4"
+  std::string str() const {
+    std::string s;
+    for (const auto& [k, v] : items) s += (s.empty() ? "" : " ") + k + "=" + v;
+    return s;
+  }
+};
+
+// One setting a family understands, for --help and for checking.
+struct ParamSpec {
+  std::string_view name;    // "shading"
+  std::string_view values;  // "flat|gouraud|phong|blinn|toon", or a description such as "N >= 1"
+  std::string_view def;     // the default, as text; "" for flags that are off
+  std::string_view help;    // one line
+  bool flag = false;        // takes no value on the command line (--split)
+};
+
 // What the harness asks of one frame. threads = 0: all cores.
 struct FrameOptions {
   int width = 256;
   int height = 256;
   int threads = 0;
   std::function<void(double)> progress;  // fraction done, may be empty; called from one thread at a time
+  Params params;                          // the family's own settings (checked by ImageFamily::check_params)
 };
 
 // What an implementation reports about its own run. The harness times the run
@@ -128,6 +160,7 @@ struct BenchInput {
   bool yardstick = true; // with bytes > 0: bench adds a memcpy yardstick moving the same bytes
   std::vector<std::pair<std::string, double>> counters;  // shown beside the rate
   bool heavy_for_reference = false;  // the reference runs this at a quarter of the size per side
+  Params params;                     // the family's settings for this input (e.g. shading=flat)
 };
 
 struct ImageFamily {
@@ -138,12 +171,16 @@ struct ImageFamily {
   std::string_view verb;     // what a run does, for the CLI's line: "trace", "composite"
   std::string_view extension;     // files `lockstep render` hands to this family (".nff")
   std::string_view default_impl;  // `lockstep render` without --impl
+  std::string_view algo;          // `lockstep render --algo NAME` picks this family among those of one extension
   bool sized = true;         // --size applies (false: the size is the input's)
   ImageTolerance tol;        // agreement with the reference, per frame
   std::function<Input(const std::string& path)> load;  // throws InputError
   std::vector<ImageImpl> impls;  // impls.front() is the reference
   std::vector<ImageJudge> judges;
   std::function<std::vector<BenchInput>()> bench;  // may be empty
+  std::vector<ParamSpec> params;  // settings the family understands (FrameOptions::params)
+  // Throws InputError(source, 0, ...) naming the bad setting; may be empty when params is.
+  std::function<void(const Params&)> check_params;
 
   const ImageImpl& reference() const { return impls.front(); }
   const ImageImpl* find(std::string_view n) const {

@@ -56,19 +56,46 @@ Vec3 surface_normal(const Scene& scene, uint32_t prim, uint32_t tri, const Vec3&
   return n;
 }
 
-Vec3 phong(const Scene& scene, const Material& m, const Vec3& p, const Vec3& n, const Vec3& v) {
+LightSample light_at(const Scene& scene, const Light& light, const Vec3& p) {
+  const double default_ip = 1.0 / std::sqrt(double(scene.lights.size()));
+  LightSample s;
+  s.l = normalize(light.position - p);
+  s.ip = light.has_color ? light.color : Vec3{default_ip, default_ip, default_ip};
+  return s;
+}
+
+Vec3 phong(const Scene& scene, const Material& m, const Vec3& p, const Vec3& n, const Vec3& v, Specular specular) {
   const Vec3 kd_c = m.kd * m.color;
   Vec3 c = kAmbient * kd_c;
-  const double default_ip = scene.lights.empty() ? 0.0 : 1.0 / std::sqrt(double(scene.lights.size()));
   for (const Light& light : scene.lights) {
-    const Vec3 ip = light.has_color ? light.color : Vec3{default_ip, default_ip, default_ip};
-    const Vec3 l = normalize(light.position - p);
+    const auto [l, ip] = light_at(scene, light, p);
     const double n_dot_l = dot(n, l);
     if (n_dot_l <= 0) continue;  // light behind the surface
-    const Vec3 r = 2.0 * n_dot_l * n - l;
-    const double r_dot_v = std::max(0.0, dot(r, v));
-    const double spec = m.ks > 0 ? m.ks * std::pow(r_dot_v, m.shine) : 0.0;
+    double spec = 0;
+    if (m.ks > 0) {
+      if (specular == Specular::kPhong) {
+        const Vec3 r = 2.0 * n_dot_l * n - l;  // L mirrored about N
+        spec = m.ks * std::pow(std::max(0.0, dot(r, v)), m.shine);
+      } else {
+        const Vec3 h = normalize(l + v);  // halfway between light and viewer
+        spec = m.ks * std::pow(std::max(0.0, dot(n, h)), m.shine);
+      }
+    }
     c += mul(ip, n_dot_l * kd_c + Vec3{spec, spec, spec});
+  }
+  return c;
+}
+
+Vec3 toon(const Scene& scene, const Material& m, const Vec3& p, const Vec3& n, int bands) {
+  const Vec3 kd_c = m.kd * m.color;
+  Vec3 c = kAmbient * kd_c;
+  for (const Light& light : scene.lights) {
+    const auto [l, ip] = light_at(scene, light, p);
+    const double n_dot_l = dot(n, l);
+    if (n_dot_l <= 0) continue;
+    // Quantise: [0, 1/bands) -> 0, ..., [1 - 1/bands, 1] -> (bands - 1) / bands, 1 -> 1.
+    const double q = std::min(1.0, std::floor(n_dot_l * bands) / (bands - (bands > 1 ? 1 : 0)));
+    c += mul(ip, q * kd_c);
   }
   return c;
 }

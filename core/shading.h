@@ -31,8 +31,28 @@ inline constexpr double kAmbient = 0.1;
 // tri may be Hit::kNoHit, and the containing triangle is then looked up.
 Vec3 surface_normal(const Scene& scene, uint32_t prim, uint32_t tri, const Vec3& p, const Vec3& d);
 
-// Phong at p with unit normal n and unit direction to the viewer v.
-Vec3 phong(const Scene& scene, const Material& m, const Vec3& p, const Vec3& n, const Vec3& v);
+// The specular term: Phong's max(0, R.V)^shine or Blinn's max(0, N.H)^shine with
+// H = normalize(L + V) (Blinn 1977). Same exponent for both, so Blinn-Phong's
+// highlights are broader (N.H >= R.V); we do not rescale shine.
+enum class Specular : uint8_t { kPhong, kBlinn };
+
+// What one light delivers at p: the unit direction l from p to the light and
+// the intensity ip arriving there (the light's colour or the default
+// 1/sqrt(number of lights)).
+struct LightSample {
+  Vec3 l;
+  Vec3 ip;
+};
+LightSample light_at(const Scene& scene, const Light& light, const Vec3& p);
+
+// Phong (or Blinn-Phong) at p with unit normal n and unit direction to the viewer v.
+Vec3 phong(const Scene& scene, const Material& m, const Vec3& p, const Vec3& n, const Vec3& v,
+           Specular specular = Specular::kPhong);
+
+// Toon shading (cel shading): the diffuse term max(0, N.L) quantised into
+// `bands` >= 2 levels 0, 1/(bands-1), ..., 1 (N.L in [k/bands, (k+1)/bands)
+// gives k/(bands-1)), no specular; ambient as in phong.
+Vec3 toon(const Scene& scene, const Material& m, const Vec3& p, const Vec3& n, int bands);
 
 // The colour seen along ray: background on a miss, else Phong at the hit.
 Vec3 shade(const Scene& scene, const Ray& ray, const Hit& hit);
