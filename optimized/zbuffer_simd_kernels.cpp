@@ -1,0 +1,211 @@
+// Z-buffer kernels, Highway SIMD: one tile at a time, 8 samples per vector.
+//
+// Rasterisation (raster_tile): Pineda's edge functions over the triangle's
+// bounding box clipped to the tile, one sample plane (one sample offset) at a
+// time, a row of N = 8 samples per vector (4 or 8 in double). The contract
+// (reference/raster.h) wants the exact integer edge functions on the snapped
+// vertices with the top-left rule, so that coverage is bit-identical to the
+// reference's; |coordinates| < 2^25 puts the edge functions below 2^52, exact in
+// int64 and in double but not in int32. Per triangle and tile, the three edge
+// functions are evaluated exactly in int64 at the region's corners (scalar):
+//   * an edge that is >= 0 over the whole region is dropped (trivially inside);
+//   * an edge < 0 over the whole region rejects the triangle for the tile;
+//   * if every remaining edge stays within +-2^30 over the region, the lanes run
+//     in int32 (E at a block's first lane from int64, plus lane offsets: every
+//     value and partial sum is a value of E inside the region, so nothing
+//     overflows): the common case, all triangles up to ~256 px per side;
+//   * otherwise (long edges crossing the tile) the lanes run in double, exact
+//     because every value is an integer below 2^53.
+// A sample is covered when (E0 - b0) | (E1 - b1) | (E2 - b2) >= 0 (one sign test).
+//
+// Depth: the stored depth of the float formats is affine in screen space under
+// perspective (d = (1/n - 1/z)/(1/n - 1/f), n/z), so it is a plane evaluated per
+// block in double at the block's first lane and per lane in float. With affine
+// interpolation (RasterSettings::perspective = false) the plane is eye z and the
+// format's formula is applied per lane. kFixed24 keeps the 24-bit integer code
+// (exact in float). The depth test keeps the earlier triangle on ties (strict
+// nearer()), as the reference does, since tiles see their triangles in mesh order.
+#include "optimized/zbuffer_simd_kernels.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "optimized/zbuffer_simd_kernels.cpp"
+#include "hwy/foreach_target.h"  // IWYU pragma: keep
+#include "hwy/highway.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace lockstep::opt::zsimd {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+// A mask of dfrom's lanes as a mask of dto's (same lane count, maybe another width).
+template <class DTo, class DFrom>
+HWY_INLINE hn::Mask<DTo> CastMask(DTo dto, DFrom dfrom, hn::Mask<DFrom> m) {
+  if constexpr (sizeof(hn::TFromD<DTo>) == sizeof(hn::TFromD<DFrom>)) {
+    return hn::RebindMask(dto, m);
+  } else {
+    uint8_t bits[8] = {};
+    hn::StoreMaskBits(dfrom, m, bits);
+    return hn::LoadMaskBits(dto, bits);
+  }
+}
+
+// Inside-mask of one block in double (long edges): E at the block's first lane
+// is e[k] (int64, exact), lane l adds l * sx[k].
+template <class DI>
+HWY_INLINE hn::Mask<DI> CoverDouble(DI di, const int64_t e[3], const int64_t sx[3]) {
+  const hn::CappedTag<double, 8> dd;  // at most as many lanes as di
+  const size_t n = hn::Lanes(di), m = hn::Lanes(dd);
+  uint8_t bits[8] = {};
+  const auto lane = hn::Iota(dd, 0.0);
+  for (size_t sub = 0; sub < n; sub += m) {
+    auto all = hn::Set(dd, 0.0);
+    auto in = hn::Eq(all, all);
+    for (int k = 0; k < 3; ++k) {
+      const auto v = hn::MulAdd(lane, hn::Set(dd, double(sx[k])), hn::Set(dd, double(e[k] + int64_t(sub) * sx[k])));
+      in = hn::And(in, hn::Ge(v, all));
+    }
+    uint8_t b[8] = {};
+    hn::StoreMaskBits(dd, in, b);
+    bits[0] |= uint8_t(b[0] << sub);
+  }
+  return hn::LoadMaskBits(di, bits);
+}
+
+template <class DT>
+HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::TFromD<DT>* depth, int32_t* tri,
+                            int32_t* count) {
+  using T = hn::TFromD<DT>;
+  const hn::Rebind<int32_t, DT> di;
+  using VI = hn::Vec<decltype(di)>;
+  using VT = hn::Vec<DT>;
+  const int N = int(hn::Lanes(dt));
+  const int W = p.buf_w, H = p.buf_h;
+  const VI iota_i = hn::Iota(di, 0);
+  const VT iota_t = hn::Iota(dt, 0);
+  const VI minus1 = hn::Set(di, -1);
+  const bool reversed = p.depth == DepthFormat::kReversed;
+  const bool fixed24 = p.depth == DepthFormat::kFixed24;
+  const double inv_n = 1.0 / p.near_z, inv_range = 1.0 / (1.0 / p.near_z - 1.0 / p.far_z);
+  const double fixed_scale = double((1 << 24) - 1);
+  constexpr int64_t kLimit = int64_t(1) << 30;
+
+  // The stored value (kFixed24: its integer code) from the plane value q.
+  auto stored = [&](VT q) -> VT {
+    if (!p.perspective) {  // q is eye z
+      if (reversed) return hn::Div(hn::Set(dt, T(p.near_z)), q);
+      if (p.depth != DepthFormat::kDouble || true)
+        q = hn::Mul(hn::Sub(hn::Set(dt, T(inv_n)), hn::Div(hn::Set(dt, T(1)), q)), hn::Set(dt, T(inv_range)));
+    }
+    if (fixed24) {
+      q = hn::Min(hn::Max(q, hn::Zero(dt)), hn::Set(dt, T(1)));
+      q = hn::Round(hn::Mul(q, hn::Set(dt, T(fixed_scale))));
+    }
+    return q;
+  };
+
+  for (int l = 0; l < t.nlists; ++l) {
+    for (const uint32_t id : *t.lists[l]) {
+      const TriSetup& s = p.tris[id];
+      const int ri0 = std::max(s.i0, t.x0), ri1 = std::min(s.i1, t.x1 - 1);
+      const int rj0 = std::max(s.j0, t.y0), rj1 = std::min(s.j1, t.y1 - 1);
+      if (ri0 > ri1 || rj0 > rj1) continue;
+      const int c0 = ((ri0 - t.x0) / N) * N;  // tile-local column of the first block
+      const int nb = (ri1 - t.x0 - c0) / N + 1;
+      const int r0 = rj0 - t.y0, rows = rj1 - rj0 + 1;
+      const int64_t wspan = int64_t(nb * N - 1) * kSubpixel, hspan = int64_t(rows - 1) * kSubpixel;
+      const VI tri_id = hn::Set(di, int32_t(id));
+      for (int smp = 0; smp < p.spp; ++smp) {
+        const int64_t px = int64_t(t.x0 + c0) * kSubpixel + p.offsets[smp][0];
+        const int64_t py = int64_t(rj0) * kSubpixel + p.offsets[smp][1];
+        // The three edges at the region's first sample, and their steps per pixel.
+        int64_t e[3], sx[3], sy[3];
+        bool reject = false, narrow = true;
+        for (int k = 0; k < 3; ++k) {
+          e[k] = s.ex[k] * (px - s.ax[k]) + s.ey[k] * (py - s.ay[k]) - s.bias[k];
+          sx[k] = s.ex[k] * kSubpixel;
+          sy[k] = s.ey[k] * kSubpixel;
+          const int64_t dx = s.ex[k] * wspan, dy = s.ey[k] * hspan;
+          const int64_t lo = e[k] + std::min<int64_t>(0, dx) + std::min<int64_t>(0, dy);
+          const int64_t hi = e[k] + std::max<int64_t>(0, dx) + std::max<int64_t>(0, dy);
+          if (hi < 0) reject = true;
+          if (lo >= 0) {
+            e[k] = sx[k] = sy[k] = 0;  // inside over the whole region
+          } else if (lo <= -kLimit || hi >= kLimit) {
+            narrow = false;
+          }
+        }
+        if (reject) continue;
+        VI lane_off[3];
+        for (int k = 0; k < 3; ++k) lane_off[k] = hn::Mul(iota_i, hn::Set(di, int32_t(narrow ? sx[k] : 0)));
+        // Depth plane at the region's first sample, per pixel along x and y.
+        const double q_first = s.q0 + s.qx * double(px - s.x0) + s.qy * double(py - s.y0);
+        const double qsx = s.qx * kSubpixel, qsy = s.qy * kSubpixel;
+        const VT q_lane = hn::Mul(iota_t, hn::Set(dt, T(qsx)));
+        const size_t plane = size_t(smp) * size_t(H);
+        for (int r = 0; r < rows; ++r) {
+          int64_t er[3];
+          for (int k = 0; k < 3; ++k) er[k] = e[k] + sy[k] * r;
+          const double q_row = q_first + qsy * r;
+          const size_t row = (plane + size_t(r0 + r)) * size_t(W);
+          for (int b = 0; b < nb; ++b) {
+            int64_t eb[3];
+            for (int k = 0; k < 3; ++k) eb[k] = er[k] + sx[k] * (int64_t(b) * N);
+            hn::Mask<decltype(di)> cover;
+            if (narrow) {
+              const VI v0 = hn::Add(hn::Set(di, int32_t(eb[0])), lane_off[0]);
+              const VI v1 = hn::Add(hn::Set(di, int32_t(eb[1])), lane_off[1]);
+              const VI v2 = hn::Add(hn::Set(di, int32_t(eb[2])), lane_off[2]);
+              cover = hn::Gt(hn::Or(hn::Or(v0, v1), v2), minus1);
+            } else {
+              cover = CoverDouble(di, eb, sx);
+            }
+            if (hn::AllFalse(di, cover)) continue;
+            const size_t at = row + size_t(c0 + b * N);
+            hn::Store(hn::Sub(hn::Load(di, count + at), hn::VecFromMask(di, cover)), di, count + at);
+            const VT q = stored(hn::Add(hn::Set(dt, T(q_row + qsx * double(b * N))), q_lane));
+            const VT old = hn::Load(dt, depth + at);
+            const auto closer = reversed ? hn::Gt(q, old) : hn::Lt(q, old);
+            const auto pass = hn::And(CastMask(dt, di, cover), closer);
+            hn::Store(hn::IfThenElse(pass, q, old), dt, depth + at);
+            const VI cur = hn::Load(di, tri + at);
+            hn::Store(hn::IfThenElse(CastMask(di, dt, pass), tri_id, cur), di, tri + at);
+          }
+        }
+      }
+    }
+  }
+}
+
+void RasterTileFloat(const RasterParams& p, const TileJob& t, float* depth, int32_t* tri, int32_t* count) {
+  RasterTileT(hn::CappedTag<float, 8>(), p, t, depth, tri, count);
+}
+void RasterTileDouble(const RasterParams& p, const TileJob& t, double* depth, int32_t* tri, int32_t* count) {
+  RasterTileT(hn::CappedTag<double, 8>(), p, t, depth, tri, count);
+}
+const char* TargetName() { return hwy::TargetName(HWY_TARGET); }
+
+}  // namespace HWY_NAMESPACE
+}  // namespace lockstep::opt::zsimd
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace lockstep::opt::zsimd {
+
+HWY_EXPORT(RasterTileFloat);
+HWY_EXPORT(RasterTileDouble);
+HWY_EXPORT(TargetName);
+
+void raster_tile(const RasterParams& p, const TileJob& t, float* depth, int32_t* tri, int32_t* count) {
+  HWY_DYNAMIC_DISPATCH(RasterTileFloat)(p, t, depth, tri, count);
+}
+void raster_tile(const RasterParams& p, const TileJob& t, double* depth, int32_t* tri, int32_t* count) {
+  HWY_DYNAMIC_DISPATCH(RasterTileDouble)(p, t, depth, tri, count);
+}
+const char* target_name() { return HWY_DYNAMIC_DISPATCH(TargetName)(); }
+
+}  // namespace lockstep::opt::zsimd
+#endif  // HWY_ONCE

@@ -1,0 +1,68 @@
+// lockstep optimized: the Highway z-buffer kernels (zbuffer_simd_kernels.cpp).
+//
+// The contract functions (optimized/zbuffer_simd.cpp) prepare one TriSetup per
+// screen triangle and bin them into screen tiles; these kernels then run one
+// tile at a time, on one thread, over tile-local buffers:
+//   raster_tile()  every binned triangle's samples: edge functions 8 samples
+//                  at a time, depth test, coverage count;
+//   shade_tile()   the visible samples' colours (every Shading mode), SoA.
+// Entry points dispatch at run time to the best target the CPU has
+// (HWY_DYNAMIC_DISPATCH), as in ray_cast_simd_kernels.h.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "reference/raster.h"
+
+namespace lockstep::opt::zsimd {
+
+// One triangle, ready for tiles. Snapped coordinates (1/256 pixel) as in the
+// ScreenMesh; edge k is the edge opposite vertex k (a -> b = v1 -> v2, v2 -> v0,
+// v0 -> v1), E_k(P) = ex[k] (P.x - ax[k]) + ey[k] (P.y - ay[k]) exactly in
+// int64, with ex = -(b.y - a.y), ey = b.x - a.x. A sample is inside when
+// E_k(P) - bias[k] >= 0 for all k: bias 0 for top and left edges, 1 for the
+// others (E integer, so E - 1 >= 0 is E > 0: the top-left rule).
+struct TriSetup {
+  int32_t ax[3], ay[3];
+  int64_t ex[3], ey[3];
+  int32_t bias[3];
+  int32_t x0, y0;           // vertex 0: the depth plane's origin
+  int32_t i0, i1, j0, j1;   // pixels that may hold a covered sample (inclusive; i0 > i1: none)
+  // Depth plane q(P) = q0 + qx (P.x - x0) + qy (P.y - y0), P in 1/256 px: the
+  // stored depth when it is affine in screen space (perspective), else eye z.
+  double q0 = 0, qx = 0, qy = 0;
+  // Attribute planes for shading, a(P) = a0 + ax (P.x - x0) + ay (P.y - y0),
+  // with w = 1/z (perspective) or 1 (affine); the attribute is a(P) / w(P).
+  // Row 0: w; rows 1-3: world position (times w); rows 4-6: normal or
+  // Gouraud colour (times w).
+  float plane[7][3];
+};
+
+struct RasterParams {
+  const TriSetup* tris = nullptr;
+  const std::array<int32_t, 2>* offsets = nullptr;  // sample_offsets()
+  int spp = 1;
+  DepthFormat depth = DepthFormat::kFloat;
+  bool perspective = true;  // false: q is eye z and the stored depth is computed per sample
+  double near_z = 0, far_z = 0;
+  int buf_w = 64, buf_h = 64;  // tile buffers: spp planes of buf_h rows of buf_w (a multiple of 16)
+};
+
+// Triangles binned into one tile: lists[0..nlists) in order, each in mesh order.
+struct TileJob {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // pixels, half-open
+  const std::vector<uint32_t>* const* lists = nullptr;
+  int nlists = 0;
+};
+
+// Tile-local buffers, plane s (sample s), row r, column c at [(s buf_h + r) buf_w + c].
+// Before raster_tile: depth = the format's far end, tri = -1, count = 0.
+// float depth for every format but kDouble; that one rasters in double.
+void raster_tile(const RasterParams& p, const TileJob& t, float* depth, int32_t* tri, int32_t* count);
+void raster_tile(const RasterParams& p, const TileJob& t, double* depth, int32_t* tri, int32_t* count);
+
+const char* target_name();
+
+}  // namespace lockstep::opt::zsimd
