@@ -21,6 +21,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/shading.h"
 #include "hwy/aligned_allocator.h"
 #include "optimized/raster.h"
 #include "optimized/tiling.h"
@@ -98,8 +99,48 @@ void set_up(const ScreenMesh& mesh, const RasterSettings& s, uint32_t id, int32_
         plane_value(s, v[2].z, mesh.near_z, mesh.far_z), t.q0, t.qx, t.qy);
 }
 
+// The shading data of triangle id (see zsimd::ShadeTri).
+void set_up_shading(const Scene& scene, const ScreenMesh& mesh, const RasterSettings& s, uint32_t id,
+                    const TriSetup& t, zsimd::ShadeTri& out) {
+  const ScreenTri& tri = mesh.tris[id];
+  const auto& v = tri.v;
+  const double area = double(t.ex[2] * (int64_t(v[2].x) - t.ax[2]) + t.ey[2] * (int64_t(v[2].y) - t.ay[2]));
+  for (int row = 0; row < zsimd::ShadeTri::kRows; ++row) {
+    double a[3];
+    for (int k = 0; k < 3; ++k) {
+      const ScreenVertex& x = v[k];
+      double value = 1.0;
+      switch (row) {
+        case 0: value = s.perspective ? 1.0 : x.z; break;
+        case 1: value = x.world.x; break;
+        case 2: value = x.world.y; break;
+        case 3: value = x.world.z; break;
+        case 4: value = x.normal.x; break;
+        case 5: value = x.normal.y; break;
+        case 6: value = x.normal.z; break;
+        case 7: value = x.color.x; break;
+        case 8: value = x.color.y; break;
+        case 9: value = x.color.z; break;
+      }
+      // Perspective: everything over z (row 0 becomes 1/z), affine in screen space.
+      a[k] = s.perspective ? value / x.z : value;
+    }
+    double* c = out.plane[row];
+    c[0] = a[0];
+    c[1] = ((a[1] - a[0]) * double(t.ex[1]) + (a[2] - a[0]) * double(t.ex[2])) / area;
+    c[2] = ((a[1] - a[0]) * double(t.ey[1]) + (a[2] - a[0]) * double(t.ey[2])) / area;
+  }
+  const Material& m = scene.material_of_prim(tri.prim);
+  out.k[0] = float(m.kd * m.color.x), out.k[1] = float(m.kd * m.color.y), out.k[2] = float(m.kd * m.color.z);
+  out.ks = float(m.ks);
+  out.shine = float(m.shine);
+  out.flat[0] = float(tri.flat_color.x), out.flat[1] = float(tri.flat_color.y), out.flat[2] = float(tri.flat_color.z);
+  out.face[0] = float(tri.face_normal.x), out.face[1] = float(tri.face_normal.y), out.face[2] = float(tri.face_normal.z);
+}
+
+// scene: also set up shading (shade.size() == mesh.tris.size()).
 Binned bin_mesh(const ScreenMesh& mesh, const RasterSettings& s, const std::vector<std::array<int32_t, 2>>& off,
-                int threads) {
+                int threads, const Scene* scene = nullptr, std::vector<zsimd::ShadeTri>* shade = nullptr) {
   Binned b;
   tile_size(int(off.size()), b.tw, b.th);
   b.ntx = (mesh.width + b.tw - 1) / b.tw;
@@ -112,6 +153,7 @@ Binned bin_mesh(const ScreenMesh& mesh, const RasterSettings& s, const std::vect
   }
   const size_t n = mesh.tris.size();
   b.setup.resize(n);
+  if (shade) shade->resize(n);
   const size_t per_chunk = 4096;
   b.nchunks = int((n + per_chunk - 1) / per_chunk);
   b.bins.resize(size_t(b.nchunks) * tiles);
@@ -122,6 +164,7 @@ Binned bin_mesh(const ScreenMesh& mesh, const RasterSettings& s, const std::vect
       TriSetup& t = b.setup[id];
       set_up(mesh, s, uint32_t(id), ox0, ox1, oy0, oy1, t);
       if (t.i0 > t.i1 || t.j0 > t.j1) continue;
+      if (shade) set_up_shading(*scene, mesh, s, uint32_t(id), t, (*shade)[id]);
       for (int ty = t.j0 / b.th; ty <= t.j1 / b.th; ++ty)
         for (int tx = t.i0 / b.tw; tx <= t.i1 / b.tw; ++tx) bins[size_t(ty) * b.ntx + tx].push_back(uint32_t(id));
     }
@@ -175,6 +218,24 @@ void raster_one_tile(const RasterParams& p, const Binned& b, int x0, int y0, int
   zsimd::raster_tile(p, job, buf.depth.get(), buf.tri.get(), buf.count.get());
 }
 
+RasterParams raster_params(const ScreenMesh& mesh, const RasterSettings& s, const Binned& b,
+                           const std::vector<std::array<int32_t, 2>>& off) {
+  RasterParams p;
+  p.tris = b.setup.data();
+  p.offsets = off.data();
+  p.spp = int(off.size());
+  p.depth = s.depth;
+  p.perspective = s.perspective;
+  p.near_z = mesh.near_z, p.far_z = mesh.far_z;
+  p.buf_w = b.tw, p.buf_h = b.th;
+  return p;
+}
+
+template <class T>
+T far_value(DepthFormat f) {
+  return f == DepthFormat::kReversed ? -std::numeric_limits<T>::infinity() : std::numeric_limits<T>::infinity();
+}
+
 template <class T>
 void visibility_t(const ScreenMesh& mesh, const RasterSettings& s, int threads, Visibility& vis) {
   const auto off = sample_offsets(s);
@@ -185,22 +246,13 @@ void visibility_t(const ScreenMesh& mesh, const RasterSettings& s, int threads, 
   vis.depth.assign(total, empty_depth(s.depth));
   vis.count.assign(total, 0);
   const Binned b = bin_mesh(mesh, s, off, threads);
-  RasterParams p;
-  p.tris = b.setup.data();
-  p.offsets = off.data();
-  p.spp = spp;
-  p.depth = s.depth;
-  p.perspective = s.perspective;
-  p.near_z = mesh.near_z, p.far_z = mesh.far_z;
-  p.buf_w = b.tw, p.buf_h = b.th;
-  const T far_value = s.depth == DepthFormat::kReversed ? -std::numeric_limits<T>::infinity()
-                                                        : std::numeric_limits<T>::infinity();
+  const RasterParams p = raster_params(mesh, s, b, off);
   const double empty = empty_depth(s.depth);
   const bool fixed24 = s.depth == DepthFormat::kFixed24;
   tbb::enumerable_thread_specific<TileBuffers<T>> buffers;
   parallel_tiles(mesh.width, mesh.height, b.tw, b.th, threads, {}, [&](int x0, int y0, int x1, int y1) {
     TileBuffers<T>& buf = buffers.local();
-    raster_one_tile(p, b, x0, y0, x1, y1, far_value, buf);
+    raster_one_tile(p, b, x0, y0, x1, y1, far_value<T>(s.depth), buf);
     for (int y = y0; y < y1; ++y)
       for (int x = x0; x < x1; ++x)
         for (int k = 0; k < spp; ++k) {
@@ -214,7 +266,104 @@ void visibility_t(const ScreenMesh& mesh, const RasterSettings& s, int threads, 
   });
 }
 
+// One thread's shading buffers.
+struct ShadeBuffers {
+  std::vector<int32_t> slot;  // per mesh triangle: its index in planes (valid for the tile's triangles)
+  std::vector<zsimd::LocalPlanes> planes;
+  hwy::AlignedFreeUniquePtr<float[]> rgb, z;
+  size_t size = 0;
+};
+
+template <class T>
+Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const RasterSettings& s, const FrameOptions& opts,
+                FrameStats* stats) {
+  const auto off = sample_offsets(s);
+  const int spp = int(off.size());
+  std::vector<zsimd::ShadeTri> shade;
+  const Binned b = bin_mesh(mesh, s, off, opts.threads, &scene, &shade);
+  const RasterParams p = raster_params(mesh, s, b, off);
+  // Lights and camera in float.
+  std::vector<float> lights;
+  for (const Light& l : scene.lights) {
+    const LightSample ls = light_at(scene, l, l.position + Vec3{0, 0, 1});  // the intensity (the direction is unused)
+    lights.insert(lights.end(), {float(l.position.x), float(l.position.y), float(l.position.z), float(ls.ip.x),
+                                 float(ls.ip.y), float(ls.ip.z)});
+  }
+  zsimd::ShadeParams sp;
+  sp.shading = s.shading;
+  sp.perspective = s.perspective;
+  sp.silhouette = s.silhouette;
+  sp.silhouette_eps = float(s.silhouette_eps);
+  sp.toon_bands = s.toon_bands;
+  sp.nlights = int(scene.lights.size());
+  sp.light = lights.data();
+  sp.eye[0] = float(mesh.camera.eye.x), sp.eye[1] = float(mesh.camera.eye.y), sp.eye[2] = float(mesh.camera.eye.z);
+  sp.background[0] = float(scene.background.x), sp.background[1] = float(scene.background.y),
+  sp.background[2] = float(scene.background.z);
+  sp.offsets = off.data();
+  sp.spp = spp;
+  sp.buf_w = b.tw, sp.buf_h = b.th;
+
+  Image img = Image::uninitialized(mesh.width, mesh.height);
+  img.depth.resize(size_t(mesh.width) * size_t(mesh.height));
+  const float inv_spp = 1.0f / float(spp);
+  const size_t tiles = size_t(b.ntx) * size_t(b.nty);
+  tbb::enumerable_thread_specific<TileBuffers<T>> buffers;
+  tbb::enumerable_thread_specific<ShadeBuffers> shade_buffers;
+  parallel_tiles(mesh.width, mesh.height, b.tw, b.th, opts.threads, opts.progress, [&](int x0, int y0, int x1, int y1) {
+    TileBuffers<T>& buf = buffers.local();
+    raster_one_tile(p, b, x0, y0, x1, y1, far_value<T>(s.depth), buf);
+    ShadeBuffers& sb = shade_buffers.local();
+    if (sb.slot.size() != mesh.tris.size()) sb.slot.assign(mesh.tris.size(), 0);
+    const size_t plane = size_t(b.tw) * size_t(b.th);
+    if (sb.size != plane) {
+      sb.rgb = hwy::AllocateAligned<float>(3 * plane);
+      sb.z = hwy::AllocateAligned<float>(plane);
+      sb.size = plane;
+    }
+    // The tile's triangles' planes, moved to the tile's top-left corner, per pixel.
+    sb.planes.clear();
+    const size_t tile = size_t(y0 / b.th) * size_t(b.ntx) + size_t(x0 / b.tw);
+    const int64_t cx = int64_t(x0) * kSubpixel, cy = int64_t(y0) * kSubpixel;
+    for (int c = 0; c < b.nchunks; ++c)
+      for (const uint32_t id : b.bins[size_t(c) * tiles + tile]) {
+        sb.slot[id] = int32_t(sb.planes.size());
+        zsimd::LocalPlanes& L = sb.planes.emplace_back();
+        const TriSetup& t = b.setup[id];
+        for (int row = 0; row < zsimd::ShadeTri::kRows; ++row) {
+          const double* a = shade[id].plane[row];
+          L.p[row][0] = float(a[0] + a[1] * double(cx - t.x0) + a[2] * double(cy - t.y0));
+          L.p[row][1] = float(a[1] * kSubpixel);
+          L.p[row][2] = float(a[2] * kSubpixel);
+        }
+      }
+    zsimd::shade_tile(sp, buf.tri.get(), sb.slot.data(), sb.planes.data(), shade.data(), x1 - x0, y1 - y0,
+                      sb.rgb.get(), sb.z.get());
+    for (int y = y0; y < y1; ++y) {
+      const size_t row = size_t(y - y0) * b.tw;
+      for (int x = x0; x < x1; ++x) {
+        float* px = img.pixel(x, y);
+        const size_t at = row + size_t(x - x0);
+        px[0] = sb.rgb[at] * inv_spp;
+        px[1] = sb.rgb[plane + at] * inv_spp;
+        px[2] = sb.rgb[2 * plane + at] * inv_spp;
+        px[3] = 1.0f;
+        img.depth[size_t(y) * mesh.width + size_t(x)] = sb.z[at];
+      }
+    }
+  });
+  if (stats) stats->items = uint64_t(mesh.width) * uint64_t(mesh.height) * uint64_t(spp);
+  return img;
+}
+
 }  // namespace
+
+Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
+  const RasterSettings s = raster_settings(opts.params, "zbuffer");
+  const ScreenMesh mesh = view_scene(scene, opts.width, opts.height, s);
+  if (s.depth == DepthFormat::kDouble) return zbuffer_t<double>(scene, mesh, s, opts, stats);
+  return zbuffer_t<float>(scene, mesh, s, opts, stats);
+}
 
 void zbuffer_visibility(const ScreenMesh& mesh, const RasterSettings& s, int threads, Visibility& vis) {
   if (s.depth == DepthFormat::kDouble)

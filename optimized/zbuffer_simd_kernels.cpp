@@ -31,9 +31,12 @@
 #include <cmath>
 #include <cstdlib>
 
+#include "core/shading.h"
+
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "optimized/zbuffer_simd_kernels.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
+#include "hwy/contrib/math/math-inl.h"
 #include "hwy/highway.h"
 
 HWY_BEFORE_NAMESPACE();
@@ -180,6 +183,159 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
   }
 }
 
+
+// ---------------------------------------------------------------- shading
+//
+// A block of N samples holds few distinct triangles (usually one). For each
+// distinct triangle the block's lanes get its attribute planes (broadcast, no
+// gathers); lighting then runs once over the block. The lighting is
+// core/shading.h's, in float (pow as exp(shine log x), as shade_simd.cpp).
+void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot, const LocalPlanes* planes,
+               const ShadeTri* tris, int cols, int rows, float* rgb, float* zout) {
+  const hn::CappedTag<float, 8> df;
+  const hn::RebindToSigned<decltype(df)> di;
+  using VF = hn::Vec<decltype(df)>;
+  using VI = hn::Vec<decltype(di)>;
+  const int N = int(hn::Lanes(df));
+  const int W = p.buf_w, H = p.buf_h;
+  const size_t plane = size_t(W) * size_t(H);
+  std::fill_n(rgb, 3 * plane, 0.0f);
+  std::fill_n(zout, plane, HUGE_VALF);
+  const bool flat = p.shading == Shading::kFlat, gouraud = p.shading == Shading::kGouraud;
+  const bool lighting = !flat && !gouraud;
+  const bool need_pos = lighting || p.silhouette;
+  const bool need_normal = lighting || (p.silhouette && !flat);
+  const VF zero = hn::Zero(df), one = hn::Set(df, 1.0f), two = hn::Set(df, 2.0f);
+  const VF inf = hn::Set(df, HUGE_VALF);
+  const VI none = hn::Set(di, -1);
+  const VF bg[3] = {hn::Set(df, p.background[0]), hn::Set(df, p.background[1]), hn::Set(df, p.background[2])};
+  const VF eye[3] = {hn::Set(df, p.eye[0]), hn::Set(df, p.eye[1]), hn::Set(df, p.eye[2])};
+  const VF amb = hn::Set(df, float(kAmbient));
+  const float bands = float(p.toon_bands), band_div = float(p.toon_bands - (p.toon_bands > 1 ? 1 : 0));
+  HWY_ALIGN int32_t idv[8];
+
+  auto dot3 = [](const VF a[3], const VF b[3]) { return hn::MulAdd(a[0], b[0], hn::MulAdd(a[1], b[1], hn::Mul(a[2], b[2]))); };
+  auto normalize3 = [&](VF a[3]) {
+    const VF inv = hn::Div(one, hn::Sqrt(dot3(a, a)));
+    for (int c = 0; c < 3; ++c) a[c] = hn::Mul(a[c], inv);
+  };
+
+  for (int smp = 0; smp < p.spp; ++smp) {
+    const float ou = float(p.offsets[smp][0]) / float(kSubpixel), ov = float(p.offsets[smp][1]) / float(kSubpixel);
+    for (int r = 0; r < rows; ++r) {
+      const VF v = hn::Set(df, float(r) + ov);
+      for (int c0 = 0; c0 < cols; c0 += N) {
+        const size_t at = (size_t(smp) * H + size_t(r)) * W + size_t(c0);
+        const size_t pix = size_t(r) * W + size_t(c0);
+        const VI ids = hn::Load(di, tri + at);
+        auto remaining = hn::Gt(ids, none);
+        VF col[3] = {bg[0], bg[1], bg[2]};
+        VF z = inf;
+        if (!hn::AllFalse(di, remaining)) {
+          const auto valid = hn::RebindMask(df, remaining);
+          hn::Store(ids, di, idv);
+          const VF u = hn::Add(hn::Iota(df, float(c0)), hn::Set(df, ou));
+          VF a[ShadeTri::kRows];
+          a[0] = one;
+          for (int k = 1; k < ShadeTri::kRows; ++k) a[k] = zero;
+          VF kd[3] = {zero, zero, zero}, ks = zero, shine = one, fl[3] = {zero, zero, zero}, face[3] = {zero, zero, zero};
+          // The block's distinct triangles, each broadcast onto its lanes.
+          while (!hn::AllFalse(di, remaining)) {
+            const int32_t id = idv[hn::FindFirstTrue(di, remaining)];
+            const auto mi = hn::And(hn::Eq(ids, hn::Set(di, id)), remaining);
+            remaining = hn::AndNot(mi, remaining);
+            const auto m = hn::RebindMask(df, mi);
+            const LocalPlanes& L = planes[slot[id]];
+            const ShadeTri& T = tris[id];
+            auto eval = [&](int k) {
+              a[k] = hn::IfThenElse(m, hn::MulAdd(hn::Set(df, L.p[k][2]), v, hn::MulAdd(hn::Set(df, L.p[k][1]), u, hn::Set(df, L.p[k][0]))), a[k]);
+            };
+            eval(0);
+            if (need_pos) eval(1), eval(2), eval(3);
+            if (need_normal) eval(4), eval(5), eval(6);
+            if (gouraud) eval(7), eval(8), eval(9);
+            for (int c = 0; c < 3; ++c) {
+              if (flat) fl[c] = hn::IfThenElse(m, hn::Set(df, T.flat[c]), fl[c]);
+              if (flat && p.silhouette) face[c] = hn::IfThenElse(m, hn::Set(df, T.face[c]), face[c]);
+              if (lighting) kd[c] = hn::IfThenElse(m, hn::Set(df, T.k[c]), kd[c]);
+            }
+            if (lighting) {
+              ks = hn::IfThenElse(m, hn::Set(df, T.ks), ks);
+              shine = hn::IfThenElse(m, hn::Set(df, T.shine), shine);
+            }
+          }
+          // Perspective: attributes are plane / w, z = 1 / w. Affine: as they are.
+          const VF inv_w = p.perspective ? hn::Div(one, a[0]) : one;
+          z = p.perspective ? inv_w : a[0];
+          VF pos[3], nrm[3], view[3];
+          for (int c = 0; c < 3; ++c) {
+            pos[c] = hn::Mul(a[1 + c], inv_w);
+            nrm[c] = hn::Mul(a[4 + c], inv_w);
+          }
+          if (need_pos) {
+            for (int c = 0; c < 3; ++c) view[c] = hn::Sub(eye[c], pos[c]);
+            normalize3(view);
+          }
+          if (need_normal) normalize3(nrm);
+          if (flat) {
+            for (int c = 0; c < 3; ++c) col[c] = fl[c];
+          } else if (gouraud) {
+            for (int c = 0; c < 3; ++c) col[c] = hn::Mul(a[7 + c], inv_w);
+          } else {
+            for (int c = 0; c < 3; ++c) col[c] = hn::Mul(amb, kd[c]);
+            for (int l = 0; l < p.nlights; ++l) {
+              const float* li = p.light + 6 * l;
+              VF L[3] = {hn::Sub(hn::Set(df, li[0]), pos[0]), hn::Sub(hn::Set(df, li[1]), pos[1]),
+                         hn::Sub(hn::Set(df, li[2]), pos[2])};
+              normalize3(L);
+              const VF ndl = dot3(nrm, L);
+              const auto lit = hn::And(hn::Gt(ndl, zero), valid);
+              if (hn::AllFalse(df, lit)) continue;
+              VF term[3];
+              if (p.shading == Shading::kToon) {
+                const VF q = hn::Min(one, hn::Div(hn::Floor(hn::Mul(ndl, hn::Set(df, bands))), hn::Set(df, band_div)));
+                for (int c = 0; c < 3; ++c) term[c] = hn::Mul(q, kd[c]);
+              } else {
+                VF cosine;
+                if (p.shading == Shading::kPhong) {
+                  VF R[3];  // L mirrored about N
+                  for (int c = 0; c < 3; ++c) R[c] = hn::MulSub(hn::Mul(two, ndl), nrm[c], L[c]);
+                  cosine = dot3(R, view);
+                } else {
+                  VF Hv[3] = {hn::Add(L[0], view[0]), hn::Add(L[1], view[1]), hn::Add(L[2], view[2])};
+                  normalize3(Hv);  // halfway vector (Blinn)
+                  cosine = dot3(nrm, Hv);
+                }
+                // ks max(0, cosine)^shine, as std::pow: 0^shine = 0 for shine > 0, x^0 = 1.
+                const auto pos_c = hn::Gt(cosine, zero);
+                const VF safe = hn::IfThenElse(pos_c, cosine, one);
+                VF pw = hn::CallExp(df, hn::Mul(shine, hn::CallLog(df, safe)));
+                pw = hn::IfThenElse(pos_c, pw, hn::IfThenElseZero(hn::Eq(shine, zero), one));
+                const VF spec = hn::IfThenElseZero(hn::Gt(ks, zero), hn::Mul(ks, pw));
+                for (int c = 0; c < 3; ++c) term[c] = hn::MulAdd(ndl, kd[c], spec);
+              }
+              for (int c = 0; c < 3; ++c)
+                col[c] = hn::IfThenElse(lit, hn::MulAdd(hn::Set(df, li[3 + c]), term[c], col[c]), col[c]);
+            }
+          }
+          if (p.silhouette) {
+            const VF ndv = hn::Abs(flat ? dot3(face, view) : dot3(nrm, view));
+            const auto edge = hn::Lt(ndv, hn::Set(df, p.silhouette_eps));
+            for (int c = 0; c < 3; ++c) col[c] = hn::IfThenElseZero(hn::Not(edge), col[c]);
+          }
+          for (int c = 0; c < 3; ++c) col[c] = hn::IfThenElse(valid, col[c], bg[c]);
+          z = hn::IfThenElse(valid, z, inf);
+        }
+        for (int c = 0; c < 3; ++c) {
+          float* acc = rgb + size_t(c) * plane + pix;
+          hn::Store(hn::Add(hn::Load(df, acc), col[c]), df, acc);
+        }
+        hn::Store(hn::Min(hn::Load(df, zout + pix), z), df, zout + pix);
+      }
+    }
+  }
+}
+
 void RasterTileFloat(const RasterParams& p, const TileJob& t, float* depth, int32_t* tri, int32_t* count) {
   RasterTileT(hn::CappedTag<float, 8>(), p, t, depth, tri, count);
 }
@@ -198,6 +354,12 @@ namespace lockstep::opt::zsimd {
 HWY_EXPORT(RasterTileFloat);
 HWY_EXPORT(RasterTileDouble);
 HWY_EXPORT(TargetName);
+HWY_EXPORT(ShadeTile);
+
+void shade_tile(const ShadeParams& p, const int32_t* tri, const int32_t* slot, const LocalPlanes* planes,
+                const ShadeTri* tris, int cols, int rows, float* rgb, float* z) {
+  HWY_DYNAMIC_DISPATCH(ShadeTile)(p, tri, slot, planes, tris, cols, rows, rgb, z);
+}
 
 void raster_tile(const RasterParams& p, const TileJob& t, float* depth, int32_t* tri, int32_t* count) {
   HWY_DYNAMIC_DISPATCH(RasterTileFloat)(p, t, depth, tri, count);

@@ -33,12 +33,50 @@ struct TriSetup {
   // Depth plane q(P) = q0 + qx (P.x - x0) + qy (P.y - y0), P in 1/256 px: the
   // stored depth when it is affine in screen space (perspective), else eye z.
   double q0 = 0, qx = 0, qy = 0;
-  // Attribute planes for shading, a(P) = a0 + ax (P.x - x0) + ay (P.y - y0),
-  // with w = 1/z (perspective) or 1 (affine); the attribute is a(P) / w(P).
-  // Row 0: w; rows 1-3: world position (times w); rows 4-6: normal or
-  // Gouraud colour (times w).
-  float plane[7][3];
 };
+
+// What shading needs of one triangle. Attribute planes a(P) = a0 + ax (P.x -
+// x0) + ay (P.y - y0) (P in 1/256 px, (x0, y0) = TriSetup's vertex 0):
+// perspective: row 0 is w = 1/z and rows 1.. hold attribute / z (an attribute
+// is row / w); affine: row 0 is z and rows 1.. hold the attributes themselves.
+// Rows 1-3: world position; 4-6: shading normal; 7-9: Gouraud's lit colour.
+struct ShadeTri {
+  static constexpr int kRows = 10;
+  double plane[kRows][3];
+  float k[3], ks, shine;  // kd * colour, ks, shine of the material
+  float flat[3];          // kFlat: the polygon's colour
+  float face[3];          // the face normal of the drawn side (silhouettes under kFlat)
+};
+
+// A ShadeTri's planes moved to a tile: base at the tile's top-left pixel
+// corner, gradients per pixel, in float.
+struct LocalPlanes {
+  float p[ShadeTri::kRows][3];
+};
+
+struct ShadeParams {
+  Shading shading = Shading::kPhong;
+  bool perspective = true;
+  bool silhouette = false;
+  float silhouette_eps = 0.2f;
+  int toon_bands = 4;
+  int nlights = 0;
+  const float* light = nullptr;  // per light: x y z r g b (position and intensity)
+  float eye[3] = {0, 0, 0};
+  float background[3] = {0, 0, 0};
+  const std::array<int32_t, 2>* offsets = nullptr;
+  int spp = 1;
+  int buf_w = 64, buf_h = 64;
+};
+
+// Shades the visible samples of a tile (tri: raster_tile's buffer) and
+// box-filters them: rgb[c * buf_w * buf_h + r * buf_w + col] is the mean colour
+// of pixel (col, r) (empty samples show the background); z[r * buf_w + col] is
+// the smallest eye depth of its visible samples (+inf: none). slot[id] is the
+// index into planes of triangle id; tris[id] its ShadeTri. cols x rows: the
+// tile's size.
+void shade_tile(const ShadeParams& p, const int32_t* tri, const int32_t* slot, const LocalPlanes* planes,
+                const ShadeTri* tris, int cols, int rows, float* rgb, float* z);
 
 struct RasterParams {
   const TriSetup* tris = nullptr;
