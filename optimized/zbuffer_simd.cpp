@@ -21,6 +21,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/error.h"
 #include "core/shading.h"
 #include "hwy/aligned_allocator.h"
 #include "optimized/raster.h"
@@ -51,16 +52,11 @@ struct Binned {
   std::vector<std::vector<uint32_t>> bins;  // [chunk * tiles + tile]: triangle ids in mesh order
 };
 
-// The stored depth's plane quantity at a vertex of eye depth z (see
-// zbuffer_simd_kernels.cpp): the stored depth itself under perspective, eye z
-// under affine interpolation.
+// The depth plane's value at a vertex of eye depth z (see zbuffer_simd_kernels.cpp):
+// affine in 1/z, so in screen space; stored_depth before its rounding.
 double plane_value(const RasterSettings& s, double z, double near_z, double far_z) {
-  if (!s.perspective) return z;
-  switch (s.depth) {
-    case DepthFormat::kReversed: return near_z / z;
-    case DepthFormat::kDouble: return stored_depth(DepthFormat::kDouble, z, near_z, far_z);
-    default: return (1.0 / near_z - 1.0 / z) / (1.0 / near_z - 1.0 / far_z);
-  }
+  if (s.depth == DepthFormat::kReversed) return near_z / z;
+  return (1 / near_z - 1 / z) / (1 / near_z - 1 / far_z);
 }
 
 void set_up(const ScreenMesh& mesh, const RasterSettings& s, uint32_t id, int32_t ox0, int32_t ox1, int32_t oy0,
@@ -111,19 +107,15 @@ void set_up_shading(const Scene& scene, const ScreenMesh& mesh, const RasterSett
       const ScreenVertex& x = v[k];
       double value = 1.0;
       switch (row) {
-        case 0: value = s.perspective ? 1.0 : x.z; break;
-        case 1: value = x.world.x; break;
-        case 2: value = x.world.y; break;
-        case 3: value = x.world.z; break;
-        case 4: value = x.normal.x; break;
-        case 5: value = x.normal.y; break;
-        case 6: value = x.normal.z; break;
-        case 7: value = x.color.x; break;
-        case 8: value = x.color.y; break;
-        case 9: value = x.color.z; break;
+        case 1: value = x.normal.x; break;
+        case 2: value = x.normal.y; break;
+        case 3: value = x.normal.z; break;
+        case 4: value = x.color.x; break;
+        case 5: value = x.color.y; break;
+        case 6: value = x.color.z; break;
       }
-      // Perspective: everything over z (row 0 becomes 1/z), affine in screen space.
-      a[k] = s.perspective ? value / x.z : value;
+      // 1/z and, under perspective, attribute / z: affine in screen space.
+      a[k] = row == 0 || s.perspective ? value / x.z : value;
     }
     double* c = out.plane[row];
     c[0] = a[0];
@@ -225,8 +217,6 @@ RasterParams raster_params(const ScreenMesh& mesh, const RasterSettings& s, cons
   p.offsets = off.data();
   p.spp = int(off.size());
   p.depth = s.depth;
-  p.perspective = s.perspective;
-  p.near_z = mesh.near_z, p.far_z = mesh.far_z;
   p.buf_w = b.tw, p.buf_h = b.th;
   return p;
 }
@@ -248,7 +238,6 @@ void visibility_t(const ScreenMesh& mesh, const RasterSettings& s, int threads, 
   const Binned b = bin_mesh(mesh, s, off, threads);
   const RasterParams p = raster_params(mesh, s, b, off);
   const double empty = empty_depth(s.depth);
-  const bool fixed24 = s.depth == DepthFormat::kFixed24;
   tbb::enumerable_thread_specific<TileBuffers<T>> buffers;
   parallel_tiles(mesh.width, mesh.height, b.tw, b.th, threads, {}, [&](int x0, int y0, int x1, int y1) {
     TileBuffers<T>& buf = buffers.local();
@@ -260,7 +249,7 @@ void visibility_t(const ScreenMesh& mesh, const RasterSettings& s, int threads, 
           const size_t out = (size_t(y) * mesh.width + size_t(x)) * spp + size_t(k);
           const int32_t t = buf.tri[at];
           vis.tri[out] = t < 0 ? Visibility::kNone : uint32_t(t);
-          vis.depth[out] = t < 0 ? empty : fixed24 ? double(buf.depth[at]) / double((1 << 24) - 1) : double(buf.depth[at]);
+          vis.depth[out] = t < 0 ? empty : double(buf.depth[at]);
           vis.count[out] = uint16_t(std::min<int32_t>(buf.count[at], 0xffff));
         }
   });
@@ -302,6 +291,9 @@ Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const RasterSettings
   sp.background[2] = float(scene.background.z);
   sp.offsets = off.data();
   sp.spp = spp;
+  const Vec3 du = mesh.camera.pitch * mesh.camera.right, dv = -mesh.camera.pitch * mesh.camera.up;
+  sp.dir_u[0] = float(du.x), sp.dir_u[1] = float(du.y), sp.dir_u[2] = float(du.z);
+  sp.dir_v[0] = float(dv.x), sp.dir_v[1] = float(dv.y), sp.dir_v[2] = float(dv.z);
   sp.buf_w = b.tw, sp.buf_h = b.th;
 
   Image img = Image::uninitialized(mesh.width, mesh.height);
@@ -337,7 +329,14 @@ Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const RasterSettings
           L.p[row][2] = float(a[2] * kSubpixel);
         }
       }
-    zsimd::shade_tile(sp, buf.tri.get(), sb.slot.data(), sb.planes.data(), shade.data(), x1 - x0, y1 - y0,
+    // The view direction through the tile's top-left pixel corner (the reference's
+    // dir = forward + cx right + cy up, cx = (sx - width/2) pitch, cy = (height/2 - sy) pitch).
+    zsimd::ShadeParams tp = sp;
+    const Camera& cam = mesh.camera;
+    const Vec3 d0 = cam.forward + ((x0 - 0.5 * mesh.width) * cam.pitch) * cam.right +
+                    ((0.5 * mesh.height - y0) * cam.pitch) * cam.up;
+    tp.dir0[0] = float(d0.x), tp.dir0[1] = float(d0.y), tp.dir0[2] = float(d0.z);
+    zsimd::shade_tile(tp, buf.tri.get(), sb.slot.data(), sb.planes.data(), shade.data(), x1 - x0, y1 - y0,
                       sb.rgb.get(), sb.z.get());
     for (int y = y0; y < y1; ++y) {
       const size_t row = size_t(y - y0) * b.tw;
@@ -352,14 +351,19 @@ Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const RasterSettings
       }
     }
   });
-  if (stats) stats->items = uint64_t(mesh.width) * uint64_t(mesh.height) * uint64_t(spp);
+  if (stats) stats->items = mesh.scene_tris + mesh.sphere_tris;
   return img;
 }
 
 }  // namespace
 
 Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
-  const RasterSettings s = raster_settings(opts.params, "zbuffer");
+  const RasterSettings s = raster_settings(opts.params, scene.source);
+  // The reference's limit on the sample buffers (2^25 samples), so both refuse the same frames.
+  const double samples = double(opts.width) * opts.height * s.spp;
+  if (samples > double(1 << 25))
+    throw InputError(scene.source, 0,
+                     "size x spp is " + std::to_string(int64_t(samples)) + " samples; at most 33554432 (2^25)");
   const ScreenMesh mesh = view_scene(scene, opts.width, opts.height, s);
   if (s.depth == DepthFormat::kDouble) return zbuffer_t<double>(scene, mesh, s, opts, stats);
   return zbuffer_t<float>(scene, mesh, s, opts, stats);

@@ -18,12 +18,12 @@
 //     because every value is an integer below 2^53.
 // A sample is covered when (E0 - b0) | (E1 - b1) | (E2 - b2) >= 0 (one sign test).
 //
-// Depth: the stored depth of the float formats is affine in screen space under
-// perspective (d = (1/n - 1/z)/(1/n - 1/f), n/z), so it is a plane evaluated per
-// block in double at the block's first lane and per lane in float. With affine
-// interpolation (RasterSettings::perspective = false) the plane is eye z and the
-// format's formula is applied per lane. kFixed24 keeps the 24-bit integer code
-// (exact in float). The depth test keeps the earlier triangle on ties (strict
+// Depth: the reference takes depth from the plane of 1/z (whatever the
+// interpolation of the attributes), and every stored depth is affine in 1/z
+// (window depth d = (1/n - 1/z)/(1/n - 1/f), reversed n/z), so it is a plane in
+// screen space: evaluated per block in double at the block's first lane and per
+// lane in float (double for kDouble). kFixed24 rounds d to its 24-bit integer
+// code (exact in float), as stored_depth. The depth test keeps the earlier triangle on ties (strict
 // nearer()), as the reference does, since tiles see their triangles in mesh order.
 #include "optimized/zbuffer_simd_kernels.h"
 
@@ -92,17 +92,11 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
   const VI minus1 = hn::Set(di, -1);
   const bool reversed = p.depth == DepthFormat::kReversed;
   const bool fixed24 = p.depth == DepthFormat::kFixed24;
-  const double inv_n = 1.0 / p.near_z, inv_range = 1.0 / (1.0 / p.near_z - 1.0 / p.far_z);
   const double fixed_scale = double((1 << 24) - 1);
   constexpr int64_t kLimit = int64_t(1) << 30;
 
-  // The stored value (kFixed24: its integer code) from the plane value q.
+  // The stored value from the plane value q (kFixed24: its integer code, as stored_depth).
   auto stored = [&](VT q) -> VT {
-    if (!p.perspective) {  // q is eye z
-      if (reversed) return hn::Div(hn::Set(dt, T(p.near_z)), q);
-      if (p.depth != DepthFormat::kDouble || true)
-        q = hn::Mul(hn::Sub(hn::Set(dt, T(inv_n)), hn::Div(hn::Set(dt, T(1)), q)), hn::Set(dt, T(inv_range)));
-    }
     if (fixed24) {
       q = hn::Min(hn::Max(q, hn::Zero(dt)), hn::Set(dt, T(1)));
       q = hn::Round(hn::Mul(q, hn::Set(dt, T(fixed_scale))));
@@ -203,13 +197,15 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot, co
   std::fill_n(zout, plane, HUGE_VALF);
   const bool flat = p.shading == Shading::kFlat, gouraud = p.shading == Shading::kGouraud;
   const bool lighting = !flat && !gouraud;
-  const bool need_pos = lighting || p.silhouette;
-  const bool need_normal = lighting || (p.silhouette && !flat);
+  const bool need_normal = lighting || p.silhouette;
   const VF zero = hn::Zero(df), one = hn::Set(df, 1.0f), two = hn::Set(df, 2.0f);
   const VF inf = hn::Set(df, HUGE_VALF);
   const VI none = hn::Set(di, -1);
   const VF bg[3] = {hn::Set(df, p.background[0]), hn::Set(df, p.background[1]), hn::Set(df, p.background[2])};
   const VF eye[3] = {hn::Set(df, p.eye[0]), hn::Set(df, p.eye[1]), hn::Set(df, p.eye[2])};
+  const VF dir0[3] = {hn::Set(df, p.dir0[0]), hn::Set(df, p.dir0[1]), hn::Set(df, p.dir0[2])};
+  const VF dir_u[3] = {hn::Set(df, p.dir_u[0]), hn::Set(df, p.dir_u[1]), hn::Set(df, p.dir_u[2])};
+  const VF dir_v[3] = {hn::Set(df, p.dir_v[0]), hn::Set(df, p.dir_v[1]), hn::Set(df, p.dir_v[2])};
   const VF amb = hn::Set(df, float(kAmbient));
   const float bands = float(p.toon_bands), band_div = float(p.toon_bands - (p.toon_bands > 1 ? 1 : 0));
   HWY_ALIGN int32_t idv[8];
@@ -251,12 +247,11 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot, co
               a[k] = hn::IfThenElse(m, hn::MulAdd(hn::Set(df, L.p[k][2]), v, hn::MulAdd(hn::Set(df, L.p[k][1]), u, hn::Set(df, L.p[k][0]))), a[k]);
             };
             eval(0);
-            if (need_pos) eval(1), eval(2), eval(3);
-            if (need_normal) eval(4), eval(5), eval(6);
-            if (gouraud) eval(7), eval(8), eval(9);
+            if (need_normal) eval(1), eval(2), eval(3);
+            if (gouraud) eval(4), eval(5), eval(6);
             for (int c = 0; c < 3; ++c) {
               if (flat) fl[c] = hn::IfThenElse(m, hn::Set(df, T.flat[c]), fl[c]);
-              if (flat && p.silhouette) face[c] = hn::IfThenElse(m, hn::Set(df, T.face[c]), face[c]);
+              if (need_normal) face[c] = hn::IfThenElse(m, hn::Set(df, T.face[c]), face[c]);
               if (lighting) kd[c] = hn::IfThenElse(m, hn::Set(df, T.k[c]), kd[c]);
             }
             if (lighting) {
@@ -264,23 +259,33 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot, co
               shine = hn::IfThenElse(m, hn::Set(df, T.shine), shine);
             }
           }
-          // Perspective: attributes are plane / w, z = 1 / w. Affine: as they are.
-          const VF inv_w = p.perspective ? hn::Div(one, a[0]) : one;
-          z = p.perspective ? inv_w : a[0];
-          VF pos[3], nrm[3], view[3];
+          // z = 1 / w; attributes are plane / w (perspective) or the plane (affine).
+          z = hn::Div(one, a[0]);
+          const VF att = p.perspective ? z : one;
+          // The view ray through the sample (forward component 1), the point
+          // eye + z dir and the unit direction to the viewer.
+          VF dir[3], pos[3], view[3], nrm[3];
           for (int c = 0; c < 3; ++c) {
-            pos[c] = hn::Mul(a[1 + c], inv_w);
-            nrm[c] = hn::Mul(a[4 + c], inv_w);
+            dir[c] = hn::MulAdd(dir_v[c], v, hn::MulAdd(dir_u[c], u, dir0[c]));
+            pos[c] = hn::MulAdd(z, dir[c], eye[c]);
+            view[c] = hn::Neg(dir[c]);
           }
-          if (need_pos) {
-            for (int c = 0; c < 3; ++c) view[c] = hn::Sub(eye[c], pos[c]);
-            normalize3(view);
+          normalize3(view);
+          if (need_normal) {
+            // The interpolated normal, renormalised (the face normal where it
+            // vanishes), turned towards the viewer.
+            for (int c = 0; c < 3; ++c) nrm[c] = hn::Mul(a[1 + c], att);
+            const VF len2 = dot3(nrm, nrm);
+            const auto degenerate = hn::Eq(len2, zero);
+            const VF inv = hn::Div(one, hn::Sqrt(hn::IfThenElse(degenerate, one, len2)));
+            for (int c = 0; c < 3; ++c) nrm[c] = hn::IfThenElse(degenerate, face[c], hn::Mul(nrm[c], inv));
+            const auto away = hn::Gt(dot3(nrm, dir), zero);
+            for (int c = 0; c < 3; ++c) nrm[c] = hn::IfThenElse(away, hn::Neg(nrm[c]), nrm[c]);
           }
-          if (need_normal) normalize3(nrm);
           if (flat) {
             for (int c = 0; c < 3; ++c) col[c] = fl[c];
           } else if (gouraud) {
-            for (int c = 0; c < 3; ++c) col[c] = hn::Mul(a[7 + c], inv_w);
+            for (int c = 0; c < 3; ++c) col[c] = hn::Mul(a[4 + c], att);
           } else {
             for (int c = 0; c < 3; ++c) col[c] = hn::Mul(amb, kd[c]);
             for (int l = 0; l < p.nlights; ++l) {
@@ -319,7 +324,7 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot, co
             }
           }
           if (p.silhouette) {
-            const VF ndv = hn::Abs(flat ? dot3(face, view) : dot3(nrm, view));
+            const VF ndv = hn::Abs(dot3(nrm, view));
             const auto edge = hn::Lt(ndv, hn::Set(df, p.silhouette_eps));
             for (int c = 0; c < 3; ++c) col[c] = hn::IfThenElseZero(hn::Not(edge), col[c]);
           }

@@ -31,21 +31,21 @@ struct TriSetup {
   int32_t x0, y0;           // vertex 0: the depth plane's origin
   int32_t i0, i1, j0, j1;   // pixels that may hold a covered sample (inclusive; i0 > i1: none)
   // Depth plane q(P) = q0 + qx (P.x - x0) + qy (P.y - y0), P in 1/256 px: the
-  // stored depth when it is affine in screen space (perspective), else eye z.
+  // stored depth (kFixed24: the window depth before rounding).
   double q0 = 0, qx = 0, qy = 0;
 };
 
 // What shading needs of one triangle. Attribute planes a(P) = a0 + ax (P.x -
-// x0) + ay (P.y - y0) (P in 1/256 px, (x0, y0) = TriSetup's vertex 0):
-// perspective: row 0 is w = 1/z and rows 1.. hold attribute / z (an attribute
-// is row / w); affine: row 0 is z and rows 1.. hold the attributes themselves.
-// Rows 1-3: world position; 4-6: shading normal; 7-9: Gouraud's lit colour.
+// x0) + ay (P.y - y0) (P in 1/256 px, (x0, y0) = TriSetup's vertex 0): row 0
+// is w = 1/z; rows 1.. hold attribute / z under perspective (the attribute is
+// row / w) and the attributes themselves under affine interpolation.
+// Rows 1-3: shading normal; 4-6: Gouraud's lit colour.
 struct ShadeTri {
-  static constexpr int kRows = 10;
+  static constexpr int kRows = 7;
   double plane[kRows][3];
   float k[3], ks, shine;  // kd * colour, ks, shine of the material
   float flat[3];          // kFlat: the polygon's colour
-  float face[3];          // the face normal of the drawn side (silhouettes under kFlat)
+  float face[3];          // the face normal of the drawn side (where the interpolated one is 0)
 };
 
 // A ShadeTri's planes moved to a tile: base at the tile's top-left pixel
@@ -63,6 +63,10 @@ struct ShadeParams {
   int nlights = 0;
   const float* light = nullptr;  // per light: x y z r g b (position and intensity)
   float eye[3] = {0, 0, 0};
+  // The view direction (forward component 1) through the tile's top-left
+  // pixel corner, and its change per pixel right and down: the sample at eye
+  // depth z is eye + z dir (as the reference's fragments).
+  float dir0[3] = {0, 0, 1}, dir_u[3] = {1, 0, 0}, dir_v[3] = {0, 1, 0};
   float background[3] = {0, 0, 0};
   const std::array<int32_t, 2>* offsets = nullptr;
   int spp = 1;
@@ -83,8 +87,6 @@ struct RasterParams {
   const std::array<int32_t, 2>* offsets = nullptr;  // sample_offsets()
   int spp = 1;
   DepthFormat depth = DepthFormat::kFloat;
-  bool perspective = true;  // false: q is eye z and the stored depth is computed per sample
-  double near_z = 0, far_z = 0;
   int buf_w = 64, buf_h = 64;  // tile buffers: spp planes of buf_h rows of buf_w (a multiple of 16)
 };
 
