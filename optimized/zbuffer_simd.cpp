@@ -355,6 +355,11 @@ Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const RasterSettings
   return img;
 }
 
+// kFixed24 rasters in double too: its 24-bit codes need more than float's 24-bit
+// significand (a float window depth near 1 is only good to one code, and the
+// plane's rounding adds a few more).
+bool double_depth(DepthFormat f) { return f == DepthFormat::kDouble || f == DepthFormat::kFixed24; }
+
 }  // namespace
 
 Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
@@ -365,12 +370,12 @@ Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
     throw InputError(scene.source, 0,
                      "size x spp is " + std::to_string(int64_t(samples)) + " samples; at most 33554432 (2^25)");
   const ScreenMesh mesh = view_scene(scene, opts.width, opts.height, s);
-  if (s.depth == DepthFormat::kDouble) return zbuffer_t<double>(scene, mesh, s, opts, stats);
+  if (double_depth(s.depth)) return zbuffer_t<double>(scene, mesh, s, opts, stats);
   return zbuffer_t<float>(scene, mesh, s, opts, stats);
 }
 
 void zbuffer_visibility(const ScreenMesh& mesh, const RasterSettings& s, int threads, Visibility& vis) {
-  if (s.depth == DepthFormat::kDouble)
+  if (double_depth(s.depth))
     visibility_t<double>(mesh, s, threads, vis);
   else
     visibility_t<float>(mesh, s, threads, vis);

@@ -33,6 +33,7 @@
 namespace lockstep::props::raster {
 
 FamilyProperties properties(const ImageFamily& family);
+FamilyProperties visibility_properties(const ImageFamily& family);  // visibility.cpp
 
 namespace {
 
@@ -195,6 +196,11 @@ FamilyProperties properties(const ImageFamily& family) {
   if (family.name == "zbuffer")
     for (const ImageImpl& impl : family.impls)
       if (impl.name != "llvmpipe") out.properties.push_back(cross_check_property(family, impl));
+  for (FamilyProperties part : {visibility_properties(family)}) {
+    for (auto& p : part.properties) out.properties.push_back(std::move(p));
+    for (auto& f : part.fixed) out.fixed.push_back(std::move(f));
+    for (auto& m : part.mutants) out.mutants.push_back(std::move(m));
+  }
   return out;
 }
 

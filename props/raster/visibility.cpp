@@ -1,0 +1,517 @@
+// lockstep props/raster: the z-buffer's visibility kernel (ScreenMesh ->
+// Visibility), below the viewing pipeline: screen-space triangles are generated
+// directly, in snapped 1/256-pixel coordinates, so that vertices and edges land
+// exactly on sample positions as often as between them.
+//
+//   CoverageAgreement.zbuffer_visibility__simd
+//       opt::simd::zbuffer_visibility against ref::zbuffer_visibility on random
+//       triangle soups (spp 1 and 4, regular and rotated grids, every depth
+//       format, huge triangles whose edge functions leave int32): per sample,
+//       the coverage count is identical; the visible triangle is identical
+//       unless the two candidates' depths (the reference's own arithmetic) are
+//       within the format's tie band ("depth_tie"); where the triangle is the
+//       same, the stored depth is within the format's bound (kDepthBound).
+//   Watertight.zbuffer_visibility__{reference,simd}
+//       closed meshes that cover the whole frame -- a jittered grid with random
+//       diagonals, or a fan around one vertex, with vertices at random
+//       sub-pixel positions or exactly on samples -- cover every sample exactly
+//       once (count == 1): no holes, no double writes (the Khronos fill-rule
+//       tests' additive accumulation).
+//   Mutants: inclusive_edges (every edge owns its samples: caught by Watertight)
+//       and bottom_right (the mirror rule, watertight but not the contract:
+//       caught by CoverageAgreement).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <sstream>
+
+#include "core/error.h"
+#include "optimized/raster.h"
+#include "props/property.h"
+#include "reference/raster.h"
+
+#include <rapidcheck.h>
+
+namespace lockstep::props::raster {
+
+FamilyProperties visibility_properties(const ImageFamily& family);
+
+namespace {
+
+// ---------------------------------------------------------------- the case
+
+struct VisCase {
+  int width = 16, height = 16;
+  int spp = 1;
+  SampleGrid grid = SampleGrid::kRegular;
+  DepthFormat depth = DepthFormat::kFloat;
+  struct Vertex {
+    int32_t x, y;
+    double z;
+  };
+  std::vector<std::array<Vertex, 3>> tris;  // any orientation; zero area is dropped
+};
+
+constexpr double kNear = 1, kFar = 64;
+
+const char* depth_name(DepthFormat f) {
+  switch (f) {
+    case DepthFormat::kFloat: return "float";
+    case DepthFormat::kReversed: return "reversed";
+    case DepthFormat::kFixed24: return "fixed24";
+    case DepthFormat::kDouble: return "double";
+  }
+  return "?";
+}
+
+RasterSettings settings_of(const VisCase& c) {
+  RasterSettings s;
+  s.spp = c.spp;
+  s.grid = c.grid;
+  s.depth = c.depth;
+  return s;
+}
+
+// The screen mesh of a case: positive area, in the case's order.
+ScreenMesh mesh_of(const VisCase& c) {
+  ScreenMesh m;
+  m.width = c.width, m.height = c.height;
+  m.near_z = kNear, m.far_z = kFar;
+  for (const auto& t : c.tris) {
+    ScreenTri s;
+    for (int k = 0; k < 3; ++k) {
+      s.v[k].x = t[k].x, s.v[k].y = t[k].y, s.v[k].z = t[k].z;
+    }
+    const int64_t area = int64_t(s.v[1].x - s.v[0].x) * (s.v[2].y - s.v[0].y) -
+                         int64_t(s.v[1].y - s.v[0].y) * (s.v[2].x - s.v[0].x);
+    if (area == 0) continue;
+    if (area < 0) std::swap(s.v[1], s.v[2]);
+    s.prim = uint32_t(m.tris.size());
+    m.tris.push_back(s);
+  }
+  return m;
+}
+
+constexpr const char* kHeader = "vis_case";
+
+std::string write_vis(const VisCase& c) {
+  std::ostringstream o;
+  o << kHeader << " " << c.width << " " << c.height << " spp=" << c.spp
+    << " grid=" << (c.grid == SampleGrid::kRotated ? "rotated" : "regular") << " depth=" << depth_name(c.depth) << "\n";
+  char buf[64];
+  for (const auto& t : c.tris) {
+    o << "tri";
+    for (const auto& v : t) {
+      std::snprintf(buf, sizeof buf, " %d %d %a", v.x, v.y, v.z);
+      o << buf;
+    }
+    o << "\n";
+  }
+  return o.str();
+}
+
+VisCase read_vis(const std::string& text, const std::string& file) {
+  VisCase c;
+  std::istringstream in(text);
+  std::string line;
+  int n = 0;
+  bool header = false;
+  while (std::getline(in, line)) {
+    ++n;
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream l(line);
+    std::string word;
+    l >> word;
+    if (word == kHeader) {
+      if (!(l >> c.width >> c.height) || c.width < 1 || c.height < 1 || c.width > 1024 || c.height > 1024)
+        throw InputError(file, n, "bad frame size");
+      for (std::string kv; l >> kv;) {
+        if (kv.rfind("spp=", 0) == 0) c.spp = std::atoi(kv.c_str() + 4);
+        else if (kv == "grid=rotated") c.grid = SampleGrid::kRotated;
+        else if (kv == "grid=regular") c.grid = SampleGrid::kRegular;
+        else if (kv == "depth=float") c.depth = DepthFormat::kFloat;
+        else if (kv == "depth=reversed") c.depth = DepthFormat::kReversed;
+        else if (kv == "depth=fixed24") c.depth = DepthFormat::kFixed24;
+        else if (kv == "depth=double") c.depth = DepthFormat::kDouble;
+        else throw InputError(file, n, "unknown setting '" + kv + "'");
+      }
+      if (c.spp < 1 || c.spp > 256) throw InputError(file, n, "spp must be 1..256");
+      header = true;
+    } else if (word == "tri") {
+      std::array<VisCase::Vertex, 3> t;
+      for (auto& v : t) {
+        std::string z;
+        if (!(l >> v.x >> v.y >> z)) throw InputError(file, n, "expected 'tri x y z x y z x y z'");
+        v.z = std::strtod(z.c_str(), nullptr);
+        if (!(v.z >= kNear)) throw InputError(file, n, "z must be >= 1");
+      }
+      c.tris.push_back(t);
+    } else {
+      throw InputError(file, n, "expected '" + std::string(kHeader) + "' or 'tri', got '" + word + "'");
+    }
+  }
+  if (!header) throw InputError(file, 0, std::string("no '") + kHeader + " W H ...' line");
+  return c;
+}
+
+// ---------------------------------------------------------------- generators
+
+// A coordinate in 1/256 px: anywhere, or exactly on a sample row/column of the
+// regular grids (x = 256 i + 128 for spp 1, + 64 or 192 for spp 4).
+int32_t coordinate(int pixels_lo, int pixels_hi) {
+  const int32_t pix = *rc::gen::inRange(pixels_lo, pixels_hi);
+  const int kind = *rc::gen::inRange(0, 4);
+  if (kind == 0) return pix * kSubpixel + *rc::gen::element(128, 64, 192);  // on samples
+  if (kind == 1) return pix * kSubpixel;                                   // on pixel corners
+  return pix * kSubpixel + *rc::gen::inRange(0, kSubpixel);                // anywhere
+}
+
+void settings(VisCase& c) {
+  c.width = *rc::gen::inRange(4, 40);
+  c.height = *rc::gen::inRange(4, 40);
+  c.spp = *rc::gen::element(1, 1, 4, 9);
+  c.grid = *rc::gen::element(SampleGrid::kRegular, SampleGrid::kRotated);
+  c.depth = *rc::gen::element(DepthFormat::kFloat, DepthFormat::kFloat, DepthFormat::kReversed, DepthFormat::kFixed24,
+                              DepthFormat::kDouble);
+}
+
+double depth_value() { return 1.0 + *rc::gen::inRange(0, 1 << 20) * (kFar - 2.0) / double(1 << 20); }
+
+// Triangle soups: random triangles over the frame (and beyond), some sharing
+// edges or vertices with earlier ones, some exact copies at the same depth
+// (exact ties), some huge (edge functions beyond int32).
+rc::Gen<VisCase> soup() {
+  return rc::gen::exec([] {
+    VisCase c;
+    settings(c);
+    const int n = *rc::gen::inRange(1, 14);
+    for (int i = 0; i < n; ++i) {
+      std::array<VisCase::Vertex, 3> t;
+      const int kind = c.tris.empty() ? 0 : *rc::gen::inRange(0, 8);
+      if (kind == 6) {  // huge: vertices up to 2^23 px... within the guard band
+        for (auto& v : t) {
+          const int32_t r = 1 << *rc::gen::inRange(12, 24);
+          v = {*rc::gen::inRange(-r, r), *rc::gen::inRange(-r, r), depth_value()};
+        }
+      } else if (kind == 7) {  // a copy of an earlier triangle, same depths: exact ties
+        t = c.tris[size_t(*rc::gen::inRange(0, int(c.tris.size())))];
+      } else {
+        for (auto& v : t) v = {coordinate(-2, c.width + 2), coordinate(-2, c.height + 2), depth_value()};
+        if (kind >= 4) {  // share an edge (or with kind 5 just a vertex) of an earlier triangle
+          const auto& o = c.tris[size_t(*rc::gen::inRange(0, int(c.tris.size())))];
+          const int a = *rc::gen::inRange(0, 3);
+          t[0] = o[size_t(a)];
+          if (kind == 4) t[1] = o[size_t((a + 1) % 3)];
+        }
+        if (*rc::gen::inRange(0, 4) == 0) t[1].y = t[0].y;  // a horizontal edge (top or bottom)
+        if (*rc::gen::inRange(0, 4) == 0) t[2].x = t[1].x;  // a vertical edge
+      }
+      c.tris.push_back(t);
+    }
+    return c;
+  });
+}
+
+// Closed meshes covering the frame and a margin: every sample is inside exactly one triangle.
+rc::Gen<VisCase> closed() {
+  return rc::gen::exec([] {
+    VisCase c;
+    settings(c);
+    const int margin = 3;
+    if (*rc::gen::inRange(0, 3) > 0) {
+      // A grid of nx x ny cells from -margin to size + margin, inner vertices
+      // jittered, each cell cut along a random diagonal.
+      const int nx = *rc::gen::inRange(1, 7), ny = *rc::gen::inRange(1, 7);
+      const double cw = double(c.width + 2 * margin) / nx, ch = double(c.height + 2 * margin) / ny;
+      std::vector<VisCase::Vertex> v;
+      for (int j = 0; j <= ny; ++j)
+        for (int i = 0; i <= nx; ++i) {
+          double x = -margin + i * cw, y = -margin + j * ch;
+          int32_t sx = int32_t(std::lround(x * kSubpixel)), sy = int32_t(std::lround(y * kSubpixel));
+          if (i > 0 && i < nx && j > 0 && j < ny) {
+            // Jitter below a sixth of a cell per axis, plus (cells of 8 px and
+            // more) at most half a pixel to land on a sample centre: every
+            // triangle keeps its orientation.
+            const int32_t jx = int32_t(cw * kSubpixel / 6), jy = int32_t(ch * kSubpixel / 6);
+            sx += *rc::gen::inRange(-jx, jx + 1), sy += *rc::gen::inRange(-jy, jy + 1);
+            if (cw >= 8 && ch >= 8 && *rc::gen::inRange(0, 3) == 0) {
+              sx = int32_t(std::floor(double(sx) / kSubpixel)) * kSubpixel + kSubpixel / 2;
+              sy = int32_t(std::floor(double(sy) / kSubpixel)) * kSubpixel + kSubpixel / 2;
+            }
+          }
+          v.push_back({sx, sy, depth_value()});
+        }
+      auto at = [&](int i, int j) { return v[size_t(j * (nx + 1) + i)]; };
+      for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) {
+          const auto a = at(i, j), b = at(i + 1, j), cc = at(i + 1, j + 1), d = at(i, j + 1);
+          if (*rc::gen::inRange(0, 2)) {
+            c.tris.push_back({a, b, cc});
+            c.tris.push_back({a, cc, d});
+          } else {
+            c.tris.push_back({a, b, d});
+            c.tris.push_back({b, cc, d});
+          }
+        }
+    } else {
+      // A fan: a centre inside the frame and a convex ring of k vertices on
+      // the boundary of a square far around the frame.
+      const VisCase::Vertex centre{coordinate(0, c.width), coordinate(0, c.height), depth_value()};
+      const int k = *rc::gen::inRange(3, 12);
+      const double r = 4.0 * (c.width + c.height) * kSubpixel;
+      const double cx = c.width * kSubpixel / 2.0, cy = c.height * kSubpixel / 2.0;
+      std::vector<VisCase::Vertex> ring;
+      const double phase = *rc::gen::inRange(0, 1000) * 2 * M_PI / 1000;
+      for (int i = 0; i < k; ++i) {
+        const double a = phase + 2 * M_PI * i / k;
+        ring.push_back({int32_t(std::lround(cx + r * std::cos(a))), int32_t(std::lround(cy + r * std::sin(a))),
+                        depth_value()});
+      }
+      for (int i = 0; i < k; ++i) c.tris.push_back({centre, ring[size_t(i)], ring[size_t((i + 1) % k)]});
+    }
+    // Mesh order does not matter for coverage: shuffle it.
+    for (size_t i = c.tris.size(); i > 1; --i) std::swap(c.tris[i - 1], c.tris[size_t(*rc::gen::inRange(0, int(i)))]);
+    return c;
+  });
+}
+
+// ---------------------------------------------------------------- subjects
+
+using VisFn = void (*)(const ScreenMesh&, const RasterSettings&, Visibility&);
+
+void simd_1(const ScreenMesh& m, const RasterSettings& s, Visibility& v) { opt::simd::zbuffer_visibility(m, s, 1, v); }
+
+// Deliberately broken rasterisers (the reference's loop with another ownership
+// rule for samples exactly on an edge).
+template <int kRule>  // 0: inclusive (every edge owns them), 1: bottom-right (the mirror of top-left)
+void broken(const ScreenMesh& mesh, const RasterSettings& s, Visibility& vis) {
+  ref::zbuffer_visibility(mesh, s, vis);
+  const auto off = sample_offsets(s);
+  const int spp = int(off.size());
+  std::fill(vis.count.begin(), vis.count.end(), 0);
+  std::fill(vis.tri.begin(), vis.tri.end(), Visibility::kNone);
+  std::fill(vis.depth.begin(), vis.depth.end(), empty_depth(s.depth));
+  for (uint32_t ti = 0; ti < mesh.tris.size(); ++ti) {
+    const auto& v = mesh.tris[ti].v;
+    for (int j = 0; j < mesh.height; ++j)
+      for (int i = 0; i < mesh.width; ++i)
+        for (int k = 0; k < spp; ++k) {
+          const int64_t px = int64_t(i) * kSubpixel + off[size_t(k)][0], py = int64_t(j) * kSubpixel + off[size_t(k)][1];
+          bool in = true;
+          double l[3];
+          for (int e = 0; e < 3; ++e) {
+            const auto& a = v[size_t((e + 1) % 3)];
+            const auto& b = v[size_t((e + 2) % 3)];
+            const int64_t E = int64_t(b.x - a.x) * (py - a.y) - int64_t(b.y - a.y) * (px - a.x);
+            const bool tl = (b.y == a.y && b.x > a.x) || b.y < a.y;
+            const bool owns = kRule == 0 ? E >= 0 : (E > 0 || (E == 0 && !tl));
+            in = in && owns;
+            l[e] = double(E);
+          }
+          if (!in) continue;
+          const size_t at = (size_t(j) * mesh.width + size_t(i)) * size_t(spp) + size_t(k);
+          ++vis.count[at];
+          const double area = l[0] + l[1] + l[2];
+          const double d = stored_depth(s.depth, 1 / (l[0] / area / v[0].z + l[1] / area / v[1].z + l[2] / area / v[2].z),
+                                        mesh.near_z, mesh.far_z);
+          if (nearer(s.depth, d, vis.depth[at])) vis.depth[at] = d, vis.tri[at] = ti;
+        }
+  }
+}
+
+struct Subject {
+  std::string name;
+  VisFn fn;
+};
+
+// ---------------------------------------------------------------- checks
+
+// The stored depth of triangle t at sample (px, py), as the reference computes it.
+double ref_depth(const ScreenMesh& m, const RasterSettings& s, uint32_t t, int64_t px, int64_t py) {
+  const auto& v = m.tris[t].v;
+  double l[3];
+  for (int e = 0; e < 3; ++e) {
+    const auto& a = v[size_t((e + 1) % 3)];
+    const auto& b = v[size_t((e + 2) % 3)];
+    l[e] = double(int64_t(b.x - a.x) * (py - a.y) - int64_t(b.y - a.y) * (px - a.x));
+  }
+  const double area = double(int64_t(v[1].x - v[0].x) * (v[2].y - v[0].y) - int64_t(v[1].y - v[0].y) * (v[2].x - v[0].x));
+  const double inv_z = l[0] / area / v[0].z + l[1] / area / v[1].z + l[2] / area / v[2].z;
+  return stored_depth(s.depth, 1 / inv_z, m.near_z, m.far_z);
+}
+
+// How far the optimized depth may be from the reference's, per format. Float
+// formats evaluate the plane in float: the block's first lane (up to 7 pixels
+// left of the sample) rounded from double, plus lane times the float x
+// gradient, so the error is a few float ulps of |d| + 8 |dd/dx| (per pixel):
+// measured in those units (bound 3). kFixed24 and kDouble raster in double: the
+// plane against the reference's barycentric sum, so a code may round the other
+// way (one code), and the double depth differs in the last bits.
+double depth_bound(DepthFormat f) {
+  switch (f) {
+    case DepthFormat::kFloat: return 3;     // measured 1.97 over 3000 deep cases
+    case DepthFormat::kReversed: return 3;  // measured 1.99
+    case DepthFormat::kFixed24: return 1;   // measured 0
+    case DepthFormat::kDouble: return 1e-14;  // measured 4.3e-15
+  }
+  return 0;
+}
+
+std::string sample_text(int i, int j, int k) {
+  return "sample " + std::to_string(k) + " of pixel (" + std::to_string(i) + ", " + std::to_string(j) + ")";
+}
+
+Verdict agreement(const Subject& subj, const VisCase& c) {
+  const ScreenMesh m = mesh_of(c);
+  const RasterSettings s = settings_of(c);
+  Visibility r, o;
+  ref::zbuffer_visibility(m, s, r);
+  subj.fn(m, s, o);
+  const auto off = sample_offsets(s);
+  const int spp = int(off.size());
+  const double bound = depth_bound(c.depth);
+  Verdict v;
+  if (o.tri.size() != r.tri.size() || o.count.size() != r.count.size() || o.depth.size() != r.depth.size()) {
+    Outcome out;
+    out.kind = Outcome::unexplained;
+    out.label = "size";
+    out.detail = "visibility buffers of another size";
+    v.rays.push_back(out);
+    return v;
+  }
+  for (int j = 0; j < c.height; ++j)
+    for (int i = 0; i < c.width; ++i)
+      for (int k = 0; k < spp; ++k) {
+        const size_t at = (size_t(j) * c.width + size_t(i)) * size_t(spp) + size_t(k);
+        const int64_t px = int64_t(i) * kSubpixel + off[size_t(k)][0], py = int64_t(j) * kSubpixel + off[size_t(k)][1];
+        Outcome out;
+        std::ostringstream d;
+        d << sample_text(i, j, k) << " at (" << px << ", " << py << ")/256: " << subj.name << " tri " << int64_t(int32_t(o.tri[at]))
+          << " count " << o.count[at] << " depth " << o.depth[at] << "; reference tri " << int64_t(int32_t(r.tri[at]))
+          << " count " << r.count[at] << " depth " << r.depth[at];
+        if (o.count[at] != r.count[at]) {
+          out.kind = Outcome::unexplained;
+          out.label = "count";
+          out.err = kInfinity;
+        } else if (o.tri[at] != r.tri[at]) {
+          // A tie: the reference's depths of the two triangles at the sample
+          // are within twice the depth bound (float formats: in ulps of the
+          // larger's terms).
+          const bool both = o.tri[at] != Visibility::kNone && r.tri[at] != Visibility::kNone;
+          double gap = both ? std::abs(ref_depth(m, s, o.tri[at], px, py) - r.depth[at]) : kInfinity;
+          if (both && (c.depth == DepthFormat::kFloat || c.depth == DepthFormat::kReversed)) {
+            double scale = 0;
+            for (const uint32_t t : {o.tri[at], r.tri[at]}) {
+              const double d = ref_depth(m, s, t, px, py);
+              scale = std::max(scale, std::abs(d) + 8 * std::abs(ref_depth(m, s, t, px + kSubpixel, py) - d));
+            }
+            gap /= 0x1p-24 * scale;
+          }
+          out.kind = gap <= 2 * bound ? Outcome::explained : Outcome::unexplained;
+          out.label = gap <= 2 * bound ? "depth_tie" : "visible_triangle";
+          out.err = kInfinity;
+          d << "; reference depth of the subject's triangle differs by " << gap;
+        } else if (r.tri[at] != Visibility::kNone) {
+          out.err = std::abs(o.depth[at] - r.depth[at]);
+          if (c.depth == DepthFormat::kFloat || c.depth == DepthFormat::kReversed) {
+            // In float ulps of the plane's terms: the depth and 8 pixels of its x gradient.
+            const double gx = std::abs(ref_depth(m, s, r.tri[at], px + kSubpixel, py) - r.depth[at]);
+            out.err /= 0x1p-24 * (std::abs(r.depth[at]) + 8 * gx);
+          }
+          out.measured = true;
+          out.unit = std::string(depth_name(c.depth)) + " depth";
+          if (!(out.err <= bound)) {
+            out.kind = Outcome::unexplained;
+            out.label = "depth";
+          }
+        } else if (!(o.depth[at] == r.depth[at])) {
+          out.kind = Outcome::unexplained;
+          out.label = "empty_depth";
+        }
+        if (out.kind != Outcome::ok) out.detail = d.str();
+        v.rays.push_back(std::move(out));
+      }
+  return v;
+}
+
+Verdict watertight(const Subject& subj, const VisCase& c) {
+  const ScreenMesh m = mesh_of(c);
+  const RasterSettings s = settings_of(c);
+  Visibility o;
+  subj.fn(m, s, o);
+  Verdict v;
+  const int spp = o.spp;
+  for (int j = 0; j < c.height; ++j)
+    for (int i = 0; i < c.width; ++i)
+      for (int k = 0; k < spp; ++k) {
+        const size_t at = (size_t(j) * c.width + size_t(i)) * size_t(spp) + size_t(k);
+        Outcome out;
+        out.err = std::abs(double(o.count[at]) - 1);
+        out.measured = true;
+        if (o.count[at] != 1) {
+          out.kind = Outcome::unexplained;
+          out.label = o.count[at] == 0 ? "hole" : "overlap";
+          out.detail = sample_text(i, j, k) + ": covered " + std::to_string(o.count[at]) + " times by " + subj.name +
+                       " (a closed mesh over the frame covers each sample once)";
+        }
+        v.rays.push_back(std::move(out));
+      }
+  return v;
+}
+
+using Check = Verdict (*)(const Subject&, const VisCase&);
+
+Property property(const std::string& check, const std::string& suite, const std::string& generator, Check fn,
+                  rc::Gen<VisCase> (*gen)(), const Subject& subj, double bound, const std::string& unit) {
+  Property p;
+  p.family = "zbuffer";
+  p.check = check;
+  p.suite = suite;
+  p.name = "zbuffer_visibility__" + subj.name;
+  p.generator = generator;
+  p.pair = "zbuffer_visibility";
+  p.impl = subj.name;
+  p.bound = bound;
+  p.unit = unit;
+  p.units = "samples";
+  const auto g = std::make_shared<const rc::Gen<VisCase>>(gen());
+  p.run = [g, fn, subj] {
+    auto c = std::make_shared<const VisCase>(**g);
+    Ran r;
+    r.verdict = fn(subj, *c);
+    r.text = [c](long) { return write_vis(*c); };
+    return r;
+  };
+  p.replay = [fn, subj](const std::string& text, const std::string& file) { return fn(subj, read_vis(text, file)); };
+  return p;
+}
+
+Property agreement_property(const Subject& s) {
+  return property("coverage_agreement", "CoverageAgreement", "soup", agreement, soup, s, 3,
+                  "stored depth (float formats: float ulps of |d| + 8 |dd/dx|; fixed24: codes)");
+}
+Property watertight_property(const Subject& s) {
+  return property("watertight", "Watertight", "closed", watertight, closed, s, 0, "coverage count - 1");
+}
+
+}  // namespace
+
+FamilyProperties visibility_properties(const ImageFamily& family) {
+  FamilyProperties out;
+  if (family.name != "zbuffer") return out;
+  const Subject reference{"reference", ref::zbuffer_visibility};
+  const Subject simd{"simd", simd_1};
+  out.properties.push_back(agreement_property(simd));
+  out.properties.push_back(watertight_property(reference));
+  out.properties.push_back(watertight_property(simd));
+  const Subject inclusive{"inclusive_edges", broken<0>};
+  const Subject bottom_right{"bottom_right", broken<1>};
+  out.mutants.push_back({"inclusive_edges", "samples on an edge belong to both triangles", "watertight",
+                         {agreement_property(inclusive), watertight_property(inclusive)}});
+  out.mutants.push_back({"bottom_right", "the mirror fill rule (bottom and right edges own their samples)",
+                         "coverage_agreement", {agreement_property(bottom_right), watertight_property(bottom_right)}});
+  return out;
+}
+
+}  // namespace lockstep::props::raster
