@@ -184,8 +184,41 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
 // distinct triangle the block's lanes get its attribute planes (broadcast, no
 // gathers); lighting then runs once over the block. The lighting is
 // core/shading.h's, in float (pow as exp(shine log x), as shade_simd.cpp).
+// Writes n pixels (alpha 1) of an RGBA image row from three colour vectors;
+// 8 at a time with a 4 x 8 transpose in registers (AVX2 and up), streamed past
+// the cache when the row is aligned: the frame is written once and not read back.
+template <class DF, class VF = hn::Vec<DF>>
+HWY_INLINE void WritePixels(DF df, VF r, VF g, VF b, float* dst, int n) {
+#if HWY_TARGET <= HWY_AVX2
+  if (hn::Lanes(df) == 8 && n == 8) {
+    const hn::Repartition<double, DF> d64;
+    const VF a = hn::Set(df, 1.0f);
+    const VF rg_lo = hn::InterleaveLower(df, r, g), rg_hi = hn::InterleaveUpper(df, r, g);
+    const VF ba_lo = hn::InterleaveLower(df, b, a), ba_hi = hn::InterleaveUpper(df, b, a);
+    auto lo64 = [&](VF x, VF y) { return hn::BitCast(df, hn::InterleaveLower(d64, hn::BitCast(d64, x), hn::BitCast(d64, y))); };
+    auto hi64 = [&](VF x, VF y) { return hn::BitCast(df, hn::InterleaveUpper(d64, hn::BitCast(d64, x), hn::BitCast(d64, y))); };
+    const VF p0 = lo64(rg_lo, ba_lo), p1 = hi64(rg_lo, ba_lo);  // pixels 0 | 4, 1 | 5
+    const VF p2 = lo64(rg_hi, ba_hi), p3 = hi64(rg_hi, ba_hi);  // pixels 2 | 6, 3 | 7
+    const VF q[4] = {hn::ConcatLowerLower(df, p1, p0), hn::ConcatLowerLower(df, p3, p2),
+                     hn::ConcatUpperUpper(df, p1, p0), hn::ConcatUpperUpper(df, p3, p2)};
+    if ((reinterpret_cast<uintptr_t>(dst) & 31) == 0) {
+      for (int k = 0; k < 4; ++k) hn::Stream(q[k], df, dst + 8 * k);
+    } else {
+      for (int k = 0; k < 4; ++k) hn::StoreU(q[k], df, dst + 8 * k);
+    }
+    return;
+  }
+#endif
+  HWY_ALIGN float cr[8], cg[8], cb[8];
+  hn::Store(r, df, cr), hn::Store(g, df, cg), hn::Store(b, df, cb);
+  for (int k = 0; k < n; ++k) {
+    dst[4 * k] = cr[k], dst[4 * k + 1] = cg[k], dst[4 * k + 2] = cb[k], dst[4 * k + 3] = 1.0f;
+  }
+}
+
 void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot, const LocalPlanes* planes,
-               const ShadeTri* tris, int cols, int rows, float* rgb, float* zout) {
+               const ShadeTri* tris, int cols, int rows, float* rgb, float* zout, float* image, size_t image_stride,
+               float* depth, size_t depth_stride) {
   const hn::CappedTag<float, 8> df;
   const hn::RebindToSigned<decltype(df)> di;
   using VF = hn::Vec<decltype(df)>;
@@ -193,8 +226,12 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot, co
   const int N = int(hn::Lanes(df));
   const int W = p.buf_w, H = p.buf_h;
   const size_t plane = size_t(W) * size_t(H);
-  std::fill_n(rgb, 3 * plane, 0.0f);
-  std::fill_n(zout, plane, HUGE_VALF);
+  // Samples 0 .. spp-2 accumulate in rgb and zout; the last one writes the image.
+  if (p.spp > 1) {
+    std::fill_n(rgb, 3 * plane, 0.0f);
+    std::fill_n(zout, plane, HUGE_VALF);
+  }
+  const VF inv_spp = hn::Set(df, 1.0f / float(p.spp));
   const bool flat = p.shading == Shading::kFlat, gouraud = p.shading == Shading::kGouraud;
   const bool lighting = !flat && !gouraud;
   const bool need_normal = lighting || p.silhouette;
@@ -331,11 +368,29 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot, co
           for (int c = 0; c < 3; ++c) col[c] = hn::IfThenElse(valid, col[c], bg[c]);
           z = hn::IfThenElse(valid, z, inf);
         }
-        for (int c = 0; c < 3; ++c) {
-          float* acc = rgb + size_t(c) * plane + pix;
-          hn::Store(hn::Add(hn::Load(df, acc), col[c]), df, acc);
+        if (smp + 1 < p.spp) {
+          for (int c = 0; c < 3; ++c) {
+            float* acc = rgb + size_t(c) * plane + pix;
+            hn::Store(hn::Add(hn::Load(df, acc), col[c]), df, acc);
+          }
+          hn::Store(hn::Min(hn::Load(df, zout + pix), z), df, zout + pix);
+          continue;
         }
-        hn::Store(hn::Min(hn::Load(df, zout + pix), z), df, zout + pix);
+        // The last sample: the box filter's mean, and the nearest sample's eye depth.
+        if (p.spp > 1) {
+          for (int c = 0; c < 3; ++c) col[c] = hn::Mul(hn::Add(hn::Load(df, rgb + size_t(c) * plane + pix), col[c]), inv_spp);
+          z = hn::Min(hn::Load(df, zout + pix), z);
+        }
+        const int n = std::min(N, cols - c0);
+        WritePixels(df, col[0], col[1], col[2], image + size_t(r) * image_stride + 4 * size_t(c0), n);
+        float* zrow = depth + size_t(r) * depth_stride + size_t(c0);
+        if (n == N) {
+          hn::StoreU(z, df, zrow);
+        } else {
+          HWY_ALIGN float zz[8];
+          hn::Store(z, df, zz);
+          std::copy_n(zz, n, zrow);
+        }
       }
     }
   }
@@ -362,8 +417,10 @@ HWY_EXPORT(TargetName);
 HWY_EXPORT(ShadeTile);
 
 void shade_tile(const ShadeParams& p, const int32_t* tri, const int32_t* slot, const LocalPlanes* planes,
-                const ShadeTri* tris, int cols, int rows, float* rgb, float* z) {
-  HWY_DYNAMIC_DISPATCH(ShadeTile)(p, tri, slot, planes, tris, cols, rows, rgb, z);
+                const ShadeTri* tris, int cols, int rows, float* rgb, float* z, float* image, size_t image_stride,
+                float* depth, size_t depth_stride) {
+  HWY_DYNAMIC_DISPATCH(ShadeTile)(p, tri, slot, planes, tris, cols, rows, rgb, z, image, image_stride, depth,
+                                  depth_stride);
 }
 
 void raster_tile(const RasterParams& p, const TileJob& t, float* depth, int32_t* tri, int32_t* count) {

@@ -74,13 +74,15 @@ struct ShadeParams {
 };
 
 // Shades the visible samples of a tile (tri: raster_tile's buffer) and
-// box-filters them: rgb[c * buf_w * buf_h + r * buf_w + col] is the mean colour
-// of pixel (col, r) (empty samples show the background); z[r * buf_w + col] is
-// the smallest eye depth of its visible samples (+inf: none). slot[id] is the
-// index into planes of triangle id; tris[id] its ShadeTri. cols x rows: the
-// tile's size.
+// box-filters them into the image: pixel (col, r) of the tile is written at
+// image + r * image_stride + 4 col (RGBA, alpha 1; empty samples show the
+// background), its eye depth -- the nearest sample's, +inf for none -- at
+// depth + r * depth_stride + col. rgb (3 planes) and z (1 plane) of buf_w x
+// buf_h floats, aligned, hold the sums while spp > 1. slot[id] is the index
+// into planes of triangle id; tris[id] its ShadeTri. cols x rows: the tile's size.
 void shade_tile(const ShadeParams& p, const int32_t* tri, const int32_t* slot, const LocalPlanes* planes,
-                const ShadeTri* tris, int cols, int rows, float* rgb, float* z);
+                const ShadeTri* tris, int cols, int rows, float* rgb, float* z, float* image, size_t image_stride,
+                float* depth, size_t depth_stride);
 
 struct RasterParams {
   const TriSetup* tris = nullptr;
