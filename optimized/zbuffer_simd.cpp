@@ -22,9 +22,6 @@
 #include <limits>
 
 #include "core/error.h"
-#include "core/timer.h"
-#include <atomic>
-#include <cstdio>
 #include "core/shading.h"
 #include "hwy/aligned_allocator.h"
 #include "optimized/raster.h"
@@ -272,10 +269,7 @@ Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const RasterSettings
   const auto off = sample_offsets(s);
   const int spp = int(off.size());
   std::vector<zsimd::ShadeTri> shade;
-  Stopwatch sw0;
   const Binned b = bin_mesh(mesh, s, off, opts.threads, &scene, &shade);
-  const double t_bin = sw0.seconds();
-  std::atomic<long> t_r{0}, t_p{0}, t_s{0}, t_w{0};
   const RasterParams p = raster_params(mesh, s, b, off);
   // Lights and camera in float.
   std::vector<float> lights;
@@ -302,18 +296,14 @@ Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const RasterSettings
   sp.dir_v[0] = float(dv.x), sp.dir_v[1] = float(dv.y), sp.dir_v[2] = float(dv.z);
   sp.buf_w = b.tw, sp.buf_h = b.th;
 
-  const double t_pre = sw0.seconds();
   Image img = Image::uninitialized(mesh.width, mesh.height);
   img.depth.resize(size_t(mesh.width) * size_t(mesh.height));
-  const double t_img = sw0.seconds();
   const size_t tiles = size_t(b.ntx) * size_t(b.nty);
   tbb::enumerable_thread_specific<TileBuffers<T>> buffers;
   tbb::enumerable_thread_specific<ShadeBuffers> shade_buffers;
   parallel_tiles(mesh.width, mesh.height, b.tw, b.th, opts.threads, opts.progress, [&](int x0, int y0, int x1, int y1) {
     TileBuffers<T>& buf = buffers.local();
-    Stopwatch sw;
     raster_one_tile(p, b, x0, y0, x1, y1, far_value<T>(s.depth), buf);
-    t_r += long(sw.seconds()*1e9); sw.restart();
     ShadeBuffers& sb = shade_buffers.local();
     if (sb.slot.size() != mesh.tris.size()) sb.slot.assign(mesh.tris.size(), 0);
     const size_t plane = size_t(b.tw) * size_t(b.th);
@@ -340,7 +330,6 @@ Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const RasterSettings
       }
     // The view direction through the tile's top-left pixel corner (the reference's
     // dir = forward + cx right + cy up, cx = (sx - width/2) pitch, cy = (height/2 - sy) pitch).
-    t_p += long(sw.seconds()*1e9); sw.restart();
     zsimd::ShadeParams tp = sp;
     const Camera& cam = mesh.camera;
     const Vec3 d0 = cam.forward + ((x0 - 0.5 * mesh.width) * cam.pitch) * cam.right +
@@ -349,9 +338,7 @@ Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const RasterSettings
     zsimd::shade_tile(tp, buf.tri.get(), sb.slot.data(), sb.planes.data(), shade.data(), x1 - x0, y1 - y0,
                       sb.rgb.get(), sb.z.get(), img.pixel(x0, y0), size_t(mesh.width) * 4,
                       img.depth.data() + size_t(y0) * mesh.width + size_t(x0), size_t(mesh.width));
-    t_w += long(sw.seconds()*1e9);
   });
-  if (getenv("ZB_PROFILE")) fprintf(stderr, "pre %.2f img %.2f write %.2f bin %.2f raster %.2f planes %.2f shade %.2f total %.2f ms\n", t_pre*1e3, t_img*1e3, t_w*1e-6, t_bin*1e3, t_r*1e-6, t_p*1e-6, t_s*1e-6, sw0.seconds()*1e3);
   if (stats) stats->items = mesh.scene_tris + mesh.sphere_tris;
   return img;
 }
