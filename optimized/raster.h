@@ -14,6 +14,10 @@ namespace opt::simd {
 // Same contract as ref::zbuffer_visibility; threads = 0: all cores.
 void zbuffer_visibility(const ScreenMesh& mesh, const RasterSettings& s, int threads, Visibility& vis);
 Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats);
+// lockstep::view_scene's mesh, bit for bit, in parallel and with every vertex
+// projected once (optimized/zbuffer_setup.cpp); scenes with spheres or with
+// triangles to clip are handed to view_scene itself.
+ScreenMesh view_scene(const Scene& scene, int width, int height, const RasterSettings& s, int threads);
 }  // namespace opt::simd
 
 namespace opt::llvmpipe {

@@ -10,9 +10,9 @@
 //      either copy them into the Visibility (zbuffer_visibility) or shade the
 //      visible samples and box-filter them into the image (zbuffer), while the
 //      tile is still in cache.
-// The screen mesh itself comes from ref::view_scene (shared set-up: viewing,
-// culling, clipping, sphere tessellation, snapping), so both z-buffers see the
-// same snapped coordinates.
+// The screen mesh is view_scene's (viewing, culling, clipping, sphere
+// tessellation, snapping), made by opt::simd::view_scene (zbuffer_setup.cpp):
+// the same mesh bit for bit, so both z-buffers see the same snapped coordinates.
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -95,13 +95,22 @@ void set_up(const ScreenMesh& mesh, const RasterSettings& s, uint32_t id, int32_
         plane_value(s, v[2].z, mesh.near_z, mesh.far_z), t.q0, t.qx, t.qy);
 }
 
+// How many of ShadeTri's plane rows a shading needs: 1/z always, the normal
+// for lighting and silhouettes, the colour for Gouraud.
+int shade_rows(const RasterSettings& s) {
+  if (s.shading == Shading::kGouraud) return 7;
+  if (s.shading != Shading::kFlat || s.silhouette) return 4;
+  return 1;
+}
+
 // The shading data of triangle id (see zsimd::ShadeTri).
 void set_up_shading(const Scene& scene, const ScreenMesh& mesh, const RasterSettings& s, uint32_t id,
                     const TriSetup& t, zsimd::ShadeTri& out) {
   const ScreenTri& tri = mesh.tris[id];
   const auto& v = tri.v;
   const double area = double(t.ex[2] * (int64_t(v[2].x) - t.ax[2]) + t.ey[2] * (int64_t(v[2].y) - t.ay[2]));
-  for (int row = 0; row < zsimd::ShadeTri::kRows; ++row) {
+  const int rows = shade_rows(s);
+  for (int row = 0; row < rows; ++row) {
     double a[3];
     for (int k = 0; k < 3; ++k) {
       const ScreenVertex& x = v[k];
@@ -178,7 +187,7 @@ struct TileBuffers {
   hwy::AlignedFreeUniquePtr<T[]> depth;
   hwy::AlignedFreeUniquePtr<int32_t[]> tri, count;
   std::vector<const std::vector<uint32_t>*> lists;
-  void reset(size_t n, T far_value) {
+  void reset(size_t n, T far_value, bool counting) {
     if (n != size) {
       depth = hwy::AllocateAligned<T>(n);
       tri = hwy::AllocateAligned<int32_t>(n);
@@ -187,15 +196,15 @@ struct TileBuffers {
     }
     std::fill_n(depth.get(), n, far_value);
     std::fill_n(tri.get(), n, -1);
-    std::fill_n(count.get(), n, 0);
+    if (counting) std::fill_n(count.get(), n, 0);
   }
 };
 
 template <class T>
 void raster_one_tile(const RasterParams& p, const Binned& b, int x0, int y0, int x1, int y1, T far_value,
-                     TileBuffers<T>& buf) {
+                     bool counting, TileBuffers<T>& buf) {
   const size_t n = size_t(p.buf_w) * size_t(p.buf_h) * size_t(p.spp);
-  buf.reset(n, far_value);
+  buf.reset(n, far_value, counting);
   const size_t tiles = size_t(b.ntx) * size_t(b.nty);
   const size_t tile = size_t(y0 / b.th) * size_t(b.ntx) + size_t(x0 / b.tw);
   buf.lists.clear();
@@ -207,7 +216,7 @@ void raster_one_tile(const RasterParams& p, const Binned& b, int x0, int y0, int
   job.x0 = x0, job.y0 = y0, job.x1 = x1, job.y1 = y1;
   job.lists = buf.lists.data();
   job.nlists = int(buf.lists.size());
-  zsimd::raster_tile(p, job, buf.depth.get(), buf.tri.get(), buf.count.get());
+  zsimd::raster_tile(p, job, buf.depth.get(), buf.tri.get(), counting ? buf.count.get() : nullptr);
 }
 
 RasterParams raster_params(const ScreenMesh& mesh, const RasterSettings& s, const Binned& b,
@@ -241,7 +250,7 @@ void visibility_t(const ScreenMesh& mesh, const RasterSettings& s, int threads, 
   tbb::enumerable_thread_specific<TileBuffers<T>> buffers;
   parallel_tiles(mesh.width, mesh.height, b.tw, b.th, threads, {}, [&](int x0, int y0, int x1, int y1) {
     TileBuffers<T>& buf = buffers.local();
-    raster_one_tile(p, b, x0, y0, x1, y1, far_value<T>(s.depth), buf);
+    raster_one_tile(p, b, x0, y0, x1, y1, far_value<T>(s.depth), true, buf);
     for (int y = y0; y < y1; ++y)
       for (int x = x0; x < x1; ++x)
         for (int k = 0; k < spp; ++k) {
@@ -299,11 +308,12 @@ Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const RasterSettings
   Image img = Image::uninitialized(mesh.width, mesh.height);
   img.depth.resize(size_t(mesh.width) * size_t(mesh.height));
   const size_t tiles = size_t(b.ntx) * size_t(b.nty);
+  const int rows = shade_rows(s);
   tbb::enumerable_thread_specific<TileBuffers<T>> buffers;
   tbb::enumerable_thread_specific<ShadeBuffers> shade_buffers;
   parallel_tiles(mesh.width, mesh.height, b.tw, b.th, opts.threads, opts.progress, [&](int x0, int y0, int x1, int y1) {
     TileBuffers<T>& buf = buffers.local();
-    raster_one_tile(p, b, x0, y0, x1, y1, far_value<T>(s.depth), buf);
+    raster_one_tile(p, b, x0, y0, x1, y1, far_value<T>(s.depth), false, buf);
     ShadeBuffers& sb = shade_buffers.local();
     if (sb.slot.size() != mesh.tris.size()) sb.slot.assign(mesh.tris.size(), 0);
     const size_t plane = size_t(b.tw) * size_t(b.th);
@@ -321,7 +331,7 @@ Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const RasterSettings
         sb.slot[id] = int32_t(sb.planes.size());
         zsimd::LocalPlanes& L = sb.planes.emplace_back();
         const TriSetup& t = b.setup[id];
-        for (int row = 0; row < zsimd::ShadeTri::kRows; ++row) {
+        for (int row = 0; row < rows; ++row) {
           const double* a = shade[id].plane[row];
           L.p[row][0] = float(a[0] + a[1] * double(cx - t.x0) + a[2] * double(cy - t.y0));
           L.p[row][1] = float(a[1] * kSubpixel);
@@ -357,7 +367,7 @@ Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   if (samples > double(1 << 25))
     throw InputError(scene.source, 0,
                      "size x spp is " + std::to_string(int64_t(samples)) + " samples; at most 33554432 (2^25)");
-  const ScreenMesh mesh = view_scene(scene, opts.width, opts.height, s);
+  const ScreenMesh mesh = view_scene(scene, opts.width, opts.height, s, opts.threads);
   if (double_depth(s.depth)) return zbuffer_t<double>(scene, mesh, s, opts, stats);
   return zbuffer_t<float>(scene, mesh, s, opts, stats);
 }

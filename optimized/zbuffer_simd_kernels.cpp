@@ -162,7 +162,7 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
             }
             if (hn::AllFalse(di, cover)) continue;
             const size_t at = row + size_t(c0 + b * N);
-            hn::Store(hn::Sub(hn::Load(di, count + at), hn::VecFromMask(di, cover)), di, count + at);
+            if (count) hn::Store(hn::Sub(hn::Load(di, count + at), hn::VecFromMask(di, cover)), di, count + at);
             const VT q = stored(hn::Add(hn::Set(dt, T(q_row + qsx * double(b * N))), q_lane));
             const VT old = hn::Load(dt, depth + at);
             const auto closer = reversed ? hn::Gt(q, old) : hn::Lt(q, old);
@@ -232,9 +232,14 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot, co
     std::fill_n(zout, plane, HUGE_VALF);
   }
   const VF inv_spp = hn::Set(df, 1.0f / float(p.spp));
-  const bool flat = p.shading == Shading::kFlat, gouraud = p.shading == Shading::kGouraud;
+  // The settings as locals: the stores below may alias p as far as the compiler knows.
+  const int spp = p.spp, nlights = p.nlights;
+  const bool perspective = p.perspective, silhouette = p.silhouette;
+  const Shading shading = p.shading;
+  const float* const light = p.light;
+  const bool flat = shading == Shading::kFlat, gouraud = shading == Shading::kGouraud;
   const bool lighting = !flat && !gouraud;
-  const bool need_normal = lighting || p.silhouette;
+  const bool need_normal = lighting || silhouette;
   const VF zero = hn::Zero(df), one = hn::Set(df, 1.0f), two = hn::Set(df, 2.0f);
   const VF inf = hn::Set(df, HUGE_VALF);
   const VI none = hn::Set(di, -1);
@@ -253,7 +258,7 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot, co
     for (int c = 0; c < 3; ++c) a[c] = hn::Mul(a[c], inv);
   };
 
-  for (int smp = 0; smp < p.spp; ++smp) {
+  for (int smp = 0; smp < spp; ++smp) {
     const float ou = float(p.offsets[smp][0]) / float(kSubpixel), ov = float(p.offsets[smp][1]) / float(kSubpixel);
     for (int r = 0; r < rows; ++r) {
       const VF v = hn::Set(df, float(r) + ov);
@@ -298,7 +303,7 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot, co
           }
           // z = 1 / w; attributes are plane / w (perspective) or the plane (affine).
           z = hn::Div(one, a[0]);
-          const VF att = p.perspective ? z : one;
+          const VF att = perspective ? z : one;
           // The view ray through the sample (forward component 1), the point
           // eye + z dir and the unit direction to the viewer.
           VF dir[3], pos[3], view[3], nrm[3];
@@ -325,8 +330,8 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot, co
             for (int c = 0; c < 3; ++c) col[c] = hn::Mul(a[4 + c], att);
           } else {
             for (int c = 0; c < 3; ++c) col[c] = hn::Mul(amb, kd[c]);
-            for (int l = 0; l < p.nlights; ++l) {
-              const float* li = p.light + 6 * l;
+            for (int l = 0; l < nlights; ++l) {
+              const float* li = light + 6 * l;
               VF L[3] = {hn::Sub(hn::Set(df, li[0]), pos[0]), hn::Sub(hn::Set(df, li[1]), pos[1]),
                          hn::Sub(hn::Set(df, li[2]), pos[2])};
               normalize3(L);
@@ -334,12 +339,12 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot, co
               const auto lit = hn::And(hn::Gt(ndl, zero), valid);
               if (hn::AllFalse(df, lit)) continue;
               VF term[3];
-              if (p.shading == Shading::kToon) {
+              if (shading == Shading::kToon) {
                 const VF q = hn::Min(one, hn::Div(hn::Floor(hn::Mul(ndl, hn::Set(df, bands))), hn::Set(df, band_div)));
                 for (int c = 0; c < 3; ++c) term[c] = hn::Mul(q, kd[c]);
               } else {
                 VF cosine;
-                if (p.shading == Shading::kPhong) {
+                if (shading == Shading::kPhong) {
                   VF R[3];  // L mirrored about N
                   for (int c = 0; c < 3; ++c) R[c] = hn::MulSub(hn::Mul(two, ndl), nrm[c], L[c]);
                   cosine = dot3(R, view);
@@ -360,7 +365,7 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot, co
                 col[c] = hn::IfThenElse(lit, hn::MulAdd(hn::Set(df, li[3 + c]), term[c], col[c]), col[c]);
             }
           }
-          if (p.silhouette) {
+          if (silhouette) {
             const VF ndv = hn::Abs(dot3(nrm, view));
             const auto edge = hn::Lt(ndv, hn::Set(df, p.silhouette_eps));
             for (int c = 0; c < 3; ++c) col[c] = hn::IfThenElseZero(hn::Not(edge), col[c]);
@@ -368,7 +373,7 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot, co
           for (int c = 0; c < 3; ++c) col[c] = hn::IfThenElse(valid, col[c], bg[c]);
           z = hn::IfThenElse(valid, z, inf);
         }
-        if (smp + 1 < p.spp) {
+        if (smp + 1 < spp) {
           for (int c = 0; c < 3; ++c) {
             float* acc = rgb + size_t(c) * plane + pix;
             hn::Store(hn::Add(hn::Load(df, acc), col[c]), df, acc);
@@ -377,7 +382,7 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot, co
           continue;
         }
         // The last sample: the box filter's mean, and the nearest sample's eye depth.
-        if (p.spp > 1) {
+        if (spp > 1) {
           for (int c = 0; c < 3; ++c) col[c] = hn::Mul(hn::Add(hn::Load(df, rgb + size_t(c) * plane + pix), col[c]), inv_spp);
           z = hn::Min(hn::Load(df, zout + pix), z);
         }

@@ -100,7 +100,8 @@ struct TileJob {
 };
 
 // Tile-local buffers, plane s (sample s), row r, column c at [(s buf_h + r) buf_w + c].
-// Before raster_tile: depth = the format's far end, tri = -1, count = 0.
+// Before raster_tile: depth = the format's far end, tri = -1, count = 0
+// (count may be null: coverage is then not counted).
 // float depth for every format but kDouble; that one rasters in double.
 void raster_tile(const RasterParams& p, const TileJob& t, float* depth, int32_t* tri, int32_t* count);
 void raster_tile(const RasterParams& p, const TileJob& t, double* depth, int32_t* tri, int32_t* count);

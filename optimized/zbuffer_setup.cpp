@@ -1,0 +1,178 @@
+// The optimized z-buffer's set-up: ref::view_scene's screen mesh, bit for bit,
+// in less time (declared in optimized/raster.h).
+//
+// view_scene (reference/viewing.cpp) transforms, tests and projects every
+// triangle's three vertices on their own, one triangle after another. Here:
+//   * every scene vertex is moved to eye space and snapped once, in parallel,
+//     with the very same double operations (so the same bits): a vertex shared
+//     by six triangles is projected once, not six times;
+//   * polygons are set up in parallel chunks (TBB), each chunk writing its own
+//     triangles, which are then concatenated in scene order;
+//   * everything else (culling in world or projection space, the flat colour
+//     per polygon, the Gouraud colour per vertex, the degenerate and culled
+//     counts) is the reference's arithmetic, operation for operation.
+// Only the common case is done here: no spheres, and no triangle that needs
+// clipping (at the hither plane or the guard band). Anything else is handed to
+// ref::view_scene whole, so the result is always view_scene's.
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <atomic>
+#include <cmath>
+
+#include "core/shading.h"
+#include "optimized/raster.h"
+#include "optimized/tiling.h"
+
+namespace lockstep::opt::simd {
+
+namespace {
+
+// reference/viewing.cpp's eye_from_world, to_screen and lit, operation for operation.
+Vec3 eye_from_world(const Camera& c, const Vec3& p) {
+  const Vec3 d = p - c.eye;
+  return {dot(d, c.right), dot(d, c.up), dot(d, c.forward)};
+}
+
+Vec3 lit(const Scene& scene, const Material& m, const Vec3& eye, const Vec3& p, Vec3 n) {
+  const Vec3 v = normalize(eye - p);
+  if (dot(n, v) < 0) n = -n;
+  return phong(scene, m, p, n, v);
+}
+
+struct Projected {
+  Vec3 eye;
+  int32_t x = 0, y = 0;
+  bool inside = false;  // within the hither plane and the guard band
+};
+
+struct Chunk {
+  std::vector<ScreenTri> tris;
+  uint64_t scene_tris = 0, culled = 0, degenerate = 0;
+  bool needs_clipping = false;
+};
+
+}  // namespace
+
+ScreenMesh view_scene(const Scene& scene, int width, int height, const RasterSettings& s, int threads) {
+  if (scene.sphere_count() > 0) return lockstep::view_scene(scene, width, height, s);
+  ScreenMesh mesh;
+  mesh.camera = Camera::from_view(scene.view, width, height);
+  mesh.width = width;
+  mesh.height = height;
+  const Camera& cam = mesh.camera;
+  // Near and far exactly as view_scene.
+  Vec3 lo, hi;
+  scene_bounds(scene, lo, hi);
+  double far_z = 0;
+  for (int k = 0; k < 8; ++k) {
+    const Vec3 corner{(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z};
+    far_z = std::max(far_z, eye_from_world(cam, corner).z);
+  }
+  mesh.far_z = std::max(far_z * (1 + 1e-6), 1e-300);
+  mesh.near_z = scene.view.hither > 0 ? scene.view.hither : mesh.far_z * 1e-6;
+  if (mesh.far_z <= mesh.near_z) mesh.far_z = 2 * mesh.near_z;
+  const double near_z = mesh.near_z, g = kGuardBand * cam.pitch;
+
+  tbb::task_arena arena(resolve_threads(threads));
+  // Every vertex once: eye space, the clip test, the snapped screen position.
+  std::vector<Projected> pv(scene.vertex.size());
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, pv.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i < r.end(); ++i) {
+        Projected& p = pv[i];
+        const Vec3 e = eye_from_world(cam, scene.vertex[i]);
+        p.eye = e;
+        p.inside = e.z - near_z >= 0 && g * e.z - e.x >= 0 && g * e.z + e.x >= 0 && g * e.z - e.y >= 0 &&
+                   g * e.z + e.y >= 0;
+        if (!p.inside) continue;
+        const double xs = 0.5 * cam.width + e.x / (e.z * cam.pitch);
+        const double ys = 0.5 * cam.height - e.y / (e.z * cam.pitch);
+        p.x = int32_t(std::llround(xs * kSubpixel));
+        p.y = int32_t(std::llround(ys * kSubpixel));
+      }
+    });
+  });
+
+  const uint32_t polys = scene.polygon_count();
+  const uint32_t per_chunk = 512;
+  const uint32_t nchunks = (polys + per_chunk - 1) / per_chunk;
+  std::vector<Chunk> chunks(nchunks);
+  std::atomic<bool> clipping{false};
+  auto run_chunk = [&](uint32_t c) {
+    Chunk& out = chunks[c];
+    const uint32_t first = c * per_chunk, last = std::min(polys, first + per_chunk);
+    out.tris.reserve(size_t(scene.poly_tri_first[last] - scene.poly_tri_first[first]));
+    for (uint32_t p = first; p < last && !clipping.load(std::memory_order_relaxed); ++p) {
+      const Material& m = scene.materials[scene.poly_material[p]];
+      const Vec3 face = scene.poly_plane[p].n;
+      if (length(face) == 0) continue;
+      Vec3 flat;
+      if (s.shading == Shading::kFlat) {
+        Vec3 centroid;
+        for (const Vec3& x : scene.polygon_vertices(p)) centroid += x;
+        flat = lit(scene, m, cam.eye, centroid / double(scene.polygon_vertices(p).size()), face);
+      }
+      const bool patch = scene.poly_is_patch[p] != 0;
+      const bool two_sided = m.two_sided();
+      for (uint32_t t = scene.poly_tri_first[p]; t < scene.poly_tri_first[p + 1]; ++t) {
+        ++out.scene_tris;
+        const auto& tv = scene.tri_vertex[t];
+        // World-space culling (view_scene's Emitter::triangle).
+        const Vec3& w0 = scene.vertex[tv[0]];
+        const bool front = dot(face, cam.eye - w0) > 0;
+        if (!front && !two_sided && s.cull == CullMode::kWorld) {
+          ++out.culled;
+          continue;
+        }
+        if (!pv[tv[0]].inside || !pv[tv[1]].inside || !pv[tv[2]].inside) {
+          out.needs_clipping = true;
+          clipping = true;
+          return;
+        }
+        ScreenTri st;
+        for (int i = 0; i < 3; ++i) {
+          const uint32_t vi = tv[size_t(i)];
+          ScreenVertex& v = st.v[size_t(i)];
+          v.x = pv[vi].x;
+          v.y = pv[vi].y;
+          v.z = pv[vi].eye.z;
+          v.world = scene.vertex[vi];
+          v.normal = patch ? scene.vertex_normal[vi] : face;
+          if (s.shading == Shading::kGouraud) v.color = lit(scene, m, cam.eye, v.world, v.normal);
+        }
+        st.prim = scene.sphere_count() + p;
+        st.source_tri = t;
+        st.flat_color = flat;
+        const int64_t area = int64_t(st.v[1].x - st.v[0].x) * (st.v[2].y - st.v[0].y) -
+                             int64_t(st.v[1].y - st.v[0].y) * (st.v[2].x - st.v[0].x);
+        if (area == 0) {
+          ++out.degenerate;
+          continue;
+        }
+        if (area < 0 && !two_sided && s.cull == CullMode::kProjection) {
+          ++out.culled;
+          continue;
+        }
+        if (area < 0) std::swap(st.v[1], st.v[2]);
+        st.face_normal = front ? face : -face;
+        out.tris.push_back(st);
+      }
+    }
+  };
+  arena.execute([&] { tbb::parallel_for(uint32_t(0), nchunks, run_chunk); });
+  if (clipping) return lockstep::view_scene(scene, width, height, s);
+
+  size_t total = 0;
+  for (const Chunk& c : chunks) total += c.tris.size();
+  mesh.tris.reserve(total);
+  for (Chunk& c : chunks) {
+    mesh.tris.insert(mesh.tris.end(), c.tris.begin(), c.tris.end());
+    mesh.scene_tris += c.scene_tris;
+    mesh.culled += c.culled;
+    mesh.degenerate += c.degenerate;
+  }
+  return mesh;
+}
+
+}  // namespace lockstep::opt::simd
