@@ -15,8 +15,11 @@
 //       shaded point along the ray).
 //       Anything else is unexplained.
 //
-// The parts of props/raster written beside this one add their properties
-// through the list in properties(); see props/raster/README.md.
+// The parts of props/raster (one file each: visibility, painter, scanline,
+// interpolation, llvmpipe, ...) are functions `void X_part(const ImageFamily&,
+// FamilyProperties&)` declared in props/raster/parts.h and listed in kParts
+// below; each adds what it tests of the family it is given. props/families.cpp
+// maps every raster family (zbuffer, scanline, painter) to properties().
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -28,6 +31,7 @@
 #include "reference/ray_cast.h"
 #include "pairs/registry.h"
 #include "props/property.h"
+#include "props/raster/parts.h"
 #include "props/raster/raster_case.h"
 
 namespace lockstep::props::raster {
@@ -190,11 +194,25 @@ Property cross_check_property(const ImageFamily& family, const ImageImpl& impl) 
 
 }  // namespace
 
+}  // namespace
+
+void cross_check_part(const ImageFamily& family, FamilyProperties& out) {
+  if (family.name != "zbuffer") return;
+  for (const ImageImpl& impl : family.impls)
+    if (impl.name != "llvmpipe") out.properties.push_back(cross_check_property(family, impl));
+}
+
+}  // namespace
+
+// Every part of props/raster: each looks at the family it is given (zbuffer,
+// scanline, painter) and adds what it tests of it.
 FamilyProperties properties(const ImageFamily& family) {
+  using Part = void (*)(const ImageFamily&, FamilyProperties&);
+  static constexpr Part kParts[] = {
+      cross_check_part,
+  };
   FamilyProperties out;
-  if (family.name == "zbuffer")
-    for (const ImageImpl& impl : family.impls)
-      if (impl.name != "llvmpipe") out.properties.push_back(cross_check_property(family, impl));
+  for (Part part : kParts) part(family, out);
   return out;
 }
 
