@@ -194,15 +194,11 @@ Property cross_check_property(const ImageFamily& family, const ImageImpl& impl) 
 
 }  // namespace
 
-}  // namespace
-
 void cross_check_part(const ImageFamily& family, FamilyProperties& out) {
   if (family.name != "zbuffer") return;
   for (const ImageImpl& impl : family.impls)
     if (impl.name != "llvmpipe") out.properties.push_back(cross_check_property(family, impl));
 }
-
-}  // namespace
 
 // Every part of props/raster: each looks at the family it is given (zbuffer,
 // scanline, painter) and adds what it tests of it.
