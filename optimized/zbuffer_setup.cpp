@@ -150,7 +150,8 @@ ScreenMesh view_scene(const Scene& scene, int width, int height, const RasterSet
           ++out.degenerate;
           continue;
         }
-        if (area < 0 && !two_sided && s.cull == CullMode::kProjection) {
+        // Projection space: a front face is counter-clockwise as seen, negative area with y down.
+        if (area > 0 && !two_sided && s.cull == CullMode::kProjection) {
           ++out.culled;
           continue;
         }

@@ -17,6 +17,9 @@
 //       sub-pixel positions or exactly on samples -- cover every sample exactly
 //       once (count == 1): no holes, no double writes (the Khronos fill-rule
 //       tests' additive accumulation).
+//   SetupIdentical.zbuffer__simd (random soups) and .zbuffer__simd_corpus
+//       (corpus scenes x culling modes x shadings x 1-2 threads):
+//       opt::simd::view_scene's mesh is view_scene's, bit for bit.
 //   Mutants: inclusive_edges (every edge owns its samples: caught by Watertight)
 //       and bottom_right (the mirror rule, watertight but not the contract:
 //       caught by CoverageAgreement).
@@ -26,16 +29,18 @@
 #include <memory>
 #include <sstream>
 
+#include <gtest/gtest.h>
+
 #include "core/error.h"
+#include "core/nff.h"
 #include "optimized/raster.h"
 #include "props/property.h"
+#include "props/raster/parts.h"
 #include "reference/raster.h"
 
 #include <rapidcheck.h>
 
 namespace lockstep::props::raster {
-
-FamilyProperties visibility_properties(const ImageFamily& family);
 
 namespace {
 
@@ -495,11 +500,77 @@ Property watertight_property(const Subject& s) {
   return property("watertight", "Watertight", "closed", watertight, closed, s, 0, "coverage count - 1");
 }
 
+// ---------------------------------------------------------------- the set-up
+
+// Where opt::simd::view_scene's mesh differs from view_scene's ("" when it is
+// the same, bit for bit).
+std::string mesh_difference(const ScreenMesh& a, const ScreenMesh& b) {
+  if (a.tris.size() != b.tris.size())
+    return std::to_string(a.tris.size()) + " triangles against " + std::to_string(b.tris.size());
+  if (a.scene_tris != b.scene_tris || a.sphere_tris != b.sphere_tris || a.culled != b.culled ||
+      a.clipped != b.clipped || a.degenerate != b.degenerate || a.near_z != b.near_z || a.far_z != b.far_z)
+    return "other counts or near/far";
+  auto same = [](const Vec3& x, const Vec3& y) { return x.x == y.x && x.y == y.y && x.z == y.z; };
+  for (size_t i = 0; i < a.tris.size(); ++i) {
+    const ScreenTri &s = a.tris[i], &t = b.tris[i];
+    bool ok = s.prim == t.prim && s.source_tri == t.source_tri && same(s.face_normal, t.face_normal) &&
+              same(s.flat_color, t.flat_color);
+    for (int k = 0; k < 3; ++k) {
+      const ScreenVertex &u = s.v[size_t(k)], &w = t.v[size_t(k)];
+      ok = ok && u.x == w.x && u.y == w.y && u.z == w.z && same(u.world, w.world) && same(u.normal, w.normal) &&
+           same(u.color, w.color);
+    }
+    if (!ok) return "triangle " + std::to_string(i) + " differs";
+  }
+  return "";
+}
+
+// The optimized set-up against view_scene on corpus scenes (balls-2: spheres,
+// handed to view_scene), every culling mode, the shadings whose set-up differs
+// (flat colour, Gouraud colours; Phong's is flat's without the colour).
+void setup_identical() {
+  for (const char* name : {"tetra-3.nff", "teapot-2.nff", "gears-2.nff", "mount-3.nff", "patches.nff", "concave.nff",
+                           "watertight-cube.nff", "balls-2.nff"}) {
+    const Scene scene = read_nff(std::string(LOCKSTEP_CORPUS_DIR) + "/scenes/" + name);
+    for (CullMode cull : {CullMode::kWorld, CullMode::kProjection, CullMode::kNone})
+      for (Shading sh : {Shading::kFlat, Shading::kGouraud})
+        for (int threads : {1, 2}) {
+          RasterSettings s;
+          s.cull = cull;
+          s.shading = sh;
+          const ScreenMesh a = opt::simd::view_scene(scene, 96, 80, s, threads);
+          const ScreenMesh b = lockstep::view_scene(scene, 96, 80, s);
+          EXPECT_EQ(mesh_difference(a, b), "") << name << " cull " << int(cull) << " shading " << int(sh);
+        }
+  }
+}
+
+// One outcome per (culling mode, shading) of the case's scene (soups have
+// two-sided triangles and triangles crossing the hither plane: the fallback).
+Verdict setup_case(const RasterCase& c) {
+  const auto scene = c.scene();
+  RasterSettings s = raster_settings(c.params, "<case>");
+  Verdict v;
+  for (CullMode cull : {CullMode::kWorld, CullMode::kProjection, CullMode::kNone})
+    for (Shading sh : {Shading::kFlat, Shading::kGouraud}) {
+      s.cull = cull;
+      s.shading = sh;
+      Outcome out;
+      out.detail = mesh_difference(opt::simd::view_scene(*scene, c.width, c.height, s, 1),
+                                   lockstep::view_scene(*scene, c.width, c.height, s));
+      if (!out.detail.empty()) {
+        out.kind = Outcome::unexplained, out.label = "mesh";
+        out.detail += " (cull " + std::to_string(int(cull)) + ", shading " + std::to_string(int(sh)) + ")";
+      }
+      v.rays.push_back(out);
+    }
+  return v;
+}
+
 }  // namespace
 
-FamilyProperties visibility_properties(const ImageFamily& family) {
-  FamilyProperties out;
-  if (family.name != "zbuffer") return out;
+void visibility_part(const ImageFamily& family, FamilyProperties& out) {
+  if (family.name != "zbuffer") return;
   const Subject reference{"reference", ref::zbuffer_visibility};
   const Subject simd{"simd", simd_1};
   out.properties.push_back(agreement_property(simd));
@@ -511,7 +582,14 @@ FamilyProperties visibility_properties(const ImageFamily& family) {
                          {agreement_property(inclusive), watertight_property(inclusive)}});
   out.mutants.push_back({"bottom_right", "the mirror fill rule (bottom and right edges own their samples)",
                          "coverage_agreement", {agreement_property(bottom_right), watertight_property(bottom_right)}});
-  return out;
+  // The optimized set-up (opt::simd::view_scene) makes view_scene's mesh.
+  out.fixed.push_back({"SetupIdentical", "zbuffer__simd_corpus", setup_identical});
+  if (const ImageImpl* simd = family.find("simd")) {
+    Property p = case_property(family, *simd, "SetupIdentical", "triangle_soup", triangle_soup(), 0,
+                               "meshes differing", setup_case);
+    p.units = "set-ups (culling mode x shading)";
+    out.properties.push_back(std::move(p));
+  }
 }
 
 }  // namespace lockstep::props::raster
