@@ -20,6 +20,11 @@ Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats);
 ScreenMesh view_scene(const Scene& scene, int width, int height, const RasterSettings& s, int threads);
 }  // namespace opt::simd
 
+namespace opt {
+// The Highway target the z-buffer kernels dispatch to (for the tests).
+const char* zsimd_target_name();
+}  // namespace opt
+
 namespace opt::llvmpipe {
 // True when this build has the OSMesa row; version() then names Mesa's version.
 bool available();

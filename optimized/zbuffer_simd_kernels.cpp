@@ -437,4 +437,8 @@ void raster_tile(const RasterParams& p, const TileJob& t, double* depth, int32_t
 const char* target_name() { return HWY_DYNAMIC_DISPATCH(TargetName)(); }
 
 }  // namespace lockstep::opt::zsimd
+
+namespace lockstep::opt {
+const char* zsimd_target_name() { return zsimd::target_name(); }
+}  // namespace lockstep::opt
 #endif  // HWY_ONCE

@@ -20,6 +20,8 @@
 //   SetupIdentical.zbuffer__simd (random soups) and .zbuffer__simd_corpus
 //       (corpus scenes x culling modes x shadings x 1-2 threads):
 //       opt::simd::view_scene's mesh is view_scene's, bit for bit.
+//   SimdTargets.zbuffer__simd: the same agreement on fixed soups, and corpus
+//       frames against the reference, on every Highway target compiled.
 //   Mutants: inclusive_edges (every edge owns its samples: caught by Watertight)
 //       and bottom_right (the mirror rule, watertight but not the contract:
 //       caught by CoverageAgreement).
@@ -31,7 +33,12 @@
 
 #include <gtest/gtest.h>
 
+#include <hwy/targets.h>
+
+#include <random>
+
 #include "core/error.h"
+#include "core/metrics.h"
 #include "core/nff.h"
 #include "optimized/raster.h"
 #include "props/property.h"
@@ -567,6 +574,74 @@ Verdict setup_case(const RasterCase& c) {
   return v;
 }
 
+// ---------------------------------------------------------------- every Highway target
+
+struct TargetGuard {
+  explicit TargetGuard(int64_t t) { hwy::SetSupportedTargetsForTest(t); }
+  ~TargetGuard() { hwy::SetSupportedTargetsForTest(0); }  // back to the real CPU
+};
+
+// Dispatch picks one target on this machine (AVX-512 here); the kernels' other
+// targets (AVX2: 4 double lanes and two halves per block; SSE4: 4 and 2; the
+// scalar one) must agree too. Fixed soups (std::mt19937) through the agreement
+// check, and corpus frames against the reference, per compiled target.
+void every_target(const ImageFamily& family) {
+  const auto targets = hwy::SupportedAndGeneratedTargets();
+  ASSERT_FALSE(targets.empty());
+  std::vector<VisCase> cases;
+  std::mt19937 rng(7);
+  for (int n = 0; n < 40; ++n) {
+    VisCase c;
+    c.width = 20 + int(rng() % 50), c.height = 10 + int(rng() % 40);
+    c.spp = n % 3 == 0 ? 4 : 1;
+    c.depth = n % 4 == 1 ? DepthFormat::kFixed24 : n % 4 == 2 ? DepthFormat::kReversed : DepthFormat::kFloat;
+    for (int t = 0; t < 12; ++t) {
+      std::array<VisCase::Vertex, 3> tri;
+      const bool huge = t % 5 == 4;
+      for (auto& v : tri) {
+        const int32_t span = huge ? (1 << 22) : (c.width + 4) * kSubpixel;
+        v.x = int32_t(int64_t(rng() % uint32_t(2 * span)) - span / 2 + c.width * kSubpixel / 2);
+        v.y = int32_t(int64_t(rng() % uint32_t(2 * span)) - span / 2 + c.height * kSubpixel / 2);
+        if (rng() % 3 == 0) v.x = v.x / kSubpixel * kSubpixel + kSubpixel / 2;  // on sample columns
+        v.z = 1 + double(rng() % 60000) / 1000;
+      }
+      c.tris.push_back(tri);
+    }
+    cases.push_back(c);
+  }
+  const ImageImpl* simd = family.find("simd");
+  ASSERT_NE(simd, nullptr);
+  CompareOptions cmp;
+  cmp.fail_threshold = family.tol.color_abs;
+  cmp.fail_percent = 100.0 * (1.0 - family.tol.pixel_fraction);
+  for (const int64_t t : targets) {
+    TargetGuard guard(t);
+    ASSERT_EQ(std::string(opt::zsimd_target_name()), std::string(hwy::TargetName(t)))
+        << "dispatch did not follow SetSupportedTargetsForTest";
+    const Subject subj{"simd", simd_1};
+    for (size_t i = 0; i < cases.size(); ++i) {
+      const Verdict v = agreement(subj, cases[i]);
+      EXPECT_TRUE(v.passed()) << "Highway target " << hwy::TargetName(t) << ", soup " << i << ": " << v.first_failure();
+    }
+    for (const char* name : {"gears-2", "teapot-2", "balls-2"})
+      for (const char* params : {"shading=phong", "shading=gouraud spp=4", "shading=toon silhouette=1 spp=9"}) {
+        const std::string path = std::string(LOCKSTEP_CORPUS_DIR) + "/scenes/" + name + ".nff";
+        const Input in = family.load(path);
+        FrameOptions o;
+        o.width = 67, o.height = 45, o.threads = 1;
+        std::istringstream ps(params);
+        for (std::string kv; ps >> kv;) o.params.set(kv.substr(0, kv.find('=')), kv.substr(kv.find('=') + 1));
+        const Image want = family.reference().render(in, o, nullptr);
+        const Image got = simd->render(in, o, nullptr);
+        const ImageError e = compare_images(got, want, cmp);
+        EXPECT_TRUE(e.pass) << name << " " << params << " on Highway target " << hwy::TargetName(t) << ": "
+                            << describe(e);
+      }
+    std::printf("[ lockstep ] zbuffer simd on %-7s: %zu soups, 9 corpus frames checked\n", hwy::TargetName(t),
+                cases.size());
+  }
+}
+
 }  // namespace
 
 void visibility_part(const ImageFamily& family, FamilyProperties& out) {
@@ -582,6 +657,7 @@ void visibility_part(const ImageFamily& family, FamilyProperties& out) {
                          {agreement_property(inclusive), watertight_property(inclusive)}});
   out.mutants.push_back({"bottom_right", "the mirror fill rule (bottom and right edges own their samples)",
                          "coverage_agreement", {agreement_property(bottom_right), watertight_property(bottom_right)}});
+  out.fixed.push_back({"SimdTargets", "zbuffer__simd", [&family] { every_target(family); }});
   // The optimized set-up (opt::simd::view_scene) makes view_scene's mesh.
   out.fixed.push_back({"SetupIdentical", "zbuffer__simd_corpus", setup_identical});
   if (const ImageImpl* simd = family.find("simd")) {
