@@ -23,8 +23,9 @@
 #include "core/shading.h"
 #include "optimized/raster.h"
 #include "optimized/tiling.h"
+#include "optimized/zbuffer_simd_kernels.h"
 
-namespace lockstep::opt::simd {
+namespace lockstep::opt::zsimd {
 
 namespace {
 
@@ -38,6 +39,16 @@ Vec3 lit(const Scene& scene, const Material& m, const Vec3& eye, const Vec3& p, 
   const Vec3 v = normalize(eye - p);
   if (dot(n, v) < 0) n = -n;
   return phong(scene, m, p, n, v);
+}
+
+// std::llround (half away from zero), inline: x - trunc(x) is exact, so this is
+// llround's answer for every finite x (the callers' are below 2^40).
+inline int64_t round_half_away(double x) {
+  double t = std::trunc(x);
+  const double f = x - t;
+  if (f >= 0.5) t += 1;
+  else if (f <= -0.5) t -= 1;
+  return int64_t(t);
 }
 
 struct Projected {
@@ -54,9 +65,14 @@ struct Chunk {
 
 }  // namespace
 
-ScreenMesh view_scene(const Scene& scene, int width, int height, const RasterSettings& s, int threads) {
-  if (scene.sphere_count() > 0) return lockstep::view_scene(scene, width, height, s);
-  ScreenMesh mesh;
+void view_scene_chunks(const Scene& scene, int width, int height, const RasterSettings& s, int threads,
+                       ScreenMesh& mesh, std::vector<std::vector<ScreenTri>>& out_chunks) {
+  out_chunks.clear();
+  if (scene.sphere_count() > 0) {
+    mesh = lockstep::view_scene(scene, width, height, s);
+    return;
+  }
+  mesh = ScreenMesh();
   mesh.camera = Camera::from_view(scene.view, width, height);
   mesh.width = width;
   mesh.height = height;
@@ -88,8 +104,8 @@ ScreenMesh view_scene(const Scene& scene, int width, int height, const RasterSet
         if (!p.inside) continue;
         const double xs = 0.5 * cam.width + e.x / (e.z * cam.pitch);
         const double ys = 0.5 * cam.height - e.y / (e.z * cam.pitch);
-        p.x = int32_t(std::llround(xs * kSubpixel));
-        p.y = int32_t(std::llround(ys * kSubpixel));
+        p.x = int32_t(round_half_away(xs * kSubpixel));
+        p.y = int32_t(round_half_away(ys * kSubpixel));
       }
     });
   });
@@ -162,17 +178,30 @@ ScreenMesh view_scene(const Scene& scene, int width, int height, const RasterSet
     }
   };
   arena.execute([&] { tbb::parallel_for(uint32_t(0), nchunks, run_chunk); });
-  if (clipping) return lockstep::view_scene(scene, width, height, s);
-
-  size_t total = 0;
-  for (const Chunk& c : chunks) total += c.tris.size();
-  mesh.tris.reserve(total);
+  if (clipping) {
+    mesh = lockstep::view_scene(scene, width, height, s);
+    return;
+  }
   for (Chunk& c : chunks) {
-    mesh.tris.insert(mesh.tris.end(), c.tris.begin(), c.tris.end());
     mesh.scene_tris += c.scene_tris;
     mesh.culled += c.culled;
     mesh.degenerate += c.degenerate;
+    out_chunks.push_back(std::move(c.tris));
   }
+}
+
+}  // namespace lockstep::opt::zsimd
+
+namespace lockstep::opt::simd {
+
+ScreenMesh view_scene(const Scene& scene, int width, int height, const RasterSettings& s, int threads) {
+  ScreenMesh mesh;
+  std::vector<std::vector<ScreenTri>> chunks;
+  zsimd::view_scene_chunks(scene, width, height, s, threads, mesh, chunks);
+  size_t total = mesh.tris.size();
+  for (const auto& c : chunks) total += c.size();
+  mesh.tris.reserve(total);
+  for (const auto& c : chunks) mesh.tris.insert(mesh.tris.end(), c.begin(), c.end());
   return mesh;
 }
 

@@ -11,8 +11,9 @@
 //      visible samples and box-filter them into the image (zbuffer), while the
 //      tile is still in cache.
 // The screen mesh is view_scene's (viewing, culling, clipping, sphere
-// tessellation, snapping), made by opt::simd::view_scene (zbuffer_setup.cpp):
-// the same mesh bit for bit, so both z-buffers see the same snapped coordinates.
+// tessellation, snapping), made by zsimd::view_scene_chunks (zbuffer_setup.cpp):
+// the same mesh bit for bit (left in its chunks), so both z-buffers see the
+// same snapped coordinates.
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -59,9 +60,8 @@ double plane_value(const RasterSettings& s, double z, double near_z, double far_
   return (1 / near_z - 1 / z) / (1 / near_z - 1 / far_z);
 }
 
-void set_up(const ScreenMesh& mesh, const RasterSettings& s, uint32_t id, int32_t ox0, int32_t ox1, int32_t oy0,
-            int32_t oy1, TriSetup& t) {
-  const ScreenTri& tri = mesh.tris[id];
+void set_up(const ScreenMesh& mesh, const RasterSettings& s, const ScreenTri& tri, int32_t ox0, int32_t ox1,
+            int32_t oy0, int32_t oy1, TriSetup& t) {
   const auto& v = tri.v;
   int64_t xmin = v[0].x, xmax = v[0].x, ymin = v[0].y, ymax = v[0].y;
   for (int k = 1; k < 3; ++k) {
@@ -104,9 +104,8 @@ int shade_rows(const RasterSettings& s) {
 }
 
 // The shading data of triangle id (see zsimd::ShadeTri).
-void set_up_shading(const Scene& scene, const ScreenMesh& mesh, const RasterSettings& s, uint32_t id,
-                    const TriSetup& t, zsimd::ShadeTri& out) {
-  const ScreenTri& tri = mesh.tris[id];
+void set_up_shading(const Scene& scene, const RasterSettings& s, const ScreenTri& tri, const TriSetup& t,
+                    zsimd::ShadeTri& out) {
   const auto& v = tri.v;
   const double area = double(t.ex[2] * (int64_t(v[2].x) - t.ax[2]) + t.ey[2] * (int64_t(v[2].y) - t.ay[2]));
   const int rows = shade_rows(s);
@@ -139,9 +138,11 @@ void set_up_shading(const Scene& scene, const ScreenMesh& mesh, const RasterSett
   out.face[0] = float(tri.face_normal.x), out.face[1] = float(tri.face_normal.y), out.face[2] = float(tri.face_normal.z);
 }
 
-// scene: also set up shading (shade.size() == mesh.tris.size()).
-Binned bin_mesh(const ScreenMesh& mesh, const RasterSettings& s, const std::vector<std::array<int32_t, 2>>& off,
-                int threads, const Scene* scene = nullptr, std::vector<zsimd::ShadeTri>* shade = nullptr) {
+// The triangles of tris (mesh order; mesh gives the frame, near and far). With
+// scene: also set up shading (shade.size() == tris.size()).
+Binned bin_mesh(const ScreenMesh& mesh, const std::vector<const ScreenTri*>& tris, const RasterSettings& s,
+                const std::vector<std::array<int32_t, 2>>& off, int threads, const Scene* scene = nullptr,
+                std::vector<zsimd::ShadeTri>* shade = nullptr) {
   Binned b;
   tile_size(int(off.size()), b.tw, b.th);
   b.ntx = (mesh.width + b.tw - 1) / b.tw;
@@ -152,7 +153,7 @@ Binned bin_mesh(const ScreenMesh& mesh, const RasterSettings& s, const std::vect
     ox0 = std::min(ox0, o[0]), ox1 = std::max(ox1, o[0]);
     oy0 = std::min(oy0, o[1]), oy1 = std::max(oy1, o[1]);
   }
-  const size_t n = mesh.tris.size();
+  const size_t n = tris.size();
   b.setup.resize(n);
   if (shade) shade->resize(n);
   const size_t per_chunk = 4096;
@@ -163,9 +164,9 @@ Binned bin_mesh(const ScreenMesh& mesh, const RasterSettings& s, const std::vect
     std::vector<uint32_t>* bins = b.bins.data() + size_t(c) * tiles;
     for (size_t id = first; id < last; ++id) {
       TriSetup& t = b.setup[id];
-      set_up(mesh, s, uint32_t(id), ox0, ox1, oy0, oy1, t);
+      set_up(mesh, s, *tris[id], ox0, ox1, oy0, oy1, t);
       if (t.i0 > t.i1 || t.j0 > t.j1) continue;
-      if (shade) set_up_shading(*scene, mesh, s, uint32_t(id), t, (*shade)[id]);
+      if (shade) set_up_shading(*scene, s, *tris[id], t, (*shade)[id]);
       for (int ty = t.j0 / b.th; ty <= t.j1 / b.th; ++ty)
         for (int tx = t.i0 / b.tw; tx <= t.i1 / b.tw; ++tx) bins[size_t(ty) * b.ntx + tx].push_back(uint32_t(id));
     }
@@ -244,7 +245,9 @@ void visibility_t(const ScreenMesh& mesh, const RasterSettings& s, int threads, 
   vis.tri.assign(total, Visibility::kNone);
   vis.depth.assign(total, empty_depth(s.depth));
   vis.count.assign(total, 0);
-  const Binned b = bin_mesh(mesh, s, off, threads);
+  std::vector<const ScreenTri*> tris(mesh.tris.size());
+  for (size_t i = 0; i < tris.size(); ++i) tris[i] = &mesh.tris[i];
+  const Binned b = bin_mesh(mesh, tris, s, off, threads);
   const RasterParams p = raster_params(mesh, s, b, off);
   const double empty = empty_depth(s.depth);
   tbb::enumerable_thread_specific<TileBuffers<T>> buffers;
@@ -273,12 +276,12 @@ struct ShadeBuffers {
 };
 
 template <class T>
-Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const RasterSettings& s, const FrameOptions& opts,
-                FrameStats* stats) {
+Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const std::vector<const ScreenTri*>& tris,
+                const RasterSettings& s, const FrameOptions& opts, FrameStats* stats) {
   const auto off = sample_offsets(s);
   const int spp = int(off.size());
   std::vector<zsimd::ShadeTri> shade;
-  const Binned b = bin_mesh(mesh, s, off, opts.threads, &scene, &shade);
+  const Binned b = bin_mesh(mesh, tris, s, off, opts.threads, &scene, &shade);
   const RasterParams p = raster_params(mesh, s, b, off);
   // Lights and camera in float.
   std::vector<float> lights;
@@ -315,7 +318,7 @@ Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const RasterSettings
     TileBuffers<T>& buf = buffers.local();
     raster_one_tile(p, b, x0, y0, x1, y1, far_value<T>(s.depth), false, buf);
     ShadeBuffers& sb = shade_buffers.local();
-    if (sb.slot.size() != mesh.tris.size()) sb.slot.assign(mesh.tris.size(), 0);
+    if (sb.slot.size() != tris.size()) sb.slot.assign(tris.size(), 0);
     const size_t plane = size_t(b.tw) * size_t(b.th);
     if (sb.size != plane) {
       sb.rgb = hwy::AllocateAligned<float>(3 * plane);
@@ -367,9 +370,17 @@ Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   if (samples > double(1 << 25))
     throw InputError(scene.source, 0,
                      "size x spp is " + std::to_string(int64_t(samples)) + " samples; at most 33554432 (2^25)");
-  const ScreenMesh mesh = view_scene(scene, opts.width, opts.height, s, opts.threads);
-  if (double_depth(s.depth)) return zbuffer_t<double>(scene, mesh, s, opts, stats);
-  return zbuffer_t<float>(scene, mesh, s, opts, stats);
+  // The mesh's triangles stay in the set-up's chunks (no copy into one vector).
+  ScreenMesh mesh;
+  std::vector<std::vector<ScreenTri>> chunks;
+  zsimd::view_scene_chunks(scene, opts.width, opts.height, s, opts.threads, mesh, chunks);
+  std::vector<const ScreenTri*> tris;
+  for (const auto* part : {&mesh.tris})
+    for (const ScreenTri& t : *part) tris.push_back(&t);
+  for (const auto& c : chunks)
+    for (const ScreenTri& t : c) tris.push_back(&t);
+  if (double_depth(s.depth)) return zbuffer_t<double>(scene, mesh, tris, s, opts, stats);
+  return zbuffer_t<float>(scene, mesh, tris, s, opts, stats);
 }
 
 void zbuffer_visibility(const ScreenMesh& mesh, const RasterSettings& s, int threads, Visibility& vis) {
