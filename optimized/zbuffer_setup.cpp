@@ -44,11 +44,9 @@ Vec3 lit(const Scene& scene, const Material& m, const Vec3& eye, const Vec3& p, 
 // std::llround (half away from zero), inline: x - trunc(x) is exact, so this is
 // llround's answer for every finite x (the callers' are below 2^40).
 inline int64_t round_half_away(double x) {
-  double t = std::trunc(x);
+  const double t = std::trunc(x);
   const double f = x - t;
-  if (f >= 0.5) t += 1;
-  else if (f <= -0.5) t -= 1;
-  return int64_t(t);
+  return int64_t(t + (f >= 0.5 ? 1.0 : 0.0) - (f <= -0.5 ? 1.0 : 0.0));
 }
 
 struct Projected {
@@ -99,13 +97,14 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
         Projected& p = pv[i];
         const Vec3 e = eye_from_world(cam, scene.vertex[i]);
         p.eye = e;
-        p.inside = e.z - near_z >= 0 && g * e.z - e.x >= 0 && g * e.z + e.x >= 0 && g * e.z - e.y >= 0 &&
-                   g * e.z + e.y >= 0;
-        if (!p.inside) continue;
+        // Branch-free (& not &&), so that the compiler can vectorise the loop.
+        const bool inside = (e.z - near_z >= 0) & (g * e.z - e.x >= 0) & (g * e.z + e.x >= 0) &
+                            (g * e.z - e.y >= 0) & (g * e.z + e.y >= 0);
+        p.inside = inside;
         const double xs = 0.5 * cam.width + e.x / (e.z * cam.pitch);
         const double ys = 0.5 * cam.height - e.y / (e.z * cam.pitch);
-        p.x = int32_t(round_half_away(xs * kSubpixel));
-        p.y = int32_t(round_half_away(ys * kSubpixel));
+        p.x = int32_t(round_half_away(inside ? xs * kSubpixel : 0.0));
+        p.y = int32_t(round_half_away(inside ? ys * kSubpixel : 0.0));
       }
     });
   });
@@ -146,7 +145,7 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
           clipping = true;
           return;
         }
-        ScreenTri st;
+        ScreenTri& st = out.tris.emplace_back();  // built in place (a ScreenTri is 300 bytes)
         for (int i = 0; i < 3; ++i) {
           const uint32_t vi = tv[size_t(i)];
           ScreenVertex& v = st.v[size_t(i)];
@@ -164,16 +163,17 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
                              int64_t(st.v[1].y - st.v[0].y) * (st.v[2].x - st.v[0].x);
         if (area == 0) {
           ++out.degenerate;
+          out.tris.pop_back();
           continue;
         }
         // Projection space: a front face is counter-clockwise as seen, negative area with y down.
         if (area > 0 && !two_sided && s.cull == CullMode::kProjection) {
           ++out.culled;
+          out.tris.pop_back();
           continue;
         }
         if (area < 0) std::swap(st.v[1], st.v[2]);
         st.face_normal = front ? face : -face;
-        out.tris.push_back(st);
       }
     }
   };

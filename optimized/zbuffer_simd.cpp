@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 #include "core/error.h"
 #include "core/shading.h"
@@ -49,7 +50,7 @@ void tile_size(int spp, int& tw, int& th) {
 
 struct Binned {
   int tw = 64, th = 64, ntx = 0, nty = 0, nchunks = 0;
-  std::vector<TriSetup> setup;
+  std::unique_ptr<TriSetup[]> setup;  // per triangle (not zeroed: set_up writes every field)
   std::vector<std::vector<uint32_t>> bins;  // [chunk * tiles + tile]: triangle ids in mesh order
 };
 
@@ -103,9 +104,10 @@ int shade_rows(const RasterSettings& s) {
   return 1;
 }
 
-// The shading data of triangle id (see zsimd::ShadeTri).
+// The shading data of a triangle (see zsimd::ShadeTri): out, and its rows of
+// attribute planes at planes (a0, ax, ay per row).
 void set_up_shading(const Scene& scene, const RasterSettings& s, const ScreenTri& tri, const TriSetup& t,
-                    zsimd::ShadeTri& out) {
+                    zsimd::ShadeTri& out, double* planes) {
   const auto& v = tri.v;
   const double area = double(t.ex[2] * (int64_t(v[2].x) - t.ax[2]) + t.ey[2] * (int64_t(v[2].y) - t.ay[2]));
   const int rows = shade_rows(s);
@@ -125,7 +127,7 @@ void set_up_shading(const Scene& scene, const RasterSettings& s, const ScreenTri
       // 1/z and, under perspective, attribute / z: affine in screen space.
       a[k] = row == 0 || s.perspective ? value / x.z : value;
     }
-    double* c = out.plane[row];
+    double* c = planes + 3 * row;
     c[0] = a[0];
     c[1] = ((a[1] - a[0]) * double(t.ex[1]) + (a[2] - a[0]) * double(t.ex[2])) / area;
     c[2] = ((a[1] - a[0]) * double(t.ey[1]) + (a[2] - a[0]) * double(t.ey[2])) / area;
@@ -138,11 +140,19 @@ void set_up_shading(const Scene& scene, const RasterSettings& s, const ScreenTri
   out.face[0] = float(tri.face_normal.x), out.face[1] = float(tri.face_normal.y), out.face[2] = float(tri.face_normal.z);
 }
 
+// The shading set-up of a mesh: per triangle a ShadeTri and `rows` plane rows.
+struct ShadeSetup {
+  int rows = 1;
+  std::unique_ptr<zsimd::ShadeTri[]> tri;  // only binned triangles are written (and read)
+  std::unique_ptr<double[]> planes;        // rows * 3 per triangle
+  const double* plane(size_t id) const { return planes.get() + id * size_t(rows) * 3; }
+};
+
 // The triangles of tris (mesh order; mesh gives the frame, near and far). With
-// scene: also set up shading (shade.size() == tris.size()).
+// scene: also set up shading.
 Binned bin_mesh(const ScreenMesh& mesh, const std::vector<const ScreenTri*>& tris, const RasterSettings& s,
                 const std::vector<std::array<int32_t, 2>>& off, int threads, const Scene* scene = nullptr,
-                std::vector<zsimd::ShadeTri>* shade = nullptr) {
+                ShadeSetup* shade = nullptr) {
   Binned b;
   tile_size(int(off.size()), b.tw, b.th);
   b.ntx = (mesh.width + b.tw - 1) / b.tw;
@@ -154,8 +164,12 @@ Binned bin_mesh(const ScreenMesh& mesh, const std::vector<const ScreenTri*>& tri
     oy0 = std::min(oy0, o[1]), oy1 = std::max(oy1, o[1]);
   }
   const size_t n = tris.size();
-  b.setup.resize(n);
-  if (shade) shade->resize(n);
+  b.setup = std::make_unique_for_overwrite<TriSetup[]>(n);
+  if (shade) {
+    shade->rows = shade_rows(s);
+    shade->tri = std::make_unique_for_overwrite<zsimd::ShadeTri[]>(n);
+    shade->planes = std::make_unique_for_overwrite<double[]>(n * size_t(shade->rows) * 3);
+  }
   const size_t per_chunk = 4096;
   b.nchunks = int((n + per_chunk - 1) / per_chunk);
   b.bins.resize(size_t(b.nchunks) * tiles);
@@ -166,7 +180,8 @@ Binned bin_mesh(const ScreenMesh& mesh, const std::vector<const ScreenTri*>& tri
       TriSetup& t = b.setup[id];
       set_up(mesh, s, *tris[id], ox0, ox1, oy0, oy1, t);
       if (t.i0 > t.i1 || t.j0 > t.j1) continue;
-      if (shade) set_up_shading(*scene, s, *tris[id], t, (*shade)[id]);
+      if (shade)
+        set_up_shading(*scene, s, *tris[id], t, shade->tri[id], shade->planes.get() + id * size_t(shade->rows) * 3);
       for (int ty = t.j0 / b.th; ty <= t.j1 / b.th; ++ty)
         for (int tx = t.i0 / b.tw; tx <= t.i1 / b.tw; ++tx) bins[size_t(ty) * b.ntx + tx].push_back(uint32_t(id));
     }
@@ -223,7 +238,7 @@ void raster_one_tile(const RasterParams& p, const Binned& b, int x0, int y0, int
 RasterParams raster_params(const ScreenMesh& mesh, const RasterSettings& s, const Binned& b,
                            const std::vector<std::array<int32_t, 2>>& off) {
   RasterParams p;
-  p.tris = b.setup.data();
+  p.tris = b.setup.get();
   p.offsets = off.data();
   p.spp = int(off.size());
   p.depth = s.depth;
@@ -280,7 +295,7 @@ Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const std::vector<co
                 const RasterSettings& s, const FrameOptions& opts, FrameStats* stats) {
   const auto off = sample_offsets(s);
   const int spp = int(off.size());
-  std::vector<zsimd::ShadeTri> shade;
+  ShadeSetup shade;
   const Binned b = bin_mesh(mesh, tris, s, off, opts.threads, &scene, &shade);
   const RasterParams p = raster_params(mesh, s, b, off);
   // Lights and camera in float.
@@ -335,7 +350,7 @@ Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const std::vector<co
         zsimd::LocalPlanes& L = sb.planes.emplace_back();
         const TriSetup& t = b.setup[id];
         for (int row = 0; row < rows; ++row) {
-          const double* a = shade[id].plane[row];
+          const double* a = shade.plane(id) + 3 * row;
           L.p[row][0] = float(a[0] + a[1] * double(cx - t.x0) + a[2] * double(cy - t.y0));
           L.p[row][1] = float(a[1] * kSubpixel);
           L.p[row][2] = float(a[2] * kSubpixel);
@@ -348,7 +363,7 @@ Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const std::vector<co
     const Vec3 d0 = cam.forward + ((x0 - 0.5 * mesh.width) * cam.pitch) * cam.right +
                     ((0.5 * mesh.height - y0) * cam.pitch) * cam.up;
     tp.dir0[0] = float(d0.x), tp.dir0[1] = float(d0.y), tp.dir0[2] = float(d0.z);
-    zsimd::shade_tile(tp, buf.tri.get(), sb.slot.data(), sb.planes.data(), shade.data(), x1 - x0, y1 - y0,
+    zsimd::shade_tile(tp, buf.tri.get(), sb.slot.data(), sb.planes.data(), shade.tri.get(), x1 - x0, y1 - y0,
                       sb.rgb.get(), sb.z.get(), img.pixel(x0, y0), size_t(mesh.width) * 4,
                       img.depth.data() + size_t(y0) * mesh.width + size_t(x0), size_t(mesh.width));
   });

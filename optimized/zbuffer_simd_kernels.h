@@ -32,17 +32,17 @@ struct TriSetup {
   int32_t i0, i1, j0, j1;   // pixels that may hold a covered sample (inclusive; i0 > i1: none)
   // Depth plane q(P) = q0 + qx (P.x - x0) + qy (P.y - y0), P in 1/256 px: the
   // stored depth (kFixed24: the window depth before rounding).
-  double q0 = 0, qx = 0, qy = 0;
+  double q0, qx, qy;  // (no initialisers: the set-up writes every field; arrays of them are not zeroed first)
 };
 
-// What shading needs of one triangle. Attribute planes a(P) = a0 + ax (P.x -
-// x0) + ay (P.y - y0) (P in 1/256 px, (x0, y0) = TriSetup's vertex 0): row 0
-// is w = 1/z; rows 1.. hold attribute / z under perspective (the attribute is
+// What shading needs of one triangle. Its attribute planes (kept apart, in
+// double, as many rows as the shading needs) are a(P) = a0 + ax (P.x - x0) +
+// ay (P.y - y0) (P in 1/256 px, (x0, y0) = TriSetup's vertex 0): row 0 is
+// w = 1/z; rows 1.. hold attribute / z under perspective (the attribute is
 // row / w) and the attributes themselves under affine interpolation.
 // Rows 1-3: shading normal; 4-6: Gouraud's lit colour.
 struct ShadeTri {
   static constexpr int kRows = 7;
-  double plane[kRows][3];
   float k[3], ks, shine;  // kd * colour, ks, shine of the material
   float flat[3];          // kFlat: the polygon's colour
   float face[3];          // the face normal of the drawn side (where the interpolated one is 0)
