@@ -19,8 +19,8 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
-#include <ostream>
 #include <numbers>
+#include <ostream>
 #include <string>
 
 #include "core/camera.h"
@@ -35,8 +35,7 @@ namespace {
 
 // ---------------------------------------------------------------- parsing
 
-const char* kView =
-    "v\nfrom 0 0 10\nat 0 0 0\nup 0 1 0\nangle 60\nhither 0.01\nresolution 41 41\n";
+const char* kView = "v\nfrom 0 0 10\nat 0 0 0\nup 0 1 0\nangle 60\nhither 0.01\nresolution 41 41\n";
 
 TEST(NffLights, FieldsAreRead) {
   const Scene s = parse_nff(std::string(kView) +
@@ -82,7 +81,8 @@ TEST(NffLights, OnlyExactHashLockstepIsSpecial) {
 
 TEST(NffLights, TinyAndHugeDirectionsNormalise) {
   for (const char* d : {"0 0 -1e-310", "0 0 -1e300", "3e-200 0 -4e-200"}) {
-    const Scene s = parse_nff(std::string(kView) + "l 1 2 3\n#lockstep spot " + d + " 30 1\n", "dir.nff");
+    const Scene s =
+        parse_nff(std::string(kView) + "l 1 2 3\n#lockstep spot " + d + " 30 1\n", "dir.nff");
     const Vec3 u = s.lights[0].spot_dir;
     EXPECT_NEAR(length(u), 1.0, 1e-15) << d;
     EXPECT_LT(u.z, 0) << d;
@@ -92,11 +92,12 @@ TEST(NffLights, TinyAndHugeDirectionsNormalise) {
 TEST(NffLights, MalformedIsAnInputErrorNamingTheLine) {
   // The CLI tests (tests/bad/) check each message; here: every form throws
   // InputError at line 9, the #lockstep line.
-  for (const char* bad : {"#lockstep", "#lockstep atten", "#lockstep atten 1 2", "#lockstep atten 1 2 3 4",
-                          "#lockstep atten -1 0 0", "#lockstep atten 0 0 0", "#lockstep atten 1 nan 0",
-                          "#lockstep spot 0 0 -1 30", "#lockstep spot 0 0 0 30 1", "#lockstep spot 0 0 -1 0 1",
-                          "#lockstep spot 0 0 -1 91 1", "#lockstep spot 0 0 -1 30 -2", "#lockstep spot 0 0 inf 30 1",
-                          "#lockstep glow 1", "#lockstep atten 1 0 0\n#lockstep atten 1 0 0"}) {
+  for (const char* bad :
+       {"#lockstep", "#lockstep atten", "#lockstep atten 1 2", "#lockstep atten 1 2 3 4",
+        "#lockstep atten -1 0 0", "#lockstep atten 0 0 0", "#lockstep atten 1 nan 0",
+        "#lockstep spot 0 0 -1 30", "#lockstep spot 0 0 0 30 1", "#lockstep spot 0 0 -1 0 1",
+        "#lockstep spot 0 0 -1 91 1", "#lockstep spot 0 0 -1 30 -2", "#lockstep spot 0 0 inf 30 1",
+        "#lockstep glow 1", "#lockstep atten 1 0 0\n#lockstep atten 1 0 0"}) {
     const std::string text = std::string(kView) + "l 1 2 3\n" + bad + "\n";
     try {
       parse_nff(text, "bad.nff");
@@ -104,7 +105,8 @@ TEST(NffLights, MalformedIsAnInputErrorNamingTheLine) {
     } catch (const InputError& e) {
       const std::string what = e.what();
       const bool twice = std::string(bad).find('\n') != std::string::npos;
-      EXPECT_NE(what.find(twice ? "bad.nff:10:" : "bad.nff:9:"), std::string::npos) << bad << " -> " << what;
+      EXPECT_NE(what.find(twice ? "bad.nff:10:" : "bad.nff:9:"), std::string::npos)
+          << bad << " -> " << what;
     }
   }
 }
@@ -113,10 +115,10 @@ TEST(NffLights, MalformedIsAnInputErrorNamingTheLine) {
 
 struct Config {
   std::string name;
-  Vec3 light;           // position
-  Vec3 ip;              // colour
-  Vec3 dir;             // spot direction as written (not normalised)
-  double cutoff;        // degrees
+  Vec3 light;     // position
+  Vec3 ip;        // colour
+  Vec3 dir;       // spot direction as written (not normalised)
+  double cutoff;  // degrees
   double exponent;
   Vec3 c;               // attenuation c1 c2 c3
   bool clamps;          // whether min(1, .) is active somewhere in the image
@@ -132,8 +134,9 @@ std::string nff_of(const Config& k) {
                 "#lockstep atten %.17g %.17g %.17g\n"
                 "f %.17g %.17g %.17g %.17g 0 1 0 1\n"
                 "p 4\n-50 -50 0\n50 -50 0\n50 50 0\n-50 50 0\n",
-                kView, k.light.x, k.light.y, k.light.z, k.ip.x, k.ip.y, k.ip.z, k.dir.x, k.dir.y, k.dir.z, k.cutoff,
-                k.exponent, k.c.x, k.c.y, k.c.z, k.color.x, k.color.y, k.color.z, k.kd);
+                kView, k.light.x, k.light.y, k.light.z, k.ip.x, k.ip.y, k.ip.z, k.dir.x, k.dir.y,
+                k.dir.z, k.cutoff, k.exponent, k.c.x, k.c.y, k.c.z, k.color.x, k.color.y, k.color.z,
+                k.kd);
   return buf;
 }
 
@@ -146,7 +149,8 @@ Vec3 expected(const Config& k, const Vec3& p, Formula f = {}) {
   const Vec3 kd_c = k.kd * k.color;
   const Vec3 ambient = 0.1 * kd_c;
   const Vec3 to_light = k.light - p;
-  const double d = std::sqrt(to_light.x * to_light.x + to_light.y * to_light.y + to_light.z * to_light.z);
+  const double d =
+      std::sqrt(to_light.x * to_light.x + to_light.y * to_light.y + to_light.z * to_light.z);
   const Vec3 l = to_light / d;
   const double n_dot_l = l.z;  // the floor's normal is +z
   if (n_dot_l <= 0) return ambient;
@@ -157,7 +161,8 @@ Vec3 expected(const Config& k, const Vec3& p, Formula f = {}) {
   // Warn: the cosine between -L and the spot's unit direction.
   const Vec3 dir = k.dir / std::sqrt(k.dir.x * k.dir.x + k.dir.y * k.dir.y + k.dir.z * k.dir.z);
   const double cos_a = -(l.x * dir.x + l.y * dir.y + l.z * dir.z);
-  const bool inside = std::acos(std::clamp(cos_a, -1.0, 1.0)) <= k.cutoff * std::numbers::pi / 180.0;
+  const bool inside =
+      std::acos(std::clamp(cos_a, -1.0, 1.0)) <= k.cutoff * std::numbers::pi / 180.0;
   double spot = f.falloff ? std::pow(std::max(0.0, cos_a), k.exponent) : 1.0;
   if (f.cone && !inside) spot = 0.0;
   const double s = f_att * spot * n_dot_l;
@@ -190,7 +195,16 @@ const Config kConfigs[] = {
     // near the light (d < sqrt(10)), 1 / (0.1 d^2) beyond.
     {"wide_inverse_square_clamped", {0, 0, 2}, {1, 1, 1}, {0, 0, -1}, 70, 0, {0, 0, 0.1}, true},
     // A tilted, unnormalised direction, a coloured light on a coloured floor.
-    {"tilted_coloured", {-1, 0.5, 3}, {0.8, 0.6, 0.4}, {1, 0, -2}, 30, 10, {0.5, 0.2, 0}, false, {1, 0.5, 0.25}, 0.9},
+    {"tilted_coloured",
+     {-1, 0.5, 3},
+     {0.8, 0.6, 0.4},
+     {1, 0, -2},
+     30,
+     10,
+     {0.5, 0.2, 0},
+     false,
+     {1, 0.5, 0.25},
+     0.9},
 };
 
 void PrintTo(const Config& k, std::ostream* os) { *os << k.name << ":\n" << nff_of(k); }
@@ -252,14 +266,14 @@ TEST_P(ClosedForm, EveryImplementationMatchesTheFormula) {
         worst = std::max(worst, err);
         worst_excess = std::max(worst_excess, err / bound);
         if (!(err <= bound) && ++failures <= 5)
-          ADD_FAILURE() << k.name << " / " << im.name << ": pixel (" << i << ", " << j << ") rgb " << got[0] << " "
-                        << got[1] << " " << got[2] << ", closed form " << e.x << " " << e.y << " " << e.z
-                        << ", error " << err << " > bound " << bound;
+          ADD_FAILURE() << k.name << " / " << im.name << ": pixel (" << i << ", " << j << ") rgb "
+                        << got[0] << " " << got[1] << " " << got[2] << ", closed form " << e.x
+                        << " " << e.y << " " << e.z << ", error " << err << " > bound " << bound;
       }
     }
     EXPECT_EQ(failures, 0) << k.name << " / " << im.name;
-    std::printf("[ lights ] %s / %s: max error %.3g (%.2f of the bound)\n", k.name.c_str(), im.name, worst,
-                worst_excess);
+    std::printf("[ lights ] %s / %s: max error %.3g (%.2f of the bound)\n", k.name.c_str(), im.name,
+                worst, worst_excess);
   }
 }
 
