@@ -300,10 +300,13 @@ Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const std::vector<co
   const RasterParams p = raster_params(mesh, s, b, off);
   // Lights and camera in float.
   std::vector<float> lights;
+  const double default_ip = scene.lights.empty() ? 0 : 1 / std::sqrt(double(scene.lights.size()));
   for (const Light& l : scene.lights) {
-    const LightSample ls = light_at(scene, l, l.position + Vec3{0, 0, 1});  // the intensity (the direction is unused)
-    lights.insert(lights.end(), {float(l.position.x), float(l.position.y), float(l.position.z), float(ls.ip.x),
-                                 float(ls.ip.y), float(ls.ip.z)});
+    const Vec3 ip = l.has_color ? l.color : Vec3{default_ip, default_ip, default_ip};  // as light_at
+    lights.insert(lights.end(), {float(l.position.x), float(l.position.y), float(l.position.z), float(ip.x),
+                                 float(ip.y), float(ip.z), float(l.atten.x), float(l.atten.y), float(l.atten.z),
+                                 l.spot ? 1.0f : 0.0f, float(l.spot_dir.x), float(l.spot_dir.y), float(l.spot_dir.z),
+                                 float(spot_cos_cutoff(l)), float(l.spot_exponent)});
   }
   zsimd::ShadeParams sp;
   sp.shading = s.shading;

@@ -331,13 +331,29 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot, co
           } else {
             for (int c = 0; c < 3; ++c) col[c] = hn::Mul(amb, kd[c]);
             for (int l = 0; l < nlights; ++l) {
-              const float* li = light + 6 * l;
+              const float* li = light + ShadeParams::kLightFloats * l;
               VF L[3] = {hn::Sub(hn::Set(df, li[0]), pos[0]), hn::Sub(hn::Set(df, li[1]), pos[1]),
                          hn::Sub(hn::Set(df, li[2]), pos[2])};
-              normalize3(L);
+              const VF dist = hn::Sqrt(dot3(L, L));
+              const VF inv_d = hn::Div(one, dist);
+              for (int c = 0; c < 3; ++c) L[c] = hn::Mul(L[c], inv_d);
               const VF ndl = dot3(nrm, L);
               const auto lit = hn::And(hn::Gt(ndl, zero), valid);
               if (hn::AllFalse(df, lit)) continue;
+              // core/shading.cpp's light_at: attenuation min(1, 1/(c1 + c2 d + c3 d^2)),
+              // then the spot's cone and falloff (Warn): 0 outside, cos^exponent inside.
+              VF ip = hn::Min(one, hn::Div(one, hn::MulAdd(hn::Mul(hn::Set(df, li[8]), dist), dist,
+                                                           hn::MulAdd(hn::Set(df, li[7]), dist, hn::Set(df, li[6])))));
+              if (li[9] != 0.0f) {
+                const VF dir[3] = {hn::Set(df, li[10]), hn::Set(df, li[11]), hn::Set(df, li[12])};
+                const VF cos_angle = hn::Neg(dot3(L, dir));
+                const auto inside = hn::Ge(cos_angle, hn::Set(df, li[13]));
+                const VF exponent = hn::Set(df, li[14]);
+                const auto positive = hn::Gt(cos_angle, zero);
+                VF fall = hn::CallExp(df, hn::Mul(exponent, hn::CallLog(df, hn::IfThenElse(positive, cos_angle, one))));
+                fall = hn::IfThenElse(positive, fall, hn::IfThenElseZero(hn::Eq(exponent, zero), one));
+                ip = hn::Mul(ip, hn::IfThenElseZero(inside, fall));
+              }
               VF term[3];
               if (shading == Shading::kToon) {
                 const VF q = hn::Min(one, hn::Div(hn::Floor(hn::Mul(ndl, hn::Set(df, bands))), hn::Set(df, band_div)));
@@ -362,7 +378,7 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot, co
                 for (int c = 0; c < 3; ++c) term[c] = hn::MulAdd(ndl, kd[c], spec);
               }
               for (int c = 0; c < 3; ++c)
-                col[c] = hn::IfThenElse(lit, hn::MulAdd(hn::Set(df, li[3 + c]), term[c], col[c]), col[c]);
+                col[c] = hn::IfThenElse(lit, hn::MulAdd(hn::Mul(ip, hn::Set(df, li[3 + c])), term[c], col[c]), col[c]);
             }
           }
           if (silhouette) {

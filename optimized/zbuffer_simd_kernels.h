@@ -61,7 +61,10 @@ struct ShadeParams {
   float silhouette_eps = 0.2f;
   int toon_bands = 4;
   int nlights = 0;
-  const float* light = nullptr;  // per light: x y z r g b (position and intensity)
+  // Per light, kLightFloats floats: position x y z, intensity r g b,
+  // attenuation c1 c2 c3, spot (0 or 1), spot direction x y z, cos(cut-off), exponent.
+  static constexpr int kLightFloats = 15;
+  const float* light = nullptr;
   float eye[3] = {0, 0, 0};
   // The view direction (forward component 1) through the tile's top-left
   // pixel corner, and its change per pixel right and down: the sample at eye

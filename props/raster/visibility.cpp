@@ -623,7 +623,7 @@ void every_target(const ImageFamily& family) {
       const Verdict v = agreement(subj, cases[i]);
       EXPECT_TRUE(v.passed()) << "Highway target " << hwy::TargetName(t) << ", soup " << i << ": " << v.first_failure();
     }
-    for (const char* name : {"gears-2", "teapot-2", "balls-2"})
+    for (const char* name : {"gears-2", "teapot-2", "balls-2", "spotlights"})
       for (const char* params : {"shading=phong", "shading=gouraud spp=4", "shading=toon silhouette=1 spp=9"}) {
         const std::string path = std::string(LOCKSTEP_CORPUS_DIR) + "/scenes/" + name + ".nff";
         const Input in = family.load(path);
@@ -637,7 +637,7 @@ void every_target(const ImageFamily& family) {
         EXPECT_TRUE(e.pass) << name << " " << params << " on Highway target " << hwy::TargetName(t) << ": "
                             << describe(e);
       }
-    std::printf("[ lockstep ] zbuffer simd on %-7s: %zu soups, 9 corpus frames checked\n", hwy::TargetName(t),
+    std::printf("[ lockstep ] zbuffer simd on %-7s: %zu soups, 12 corpus frames checked\n", hwy::TargetName(t),
                 cases.size());
   }
 }
