@@ -63,8 +63,9 @@ struct Chunk {
 
 }  // namespace
 
-void view_scene_chunks(const Scene& scene, int width, int height, const RasterSettings& s, int threads,
-                       ScreenMesh& mesh, std::vector<std::vector<ScreenTri>>& out_chunks) {
+void view_scene_chunks(const Scene& scene, int width, int height, const RasterSettings& s,
+                       int threads, ScreenMesh& mesh,
+                       std::vector<std::vector<ScreenTri>>& out_chunks) {
   out_chunks.clear();
   if (scene.sphere_count() > 0) {
     mesh = lockstep::view_scene(scene, width, height, s);
@@ -92,21 +93,22 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
   // Every vertex once: eye space, the clip test, the snapped screen position.
   std::vector<Projected> pv(scene.vertex.size());
   arena.execute([&] {
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, pv.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
-      for (size_t i = r.begin(); i < r.end(); ++i) {
-        Projected& p = pv[i];
-        const Vec3 e = eye_from_world(cam, scene.vertex[i]);
-        p.eye = e;
-        // Branch-free (& not &&), so that the compiler can vectorise the loop.
-        const bool inside = (e.z - near_z >= 0) & (g * e.z - e.x >= 0) & (g * e.z + e.x >= 0) &
-                            (g * e.z - e.y >= 0) & (g * e.z + e.y >= 0);
-        p.inside = inside;
-        const double xs = 0.5 * cam.width + e.x / (e.z * cam.pitch);
-        const double ys = 0.5 * cam.height - e.y / (e.z * cam.pitch);
-        p.x = int32_t(round_half_away(inside ? xs * kSubpixel : 0.0));
-        p.y = int32_t(round_half_away(inside ? ys * kSubpixel : 0.0));
-      }
-    });
+    tbb::parallel_for(
+        tbb::blocked_range<size_t>(0, pv.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+          for (size_t i = r.begin(); i < r.end(); ++i) {
+            Projected& p = pv[i];
+            const Vec3 e = eye_from_world(cam, scene.vertex[i]);
+            p.eye = e;
+            // Branch-free (& not &&), so that the compiler can vectorise the loop.
+            const bool inside = (e.z - near_z >= 0) & (g * e.z - e.x >= 0) & (g * e.z + e.x >= 0) &
+                                (g * e.z - e.y >= 0) & (g * e.z + e.y >= 0);
+            p.inside = inside;
+            const double xs = 0.5 * cam.width + e.x / (e.z * cam.pitch);
+            const double ys = 0.5 * cam.height - e.y / (e.z * cam.pitch);
+            p.x = int32_t(round_half_away(inside ? xs * kSubpixel : 0.0));
+            p.y = int32_t(round_half_away(inside ? ys * kSubpixel : 0.0));
+          }
+        });
   });
 
   const uint32_t polys = scene.polygon_count();
@@ -194,7 +196,8 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
 
 namespace lockstep::opt::simd {
 
-ScreenMesh view_scene(const Scene& scene, int width, int height, const RasterSettings& s, int threads) {
+ScreenMesh view_scene(const Scene& scene, int width, int height, const RasterSettings& s,
+                      int threads) {
   ScreenMesh mesh;
   std::vector<std::vector<ScreenTri>> chunks;
   zsimd::view_scene_chunks(scene, width, height, s, threads, mesh, chunks);

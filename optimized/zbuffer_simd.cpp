@@ -50,7 +50,7 @@ void tile_size(int spp, int& tw, int& th) {
 
 struct Binned {
   int tw = 64, th = 64, ntx = 0, nty = 0, nchunks = 0;
-  std::unique_ptr<TriSetup[]> setup;  // per triangle (not zeroed: set_up writes every field)
+  std::unique_ptr<TriSetup[]> setup;        // per triangle (not zeroed: set_up writes every field)
   std::vector<std::vector<uint32_t>> bins;  // [chunk * tiles + tile]: triangle ids in mesh order
 };
 
@@ -61,8 +61,8 @@ double plane_value(const RasterSettings& s, double z, double near_z, double far_
   return (1 / near_z - 1 / z) / (1 / near_z - 1 / far_z);
 }
 
-void set_up(const ScreenMesh& mesh, const RasterSettings& s, const ScreenTri& tri, int32_t ox0, int32_t ox1,
-            int32_t oy0, int32_t oy1, TriSetup& t) {
+void set_up(const ScreenMesh& mesh, const RasterSettings& s, const ScreenTri& tri, int32_t ox0,
+            int32_t ox1, int32_t oy0, int32_t oy1, TriSetup& t) {
   const auto& v = tri.v;
   int64_t xmin = v[0].x, xmax = v[0].x, ymin = v[0].y, ymax = v[0].y;
   for (int k = 1; k < 3; ++k) {
@@ -86,13 +86,15 @@ void set_up(const ScreenMesh& mesh, const RasterSettings& s, const ScreenTri& tr
   t.x0 = v[0].x, t.y0 = v[0].y;
   // Plane through the three vertices' values, from the barycentric gradients
   // b_k = E_k / A (A = E_2(v2), twice the area in snapped units).
-  const double area = double(t.ex[2] * (int64_t(v[2].x) - t.ax[2]) + t.ey[2] * (int64_t(v[2].y) - t.ay[2]));
+  const double area =
+      double(t.ex[2] * (int64_t(v[2].x) - t.ax[2]) + t.ey[2] * (int64_t(v[2].y) - t.ay[2]));
   auto plane = [&](double a0, double a1, double a2, double& c0, double& cx, double& cy) {
     c0 = a0;
     cx = ((a1 - a0) * double(t.ex[1]) + (a2 - a0) * double(t.ex[2])) / area;
     cy = ((a1 - a0) * double(t.ey[1]) + (a2 - a0) * double(t.ey[2])) / area;
   };
-  plane(plane_value(s, v[0].z, mesh.near_z, mesh.far_z), plane_value(s, v[1].z, mesh.near_z, mesh.far_z),
+  plane(plane_value(s, v[0].z, mesh.near_z, mesh.far_z),
+        plane_value(s, v[1].z, mesh.near_z, mesh.far_z),
         plane_value(s, v[2].z, mesh.near_z, mesh.far_z), t.q0, t.qx, t.qy);
 }
 
@@ -106,10 +108,11 @@ int shade_rows(const RasterSettings& s) {
 
 // The shading data of a triangle (see zsimd::ShadeTri): out, and its rows of
 // attribute planes at planes (a0, ax, ay per row).
-void set_up_shading(const Scene& scene, const RasterSettings& s, const ScreenTri& tri, const TriSetup& t,
-                    zsimd::ShadeTri& out, double* planes) {
+void set_up_shading(const Scene& scene, const RasterSettings& s, const ScreenTri& tri,
+                    const TriSetup& t, zsimd::ShadeTri& out, double* planes) {
   const auto& v = tri.v;
-  const double area = double(t.ex[2] * (int64_t(v[2].x) - t.ax[2]) + t.ey[2] * (int64_t(v[2].y) - t.ay[2]));
+  const double area =
+      double(t.ex[2] * (int64_t(v[2].x) - t.ax[2]) + t.ey[2] * (int64_t(v[2].y) - t.ay[2]));
   const int rows = shade_rows(s);
   for (int row = 0; row < rows; ++row) {
     double a[3];
@@ -117,12 +120,24 @@ void set_up_shading(const Scene& scene, const RasterSettings& s, const ScreenTri
       const ScreenVertex& x = v[k];
       double value = 1.0;
       switch (row) {
-        case 1: value = x.normal.x; break;
-        case 2: value = x.normal.y; break;
-        case 3: value = x.normal.z; break;
-        case 4: value = x.color.x; break;
-        case 5: value = x.color.y; break;
-        case 6: value = x.color.z; break;
+        case 1:
+          value = x.normal.x;
+          break;
+        case 2:
+          value = x.normal.y;
+          break;
+        case 3:
+          value = x.normal.z;
+          break;
+        case 4:
+          value = x.color.x;
+          break;
+        case 5:
+          value = x.color.y;
+          break;
+        case 6:
+          value = x.color.z;
+          break;
       }
       // 1/z and, under perspective, attribute / z: affine in screen space.
       a[k] = row == 0 || s.perspective ? value / x.z : value;
@@ -133,11 +148,14 @@ void set_up_shading(const Scene& scene, const RasterSettings& s, const ScreenTri
     c[2] = ((a[1] - a[0]) * double(t.ey[1]) + (a[2] - a[0]) * double(t.ey[2])) / area;
   }
   const Material& m = scene.material_of_prim(tri.prim);
-  out.k[0] = float(m.kd * m.color.x), out.k[1] = float(m.kd * m.color.y), out.k[2] = float(m.kd * m.color.z);
+  out.k[0] = float(m.kd * m.color.x), out.k[1] = float(m.kd * m.color.y),
+  out.k[2] = float(m.kd * m.color.z);
   out.ks = float(m.ks);
   out.shine = float(m.shine);
-  out.flat[0] = float(tri.flat_color.x), out.flat[1] = float(tri.flat_color.y), out.flat[2] = float(tri.flat_color.z);
-  out.face[0] = float(tri.face_normal.x), out.face[1] = float(tri.face_normal.y), out.face[2] = float(tri.face_normal.z);
+  out.flat[0] = float(tri.flat_color.x), out.flat[1] = float(tri.flat_color.y),
+  out.flat[2] = float(tri.flat_color.z);
+  out.face[0] = float(tri.face_normal.x), out.face[1] = float(tri.face_normal.y),
+  out.face[2] = float(tri.face_normal.z);
 }
 
 // The shading set-up of a mesh: per triangle a ShadeTri and `rows` plane rows.
@@ -150,9 +168,9 @@ struct ShadeSetup {
 
 // The triangles of tris (mesh order; mesh gives the frame, near and far). With
 // scene: also set up shading.
-Binned bin_mesh(const ScreenMesh& mesh, const std::vector<const ScreenTri*>& tris, const RasterSettings& s,
-                const std::vector<std::array<int32_t, 2>>& off, int threads, const Scene* scene = nullptr,
-                ShadeSetup* shade = nullptr) {
+Binned bin_mesh(const ScreenMesh& mesh, const std::vector<const ScreenTri*>& tris,
+                const RasterSettings& s, const std::vector<std::array<int32_t, 2>>& off,
+                int threads, const Scene* scene = nullptr, ShadeSetup* shade = nullptr) {
   Binned b;
   tile_size(int(off.size()), b.tw, b.th);
   b.ntx = (mesh.width + b.tw - 1) / b.tw;
@@ -181,9 +199,11 @@ Binned bin_mesh(const ScreenMesh& mesh, const std::vector<const ScreenTri*>& tri
       set_up(mesh, s, *tris[id], ox0, ox1, oy0, oy1, t);
       if (t.i0 > t.i1 || t.j0 > t.j1) continue;
       if (shade)
-        set_up_shading(*scene, s, *tris[id], t, shade->tri[id], shade->planes.get() + id * size_t(shade->rows) * 3);
+        set_up_shading(*scene, s, *tris[id], t, shade->tri[id],
+                       shade->planes.get() + id * size_t(shade->rows) * 3);
       for (int ty = t.j0 / b.th; ty <= t.j1 / b.th; ++ty)
-        for (int tx = t.i0 / b.tw; tx <= t.i1 / b.tw; ++tx) bins[size_t(ty) * b.ntx + tx].push_back(uint32_t(id));
+        for (int tx = t.i0 / b.tw; tx <= t.i1 / b.tw; ++tx)
+          bins[size_t(ty) * b.ntx + tx].push_back(uint32_t(id));
     }
   };
   if (b.nchunks <= 1) {
@@ -217,8 +237,8 @@ struct TileBuffers {
 };
 
 template <class T>
-void raster_one_tile(const RasterParams& p, const Binned& b, int x0, int y0, int x1, int y1, T far_value,
-                     bool counting, TileBuffers<T>& buf) {
+void raster_one_tile(const RasterParams& p, const Binned& b, int x0, int y0, int x1, int y1,
+                     T far_value, bool counting, TileBuffers<T>& buf) {
   const size_t n = size_t(p.buf_w) * size_t(p.buf_h) * size_t(p.spp);
   buf.reset(n, far_value, counting);
   const size_t tiles = size_t(b.ntx) * size_t(b.nty);
@@ -248,7 +268,8 @@ RasterParams raster_params(const ScreenMesh& mesh, const RasterSettings& s, cons
 
 template <class T>
 T far_value(DepthFormat f) {
-  return f == DepthFormat::kReversed ? -std::numeric_limits<T>::infinity() : std::numeric_limits<T>::infinity();
+  return f == DepthFormat::kReversed ? -std::numeric_limits<T>::infinity()
+                                     : std::numeric_limits<T>::infinity();
 }
 
 template <class T>
@@ -266,33 +287,36 @@ void visibility_t(const ScreenMesh& mesh, const RasterSettings& s, int threads, 
   const RasterParams p = raster_params(mesh, s, b, off);
   const double empty = empty_depth(s.depth);
   tbb::enumerable_thread_specific<TileBuffers<T>> buffers;
-  parallel_tiles(mesh.width, mesh.height, b.tw, b.th, threads, {}, [&](int x0, int y0, int x1, int y1) {
-    TileBuffers<T>& buf = buffers.local();
-    raster_one_tile(p, b, x0, y0, x1, y1, far_value<T>(s.depth), true, buf);
-    for (int y = y0; y < y1; ++y)
-      for (int x = x0; x < x1; ++x)
-        for (int k = 0; k < spp; ++k) {
-          const size_t at = (size_t(k) * b.th + size_t(y - y0)) * b.tw + size_t(x - x0);
-          const size_t out = (size_t(y) * mesh.width + size_t(x)) * spp + size_t(k);
-          const int32_t t = buf.tri[at];
-          vis.tri[out] = t < 0 ? Visibility::kNone : uint32_t(t);
-          vis.depth[out] = t < 0 ? empty : double(buf.depth[at]);
-          vis.count[out] = uint16_t(std::min<int32_t>(buf.count[at], 0xffff));
-        }
-  });
+  parallel_tiles(
+      mesh.width, mesh.height, b.tw, b.th, threads, {}, [&](int x0, int y0, int x1, int y1) {
+        TileBuffers<T>& buf = buffers.local();
+        raster_one_tile(p, b, x0, y0, x1, y1, far_value<T>(s.depth), true, buf);
+        for (int y = y0; y < y1; ++y)
+          for (int x = x0; x < x1; ++x)
+            for (int k = 0; k < spp; ++k) {
+              const size_t at = (size_t(k) * b.th + size_t(y - y0)) * b.tw + size_t(x - x0);
+              const size_t out = (size_t(y) * mesh.width + size_t(x)) * spp + size_t(k);
+              const int32_t t = buf.tri[at];
+              vis.tri[out] = t < 0 ? Visibility::kNone : uint32_t(t);
+              vis.depth[out] = t < 0 ? empty : double(buf.depth[at]);
+              vis.count[out] = uint16_t(std::min<int32_t>(buf.count[at], 0xffff));
+            }
+      });
 }
 
 // One thread's shading buffers.
 struct ShadeBuffers {
-  std::vector<int32_t> slot;  // per mesh triangle: its index in planes (valid for the tile's triangles)
+  std::vector<int32_t>
+      slot;  // per mesh triangle: its index in planes (valid for the tile's triangles)
   std::vector<zsimd::LocalPlanes> planes;
   hwy::AlignedFreeUniquePtr<float[]> rgb, z;
   size_t size = 0;
 };
 
 template <class T>
-Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const std::vector<const ScreenTri*>& tris,
-                const RasterSettings& s, const FrameOptions& opts, FrameStats* stats) {
+Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh,
+                const std::vector<const ScreenTri*>& tris, const RasterSettings& s,
+                const FrameOptions& opts, FrameStats* stats) {
   const auto off = sample_offsets(s);
   const int spp = int(off.size());
   ShadeSetup shade;
@@ -302,11 +326,13 @@ Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const std::vector<co
   std::vector<float> lights;
   const double default_ip = scene.lights.empty() ? 0 : 1 / std::sqrt(double(scene.lights.size()));
   for (const Light& l : scene.lights) {
-    const Vec3 ip = l.has_color ? l.color : Vec3{default_ip, default_ip, default_ip};  // as light_at
-    lights.insert(lights.end(), {float(l.position.x), float(l.position.y), float(l.position.z), float(ip.x),
-                                 float(ip.y), float(ip.z), float(l.atten.x), float(l.atten.y), float(l.atten.z),
-                                 l.spot ? 1.0f : 0.0f, float(l.spot_dir.x), float(l.spot_dir.y), float(l.spot_dir.z),
-                                 float(spot_cos_cutoff(l)), float(l.spot_exponent)});
+    const Vec3 ip =
+        l.has_color ? l.color : Vec3{default_ip, default_ip, default_ip};  // as light_at
+    lights.insert(lights.end(),
+                  {float(l.position.x), float(l.position.y), float(l.position.z), float(ip.x),
+                   float(ip.y), float(ip.z), float(l.atten.x), float(l.atten.y), float(l.atten.z),
+                   l.spot ? 1.0f : 0.0f, float(l.spot_dir.x), float(l.spot_dir.y),
+                   float(l.spot_dir.z), float(spot_cos_cutoff(l)), float(l.spot_exponent)});
   }
   zsimd::ShadeParams sp;
   sp.shading = s.shading;
@@ -316,7 +342,8 @@ Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const std::vector<co
   sp.toon_bands = s.toon_bands;
   sp.nlights = int(scene.lights.size());
   sp.light = lights.data();
-  sp.eye[0] = float(mesh.camera.eye.x), sp.eye[1] = float(mesh.camera.eye.y), sp.eye[2] = float(mesh.camera.eye.z);
+  sp.eye[0] = float(mesh.camera.eye.x), sp.eye[1] = float(mesh.camera.eye.y),
+  sp.eye[2] = float(mesh.camera.eye.z);
   sp.background[0] = float(scene.background.x), sp.background[1] = float(scene.background.y),
   sp.background[2] = float(scene.background.z);
   sp.offsets = off.data();
@@ -332,44 +359,47 @@ Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const std::vector<co
   const int rows = shade_rows(s);
   tbb::enumerable_thread_specific<TileBuffers<T>> buffers;
   tbb::enumerable_thread_specific<ShadeBuffers> shade_buffers;
-  parallel_tiles(mesh.width, mesh.height, b.tw, b.th, opts.threads, opts.progress, [&](int x0, int y0, int x1, int y1) {
-    TileBuffers<T>& buf = buffers.local();
-    raster_one_tile(p, b, x0, y0, x1, y1, far_value<T>(s.depth), false, buf);
-    ShadeBuffers& sb = shade_buffers.local();
-    if (sb.slot.size() != tris.size()) sb.slot.assign(tris.size(), 0);
-    const size_t plane = size_t(b.tw) * size_t(b.th);
-    if (sb.size != plane) {
-      sb.rgb = hwy::AllocateAligned<float>(3 * plane);
-      sb.z = hwy::AllocateAligned<float>(plane);
-      sb.size = plane;
-    }
-    // The tile's triangles' planes, moved to the tile's top-left corner, per pixel.
-    sb.planes.clear();
-    const size_t tile = size_t(y0 / b.th) * size_t(b.ntx) + size_t(x0 / b.tw);
-    const int64_t cx = int64_t(x0) * kSubpixel, cy = int64_t(y0) * kSubpixel;
-    for (int c = 0; c < b.nchunks; ++c)
-      for (const uint32_t id : b.bins[size_t(c) * tiles + tile]) {
-        sb.slot[id] = int32_t(sb.planes.size());
-        zsimd::LocalPlanes& L = sb.planes.emplace_back();
-        const TriSetup& t = b.setup[id];
-        for (int row = 0; row < rows; ++row) {
-          const double* a = shade.plane(id) + 3 * row;
-          L.p[row][0] = float(a[0] + a[1] * double(cx - t.x0) + a[2] * double(cy - t.y0));
-          L.p[row][1] = float(a[1] * kSubpixel);
-          L.p[row][2] = float(a[2] * kSubpixel);
+  parallel_tiles(
+      mesh.width, mesh.height, b.tw, b.th, opts.threads, opts.progress,
+      [&](int x0, int y0, int x1, int y1) {
+        TileBuffers<T>& buf = buffers.local();
+        raster_one_tile(p, b, x0, y0, x1, y1, far_value<T>(s.depth), false, buf);
+        ShadeBuffers& sb = shade_buffers.local();
+        if (sb.slot.size() != tris.size()) sb.slot.assign(tris.size(), 0);
+        const size_t plane = size_t(b.tw) * size_t(b.th);
+        if (sb.size != plane) {
+          sb.rgb = hwy::AllocateAligned<float>(3 * plane);
+          sb.z = hwy::AllocateAligned<float>(plane);
+          sb.size = plane;
         }
-      }
-    // The view direction through the tile's top-left pixel corner (the reference's
-    // dir = forward + cx right + cy up, cx = (sx - width/2) pitch, cy = (height/2 - sy) pitch).
-    zsimd::ShadeParams tp = sp;
-    const Camera& cam = mesh.camera;
-    const Vec3 d0 = cam.forward + ((x0 - 0.5 * mesh.width) * cam.pitch) * cam.right +
-                    ((0.5 * mesh.height - y0) * cam.pitch) * cam.up;
-    tp.dir0[0] = float(d0.x), tp.dir0[1] = float(d0.y), tp.dir0[2] = float(d0.z);
-    zsimd::shade_tile(tp, buf.tri.get(), sb.slot.data(), sb.planes.data(), shade.tri.get(), x1 - x0, y1 - y0,
-                      sb.rgb.get(), sb.z.get(), img.pixel(x0, y0), size_t(mesh.width) * 4,
-                      img.depth.data() + size_t(y0) * mesh.width + size_t(x0), size_t(mesh.width));
-  });
+        // The tile's triangles' planes, moved to the tile's top-left corner, per pixel.
+        sb.planes.clear();
+        const size_t tile = size_t(y0 / b.th) * size_t(b.ntx) + size_t(x0 / b.tw);
+        const int64_t cx = int64_t(x0) * kSubpixel, cy = int64_t(y0) * kSubpixel;
+        for (int c = 0; c < b.nchunks; ++c)
+          for (const uint32_t id : b.bins[size_t(c) * tiles + tile]) {
+            sb.slot[id] = int32_t(sb.planes.size());
+            zsimd::LocalPlanes& L = sb.planes.emplace_back();
+            const TriSetup& t = b.setup[id];
+            for (int row = 0; row < rows; ++row) {
+              const double* a = shade.plane(id) + 3 * row;
+              L.p[row][0] = float(a[0] + a[1] * double(cx - t.x0) + a[2] * double(cy - t.y0));
+              L.p[row][1] = float(a[1] * kSubpixel);
+              L.p[row][2] = float(a[2] * kSubpixel);
+            }
+          }
+        // The view direction through the tile's top-left pixel corner (the reference's
+        // dir = forward + cx right + cy up, cx = (sx - width/2) pitch, cy = (height/2 - sy) pitch).
+        zsimd::ShadeParams tp = sp;
+        const Camera& cam = mesh.camera;
+        const Vec3 d0 = cam.forward + ((x0 - 0.5 * mesh.width) * cam.pitch) * cam.right +
+                        ((0.5 * mesh.height - y0) * cam.pitch) * cam.up;
+        tp.dir0[0] = float(d0.x), tp.dir0[1] = float(d0.y), tp.dir0[2] = float(d0.z);
+        zsimd::shade_tile(
+            tp, buf.tri.get(), sb.slot.data(), sb.planes.data(), shade.tri.get(), x1 - x0, y1 - y0,
+            sb.rgb.get(), sb.z.get(), img.pixel(x0, y0), size_t(mesh.width) * 4,
+            img.depth.data() + size_t(y0) * mesh.width + size_t(x0), size_t(mesh.width));
+      });
   if (stats) stats->items = mesh.scene_tris + mesh.sphere_tris;
   return img;
 }
@@ -386,8 +416,9 @@ Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   // The reference's limit on the sample buffers (2^25 samples), so both refuse the same frames.
   const double samples = double(opts.width) * opts.height * s.spp;
   if (samples > double(1 << 25))
-    throw InputError(scene.source, 0,
-                     "size x spp is " + std::to_string(int64_t(samples)) + " samples; at most 33554432 (2^25)");
+    throw InputError(
+        scene.source, 0,
+        "size x spp is " + std::to_string(int64_t(samples)) + " samples; at most 33554432 (2^25)");
   // The mesh's triangles stay in the set-up's chunks (no copy into one vector).
   ScreenMesh mesh;
   std::vector<std::vector<ScreenTri>> chunks;
@@ -401,7 +432,8 @@ Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   return zbuffer_t<float>(scene, mesh, tris, s, opts, stats);
 }
 
-void zbuffer_visibility(const ScreenMesh& mesh, const RasterSettings& s, int threads, Visibility& vis) {
+void zbuffer_visibility(const ScreenMesh& mesh, const RasterSettings& s, int threads,
+                        Visibility& vis) {
   if (double_depth(s.depth))
     visibility_t<double>(mesh, s, threads, vis);
   else

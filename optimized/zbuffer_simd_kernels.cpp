@@ -33,11 +33,14 @@
 
 #include "core/shading.h"
 
+// foreach_target.h first: it re-includes this file once per target.
+// clang-format off
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "optimized/zbuffer_simd_kernels.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
 #include "hwy/contrib/math/math-inl.h"
 #include "hwy/highway.h"
+// clang-format on
 
 HWY_BEFORE_NAMESPACE();
 namespace lockstep::opt::zsimd {
@@ -68,7 +71,8 @@ HWY_INLINE hn::Mask<DI> CoverDouble(DI di, const int64_t e[3], const int64_t sx[
     auto all = hn::Set(dd, 0.0);
     auto in = hn::Eq(all, all);
     for (int k = 0; k < 3; ++k) {
-      const auto v = hn::MulAdd(lane, hn::Set(dd, double(sx[k])), hn::Set(dd, double(e[k] + int64_t(sub) * sx[k])));
+      const auto v = hn::MulAdd(lane, hn::Set(dd, double(sx[k])),
+                                hn::Set(dd, double(e[k] + int64_t(sub) * sx[k])));
       in = hn::And(in, hn::Ge(v, all));
     }
     uint8_t b[8] = {};
@@ -79,8 +83,8 @@ HWY_INLINE hn::Mask<DI> CoverDouble(DI di, const int64_t e[3], const int64_t sx[
 }
 
 template <class DT>
-HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::TFromD<DT>* depth, int32_t* tri,
-                            int32_t* count) {
+HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::TFromD<DT>* depth,
+                            int32_t* tri, int32_t* count) {
   using T = hn::TFromD<DT>;
   const hn::Rebind<int32_t, DT> di;
   using VI = hn::Vec<decltype(di)>;
@@ -137,7 +141,8 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
         }
         if (reject) continue;
         VI lane_off[3];
-        for (int k = 0; k < 3; ++k) lane_off[k] = hn::Mul(iota_i, hn::Set(di, int32_t(narrow ? sx[k] : 0)));
+        for (int k = 0; k < 3; ++k)
+          lane_off[k] = hn::Mul(iota_i, hn::Set(di, int32_t(narrow ? sx[k] : 0)));
         // Depth plane at the region's first sample, per pixel along x and y.
         const double q_first = s.q0 + s.qx * double(px - s.x0) + s.qy * double(py - s.y0);
         const double qsx = s.qx * kSubpixel, qsy = s.qy * kSubpixel;
@@ -162,7 +167,9 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
             }
             if (hn::AllFalse(di, cover)) continue;
             const size_t at = row + size_t(c0 + b * N);
-            if (count) hn::Store(hn::Sub(hn::Load(di, count + at), hn::VecFromMask(di, cover)), di, count + at);
+            if (count)
+              hn::Store(hn::Sub(hn::Load(di, count + at), hn::VecFromMask(di, cover)), di,
+                        count + at);
             const VT q = stored(hn::Add(hn::Set(dt, T(q_row + qsx * double(b * N))), q_lane));
             const VT old = hn::Load(dt, depth + at);
             const auto closer = reversed ? hn::Gt(q, old) : hn::Lt(q, old);
@@ -176,7 +183,6 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
     }
   }
 }
-
 
 // ---------------------------------------------------------------- shading
 //
@@ -195,8 +201,12 @@ HWY_INLINE void WritePixels(DF df, VF r, VF g, VF b, float* dst, int n) {
     const VF a = hn::Set(df, 1.0f);
     const VF rg_lo = hn::InterleaveLower(df, r, g), rg_hi = hn::InterleaveUpper(df, r, g);
     const VF ba_lo = hn::InterleaveLower(df, b, a), ba_hi = hn::InterleaveUpper(df, b, a);
-    auto lo64 = [&](VF x, VF y) { return hn::BitCast(df, hn::InterleaveLower(d64, hn::BitCast(d64, x), hn::BitCast(d64, y))); };
-    auto hi64 = [&](VF x, VF y) { return hn::BitCast(df, hn::InterleaveUpper(d64, hn::BitCast(d64, x), hn::BitCast(d64, y))); };
+    auto lo64 = [&](VF x, VF y) {
+      return hn::BitCast(df, hn::InterleaveLower(d64, hn::BitCast(d64, x), hn::BitCast(d64, y)));
+    };
+    auto hi64 = [&](VF x, VF y) {
+      return hn::BitCast(df, hn::InterleaveUpper(d64, hn::BitCast(d64, x), hn::BitCast(d64, y)));
+    };
     const VF p0 = lo64(rg_lo, ba_lo), p1 = hi64(rg_lo, ba_lo);  // pixels 0 | 4, 1 | 5
     const VF p2 = lo64(rg_hi, ba_hi), p3 = hi64(rg_hi, ba_hi);  // pixels 2 | 6, 3 | 7
     const VF q[4] = {hn::ConcatLowerLower(df, p1, p0), hn::ConcatLowerLower(df, p3, p2),
@@ -216,9 +226,9 @@ HWY_INLINE void WritePixels(DF df, VF r, VF g, VF b, float* dst, int n) {
   }
 }
 
-void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot, const LocalPlanes* planes,
-               const ShadeTri* tris, int cols, int rows, float* rgb, float* zout, float* image, size_t image_stride,
-               float* depth, size_t depth_stride) {
+void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot,
+               const LocalPlanes* planes, const ShadeTri* tris, int cols, int rows, float* rgb,
+               float* zout, float* image, size_t image_stride, float* depth, size_t depth_stride) {
   const hn::CappedTag<float, 8> df;
   const hn::RebindToSigned<decltype(df)> di;
   using VF = hn::Vec<decltype(df)>;
@@ -243,23 +253,28 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot, co
   const VF zero = hn::Zero(df), one = hn::Set(df, 1.0f), two = hn::Set(df, 2.0f);
   const VF inf = hn::Set(df, HUGE_VALF);
   const VI none = hn::Set(di, -1);
-  const VF bg[3] = {hn::Set(df, p.background[0]), hn::Set(df, p.background[1]), hn::Set(df, p.background[2])};
+  const VF bg[3] = {hn::Set(df, p.background[0]), hn::Set(df, p.background[1]),
+                    hn::Set(df, p.background[2])};
   const VF eye[3] = {hn::Set(df, p.eye[0]), hn::Set(df, p.eye[1]), hn::Set(df, p.eye[2])};
   const VF dir0[3] = {hn::Set(df, p.dir0[0]), hn::Set(df, p.dir0[1]), hn::Set(df, p.dir0[2])};
   const VF dir_u[3] = {hn::Set(df, p.dir_u[0]), hn::Set(df, p.dir_u[1]), hn::Set(df, p.dir_u[2])};
   const VF dir_v[3] = {hn::Set(df, p.dir_v[0]), hn::Set(df, p.dir_v[1]), hn::Set(df, p.dir_v[2])};
   const VF amb = hn::Set(df, float(kAmbient));
-  const float bands = float(p.toon_bands), band_div = float(p.toon_bands - (p.toon_bands > 1 ? 1 : 0));
+  const float bands = float(p.toon_bands),
+              band_div = float(p.toon_bands - (p.toon_bands > 1 ? 1 : 0));
   HWY_ALIGN int32_t idv[8];
 
-  auto dot3 = [](const VF a[3], const VF b[3]) { return hn::MulAdd(a[0], b[0], hn::MulAdd(a[1], b[1], hn::Mul(a[2], b[2]))); };
+  auto dot3 = [](const VF a[3], const VF b[3]) {
+    return hn::MulAdd(a[0], b[0], hn::MulAdd(a[1], b[1], hn::Mul(a[2], b[2])));
+  };
   auto normalize3 = [&](VF a[3]) {
     const VF inv = hn::Div(one, hn::Sqrt(dot3(a, a)));
     for (int c = 0; c < 3; ++c) a[c] = hn::Mul(a[c], inv);
   };
 
   for (int smp = 0; smp < spp; ++smp) {
-    const float ou = float(p.offsets[smp][0]) / float(kSubpixel), ov = float(p.offsets[smp][1]) / float(kSubpixel);
+    const float ou = float(p.offsets[smp][0]) / float(kSubpixel),
+                ov = float(p.offsets[smp][1]) / float(kSubpixel);
     for (int r = 0; r < rows; ++r) {
       const VF v = hn::Set(df, float(r) + ov);
       for (int c0 = 0; c0 < cols; c0 += N) {
@@ -276,7 +291,8 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot, co
           VF a[ShadeTri::kRows];
           a[0] = one;
           for (int k = 1; k < ShadeTri::kRows; ++k) a[k] = zero;
-          VF kd[3] = {zero, zero, zero}, ks = zero, shine = one, fl[3] = {zero, zero, zero}, face[3] = {zero, zero, zero};
+          VF kd[3] = {zero, zero, zero}, ks = zero, shine = one, fl[3] = {zero, zero, zero},
+             face[3] = {zero, zero, zero};
           // The block's distinct triangles, each broadcast onto its lanes.
           while (!hn::AllFalse(di, remaining)) {
             const int32_t id = idv[hn::FindFirstTrue(di, remaining)];
@@ -286,7 +302,11 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot, co
             const LocalPlanes& L = planes[slot[id]];
             const ShadeTri& T = tris[id];
             auto eval = [&](int k) {
-              a[k] = hn::IfThenElse(m, hn::MulAdd(hn::Set(df, L.p[k][2]), v, hn::MulAdd(hn::Set(df, L.p[k][1]), u, hn::Set(df, L.p[k][0]))), a[k]);
+              a[k] = hn::IfThenElse(
+                  m,
+                  hn::MulAdd(hn::Set(df, L.p[k][2]), v,
+                             hn::MulAdd(hn::Set(df, L.p[k][1]), u, hn::Set(df, L.p[k][0]))),
+                  a[k]);
             };
             eval(0);
             if (need_normal) eval(1), eval(2), eval(3);
@@ -320,7 +340,8 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot, co
             const VF len2 = dot3(nrm, nrm);
             const auto degenerate = hn::Eq(len2, zero);
             const VF inv = hn::Div(one, hn::Sqrt(hn::IfThenElse(degenerate, one, len2)));
-            for (int c = 0; c < 3; ++c) nrm[c] = hn::IfThenElse(degenerate, face[c], hn::Mul(nrm[c], inv));
+            for (int c = 0; c < 3; ++c)
+              nrm[c] = hn::IfThenElse(degenerate, face[c], hn::Mul(nrm[c], inv));
             const auto away = hn::Gt(dot3(nrm, dir), zero);
             for (int c = 0; c < 3; ++c) nrm[c] = hn::IfThenElse(away, hn::Neg(nrm[c]), nrm[c]);
           }
@@ -343,20 +364,25 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot, co
               // core/shading.cpp's light_at: attenuation min(1, 1/(c1 + c2 d + c3 d^2)),
               // then the spot's cone and falloff (Warn): 0 outside, cos^exponent inside.
               VF ip = hn::Min(one, hn::Div(one, hn::MulAdd(hn::Mul(hn::Set(df, li[8]), dist), dist,
-                                                           hn::MulAdd(hn::Set(df, li[7]), dist, hn::Set(df, li[6])))));
+                                                           hn::MulAdd(hn::Set(df, li[7]), dist,
+                                                                      hn::Set(df, li[6])))));
               if (li[9] != 0.0f) {
                 const VF dir[3] = {hn::Set(df, li[10]), hn::Set(df, li[11]), hn::Set(df, li[12])};
                 const VF cos_angle = hn::Neg(dot3(L, dir));
                 const auto inside = hn::Ge(cos_angle, hn::Set(df, li[13]));
                 const VF exponent = hn::Set(df, li[14]);
                 const auto positive = hn::Gt(cos_angle, zero);
-                VF fall = hn::CallExp(df, hn::Mul(exponent, hn::CallLog(df, hn::IfThenElse(positive, cos_angle, one))));
-                fall = hn::IfThenElse(positive, fall, hn::IfThenElseZero(hn::Eq(exponent, zero), one));
+                VF fall = hn::CallExp(
+                    df,
+                    hn::Mul(exponent, hn::CallLog(df, hn::IfThenElse(positive, cos_angle, one))));
+                fall =
+                    hn::IfThenElse(positive, fall, hn::IfThenElseZero(hn::Eq(exponent, zero), one));
                 ip = hn::Mul(ip, hn::IfThenElseZero(inside, fall));
               }
               VF term[3];
               if (shading == Shading::kToon) {
-                const VF q = hn::Min(one, hn::Div(hn::Floor(hn::Mul(ndl, hn::Set(df, bands))), hn::Set(df, band_div)));
+                const VF q = hn::Min(one, hn::Div(hn::Floor(hn::Mul(ndl, hn::Set(df, bands))),
+                                                  hn::Set(df, band_div)));
                 for (int c = 0; c < 3; ++c) term[c] = hn::Mul(q, kd[c]);
               } else {
                 VF cosine;
@@ -365,7 +391,8 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot, co
                   for (int c = 0; c < 3; ++c) R[c] = hn::MulSub(hn::Mul(two, ndl), nrm[c], L[c]);
                   cosine = dot3(R, view);
                 } else {
-                  VF Hv[3] = {hn::Add(L[0], view[0]), hn::Add(L[1], view[1]), hn::Add(L[2], view[2])};
+                  VF Hv[3] = {hn::Add(L[0], view[0]), hn::Add(L[1], view[1]),
+                              hn::Add(L[2], view[2])};
                   normalize3(Hv);  // halfway vector (Blinn)
                   cosine = dot3(nrm, Hv);
                 }
@@ -378,7 +405,8 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot, co
                 for (int c = 0; c < 3; ++c) term[c] = hn::MulAdd(ndl, kd[c], spec);
               }
               for (int c = 0; c < 3; ++c)
-                col[c] = hn::IfThenElse(lit, hn::MulAdd(hn::Mul(ip, hn::Set(df, li[3 + c])), term[c], col[c]), col[c]);
+                col[c] = hn::IfThenElse(
+                    lit, hn::MulAdd(hn::Mul(ip, hn::Set(df, li[3 + c])), term[c], col[c]), col[c]);
             }
           }
           if (silhouette) {
@@ -399,11 +427,13 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot, co
         }
         // The last sample: the box filter's mean, and the nearest sample's eye depth.
         if (spp > 1) {
-          for (int c = 0; c < 3; ++c) col[c] = hn::Mul(hn::Add(hn::Load(df, rgb + size_t(c) * plane + pix), col[c]), inv_spp);
+          for (int c = 0; c < 3; ++c)
+            col[c] = hn::Mul(hn::Add(hn::Load(df, rgb + size_t(c) * plane + pix), col[c]), inv_spp);
           z = hn::Min(hn::Load(df, zout + pix), z);
         }
         const int n = std::min(N, cols - c0);
-        WritePixels(df, col[0], col[1], col[2], image + size_t(r) * image_stride + 4 * size_t(c0), n);
+        WritePixels(df, col[0], col[1], col[2], image + size_t(r) * image_stride + 4 * size_t(c0),
+                    n);
         float* zrow = depth + size_t(r) * depth_stride + size_t(c0);
         if (n == N) {
           hn::StoreU(z, df, zrow);
@@ -417,10 +447,12 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot, co
   }
 }
 
-void RasterTileFloat(const RasterParams& p, const TileJob& t, float* depth, int32_t* tri, int32_t* count) {
+void RasterTileFloat(const RasterParams& p, const TileJob& t, float* depth, int32_t* tri,
+                     int32_t* count) {
   RasterTileT(hn::CappedTag<float, 8>(), p, t, depth, tri, count);
 }
-void RasterTileDouble(const RasterParams& p, const TileJob& t, double* depth, int32_t* tri, int32_t* count) {
+void RasterTileDouble(const RasterParams& p, const TileJob& t, double* depth, int32_t* tri,
+                      int32_t* count) {
   RasterTileT(hn::CappedTag<double, 8>(), p, t, depth, tri, count);
 }
 const char* TargetName() { return hwy::TargetName(HWY_TARGET); }
@@ -437,17 +469,19 @@ HWY_EXPORT(RasterTileDouble);
 HWY_EXPORT(TargetName);
 HWY_EXPORT(ShadeTile);
 
-void shade_tile(const ShadeParams& p, const int32_t* tri, const int32_t* slot, const LocalPlanes* planes,
-                const ShadeTri* tris, int cols, int rows, float* rgb, float* z, float* image, size_t image_stride,
-                float* depth, size_t depth_stride) {
-  HWY_DYNAMIC_DISPATCH(ShadeTile)(p, tri, slot, planes, tris, cols, rows, rgb, z, image, image_stride, depth,
-                                  depth_stride);
+void shade_tile(const ShadeParams& p, const int32_t* tri, const int32_t* slot,
+                const LocalPlanes* planes, const ShadeTri* tris, int cols, int rows, float* rgb,
+                float* z, float* image, size_t image_stride, float* depth, size_t depth_stride) {
+  HWY_DYNAMIC_DISPATCH(ShadeTile)
+  (p, tri, slot, planes, tris, cols, rows, rgb, z, image, image_stride, depth, depth_stride);
 }
 
-void raster_tile(const RasterParams& p, const TileJob& t, float* depth, int32_t* tri, int32_t* count) {
+void raster_tile(const RasterParams& p, const TileJob& t, float* depth, int32_t* tri,
+                 int32_t* count) {
   HWY_DYNAMIC_DISPATCH(RasterTileFloat)(p, t, depth, tri, count);
 }
-void raster_tile(const RasterParams& p, const TileJob& t, double* depth, int32_t* tri, int32_t* count) {
+void raster_tile(const RasterParams& p, const TileJob& t, double* depth, int32_t* tri,
+                 int32_t* count) {
   HWY_DYNAMIC_DISPATCH(RasterTileDouble)(p, t, depth, tri, count);
 }
 const char* target_name() { return HWY_DYNAMIC_DISPATCH(TargetName)(); }

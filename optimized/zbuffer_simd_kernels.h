@@ -28,11 +28,12 @@ struct TriSetup {
   int32_t ax[3], ay[3];
   int64_t ex[3], ey[3];
   int32_t bias[3];
-  int32_t x0, y0;           // vertex 0: the depth plane's origin
-  int32_t i0, i1, j0, j1;   // pixels that may hold a covered sample (inclusive; i0 > i1: none)
+  int32_t x0, y0;          // vertex 0: the depth plane's origin
+  int32_t i0, i1, j0, j1;  // pixels that may hold a covered sample (inclusive; i0 > i1: none)
   // Depth plane q(P) = q0 + qx (P.x - x0) + qy (P.y - y0), P in 1/256 px: the
   // stored depth (kFixed24: the window depth before rounding).
-  double q0, qx, qy;  // (no initialisers: the set-up writes every field; arrays of them are not zeroed first)
+  double q0, qx,
+      qy;  // (no initialisers: the set-up writes every field; arrays of them are not zeroed first)
 };
 
 // What shading needs of one triangle. Its attribute planes (kept apart, in
@@ -83,9 +84,9 @@ struct ShadeParams {
 // depth + r * depth_stride + col. rgb (3 planes) and z (1 plane) of buf_w x
 // buf_h floats, aligned, hold the sums while spp > 1. slot[id] is the index
 // into planes of triangle id; tris[id] its ShadeTri. cols x rows: the tile's size.
-void shade_tile(const ShadeParams& p, const int32_t* tri, const int32_t* slot, const LocalPlanes* planes,
-                const ShadeTri* tris, int cols, int rows, float* rgb, float* z, float* image, size_t image_stride,
-                float* depth, size_t depth_stride);
+void shade_tile(const ShadeParams& p, const int32_t* tri, const int32_t* slot,
+                const LocalPlanes* planes, const ShadeTri* tris, int cols, int rows, float* rgb,
+                float* z, float* image, size_t image_stride, float* depth, size_t depth_stride);
 
 struct RasterParams {
   const TriSetup* tris = nullptr;
@@ -106,15 +107,17 @@ struct TileJob {
 // Before raster_tile: depth = the format's far end, tri = -1, count = 0
 // (count may be null: coverage is then not counted).
 // float depth for every format but kDouble; that one rasters in double.
-void raster_tile(const RasterParams& p, const TileJob& t, float* depth, int32_t* tri, int32_t* count);
-void raster_tile(const RasterParams& p, const TileJob& t, double* depth, int32_t* tri, int32_t* count);
+void raster_tile(const RasterParams& p, const TileJob& t, float* depth, int32_t* tri,
+                 int32_t* count);
+void raster_tile(const RasterParams& p, const TileJob& t, double* depth, int32_t* tri,
+                 int32_t* count);
 
 const char* target_name();
 
 // opt::simd::view_scene's mesh, left in the set-up's chunks: mesh holds the
 // frame, near, far, counts and (when the set-up handed the scene to
 // view_scene) all triangles; chunks the rest, in order after mesh.tris.
-void view_scene_chunks(const Scene& scene, int width, int height, const RasterSettings& s, int threads,
-                       ScreenMesh& mesh, std::vector<std::vector<ScreenTri>>& chunks);
+void view_scene_chunks(const Scene& scene, int width, int height, const RasterSettings& s,
+                       int threads, ScreenMesh& mesh, std::vector<std::vector<ScreenTri>>& chunks);
 
 }  // namespace lockstep::opt::zsimd

@@ -11,9 +11,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <ctime>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <limits>
 #include <string>
 
@@ -67,24 +67,32 @@ int main(int argc, char** argv) {
   ScreenMesh mesh;
   const double t_setup = best_of(reps, [&] { mesh = view_scene(scene, size, size, s); });
   const double tris = double(mesh.tris.size()), pix = double(size) * size;
-  std::printf("%s %dx%d shading=%s spp=%s: %zu screen triangles (culled %llu)\n", argv[1], size, size, shading.c_str(),
-              spp.c_str(), mesh.tris.size(), (unsigned long long)mesh.culled);
+  std::printf("%s %dx%d shading=%s spp=%s: %zu screen triangles (culled %llu)\n", argv[1], size,
+              size, shading.c_str(), spp.c_str(), mesh.tris.size(),
+              (unsigned long long)mesh.culled);
   ScreenMesh fast;
-  const double t_fast = best_of(reps, [&] { fast = opt::simd::view_scene(scene, size, size, s, 1); });
-  bool same = fast.tris.size() == mesh.tris.size() && fast.culled == mesh.culled && fast.degenerate == mesh.degenerate;
+  const double t_fast =
+      best_of(reps, [&] { fast = opt::simd::view_scene(scene, size, size, s, 1); });
+  bool same = fast.tris.size() == mesh.tris.size() && fast.culled == mesh.culled &&
+              fast.degenerate == mesh.degenerate;
   for (size_t i = 0; same && i < mesh.tris.size(); ++i)
     for (int k = 0; k < 3; ++k)
-      same = same && fast.tris[i].v[k].x == mesh.tris[i].v[k].x && fast.tris[i].v[k].y == mesh.tris[i].v[k].y &&
+      same = same && fast.tris[i].v[k].x == mesh.tris[i].v[k].x &&
+             fast.tris[i].v[k].y == mesh.tris[i].v[k].y &&
              fast.tris[i].v[k].z == mesh.tris[i].v[k].z;
-  std::printf("  view_scene (reference set-up)    %8.2f ms; opt::simd::view_scene 1 thr %8.2f ms (%s)\n", t_setup * 1e3,
-              t_fast * 1e3, same ? "same mesh" : "MESH DIFFERS");
+  std::printf(
+      "  view_scene (reference set-up)    %8.2f ms; opt::simd::view_scene 1 thr %8.2f ms (%s)\n",
+      t_setup * 1e3, t_fast * 1e3, same ? "same mesh" : "MESH DIFFERS");
   Image ref_img;
   FrameOptions o1 = o;
   o1.threads = 1;
-  const double t_ref = best_of(std::max(1, reps / 3), [&] { ref_img = ref::zbuffer(scene, o1, nullptr); });
+  const double t_ref =
+      best_of(std::max(1, reps / 3), [&] { ref_img = ref::zbuffer(scene, o1, nullptr); });
   Visibility rv;
-  const double t_ref_vis = best_of(std::max(1, reps / 3), [&] { ref::zbuffer_visibility(mesh, s, rv); });
-  std::printf("  ref::zbuffer              1 thr  %8.2f ms  (visibility %8.2f ms)\n", t_ref * 1e3, t_ref_vis * 1e3);
+  const double t_ref_vis =
+      best_of(std::max(1, reps / 3), [&] { ref::zbuffer_visibility(mesh, s, rv); });
+  std::printf("  ref::zbuffer              1 thr  %8.2f ms  (visibility %8.2f ms)\n", t_ref * 1e3,
+              t_ref_vis * 1e3);
   for (int threads : {1, 2}) {
     FrameOptions ot = o;
     ot.threads = threads;
@@ -92,24 +100,31 @@ int main(int argc, char** argv) {
     const double t = best_of(reps, [&] { img = opt::simd::zbuffer(scene, ot, nullptr); });
     Visibility v;
     const double tv = best_of(reps, [&] { opt::simd::zbuffer_visibility(mesh, s, threads, v); });
-    std::printf("  simd::zbuffer             %d thr  %8.2f ms  %7.2f Mtris/s %8.1f Mpix/s  setup share %4.1f%%  "
-                "(visibility %6.2f ms)  %5.1fx ref\n",
-                threads, t * 1e3, tris / t * 1e-6, pix / t * 1e-6, 100 * t_fast / t, tv * 1e3, t_ref / t);
+    std::printf(
+        "  simd::zbuffer             %d thr  %8.2f ms  %7.2f Mtris/s %8.1f Mpix/s  setup share "
+        "%4.1f%%  "
+        "(visibility %6.2f ms)  %5.1fx ref\n",
+        threads, t * 1e3, tris / t * 1e-6, pix / t * 1e-6, 100 * t_fast / t, tv * 1e3, t_ref / t);
     if (threads == 1) {
       double worst = 0, dworst = 0;
       long over = 0, tri_diff = 0, count_diff = 0;
       for (size_t i = 0; i < img.rgba.size(); i += 4) {
         double e = 0;
-        for (int c = 0; c < 3; ++c) e = std::max(e, double(std::fabs(img.rgba[i + c] - ref_img.rgba[i + c])));
+        for (int c = 0; c < 3; ++c)
+          e = std::max(e, double(std::fabs(img.rgba[i + c] - ref_img.rgba[i + c])));
         worst = std::max(worst, e);
         over += e > 1.0 / 255;
         const double za = img.depth[i / 4], zb = ref_img.depth[i / 4];
-        if (std::isfinite(za) || std::isfinite(zb)) dworst = std::max(dworst, std::fabs(za - zb) / std::max(1.0, std::fabs(zb)));
+        if (std::isfinite(za) || std::isfinite(zb))
+          dworst = std::max(dworst, std::fabs(za - zb) / std::max(1.0, std::fabs(zb)));
       }
-      for (size_t i = 0; i < v.tri.size(); ++i) tri_diff += v.tri[i] != rv.tri[i], count_diff += v.count[i] != rv.count[i];
-      std::printf("  agreement: max channel %.3g, pixels > 1/255: %ld (%.4f%%), depth rel %.3g; samples with other tri %ld, "
-                  "other count %ld\n",
-                  worst, over, 100.0 * over / pix, dworst, tri_diff, count_diff);
+      for (size_t i = 0; i < v.tri.size(); ++i)
+        tri_diff += v.tri[i] != rv.tri[i], count_diff += v.count[i] != rv.count[i];
+      std::printf(
+          "  agreement: max channel %.3g, pixels > 1/255: %ld (%.4f%%), depth rel %.3g; samples "
+          "with other tri %ld, "
+          "other count %ld\n",
+          worst, over, 100.0 * over / pix, dworst, tri_diff, count_diff);
     }
   }
   return 0;

@@ -25,17 +25,16 @@
 //   Mutants: inclusive_edges (every edge owns its samples: caught by Watertight)
 //       and bottom_right (the mirror rule, watertight but not the contract:
 //       caught by CoverageAgreement).
+#include <gtest/gtest.h>
+#include <hwy/targets.h>
+#include <rapidcheck.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
-#include <sstream>
-
-#include <gtest/gtest.h>
-
-#include <hwy/targets.h>
-
 #include <random>
+#include <sstream>
 
 #include "core/error.h"
 #include "core/metrics.h"
@@ -44,8 +43,6 @@
 #include "props/property.h"
 #include "props/raster/parts.h"
 #include "reference/raster.h"
-
-#include <rapidcheck.h>
 
 namespace lockstep::props::raster {
 
@@ -69,10 +66,14 @@ constexpr double kNear = 1, kFar = 64;
 
 const char* depth_name(DepthFormat f) {
   switch (f) {
-    case DepthFormat::kFloat: return "float";
-    case DepthFormat::kReversed: return "reversed";
-    case DepthFormat::kFixed24: return "fixed24";
-    case DepthFormat::kDouble: return "double";
+    case DepthFormat::kFloat:
+      return "float";
+    case DepthFormat::kReversed:
+      return "reversed";
+    case DepthFormat::kFixed24:
+      return "fixed24";
+    case DepthFormat::kDouble:
+      return "double";
   }
   return "?";
 }
@@ -110,7 +111,8 @@ constexpr const char* kHeader = "vis_case";
 std::string write_vis(const VisCase& c) {
   std::ostringstream o;
   o << kHeader << " " << c.width << " " << c.height << " spp=" << c.spp
-    << " grid=" << (c.grid == SampleGrid::kRotated ? "rotated" : "regular") << " depth=" << depth_name(c.depth) << "\n";
+    << " grid=" << (c.grid == SampleGrid::kRotated ? "rotated" : "regular")
+    << " depth=" << depth_name(c.depth) << "\n";
   char buf[64];
   for (const auto& t : c.tris) {
     o << "tri";
@@ -136,17 +138,26 @@ VisCase read_vis(const std::string& text, const std::string& file) {
     std::string word;
     l >> word;
     if (word == kHeader) {
-      if (!(l >> c.width >> c.height) || c.width < 1 || c.height < 1 || c.width > 1024 || c.height > 1024)
+      if (!(l >> c.width >> c.height) || c.width < 1 || c.height < 1 || c.width > 1024 ||
+          c.height > 1024)
         throw InputError(file, n, "bad frame size");
       for (std::string kv; l >> kv;) {
-        if (kv.rfind("spp=", 0) == 0) c.spp = std::atoi(kv.c_str() + 4);
-        else if (kv == "grid=rotated") c.grid = SampleGrid::kRotated;
-        else if (kv == "grid=regular") c.grid = SampleGrid::kRegular;
-        else if (kv == "depth=float") c.depth = DepthFormat::kFloat;
-        else if (kv == "depth=reversed") c.depth = DepthFormat::kReversed;
-        else if (kv == "depth=fixed24") c.depth = DepthFormat::kFixed24;
-        else if (kv == "depth=double") c.depth = DepthFormat::kDouble;
-        else throw InputError(file, n, "unknown setting '" + kv + "'");
+        if (kv.rfind("spp=", 0) == 0)
+          c.spp = std::atoi(kv.c_str() + 4);
+        else if (kv == "grid=rotated")
+          c.grid = SampleGrid::kRotated;
+        else if (kv == "grid=regular")
+          c.grid = SampleGrid::kRegular;
+        else if (kv == "depth=float")
+          c.depth = DepthFormat::kFloat;
+        else if (kv == "depth=reversed")
+          c.depth = DepthFormat::kReversed;
+        else if (kv == "depth=fixed24")
+          c.depth = DepthFormat::kFixed24;
+        else if (kv == "depth=double")
+          c.depth = DepthFormat::kDouble;
+        else
+          throw InputError(file, n, "unknown setting '" + kv + "'");
       }
       if (c.spp < 1 || c.spp > 256) throw InputError(file, n, "spp must be 1..256");
       header = true;
@@ -160,7 +171,8 @@ VisCase read_vis(const std::string& text, const std::string& file) {
       }
       c.tris.push_back(t);
     } else {
-      throw InputError(file, n, "expected '" + std::string(kHeader) + "' or 'tri', got '" + word + "'");
+      throw InputError(file, n,
+                       "expected '" + std::string(kHeader) + "' or 'tri', got '" + word + "'");
     }
   }
   if (!header) throw InputError(file, 0, std::string("no '") + kHeader + " W H ...' line");
@@ -175,8 +187,8 @@ int32_t coordinate(int pixels_lo, int pixels_hi) {
   const int32_t pix = *rc::gen::inRange(pixels_lo, pixels_hi);
   const int kind = *rc::gen::inRange(0, 4);
   if (kind == 0) return pix * kSubpixel + *rc::gen::element(128, 64, 192);  // on samples
-  if (kind == 1) return pix * kSubpixel;                                   // on pixel corners
-  return pix * kSubpixel + *rc::gen::inRange(0, kSubpixel);                // anywhere
+  if (kind == 1) return pix * kSubpixel;                                    // on pixel corners
+  return pix * kSubpixel + *rc::gen::inRange(0, kSubpixel);                 // anywhere
 }
 
 void settings(VisCase& c) {
@@ -184,11 +196,13 @@ void settings(VisCase& c) {
   c.height = *rc::gen::inRange(4, 40);
   c.spp = *rc::gen::element(1, 1, 4, 9);
   c.grid = *rc::gen::element(SampleGrid::kRegular, SampleGrid::kRotated);
-  c.depth = *rc::gen::element(DepthFormat::kFloat, DepthFormat::kFloat, DepthFormat::kReversed, DepthFormat::kFixed24,
-                              DepthFormat::kDouble);
+  c.depth = *rc::gen::element(DepthFormat::kFloat, DepthFormat::kFloat, DepthFormat::kReversed,
+                              DepthFormat::kFixed24, DepthFormat::kDouble);
 }
 
-double depth_value() { return 1.0 + *rc::gen::inRange(0, 1 << 20) * (kFar - 2.0) / double(1 << 20); }
+double depth_value() {
+  return 1.0 + *rc::gen::inRange(0, 1 << 20) * (kFar - 2.0) / double(1 << 20);
+}
 
 // Triangle soups: random triangles over the frame (and beyond), some sharing
 // edges or vertices with earlier ones, some exact copies at the same depth
@@ -209,7 +223,8 @@ rc::Gen<VisCase> soup() {
       } else if (kind == 7) {  // a copy of an earlier triangle, same depths: exact ties
         t = c.tris[size_t(*rc::gen::inRange(0, int(c.tris.size())))];
       } else {
-        for (auto& v : t) v = {coordinate(-2, c.width + 2), coordinate(-2, c.height + 2), depth_value()};
+        for (auto& v : t)
+          v = {coordinate(-2, c.width + 2), coordinate(-2, c.height + 2), depth_value()};
         if (kind >= 4) {  // share an edge (or with kind 5 just a vertex) of an earlier triangle
           const auto& o = c.tris[size_t(*rc::gen::inRange(0, int(c.tris.size())))];
           const int a = *rc::gen::inRange(0, 3);
@@ -240,7 +255,8 @@ rc::Gen<VisCase> closed() {
       for (int j = 0; j <= ny; ++j)
         for (int i = 0; i <= nx; ++i) {
           double x = -margin + i * cw, y = -margin + j * ch;
-          int32_t sx = int32_t(std::lround(x * kSubpixel)), sy = int32_t(std::lround(y * kSubpixel));
+          int32_t sx = int32_t(std::lround(x * kSubpixel)),
+                  sy = int32_t(std::lround(y * kSubpixel));
           if (i > 0 && i < nx && j > 0 && j < ny) {
             // Jitter below a sixth of a cell per axis, plus (cells of 8 px and
             // more) at most half a pixel to land on a sample centre: every
@@ -277,13 +293,15 @@ rc::Gen<VisCase> closed() {
       const double phase = *rc::gen::inRange(0, 1000) * 2 * M_PI / 1000;
       for (int i = 0; i < k; ++i) {
         const double a = phase + 2 * M_PI * i / k;
-        ring.push_back({int32_t(std::lround(cx + r * std::cos(a))), int32_t(std::lround(cy + r * std::sin(a))),
-                        depth_value()});
+        ring.push_back({int32_t(std::lround(cx + r * std::cos(a))),
+                        int32_t(std::lround(cy + r * std::sin(a))), depth_value()});
       }
-      for (int i = 0; i < k; ++i) c.tris.push_back({centre, ring[size_t(i)], ring[size_t((i + 1) % k)]});
+      for (int i = 0; i < k; ++i)
+        c.tris.push_back({centre, ring[size_t(i)], ring[size_t((i + 1) % k)]});
     }
     // Mesh order does not matter for coverage: shuffle it.
-    for (size_t i = c.tris.size(); i > 1; --i) std::swap(c.tris[i - 1], c.tris[size_t(*rc::gen::inRange(0, int(i)))]);
+    for (size_t i = c.tris.size(); i > 1; --i)
+      std::swap(c.tris[i - 1], c.tris[size_t(*rc::gen::inRange(0, int(i)))]);
     return c;
   });
 }
@@ -292,12 +310,16 @@ rc::Gen<VisCase> closed() {
 
 using VisFn = void (*)(const ScreenMesh&, const RasterSettings&, Visibility&);
 
-void simd_1(const ScreenMesh& m, const RasterSettings& s, Visibility& v) { opt::simd::zbuffer_visibility(m, s, 1, v); }
+void simd_1(const ScreenMesh& m, const RasterSettings& s, Visibility& v) {
+  opt::simd::zbuffer_visibility(m, s, 1, v);
+}
 
 // Deliberately broken rasterisers (the reference's loop with another ownership
 // rule for samples exactly on an edge).
-template <int kRule>  // 0: inclusive (every edge owns them), 1: bottom-right (the mirror of top-left)
-void broken(const ScreenMesh& mesh, const RasterSettings& s, Visibility& vis) {
+template <int kRule>  // 0: inclusive (every edge owns them), 1: bottom-right (the mirror of
+                      // top-left)
+                      void broken(const ScreenMesh& mesh, const RasterSettings& s,
+                                  Visibility& vis) {
   ref::zbuffer_visibility(mesh, s, vis);
   const auto off = sample_offsets(s);
   const int spp = int(off.size());
@@ -309,7 +331,8 @@ void broken(const ScreenMesh& mesh, const RasterSettings& s, Visibility& vis) {
     for (int j = 0; j < mesh.height; ++j)
       for (int i = 0; i < mesh.width; ++i)
         for (int k = 0; k < spp; ++k) {
-          const int64_t px = int64_t(i) * kSubpixel + off[size_t(k)][0], py = int64_t(j) * kSubpixel + off[size_t(k)][1];
+          const int64_t px = int64_t(i) * kSubpixel + off[size_t(k)][0],
+                        py = int64_t(j) * kSubpixel + off[size_t(k)][1];
           bool in = true;
           double l[3];
           for (int e = 0; e < 3; ++e) {
@@ -325,8 +348,9 @@ void broken(const ScreenMesh& mesh, const RasterSettings& s, Visibility& vis) {
           const size_t at = (size_t(j) * mesh.width + size_t(i)) * size_t(spp) + size_t(k);
           ++vis.count[at];
           const double area = l[0] + l[1] + l[2];
-          const double d = stored_depth(s.depth, 1 / (l[0] / area / v[0].z + l[1] / area / v[1].z + l[2] / area / v[2].z),
-                                        mesh.near_z, mesh.far_z);
+          const double d = stored_depth(
+              s.depth, 1 / (l[0] / area / v[0].z + l[1] / area / v[1].z + l[2] / area / v[2].z),
+              mesh.near_z, mesh.far_z);
           if (nearer(s.depth, d, vis.depth[at])) vis.depth[at] = d, vis.tri[at] = ti;
         }
   }
@@ -348,7 +372,8 @@ double ref_depth(const ScreenMesh& m, const RasterSettings& s, uint32_t t, int64
     const auto& b = v[size_t((e + 2) % 3)];
     l[e] = double(int64_t(b.x - a.x) * (py - a.y) - int64_t(b.y - a.y) * (px - a.x));
   }
-  const double area = double(int64_t(v[1].x - v[0].x) * (v[2].y - v[0].y) - int64_t(v[1].y - v[0].y) * (v[2].x - v[0].x));
+  const double area = double(int64_t(v[1].x - v[0].x) * (v[2].y - v[0].y) -
+                             int64_t(v[1].y - v[0].y) * (v[2].x - v[0].x));
   const double inv_z = l[0] / area / v[0].z + l[1] / area / v[1].z + l[2] / area / v[2].z;
   return stored_depth(s.depth, 1 / inv_z, m.near_z, m.far_z);
 }
@@ -362,16 +387,21 @@ double ref_depth(const ScreenMesh& m, const RasterSettings& s, uint32_t t, int64
 // way (one code), and the double depth differs in the last bits.
 double depth_bound(DepthFormat f) {
   switch (f) {
-    case DepthFormat::kFloat: return 3;     // measured 1.97 over 3000 deep cases
-    case DepthFormat::kReversed: return 3;  // measured 1.99
-    case DepthFormat::kFixed24: return 1;   // measured 0
-    case DepthFormat::kDouble: return 1e-14;  // measured 4.3e-15
+    case DepthFormat::kFloat:
+      return 3;  // measured 1.97 over 3000 deep cases
+    case DepthFormat::kReversed:
+      return 3;  // measured 1.99
+    case DepthFormat::kFixed24:
+      return 1;  // measured 0
+    case DepthFormat::kDouble:
+      return 1e-14;  // measured 4.3e-15
   }
   return 0;
 }
 
 std::string sample_text(int i, int j, int k) {
-  return "sample " + std::to_string(k) + " of pixel (" + std::to_string(i) + ", " + std::to_string(j) + ")";
+  return "sample " + std::to_string(k) + " of pixel (" + std::to_string(i) + ", " +
+         std::to_string(j) + ")";
 }
 
 Verdict agreement(const Subject& subj, const VisCase& c) {
@@ -384,7 +414,8 @@ Verdict agreement(const Subject& subj, const VisCase& c) {
   const int spp = int(off.size());
   const double bound = depth_bound(c.depth);
   Verdict v;
-  if (o.tri.size() != r.tri.size() || o.count.size() != r.count.size() || o.depth.size() != r.depth.size()) {
+  if (o.tri.size() != r.tri.size() || o.count.size() != r.count.size() ||
+      o.depth.size() != r.depth.size()) {
     Outcome out;
     out.kind = Outcome::unexplained;
     out.label = "size";
@@ -396,12 +427,14 @@ Verdict agreement(const Subject& subj, const VisCase& c) {
     for (int i = 0; i < c.width; ++i)
       for (int k = 0; k < spp; ++k) {
         const size_t at = (size_t(j) * c.width + size_t(i)) * size_t(spp) + size_t(k);
-        const int64_t px = int64_t(i) * kSubpixel + off[size_t(k)][0], py = int64_t(j) * kSubpixel + off[size_t(k)][1];
+        const int64_t px = int64_t(i) * kSubpixel + off[size_t(k)][0],
+                      py = int64_t(j) * kSubpixel + off[size_t(k)][1];
         Outcome out;
         std::ostringstream d;
-        d << sample_text(i, j, k) << " at (" << px << ", " << py << ")/256: " << subj.name << " tri " << int64_t(int32_t(o.tri[at]))
-          << " count " << o.count[at] << " depth " << o.depth[at] << "; reference tri " << int64_t(int32_t(r.tri[at]))
-          << " count " << r.count[at] << " depth " << r.depth[at];
+        d << sample_text(i, j, k) << " at (" << px << ", " << py << ")/256: " << subj.name
+          << " tri " << int64_t(int32_t(o.tri[at])) << " count " << o.count[at] << " depth "
+          << o.depth[at] << "; reference tri " << int64_t(int32_t(r.tri[at])) << " count "
+          << r.count[at] << " depth " << r.depth[at];
         if (o.count[at] != r.count[at]) {
           out.kind = Outcome::unexplained;
           out.label = "count";
@@ -411,12 +444,14 @@ Verdict agreement(const Subject& subj, const VisCase& c) {
           // are within twice the depth bound (float formats: in ulps of the
           // larger's terms).
           const bool both = o.tri[at] != Visibility::kNone && r.tri[at] != Visibility::kNone;
-          double gap = both ? std::abs(ref_depth(m, s, o.tri[at], px, py) - r.depth[at]) : kInfinity;
+          double gap =
+              both ? std::abs(ref_depth(m, s, o.tri[at], px, py) - r.depth[at]) : kInfinity;
           if (both && (c.depth == DepthFormat::kFloat || c.depth == DepthFormat::kReversed)) {
             double scale = 0;
             for (const uint32_t t : {o.tri[at], r.tri[at]}) {
               const double d = ref_depth(m, s, t, px, py);
-              scale = std::max(scale, std::abs(d) + 8 * std::abs(ref_depth(m, s, t, px + kSubpixel, py) - d));
+              scale = std::max(
+                  scale, std::abs(d) + 8 * std::abs(ref_depth(m, s, t, px + kSubpixel, py) - d));
             }
             gap /= 0x1p-24 * scale;
           }
@@ -428,7 +463,8 @@ Verdict agreement(const Subject& subj, const VisCase& c) {
           out.err = std::abs(o.depth[at] - r.depth[at]);
           if (c.depth == DepthFormat::kFloat || c.depth == DepthFormat::kReversed) {
             // In float ulps of the plane's terms: the depth and 8 pixels of its x gradient.
-            const double gx = std::abs(ref_depth(m, s, r.tri[at], px + kSubpixel, py) - r.depth[at]);
+            const double gx =
+                std::abs(ref_depth(m, s, r.tri[at], px + kSubpixel, py) - r.depth[at]);
             out.err /= 0x1p-24 * (std::abs(r.depth[at]) + 8 * gx);
           }
           out.measured = true;
@@ -464,7 +500,8 @@ Verdict watertight(const Subject& subj, const VisCase& c) {
         if (o.count[at] != 1) {
           out.kind = Outcome::unexplained;
           out.label = o.count[at] == 0 ? "hole" : "overlap";
-          out.detail = sample_text(i, j, k) + ": covered " + std::to_string(o.count[at]) + " times by " + subj.name +
+          out.detail = sample_text(i, j, k) + ": covered " + std::to_string(o.count[at]) +
+                       " times by " + subj.name +
                        " (a closed mesh over the frame covers each sample once)";
         }
         v.rays.push_back(std::move(out));
@@ -474,8 +511,9 @@ Verdict watertight(const Subject& subj, const VisCase& c) {
 
 using Check = Verdict (*)(const Subject&, const VisCase&);
 
-Property property(const std::string& check, const std::string& suite, const std::string& generator, Check fn,
-                  rc::Gen<VisCase> (*gen)(), const Subject& subj, double bound, const std::string& unit) {
+Property property(const std::string& check, const std::string& suite, const std::string& generator,
+                  Check fn, rc::Gen<VisCase> (*gen)(), const Subject& subj, double bound,
+                  const std::string& unit) {
   Property p;
   p.family = "zbuffer";
   p.check = check;
@@ -495,7 +533,9 @@ Property property(const std::string& check, const std::string& suite, const std:
     r.text = [c](long) { return write_vis(*c); };
     return r;
   };
-  p.replay = [fn, subj](const std::string& text, const std::string& file) { return fn(subj, read_vis(text, file)); };
+  p.replay = [fn, subj](const std::string& text, const std::string& file) {
+    return fn(subj, read_vis(text, file));
+  };
   return p;
 }
 
@@ -504,7 +544,8 @@ Property agreement_property(const Subject& s) {
                   "stored depth (float formats: float ulps of |d| + 8 |dd/dx|; fixed24: codes)");
 }
 Property watertight_property(const Subject& s) {
-  return property("watertight", "Watertight", "closed", watertight, closed, s, 0, "coverage count - 1");
+  return property("watertight", "Watertight", "closed", watertight, closed, s, 0,
+                  "coverage count - 1");
 }
 
 // ---------------------------------------------------------------- the set-up
@@ -515,17 +556,18 @@ std::string mesh_difference(const ScreenMesh& a, const ScreenMesh& b) {
   if (a.tris.size() != b.tris.size())
     return std::to_string(a.tris.size()) + " triangles against " + std::to_string(b.tris.size());
   if (a.scene_tris != b.scene_tris || a.sphere_tris != b.sphere_tris || a.culled != b.culled ||
-      a.clipped != b.clipped || a.degenerate != b.degenerate || a.near_z != b.near_z || a.far_z != b.far_z)
+      a.clipped != b.clipped || a.degenerate != b.degenerate || a.near_z != b.near_z ||
+      a.far_z != b.far_z)
     return "other counts or near/far";
   auto same = [](const Vec3& x, const Vec3& y) { return x.x == y.x && x.y == y.y && x.z == y.z; };
   for (size_t i = 0; i < a.tris.size(); ++i) {
     const ScreenTri &s = a.tris[i], &t = b.tris[i];
-    bool ok = s.prim == t.prim && s.source_tri == t.source_tri && same(s.face_normal, t.face_normal) &&
-              same(s.flat_color, t.flat_color);
+    bool ok = s.prim == t.prim && s.source_tri == t.source_tri &&
+              same(s.face_normal, t.face_normal) && same(s.flat_color, t.flat_color);
     for (int k = 0; k < 3; ++k) {
       const ScreenVertex &u = s.v[size_t(k)], &w = t.v[size_t(k)];
-      ok = ok && u.x == w.x && u.y == w.y && u.z == w.z && same(u.world, w.world) && same(u.normal, w.normal) &&
-           same(u.color, w.color);
+      ok = ok && u.x == w.x && u.y == w.y && u.z == w.z && same(u.world, w.world) &&
+           same(u.normal, w.normal) && same(u.color, w.color);
     }
     if (!ok) return "triangle " + std::to_string(i) + " differs";
   }
@@ -536,8 +578,8 @@ std::string mesh_difference(const ScreenMesh& a, const ScreenMesh& b) {
 // handed to view_scene), every culling mode, the shadings whose set-up differs
 // (flat colour, Gouraud colours; Phong's is flat's without the colour).
 void setup_identical() {
-  for (const char* name : {"tetra-3.nff", "teapot-2.nff", "gears-2.nff", "mount-3.nff", "patches.nff", "concave.nff",
-                           "watertight-cube.nff", "balls-2.nff"}) {
+  for (const char* name : {"tetra-3.nff", "teapot-2.nff", "gears-2.nff", "mount-3.nff",
+                           "patches.nff", "concave.nff", "watertight-cube.nff", "balls-2.nff"}) {
     const Scene scene = read_nff(std::string(LOCKSTEP_CORPUS_DIR) + "/scenes/" + name);
     for (CullMode cull : {CullMode::kWorld, CullMode::kProjection, CullMode::kNone})
       for (Shading sh : {Shading::kFlat, Shading::kGouraud})
@@ -547,7 +589,8 @@ void setup_identical() {
           s.shading = sh;
           const ScreenMesh a = opt::simd::view_scene(scene, 96, 80, s, threads);
           const ScreenMesh b = lockstep::view_scene(scene, 96, 80, s);
-          EXPECT_EQ(mesh_difference(a, b), "") << name << " cull " << int(cull) << " shading " << int(sh);
+          EXPECT_EQ(mesh_difference(a, b), "")
+              << name << " cull " << int(cull) << " shading " << int(sh);
         }
   }
 }
@@ -567,7 +610,8 @@ Verdict setup_case(const RasterCase& c) {
                                    lockstep::view_scene(*scene, c.width, c.height, s));
       if (!out.detail.empty()) {
         out.kind = Outcome::unexplained, out.label = "mesh";
-        out.detail += " (cull " + std::to_string(int(cull)) + ", shading " + std::to_string(int(sh)) + ")";
+        out.detail +=
+            " (cull " + std::to_string(int(cull)) + ", shading " + std::to_string(int(sh)) + ")";
       }
       v.rays.push_back(out);
     }
@@ -594,7 +638,9 @@ void every_target(const ImageFamily& family) {
     VisCase c;
     c.width = 20 + int(rng() % 50), c.height = 10 + int(rng() % 40);
     c.spp = n % 3 == 0 ? 4 : 1;
-    c.depth = n % 4 == 1 ? DepthFormat::kFixed24 : n % 4 == 2 ? DepthFormat::kReversed : DepthFormat::kFloat;
+    c.depth = n % 4 == 1   ? DepthFormat::kFixed24
+              : n % 4 == 2 ? DepthFormat::kReversed
+                           : DepthFormat::kFloat;
     for (int t = 0; t < 12; ++t) {
       std::array<VisCase::Vertex, 3> tri;
       const bool huge = t % 5 == 4;
@@ -621,24 +667,27 @@ void every_target(const ImageFamily& family) {
     const Subject subj{"simd", simd_1};
     for (size_t i = 0; i < cases.size(); ++i) {
       const Verdict v = agreement(subj, cases[i]);
-      EXPECT_TRUE(v.passed()) << "Highway target " << hwy::TargetName(t) << ", soup " << i << ": " << v.first_failure();
+      EXPECT_TRUE(v.passed()) << "Highway target " << hwy::TargetName(t) << ", soup " << i << ": "
+                              << v.first_failure();
     }
     for (const char* name : {"gears-2", "teapot-2", "balls-2", "spotlights"})
-      for (const char* params : {"shading=phong", "shading=gouraud spp=4", "shading=toon silhouette=1 spp=9"}) {
+      for (const char* params :
+           {"shading=phong", "shading=gouraud spp=4", "shading=toon silhouette=1 spp=9"}) {
         const std::string path = std::string(LOCKSTEP_CORPUS_DIR) + "/scenes/" + name + ".nff";
         const Input in = family.load(path);
         FrameOptions o;
         o.width = 67, o.height = 45, o.threads = 1;
         std::istringstream ps(params);
-        for (std::string kv; ps >> kv;) o.params.set(kv.substr(0, kv.find('=')), kv.substr(kv.find('=') + 1));
+        for (std::string kv; ps >> kv;)
+          o.params.set(kv.substr(0, kv.find('=')), kv.substr(kv.find('=') + 1));
         const Image want = family.reference().render(in, o, nullptr);
         const Image got = simd->render(in, o, nullptr);
         const ImageError e = compare_images(got, want, cmp);
-        EXPECT_TRUE(e.pass) << name << " " << params << " on Highway target " << hwy::TargetName(t) << ": "
-                            << describe(e);
+        EXPECT_TRUE(e.pass) << name << " " << params << " on Highway target " << hwy::TargetName(t)
+                            << ": " << describe(e);
       }
-    std::printf("[ lockstep ] zbuffer simd on %-7s: %zu soups, 12 corpus frames checked\n", hwy::TargetName(t),
-                cases.size());
+    std::printf("[ lockstep ] zbuffer simd on %-7s: %zu soups, 12 corpus frames checked\n",
+                hwy::TargetName(t), cases.size());
   }
 }
 
@@ -653,10 +702,14 @@ void visibility_part(const ImageFamily& family, FamilyProperties& out) {
   out.properties.push_back(watertight_property(simd));
   const Subject inclusive{"inclusive_edges", broken<0>};
   const Subject bottom_right{"bottom_right", broken<1>};
-  out.mutants.push_back({"inclusive_edges", "samples on an edge belong to both triangles", "watertight",
+  out.mutants.push_back({"inclusive_edges",
+                         "samples on an edge belong to both triangles",
+                         "watertight",
                          {agreement_property(inclusive), watertight_property(inclusive)}});
-  out.mutants.push_back({"bottom_right", "the mirror fill rule (bottom and right edges own their samples)",
-                         "coverage_agreement", {agreement_property(bottom_right), watertight_property(bottom_right)}});
+  out.mutants.push_back({"bottom_right",
+                         "the mirror fill rule (bottom and right edges own their samples)",
+                         "coverage_agreement",
+                         {agreement_property(bottom_right), watertight_property(bottom_right)}});
   out.fixed.push_back({"SimdTargets", "zbuffer__simd", [&family] { every_target(family); }});
   // The optimized set-up (opt::simd::view_scene) makes view_scene's mesh.
   out.fixed.push_back({"SetupIdentical", "zbuffer__simd_corpus", setup_identical});
