@@ -82,7 +82,9 @@ HWY_INLINE hn::Mask<DI> CoverDouble(DI di, const int64_t e[3], const int64_t sx[
   return hn::LoadMaskBits(di, bits);
 }
 
-template <class DT>
+// kReversed, kFixed24: the depth format, fixed at compile time (the inner loop
+// has no branch on it).
+template <bool kReversed, bool kFixed24, class DT>
 HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::TFromD<DT>* depth,
                             int32_t* tri, int32_t* count) {
   using T = hn::TFromD<DT>;
@@ -94,14 +96,13 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
   const VI iota_i = hn::Iota(di, 0);
   const VT iota_t = hn::Iota(dt, 0);
   const VI minus1 = hn::Set(di, -1);
-  const bool reversed = p.depth == DepthFormat::kReversed;
-  const bool fixed24 = p.depth == DepthFormat::kFixed24;
+  constexpr bool reversed = kReversed, fixed24 = kFixed24;
   const double fixed_scale = double((1 << 24) - 1);
   constexpr int64_t kLimit = int64_t(1) << 30;
 
   // The stored value from the plane value q (kFixed24: its integer code, as stored_depth).
   auto stored = [&](VT q) -> VT {
-    if (fixed24) {
+    if constexpr (fixed24) {
       q = hn::Min(hn::Max(q, hn::Zero(dt)), hn::Set(dt, T(1)));
       q = hn::Round(hn::Mul(q, hn::Set(dt, T(fixed_scale))));
     }
@@ -109,7 +110,10 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
   };
 
   for (int l = 0; l < t.nlists; ++l) {
-    for (const uint32_t id : *t.lists[l]) {
+    const std::vector<uint32_t>& list = *t.lists[l];
+    for (size_t li = 0; li < list.size(); ++li) {
+      const uint32_t id = list[li];
+      if (li + 1 < list.size()) __builtin_prefetch(&p.tris[list[li + 1]]);
       const TriSetup& s = p.tris[id];
       const int ri0 = std::max(s.i0, t.x0), ri1 = std::min(s.i1, t.x1 - 1);
       const int rj0 = std::max(s.j0, t.y0), rj1 = std::min(s.j1, t.y1 - 1);
@@ -172,7 +176,12 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
                         count + at);
             const VT q = stored(hn::Add(hn::Set(dt, T(q_row + qsx * double(b * N))), q_lane));
             const VT old = hn::Load(dt, depth + at);
-            const auto closer = reversed ? hn::Gt(q, old) : hn::Lt(q, old);
+            hn::Mask<DT> closer;
+            if constexpr (reversed) {
+              closer = hn::Gt(q, old);
+            } else {
+              closer = hn::Lt(q, old);
+            }
             const auto pass = hn::And(CastMask(dt, di, cover), closer);
             hn::Store(hn::IfThenElse(pass, q, old), dt, depth + at);
             const VI cur = hn::Load(di, tri + at);
@@ -449,11 +458,19 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot,
 
 void RasterTileFloat(const RasterParams& p, const TileJob& t, float* depth, int32_t* tri,
                      int32_t* count) {
-  RasterTileT(hn::CappedTag<float, 8>(), p, t, depth, tri, count);
+  const hn::CappedTag<float, 8> d;
+  if (p.depth == DepthFormat::kReversed)
+    return RasterTileT<true, false>(d, p, t, depth, tri, count);
+  if (p.depth == DepthFormat::kFixed24) return RasterTileT<false, true>(d, p, t, depth, tri, count);
+  RasterTileT<false, false>(d, p, t, depth, tri, count);
 }
 void RasterTileDouble(const RasterParams& p, const TileJob& t, double* depth, int32_t* tri,
                       int32_t* count) {
-  RasterTileT(hn::CappedTag<double, 8>(), p, t, depth, tri, count);
+  const hn::CappedTag<double, 8> d;
+  if (p.depth == DepthFormat::kReversed)
+    return RasterTileT<true, false>(d, p, t, depth, tri, count);
+  if (p.depth == DepthFormat::kFixed24) return RasterTileT<false, true>(d, p, t, depth, tri, count);
+  RasterTileT<false, false>(d, p, t, depth, tri, count);
 }
 const char* TargetName() { return hwy::TargetName(HWY_TARGET); }
 
