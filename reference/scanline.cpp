@@ -362,7 +362,7 @@ Image scanline(const Scene& scene, const FrameOptions& opts, FrameStats* stats) 
           for (int k = 0; k < spp; ++k) {
             const size_t x = size_t(i) * spp + k;
             if (!hit[x]) {
-              sum += scene.background;
+              sum += Vec3(Vec3f(scene.background));
               continue;
             }
             // Colours are kept in float per sample, as ref::zbuffer keeps them.
