@@ -19,6 +19,8 @@ void scanline_visibility(const ScreenMesh& mesh, const RasterSettings& s, int th
 Image scanline(const Scene& scene, const FrameOptions& opts, FrameStats* stats);
 // The Highway target the span fills run on ("AVX2", "AVX3", ...).
 const char* scanline_target_name();
+// Float lanes per vector of that target (the span fill's step).
+size_t scanline_lanes();
 }  // namespace opt::simd
 
 }  // namespace lockstep

@@ -376,6 +376,7 @@ void scan_frame(const Frame& f, int threads, const std::function<void(double)>& 
 }  // namespace
 
 const char* scanline_target_name() { return HWY_DYNAMIC_DISPATCH(sk::TargetName)(); }
+size_t scanline_lanes() { return HWY_DYNAMIC_DISPATCH(sk::LanesF)(); }
 
 void scanline_visibility(const ScreenMesh& mesh, const RasterSettings& s, int threads, Visibility& vis) {
   const Frame f = prepare(mesh, s);

@@ -12,5 +12,9 @@ namespace lockstep::props::raster {
 
 // z-buffer frames against ray casting (properties.cpp).
 void cross_check_part(const ImageFamily& family, FamilyProperties& out);
+// scanline: coverage against the z-buffer on snapped meshes, frames against the z-buffer (scanline.cpp).
+void scanline_part(const ImageFamily& family, FamilyProperties& out);
+// scanline: the interpolation lessons, measured (interpolation.cpp).
+void interpolation_part(const ImageFamily& family, FamilyProperties& out);
 
 }  // namespace lockstep::props::raster

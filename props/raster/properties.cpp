@@ -206,6 +206,8 @@ FamilyProperties properties(const ImageFamily& family) {
   using Part = void (*)(const ImageFamily&, FamilyProperties&);
   static constexpr Part kParts[] = {
       cross_check_part,
+      scanline_part,
+      interpolation_part,
   };
   FamilyProperties out;
   for (Part part : kParts) part(family, out);
