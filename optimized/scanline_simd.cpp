@@ -306,11 +306,18 @@ void scan_band(const Frame& f, int j_begin, int j_end, bool counts, OnRow on_row
     }
     std::fill(cnt.begin(), cnt.end(), 0);
     for (size_t p = 0; p < f.passes.size(); ++p) {
+      // The AEL stays in scene order without sorting: edges leave in place,
+      // and the row's new edges (in scene order already: the band's triangles
+      // are listed in order) are merged in.
       std::vector<Edge>& active = ael[p];
-      for (const Edge& e : et[p][size_t(j - j_begin)]) active.push_back(e);
       std::erase_if(active, [&](const Edge& e) { return e.last_row < j; });
-      std::sort(active.begin(), active.end(),
-                [](const Edge& a, const Edge& b) { return a.tri != b.tri ? a.tri < b.tri : a.left > b.left; });
+      const std::vector<Edge>& fresh = et[p][size_t(j - j_begin)];
+      if (!fresh.empty()) {
+        const size_t old = active.size();
+        active.insert(active.end(), fresh.begin(), fresh.end());
+        std::inplace_merge(active.begin(), active.begin() + ptrdiff_t(old), active.end(),
+                           [](const Edge& a, const Edge& b) { return a.tri < b.tri; });
+      }
       const int64_t ys = int64_t(j) * kSubpixel + f.passes[p].oy;
       for (size_t g = 0; g < active.size();) {
         int64_t xl = INT64_MIN, xr = INT64_MAX;
