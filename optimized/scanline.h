@@ -15,7 +15,8 @@ namespace lockstep {
 
 namespace opt::simd {
 // Same contract as ref::scanline_visibility; threads = 0: all cores.
-void scanline_visibility(const ScreenMesh& mesh, const RasterSettings& s, int threads, Visibility& vis);
+void scanline_visibility(const ScreenMesh& mesh, const RasterSettings& s, int threads,
+                         Visibility& vis);
 Image scanline(const Scene& scene, const FrameOptions& opts, FrameStats* stats);
 // The Highway target the span fills run on ("AVX2", "AVX3", ...).
 const char* scanline_target_name();

@@ -55,13 +55,15 @@ void FillF(float* depth, int32_t* tri, int64_t n, double d0, double dd, int32_t 
 // The same in double lanes (ids as doubles, exact below 2^53); fixed24: the
 // stored value is the window depth clamped to [0, 1], scaled to 2^24 - 1 and
 // rounded to the nearest integer (ties to even, as std::nearbyint).
-void FillD(double* depth, double* tri, int64_t n, double d0, double dd, double id, bool greater, bool fixed24) {
+void FillD(double* depth, double* tri, int64_t n, double d0, double dd, double id, bool greater,
+           bool fixed24) {
   const hn::ScalableTag<double> dd_;
   const int64_t N = int64_t(hn::Lanes(dd_));
   auto d = hn::Add(hn::Set(dd_, d0), hn::Mul(hn::Iota(dd_, 0), hn::Set(dd_, dd)));
   const auto step = hn::Set(dd_, dd * double(N));
   const auto vid = hn::Set(dd_, id);
-  const auto zero = hn::Zero(dd_), one = hn::Set(dd_, 1.0), scale = hn::Set(dd_, double((1 << 24) - 1));
+  const auto zero = hn::Zero(dd_), one = hn::Set(dd_, 1.0),
+             scale = hn::Set(dd_, double((1 << 24) - 1));
   for (int64_t i = 0; i < n; i += N) {
     auto v = d;
     if (fixed24) v = hn::Round(hn::Mul(hn::Min(hn::Max(d, zero), one), scale));
@@ -133,7 +135,8 @@ struct Edge {
   }
 };
 
-// The triangle's stored depth as a plane over the screen: d(X, Y) = d0 + ddx (X - x0) + ddy (Y - y0), pixels.
+// The triangle's stored depth as a plane over the screen: d(X, Y) = d0 + ddx (X - x0) + ddy (Y -
+// y0), pixels.
 struct DepthPlane {
   double x0 = 0, y0 = 0, d0 = 0, ddx = 0, ddy = 0;
 };
@@ -146,8 +149,9 @@ struct Frame {
   std::vector<Pass> passes;
   std::vector<DepthPlane> planes;
   std::vector<uint8_t> flat_bottom;
-  std::vector<std::vector<uint32_t>> band_tris;  // the triangles whose rows meet each band, in scene order
-  bool float_lanes = true;                       // float / reversed depth: float lanes; fixed24 / double: double lanes
+  std::vector<std::vector<uint32_t>>
+      band_tris;            // the triangles whose rows meet each band, in scene order
+  bool float_lanes = true;  // float / reversed depth: float lanes; fixed24 / double: double lanes
 };
 
 Frame prepare(const ScreenMesh& mesh, const RasterSettings& s) {
@@ -159,7 +163,8 @@ Frame prepare(const ScreenMesh& mesh, const RasterSettings& s) {
   f.offsets = sample_offsets(s);
   f.spp = int(f.offsets.size());
   for (int k = 0; k < f.spp; ++k) {
-    auto it = std::find_if(f.passes.begin(), f.passes.end(), [&](const Pass& p) { return p.oy == f.offsets[k][1]; });
+    auto it = std::find_if(f.passes.begin(), f.passes.end(),
+                           [&](const Pass& p) { return p.oy == f.offsets[k][1]; });
     if (it == f.passes.end()) {
       f.passes.push_back({f.offsets[k][1], {}});
       it = f.passes.end() - 1;
@@ -190,18 +195,21 @@ Frame prepare(const ScreenMesh& mesh, const RasterSettings& s) {
     const double ex2 = x[2] - x[0], ey2 = y[2] - y[0], ew2 = w[2] - w[0];
     const double A = ey1 * ew2 - ew1 * ey2, B = ew1 * ex2 - ex1 * ew2, C = ex1 * ey2 - ey1 * ex2;
     f.planes[ti] = {x[0], y[0], w[0], -A / C, -B / C};
-    const int32_t ymin = std::min({t.v[0].y, t.v[1].y, t.v[2].y}), ymax = std::max({t.v[0].y, t.v[1].y, t.v[2].y});
+    const int32_t ymin = std::min({t.v[0].y, t.v[1].y, t.v[2].y}),
+                  ymax = std::max({t.v[0].y, t.v[1].y, t.v[2].y});
     f.flat_bottom[ti] = (t.v[0].y == ymax) + (t.v[1].y == ymax) + (t.v[2].y == ymax) == 2;
     // The pixel rows whose sample rows (256 j .. 256 j + 255) meet [ymin, ymax].
     const int64_t j0 = std::max<int64_t>(ceil_div(int64_t(ymin) - (kSubpixel - 1), kSubpixel), 0);
     const int64_t j1 = std::min<int64_t>(floor_div(ymax, kSubpixel), f.height - 1);
-    for (int64_t b = j0 / f.band; j0 <= j1 && b <= j1 / f.band; ++b) f.band_tris[size_t(b)].push_back(ti);
+    for (int64_t b = j0 / f.band; j0 <= j1 && b <= j1 / f.band; ++b)
+      f.band_tris[size_t(b)].push_back(ti);
   }
   return f;
 }
 
 // Edge a -> b of triangle ti for the sample rows at oy, entering at row max(its first, j_begin).
-bool make_edge(const Frame& f, uint32_t ti, int a, int b, int32_t oy, int j_begin, int j_end, Edge& e, int& first) {
+bool make_edge(const Frame& f, uint32_t ti, int a, int b, int32_t oy, int j_begin, int j_end,
+               Edge& e, int& first) {
   const ScreenTri& t = f.mesh->tris[ti];
   const ScreenVertex &va = t.v[a], &vb = t.v[b];
   const int64_t dx = int64_t(vb.x) - va.x, dy = int64_t(vb.y) - va.y;
@@ -211,7 +219,8 @@ bool make_edge(const Frame& f, uint32_t ti, int a, int b, int32_t oy, int j_begi
   e.D = std::abs(dy);
   const int64_t ytop = std::min(va.y, vb.y), ybot = std::max(va.y, vb.y);
   const int64_t j0 = std::max<int64_t>(ceil_div(ytop - oy, kSubpixel), j_begin);
-  const int64_t j1 = std::min<int64_t>(floor_div(ybot - oy - (f.flat_bottom[ti] ? 1 : 0), kSubpixel), j_end - 1);
+  const int64_t j1 =
+      std::min<int64_t>(floor_div(ybot - oy - (f.flat_bottom[ti] ? 1 : 0), kSubpixel), j_end - 1);
   if (j0 > j1) return false;
   first = int(j0);
   e.last_row = int(j1);
@@ -227,7 +236,8 @@ bool make_edge(const Frame& f, uint32_t ti, int a, int b, int32_t oy, int j_begi
 }
 
 // The fragment of ref::zbuffer at sample (px, py) (1/256 pixel) of triangle ti.
-Fragment direct_fragment(const ScreenMesh& mesh, uint32_t ti, int64_t px, int64_t py, bool perspective) {
+Fragment direct_fragment(const ScreenMesh& mesh, uint32_t ti, int64_t px, int64_t py,
+                         bool perspective) {
   const ScreenTri& t = mesh.tris[ti];
   auto edge = [&](const ScreenVertex& a, const ScreenVertex& b) {
     return int64_t(b.x - a.x) * (py - a.y) - int64_t(b.y - a.y) * (px - a.x);
@@ -274,7 +284,8 @@ void scan_band(const Frame& f, int j_begin, int j_end, bool counts, OnRow on_row
 
   // The edge tables of the band's passes, bucketed by row within the band.
   const int rows = j_end - j_begin;
-  std::vector<std::vector<std::vector<Edge>>> et(f.passes.size(), std::vector<std::vector<Edge>>(size_t(rows)));
+  std::vector<std::vector<std::vector<Edge>>> et(f.passes.size(),
+                                                 std::vector<std::vector<Edge>>(size_t(rows)));
   for (size_t p = 0; p < f.passes.size(); ++p)
     for (uint32_t ti : tris)
       for (int a = 0; a < 3; ++a) {
@@ -343,11 +354,12 @@ void scan_band(const Frame& f, int j_begin, int j_end, bool counts, OnRow on_row
           const double d0 = pl.d0 + pl.ddx * (X - pl.x0) + pl.ddy * (Y - pl.y0);
           const size_t base = size_t(col.k) * (w + pad) + size_t(i0);
           if (f.float_lanes)
-            HWY_DYNAMIC_DISPATCH(sk::FillF)(zf.data() + base, tf.data() + base, i1 - i0 + 1, d0, pl.ddx, int32_t(ti),
-                                            greater);
+            HWY_DYNAMIC_DISPATCH(sk::FillF)
+            (zf.data() + base, tf.data() + base, i1 - i0 + 1, d0, pl.ddx, int32_t(ti), greater);
           else
-            HWY_DYNAMIC_DISPATCH(sk::FillD)(zd.data() + base, td.data() + base, i1 - i0 + 1, d0, pl.ddx, double(ti),
-                                            greater, fixed24);
+            HWY_DYNAMIC_DISPATCH(sk::FillD)
+            (zd.data() + base, td.data() + base, i1 - i0 + 1, d0, pl.ddx, double(ti), greater,
+             fixed24);
           if (counts)
             for (size_t i = base; i <= base + size_t(i1 - i0); ++i) ++cnt[i];
         }
@@ -373,8 +385,8 @@ void scan_band(const Frame& f, int j_begin, int j_end, bool counts, OnRow on_row
 
 // Bands of rows on TBB.
 template <class OnRow>
-void scan_frame(const Frame& f, int threads, const std::function<void(double)>& progress, bool counts,
-                OnRow on_row) {
+void scan_frame(const Frame& f, int threads, const std::function<void(double)>& progress,
+                bool counts, OnRow on_row) {
   if (f.width <= 0 || f.height <= 0) return;
   parallel_tiles(f.width, f.height, f.width, f.band, threads, progress,
                  [&](int, int y0, int, int y1) { scan_band(f, y0, y1, counts, on_row); });
@@ -385,7 +397,8 @@ void scan_frame(const Frame& f, int threads, const std::function<void(double)>& 
 const char* scanline_target_name() { return HWY_DYNAMIC_DISPATCH(sk::TargetName)(); }
 size_t scanline_lanes() { return HWY_DYNAMIC_DISPATCH(sk::LanesF)(); }
 
-void scanline_visibility(const ScreenMesh& mesh, const RasterSettings& s, int threads, Visibility& vis) {
+void scanline_visibility(const ScreenMesh& mesh, const RasterSettings& s, int threads,
+                         Visibility& vis) {
   const Frame f = prepare(mesh, s);
   const size_t samples = size_t(mesh.width) * mesh.height * f.spp;
   vis.width = mesh.width;
@@ -406,8 +419,9 @@ Image scanline(const Scene& scene, const FrameOptions& opts, FrameStats* stats) 
   const RasterSettings s = raster_settings(opts.params, scene.source);
   const double samples = double(opts.width) * opts.height * s.spp;
   if (samples > double(1 << 25))
-    throw InputError(scene.source, 0,
-                     "size x spp is " + std::to_string(int64_t(samples)) + " samples; at most 33554432 (2^25)");
+    throw InputError(
+        scene.source, 0,
+        "size x spp is " + std::to_string(int64_t(samples)) + " samples; at most 33554432 (2^25)");
   const ScreenMesh mesh = view_scene(scene, opts.width, opts.height, s);
   const Frame f = prepare(mesh, s);
   Image image = Image::uninitialized(opts.width, opts.height);  // every pixel is written below
@@ -423,8 +437,9 @@ Image scanline(const Scene& scene, const FrameOptions& opts, FrameStats* stats) 
           sum += background;
           continue;
         }
-        const Fragment fr = direct_fragment(mesh, ti, int64_t(i) * kSubpixel + f.offsets[k][0],
-                                            int64_t(j) * kSubpixel + f.offsets[k][1], s.perspective);
+        const Fragment fr =
+            direct_fragment(mesh, ti, int64_t(i) * kSubpixel + f.offsets[k][0],
+                            int64_t(j) * kSubpixel + f.offsets[k][1], s.perspective);
         sum += Vec3(Vec3f(shade_fragment(scene, mesh, s, fr)));
         z = std::min(z, float(fr.z));
       }

@@ -64,7 +64,8 @@ struct Pass {
 std::vector<Pass> passes_of(const std::vector<std::array<int32_t, 2>>& offsets) {
   std::vector<Pass> passes;
   for (int k = 0; k < int(offsets.size()); ++k) {
-    auto it = std::find_if(passes.begin(), passes.end(), [&](const Pass& p) { return p.oy == offsets[k][1]; });
+    auto it = std::find_if(passes.begin(), passes.end(),
+                           [&](const Pass& p) { return p.oy == offsets[k][1]; });
     if (it == passes.end()) {
       passes.push_back({offsets[k][1], {}});
       it = passes.end() - 1;
@@ -98,7 +99,8 @@ struct Edge {
   int64_t bound() const { return left ? -q : q; }
   // Where the edge crosses the row, in pixels (M's exact quotient, rounded once).
   double crossing() const {
-    const double x = left ? -(double(q) + double(r) / double(D)) : double(q) + double(r + 1) / double(D);
+    const double x =
+        left ? -(double(q) + double(r) / double(D)) : double(q) + double(r + 1) / double(D);
     return x / kSubpixel;
   }
   // One row down: the integer walk carries the remainder; 1/z and the
@@ -148,8 +150,8 @@ TriSetup setup_triangle(const ScreenTri& t, bool perspective) {
 // bottom_cut: the triangle's bottom is a horizontal edge at the edge's lower
 // end, which owns no sample on its own row (the top-left rule), so the edge
 // stops above it.
-bool make_edge(const ScreenTri& t, const TriSetup& ts, uint32_t tri, int a, int b, int32_t oy, int height,
-               bool bottom_cut, Edge& e, int& first_row) {
+bool make_edge(const ScreenTri& t, const TriSetup& ts, uint32_t tri, int a, int b, int32_t oy,
+               int height, bool bottom_cut, Edge& e, int& first_row) {
   const ScreenVertex &va = t.v[a], &vb = t.v[b];
   const int64_t dx = int64_t(vb.x) - va.x, dy = int64_t(vb.y) - va.y;
   if (dy == 0) return false;  // horizontal: decided by the other two edges and bottom_cut
@@ -196,8 +198,8 @@ bool make_edge(const ScreenTri& t, const TriSetup& ts, uint32_t tri, int a, int 
 // covered sample of that row is handed to on_sample(index, fragment) (the
 // triangles in scene order); on_row(j) is called when row j is complete.
 template <class OnSample, class OnRow>
-void scan_frame(const ScreenMesh& mesh, const RasterSettings& s, const std::function<void(double)>& progress,
-                OnSample on_sample, OnRow on_row) {
+void scan_frame(const ScreenMesh& mesh, const RasterSettings& s,
+                const std::function<void(double)>& progress, OnSample on_sample, OnRow on_row) {
   const int w = mesh.width, h = mesh.height;
   const auto offsets = sample_offsets(s);
   const int spp = int(offsets.size());
@@ -222,7 +224,8 @@ void scan_frame(const ScreenMesh& mesh, const RasterSettings& s, const std::func
         const int b = (a + 1) % 3;
         Edge e;
         int first = 0;
-        if (make_edge(t, setups[ti], ti, a, b, passes[p].oy, h, flat_bottom, e, first)) et[p][first].push_back(e);
+        if (make_edge(t, setups[ti], ti, a, b, passes[p].oy, h, flat_bottom, e, first))
+          et[p][first].push_back(e);
       }
     }
 
@@ -303,7 +306,8 @@ namespace ref {
 
 void scanline_fragments(const ScreenMesh& mesh, const RasterSettings& s,
                         const std::function<void(size_t sample, const Fragment& f)>& on_sample) {
-  scan_frame(mesh, s, {}, [&](size_t index, const Fragment& f) { on_sample(index, f); }, [](int) {});
+  scan_frame(
+      mesh, s, {}, [&](size_t index, const Fragment& f) { on_sample(index, f); }, [](int) {});
 }
 
 void scanline_visibility(const ScreenMesh& mesh, const RasterSettings& s, Visibility& vis) {
@@ -330,8 +334,9 @@ Image scanline(const Scene& scene, const FrameOptions& opts, FrameStats* stats) 
   const RasterSettings s = raster_settings(opts.params, scene.source);
   const double samples = double(opts.width) * opts.height * s.spp;
   if (samples > double(1 << 25))
-    throw InputError(scene.source, 0,
-                     "size x spp is " + std::to_string(int64_t(samples)) + " samples; at most 33554432 (2^25)");
+    throw InputError(
+        scene.source, 0,
+        "size x spp is " + std::to_string(int64_t(samples)) + " samples; at most 33554432 (2^25)");
   const ScreenMesh mesh = view_scene(scene, opts.width, opts.height, s);
   const int w = opts.width, spp = int(sample_offsets(s).size());
 
@@ -382,8 +387,8 @@ Image scanline(const Scene& scene, const FrameOptions& opts, FrameStats* stats) 
 
 // ---------------------------------------------------------------- the interpolation lessons
 
-std::array<double, 3> barycentric(const ScreenValue& a, const ScreenValue& b, const ScreenValue& c, double px,
-                                  double py) {
+std::array<double, 3> barycentric(const ScreenValue& a, const ScreenValue& b, const ScreenValue& c,
+                                  double px, double py) {
   // Twice the signed area of (p, q, r).
   auto area = [](double x0, double y0, double x1, double y1, double x2, double y2) {
     return (x1 - x0) * (y2 - y0) - (y1 - y0) * (x2 - x0);

@@ -47,8 +47,8 @@ struct ScreenValue {
 // b0 = area(p, b, c) / area(a, b, c), ... They sum to 1 and reproduce the
 // vertices' values; they do not change when the triangle and p are rotated
 // together on screen.
-std::array<double, 3> barycentric(const ScreenValue& a, const ScreenValue& b, const ScreenValue& c, double px,
-                                  double py);
+std::array<double, 3> barycentric(const ScreenValue& a, const ScreenValue& b, const ScreenValue& c,
+                                  double px, double py);
 
 // Bilinear (scanline, Gouraud 1971) interpolation over a convex polygon: the
 // value down the left and the right edge crossing the row y = py, linear in y

@@ -14,6 +14,8 @@
 //       raster_case.h (Phong, culling), the frame equals ref::zbuffer's within
 //       1/255 per pixel; a pixel over it is explained only when its centre's
 //       visible triangle differs at a depth tie.
+#include "optimized/scanline.h"
+
 #include <gtest/gtest.h>
 
 #include <cfloat>
@@ -22,7 +24,6 @@
 #include <sstream>
 
 #include "core/error.h"
-#include "optimized/scanline.h"
 #include "pairs/registry.h"
 #include "props/gen/numbers.h"
 #include "props/property.h"
@@ -69,8 +70,8 @@ const char* kFormats[] = {"float", "reversed", "fixed24", "double"};
 
 std::string write_mesh(const MeshCase& c) {
   std::ostringstream o;
-  o << kMeshHeader << " " << c.width << " " << c.height << " " << c.spp << " " << (c.rotated ? "rotated" : "regular")
-    << " " << kFormats[int(c.depth)] << "\n";
+  o << kMeshHeader << " " << c.width << " " << c.height << " " << c.spp << " "
+    << (c.rotated ? "rotated" : "regular") << " " << kFormats[int(c.depth)] << "\n";
   char buf[64];
   for (const auto& t : c.tris) {
     for (const ScreenVertex& v : t) {
@@ -84,7 +85,8 @@ std::string write_mesh(const MeshCase& c) {
 
 MeshCase read_mesh(const std::string& text, const std::string& file) {
   const size_t at = text.starts_with(kMeshHeader) ? 0 : text.find(std::string("\n") + kMeshHeader);
-  if (at == std::string::npos) throw InputError(file, 0, "no 'scanline_mesh W H SPP GRID DEPTH' line");
+  if (at == std::string::npos)
+    throw InputError(file, 0, "no 'scanline_mesh W H SPP GRID DEPTH' line");
   std::istringstream in(text.substr(at == 0 ? 0 : at + 1));
   MeshCase c;
   std::string head, grid, depth;
@@ -103,7 +105,8 @@ MeshCase read_mesh(const std::string& text, const std::string& file) {
 }
 
 int64_t area2(const std::array<ScreenVertex, 3>& t) {
-  return int64_t(t[1].x - t[0].x) * (t[2].y - t[0].y) - int64_t(t[1].y - t[0].y) * (t[2].x - t[0].x);
+  return int64_t(t[1].x - t[0].x) * (t[2].y - t[0].y) -
+         int64_t(t[1].y - t[0].y) * (t[2].x - t[0].x);
 }
 
 // Keeps a triangle with positive area (swapping two vertices of a negative one).
@@ -156,8 +159,10 @@ rc::Gen<MeshCase> snapped_mesh() {
       std::vector<ScreenVertex> ring(static_cast<size_t>(k));
       for (int i = 0; i < k; ++i) {
         const double angle = phase + 6.283185307179586 * i / k;
-        ring[size_t(i)].x = int32_t(std::lround((centre.x + radius * std::cos(angle)) / lattice) * lattice);
-        ring[size_t(i)].y = int32_t(std::lround((centre.y + radius * std::sin(angle)) / lattice) * lattice);
+        ring[size_t(i)].x =
+            int32_t(std::lround((centre.x + radius * std::cos(angle)) / lattice) * lattice);
+        ring[size_t(i)].y =
+            int32_t(std::lround((centre.y + radius * std::sin(angle)) / lattice) * lattice);
         ring[size_t(i)].z = depth();
       }
       for (int i = 0; i < k; ++i) add_tri(c, {centre, ring[size_t(i)], ring[size_t((i + 1) % k)]});
@@ -170,7 +175,8 @@ rc::Gen<MeshCase> snapped_mesh() {
 
 // The exact stored depth of triangle t at sample (px, py) (1/256 pixel): the
 // screen barycentrics from the integer edge functions, 1/z in long double.
-double exact_depth(const ScreenMesh& m, const RasterSettings& s, uint32_t ti, int64_t px, int64_t py) {
+double exact_depth(const ScreenMesh& m, const RasterSettings& s, uint32_t ti, int64_t px,
+                   int64_t py) {
   const ScreenTri& t = m.tris[ti];
   auto e = [&](const ScreenVertex& a, const ScreenVertex& b) {
     return (long double)(int64_t(b.x - a.x) * (py - a.y) - int64_t(b.y - a.y) * (px - a.x));
@@ -186,10 +192,13 @@ double exact_depth(const ScreenMesh& m, const RasterSettings& s, uint32_t ti, in
 double resolution(DepthFormat f, double d) {
   switch (f) {
     case DepthFormat::kFloat:
-    case DepthFormat::kReversed: return std::max(double(std::nextafter(float(std::abs(d)), FLT_MAX)) - std::abs(d),
-                                                 double(FLT_MIN));
-    case DepthFormat::kFixed24: return 1;
-    case DepthFormat::kDouble: break;
+    case DepthFormat::kReversed:
+      return std::max(double(std::nextafter(float(std::abs(d)), FLT_MAX)) - std::abs(d),
+                      double(FLT_MIN));
+    case DepthFormat::kFixed24:
+      return 1;
+    case DepthFormat::kDouble:
+      break;
   }
   return std::max(std::nextafter(std::abs(d), DBL_MAX) - std::abs(d), DBL_MIN);
 }
@@ -204,16 +213,22 @@ double resolution(DepthFormat f, double d) {
 double depth_bound(const std::string& impl, DepthFormat f) {
   if (impl == "reference") return f == DepthFormat::kDouble ? 32 : 1;
   switch (f) {
-    case DepthFormat::kFloat: return 4;
-    case DepthFormat::kReversed: return 2;
-    case DepthFormat::kFixed24: return 1;
-    case DepthFormat::kDouble: break;
+    case DepthFormat::kFloat:
+      return 4;
+    case DepthFormat::kReversed:
+      return 2;
+    case DepthFormat::kFixed24:
+      return 1;
+    case DepthFormat::kDouble:
+      break;
   }
   return 48;
 }
 
 // Two triangles at a depth tie: their exact stored depths within the tie band.
-bool depth_tie(DepthFormat f, double a, double b) { return std::abs(a - b) <= 4 * resolution(f, std::max(std::abs(a), std::abs(b))); }
+bool depth_tie(DepthFormat f, double a, double b) {
+  return std::abs(a - b) <= 4 * resolution(f, std::max(std::abs(a), std::abs(b)));
+}
 
 Verdict check_coverage(const std::string& impl, const MeshCase& c) {
   const ScreenMesh m = c.mesh();
@@ -231,20 +246,24 @@ Verdict check_coverage(const std::string& impl, const MeshCase& c) {
     for (int i = 0; i < c.width; ++i)
       for (int k = 0; k < spp; ++k) {
         const size_t x = (size_t(j) * c.width + i) * spp + k;
-        const int64_t px = int64_t(i) * kSubpixel + offsets[k][0], py = int64_t(j) * kSubpixel + offsets[k][1];
+        const int64_t px = int64_t(i) * kSubpixel + offsets[k][0],
+                      py = int64_t(j) * kSubpixel + offsets[k][1];
         Outcome o;
         std::ostringstream d;
-        d << "sample (" << px << ", " << py << ") of pixel (" << i << ", " << j << "), k " << k << ": zbuffer count "
-          << zb.count[x] << " tri " << int64_t(zb.tri[x] == Visibility::kNone ? -1 : zb.tri[x]) << " depth "
-          << zb.depth[x] << "; scanline " << impl << " count " << sl.count[x] << " tri "
+        d << "sample (" << px << ", " << py << ") of pixel (" << i << ", " << j << "), k " << k
+          << ": zbuffer count " << zb.count[x] << " tri "
+          << int64_t(zb.tri[x] == Visibility::kNone ? -1 : zb.tri[x]) << " depth " << zb.depth[x]
+          << "; scanline " << impl << " count " << sl.count[x] << " tri "
           << int64_t(sl.tri[x] == Visibility::kNone ? -1 : sl.tri[x]) << " depth " << sl.depth[x];
         if (zb.count[x] != sl.count[x]) {
           o.kind = Outcome::unexplained;
           o.label = "coverage";
           o.detail = d.str();
         } else if (zb.tri[x] != sl.tri[x]) {
-          const double a = exact_depth(m, s, zb.tri[x], px, py), b = exact_depth(m, s, sl.tri[x], px, py);
-          const bool tie = zb.tri[x] != Visibility::kNone && sl.tri[x] != Visibility::kNone && depth_tie(s.depth, a, b);
+          const double a = exact_depth(m, s, zb.tri[x], px, py),
+                       b = exact_depth(m, s, sl.tri[x], px, py);
+          const bool tie = zb.tri[x] != Visibility::kNone && sl.tri[x] != Visibility::kNone &&
+                           depth_tie(s.depth, a, b);
           o.kind = tie ? Outcome::explained : Outcome::unexplained;
           o.label = tie ? "depth_tie" : "visible_triangle";
           d << "; exact depths " << a << " and " << b;
@@ -256,7 +275,8 @@ Verdict check_coverage(const std::string& impl, const MeshCase& c) {
           const ScreenTri& t = m.tris[zb.tri[x]];
           double scale = 0;
           for (const ScreenVertex& vx : t.v)
-            scale = std::max(scale, std::abs(stored_depth(DepthFormat::kDouble, vx.z, m.near_z, m.far_z)));
+            scale = std::max(scale,
+                             std::abs(stored_depth(DepthFormat::kDouble, vx.z, m.near_z, m.far_z)));
           if (s.depth == DepthFormat::kReversed)
             for (const ScreenVertex& vx : t.v) scale = std::max(scale, m.near_z / vx.z);
           o.err = std::abs(zb.depth[x] - sl.depth[x]) / resolution(s.depth, scale);
@@ -265,7 +285,8 @@ Verdict check_coverage(const std::string& impl, const MeshCase& c) {
           if (o.err > depth_bound(impl, s.depth)) {
             o.kind = Outcome::unexplained;
             o.label = "depth";
-            d << "; depth error " << o.err << " units of resolution, bound " << depth_bound(impl, s.depth);
+            d << "; depth error " << o.err << " units of resolution, bound "
+              << depth_bound(impl, s.depth);
             o.detail = d.str();
           }
         }
@@ -328,16 +349,20 @@ Verdict check_frame(const ImageImpl& impl, const RasterCase& c) {
         bool tie = false;
         for (int k = 0; k < spp; ++k) {
           const size_t x = (size_t(j) * c.width + i) * spp + k;
-          const int64_t px = int64_t(i) * kSubpixel + offsets[k][0], py = int64_t(j) * kSubpixel + offsets[k][1];
-          if (zb.tri[x] != Visibility::kNone && sl.tri[x] != Visibility::kNone && zb.tri[x] != sl.tri[x] &&
-              depth_tie(s.depth, exact_depth(m, s, zb.tri[x], px, py), exact_depth(m, s, sl.tri[x], px, py)))
+          const int64_t px = int64_t(i) * kSubpixel + offsets[k][0],
+                        py = int64_t(j) * kSubpixel + offsets[k][1];
+          if (zb.tri[x] != Visibility::kNone && sl.tri[x] != Visibility::kNone &&
+              zb.tri[x] != sl.tri[x] &&
+              depth_tie(s.depth, exact_depth(m, s, zb.tri[x], px, py),
+                        exact_depth(m, s, sl.tri[x], px, py)))
             tie = true;
         }
         out.kind = tie ? Outcome::explained : Outcome::unexplained;
         out.label = tie ? "depth_tie" : "differs";
         std::ostringstream d;
-        d << "pixel (" << i << ", " << j << "): scanline " << impl.name << " (" << pa[0] << ", " << pa[1] << ", "
-          << pa[2] << ") vs zbuffer reference (" << pb[0] << ", " << pb[1] << ", " << pb[2] << "), error " << out.err;
+        d << "pixel (" << i << ", " << j << "): scanline " << impl.name << " (" << pa[0] << ", "
+          << pa[1] << ", " << pa[2] << ") vs zbuffer reference (" << pb[0] << ", " << pb[1] << ", "
+          << pb[2] << "), error " << out.err;
         out.detail = d.str();
       } else {
         out.measured = true;
