@@ -15,7 +15,8 @@
 //     active edge lists (edges enter a band at its first row, their walk
 //     initialised there exactly), on TBB (optimized/tiling.h);
 //   - visibility first, shading after: each visible sample is shaded once, from
-//     its exact edge functions (the fragment ref::zbuffer computes).
+//     its exact edge functions (as ref::zbuffer, with reciprocals instead of
+//     divisions: within an ulp or two of its fragment).
 #ifndef LOCKSTEP_SCANLINE_SIMD_SHARED
 #define LOCKSTEP_SCANLINE_SIMD_SHARED
 #include <cstddef>
@@ -235,32 +236,32 @@ bool make_edge(const Frame& f, uint32_t ti, int a, int b, int32_t oy, int j_begi
   return true;
 }
 
-// The fragment of ref::zbuffer at sample (px, py) (1/256 pixel) of triangle ti.
-Fragment direct_fragment(const ScreenMesh& mesh, uint32_t ti, int64_t px, int64_t py,
-                         bool perspective) {
+// Per triangle, what shading a visible sample needs: 1/area and 1/z_k, so a
+// fragment costs one division (ref::zbuffer divides seven times; the results
+// differ by an ulp or two).
+struct ShadeSetup {
+  double inv_area = 0, inv_z[3] = {0, 0, 0};
+};
+
+// The fragment at sample (px, py) (1/256 pixel) of triangle ti, from the exact
+// integer edge functions (the screen barycentrics) and 1/z.
+Fragment direct_fragment(const ScreenMesh& mesh, const ShadeSetup& ss, uint32_t ti, int64_t px,
+                         int64_t py, bool perspective) {
   const ScreenTri& t = mesh.tris[ti];
   auto edge = [&](const ScreenVertex& a, const ScreenVertex& b) {
     return int64_t(b.x - a.x) * (py - a.y) - int64_t(b.y - a.y) * (px - a.x);
   };
-  const double area = double(int64_t(t.v[1].x - t.v[0].x) * (t.v[2].y - t.v[0].y) -
-                             int64_t(t.v[1].y - t.v[0].y) * (t.v[2].x - t.v[0].x));
-  const double l0 = double(edge(t.v[1], t.v[2])) / area, l1 = double(edge(t.v[2], t.v[0])) / area,
-               l2 = double(edge(t.v[0], t.v[1])) / area;
-  const double inv_z = l0 / t.v[0].z + l1 / t.v[1].z + l2 / t.v[2].z;
+  const double l[3] = {double(edge(t.v[1], t.v[2])) * ss.inv_area,
+                       double(edge(t.v[2], t.v[0])) * ss.inv_area,
+                       double(edge(t.v[0], t.v[1])) * ss.inv_area};
+  const double q[3] = {l[0] * ss.inv_z[0], l[1] * ss.inv_z[1], l[2] * ss.inv_z[2]};
+  const double inv_z = q[0] + q[1] + q[2];
   Fragment fr;
   fr.tri = ti;
   fr.z = 1 / inv_z;
   fr.sx = double(px) / kSubpixel;
   fr.sy = double(py) / kSubpixel;
-  if (perspective) {
-    fr.b[0] = l0 / t.v[0].z / inv_z;
-    fr.b[1] = l1 / t.v[1].z / inv_z;
-    fr.b[2] = l2 / t.v[2].z / inv_z;
-  } else {
-    fr.b[0] = l0;
-    fr.b[1] = l1;
-    fr.b[2] = l2;
-  }
+  for (int k = 0; k < 3; ++k) fr.b[k] = perspective ? q[k] * fr.z : l[k];
   return fr;
 }
 
@@ -427,6 +428,13 @@ Image scanline(const Scene& scene, const FrameOptions& opts, FrameStats* stats) 
   Image image = Image::uninitialized(opts.width, opts.height);  // every pixel is written below
   image.depth.assign(size_t(opts.width) * opts.height, float(kInfinity));
   const Vec3 background = Vec3(Vec3f(scene.background));
+  std::vector<ShadeSetup> shade(mesh.tris.size());
+  for (size_t ti = 0; ti < mesh.tris.size(); ++ti) {
+    const ScreenTri& t = mesh.tris[ti];
+    shade[ti].inv_area = 1 / double(int64_t(t.v[1].x - t.v[0].x) * (t.v[2].y - t.v[0].y) -
+                                     int64_t(t.v[1].y - t.v[0].y) * (t.v[2].x - t.v[0].x));
+    for (int k = 0; k < 3; ++k) shade[ti].inv_z[k] = 1 / t.v[k].z;
+  }
   scan_frame(f, opts.threads, opts.progress, false, [&](int j, const RowOut& out) {
     for (int i = 0; i < f.width; ++i) {
       Vec3 sum;
@@ -438,7 +446,7 @@ Image scanline(const Scene& scene, const FrameOptions& opts, FrameStats* stats) 
           continue;
         }
         const Fragment fr =
-            direct_fragment(mesh, ti, int64_t(i) * kSubpixel + f.offsets[k][0],
+            direct_fragment(mesh, shade[ti], ti, int64_t(i) * kSubpixel + f.offsets[k][0],
                             int64_t(j) * kSubpixel + f.offsets[k][1], s.perspective);
         sum += Vec3(Vec3f(shade_fragment(scene, mesh, s, fr)));
         z = std::min(z, float(fr.z));
