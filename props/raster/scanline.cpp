@@ -230,15 +230,47 @@ bool depth_tie(DepthFormat f, double a, double b) {
   return std::abs(a - b) <= 4 * resolution(f, std::max(std::abs(a), std::abs(b)));
 }
 
-Verdict check_coverage(const std::string& impl, const MeshCase& c) {
+// A scanline visibility pass under test: the kernel-level entry point of a
+// row of the family (the registry rows carry only frames).
+using VisibilityFn = std::function<void(const ScreenMesh&, const RasterSettings&, Visibility&)>;
+
+// The visibility pass of the family's implementation `impl`, or an empty
+// function when it has none.
+VisibilityFn visibility_of(std::string_view impl) {
+  if (impl == "reference") return ref::scanline_visibility;
+  if (impl == "simd")
+    return [](const ScreenMesh& m, const RasterSettings& s, Visibility& v) {
+      opt::simd::scanline_visibility(m, s, 1, v);
+    };
+  return {};
+}
+
+// Deliberately broken scanlines (Mutants.scanline__<name>): each must fail the
+// coverage property.
+struct CoverageMutant {
+  const char* name;
+  const char* what;
+  VisibilityFn fn;
+};
+std::vector<CoverageMutant> coverage_mutants() {
+  return {
+      {"edge_walk_off_by_one",
+       "the edge crossings one 1/256 pixel to the right (the reference on a moved mesh)",
+       [](const ScreenMesh& m, const RasterSettings& s, Visibility& v) {
+         ScreenMesh moved = m;
+         for (ScreenTri& t : moved.tris)
+           for (ScreenVertex& x : t.v) x.x += 1;
+         ref::scanline_visibility(moved, s, v);
+       }},
+  };
+}
+
+Verdict check_coverage(const std::string& impl, const VisibilityFn& scan, const MeshCase& c) {
   const ScreenMesh m = c.mesh();
   const RasterSettings s = c.settings();
   Visibility zb, sl;
   ref::zbuffer_visibility(m, s, zb);
-  if (impl == "reference")
-    ref::scanline_visibility(m, s, sl);
-  else
-    opt::simd::scanline_visibility(m, s, 1, sl);
+  scan(m, s, sl);
   const auto offsets = sample_offsets(s);
   const int spp = int(offsets.size());
   Verdict v;
@@ -295,29 +327,28 @@ Verdict check_coverage(const std::string& impl, const MeshCase& c) {
   return v;
 }
 
-Property coverage_property(const ImageFamily& family, const ImageImpl& impl) {
+Property coverage_property(const ImageFamily& family, const std::string& impl, VisibilityFn scan) {
   Property p;
   p.family = std::string(family.name);
   p.check = "scanline_coverage";
   p.suite = "ScanlineCoverage";
-  p.name = std::string(family.name) + "__" + std::string(impl.name);
+  p.name = std::string(family.name) + "__" + impl;
   p.generator = "snapped_mesh";
   p.pair = std::string(family.name);
-  p.impl = std::string(impl.name);
+  p.impl = impl;
   p.bound = 1;
   p.unit = "depth resolution units";
   p.units = "samples";
-  const std::string name(impl.name);
   const auto gen = std::make_shared<const rc::Gen<MeshCase>>(snapped_mesh());
-  p.run = [gen, name] {
+  p.run = [gen, impl, scan] {
     auto c = std::make_shared<const MeshCase>(**gen);
     Ran r;
-    r.verdict = check_coverage(name, *c);
+    r.verdict = check_coverage(impl, scan, *c);
     r.text = [c](long) { return write_mesh(*c); };
     return r;
   };
-  p.replay = [name](const std::string& text, const std::string& file) {
-    return check_coverage(name, read_mesh(text, file));
+  p.replay = [impl, scan](const std::string& text, const std::string& file) {
+    return check_coverage(impl, scan, read_mesh(text, file));
   };
   return p;
 }
@@ -403,9 +434,20 @@ Property frame_property(const ImageFamily& family, const ImageImpl& impl) {
 void scanline_part(const ImageFamily& family, FamilyProperties& out) {
   if (family.name != "scanline") return;
   for (const ImageImpl& impl : family.impls) {
-    out.properties.push_back(coverage_property(family, impl));
+    if (VisibilityFn scan = visibility_of(impl.name))
+      out.properties.push_back(coverage_property(family, std::string(impl.name), scan));
+    else
+      out.fixed.push_back(
+          {"ScanlineCoverage", std::string(family.name) + "__" + std::string(impl.name),
+           [name = std::string(impl.name)] {
+             FAIL() << "scanline implementation " << name
+                    << " has no visibility pass in props/raster/scanline.cpp (visibility_of)";
+           }});
     out.properties.push_back(frame_property(family, impl));
   }
+  for (const CoverageMutant& m : coverage_mutants())
+    out.mutants.push_back(
+        {m.name, m.what, "scanline_coverage", {coverage_property(family, m.name, m.fn)}});
 }
 
 }  // namespace lockstep::props::raster
