@@ -8,6 +8,8 @@
 #include "core/nff.h"
 #include "optimized/raster.h"
 #include "reference/raster.h"
+#include "reference/scanline.h"
+#include "optimized/scanline.h"
 
 namespace lockstep {
 
@@ -84,6 +86,25 @@ ImageFamily zbuffer_family() {
       // edge functions); depth in float (ties may break the other way where two
       // surfaces are within float resolution), shading in float: accuracy 1/255.
       {"simd", opt::simd::zbuffer, 1.0 / 255},
+  };
+  f.impls = erase_all<Scene>(impls);
+  return f;
+}
+
+ImageFamily scanline_family() {
+  ImageFamily f = raster_family("scanline",
+                                "scanline z-buffer (Watkins; edge table, active edges, incremental spans), "
+                                "flat/Gouraud/Phong/toon shading",
+                                "scanline");
+  // The same samples and fill rule as the z-buffer (coverage equal sample for
+  // sample, props/raster/scanline.cpp); depth and attributes are incremental,
+  // so colours differ from the z-buffer's by the drift, and the visible surface
+  // only where two surfaces are within the drift of each other.
+  f.tol.color_abs = 1.0 / 255;
+  f.tol.pixel_fraction = 0.999;
+  const TypedImpl<Scene> impls[] = {
+      {"reference", ref::scanline, 0, {}, {}, false},
+      {"simd", opt::simd::scanline, 0},
   };
   f.impls = erase_all<Scene>(impls);
   return f;
