@@ -423,9 +423,12 @@ Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   ScreenMesh mesh;
   std::vector<std::vector<ScreenTri>> chunks;
   zsimd::view_scene_chunks(scene, opts.width, opts.height, s, opts.threads, mesh, chunks);
+  // In mesh order: mesh.tris (a scene handed to view_scene), then the chunks.
+  size_t n = mesh.tris.size();
+  for (const auto& c : chunks) n += c.size();
   std::vector<const ScreenTri*> tris;
-  for (const auto* part : {&mesh.tris})
-    for (const ScreenTri& t : *part) tris.push_back(&t);
+  tris.reserve(n);
+  for (const ScreenTri& t : mesh.tris) tris.push_back(&t);
   for (const auto& c : chunks)
     for (const ScreenTri& t : c) tris.push_back(&t);
   if (double_depth(s.depth)) return zbuffer_t<double>(scene, mesh, tris, s, opts, stats);
