@@ -6,25 +6,30 @@
 // (reference/raster.h) wants the exact integer edge functions on the snapped
 // vertices with the top-left rule, so that coverage is bit-identical to the
 // reference's; |coordinates| < 2^25 puts the edge functions below 2^52, exact in
-// int64 and in double but not in int32. Per triangle and tile, the three edge
-// functions are evaluated exactly in int64 at the region's corners (scalar):
+// int64 and in double but not in int32. The samples of one sample plane are a
+// whole pixel (256 units) apart, so E - bias = e0 + 256 (ex i + ey j) over
+// them, and e0 + 256 K >= 0 exactly when floor(e0 / 256) + K >= 0: the test
+// runs on E' = floor(e0 / 256) + ex i + ey j, 256 times smaller. Per triangle,
+// tile and sample plane, E' is evaluated exactly in int64 at the region's
+// corners (scalar):
 //   * an edge that is >= 0 over the whole region is dropped (trivially inside);
 //   * an edge < 0 over the whole region rejects the triangle for the tile;
 //   * if every remaining edge stays within +-2^30 over the region, the lanes run
-//     in int32 (E at a block's first lane from int64, plus lane offsets: every
-//     value and partial sum is a value of E inside the region, so nothing
-//     overflows): the common case, all triangles up to ~256 px per side;
-//   * otherwise (long edges crossing the tile) the lanes run in double, exact
-//     because every value is an integer below 2^53.
-// A sample is covered when (E0 - b0) | (E1 - b1) | (E2 - b2) >= 0 (one sign test).
+//     in int32 (E' at a block's first lane from int64, plus lane offsets: every
+//     value and partial sum is a value of E' inside the region, so nothing
+//     overflows): every triangle whose edges span less than ~2^16 pixels;
+//   * otherwise (guard-band giants) the lanes run in double, exact because
+//     every value is an integer below 2^53.
+// A sample is covered when E'0 | E'1 | E'2 >= 0 (one sign test).
 //
 // Depth: the reference takes depth from the plane of 1/z (whatever the
 // interpolation of the attributes), and every stored depth is affine in 1/z
 // (window depth d = (1/n - 1/z)/(1/n - 1/f), reversed n/z), so it is a plane in
 // screen space: evaluated per block in double at the block's first lane and per
-// lane in float (double for kDouble). kFixed24 rounds d to its 24-bit integer
-// code (exact in float), as stored_depth. The depth test keeps the earlier triangle on ties (strict
-// nearer()), as the reference does, since tiles see their triangles in mesh order.
+// lane in float (double for kDouble and kFixed24, whose 24-bit codes float
+// cannot hold). kFixed24 rounds d to its integer code, as stored_depth. The
+// depth test keeps the earlier triangle on ties (strict nearer()), as the
+// reference does, since tiles see their triangles in mesh order.
 #include "optimized/zbuffer_simd_kernels.h"
 
 #include <algorithm>
@@ -82,6 +87,9 @@ HWY_INLINE hn::Mask<DI> CoverDouble(DI di, const int64_t e[3], const int64_t sx[
   return hn::LoadMaskBits(di, bits);
 }
 
+// floor(x / 256) for any int64 (an arithmetic shift).
+HWY_INLINE int64_t FloorDiv256(int64_t x) { return x >> 8; }
+
 // kReversed, kFixed24: the depth format, fixed at compile time (the inner loop
 // has no branch on it).
 template <bool kReversed, bool kFixed24, class DT>
@@ -121,7 +129,7 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
       const int c0 = ((ri0 - t.x0) / N) * N;  // tile-local column of the first block
       const int nb = (ri1 - t.x0 - c0) / N + 1;
       const int r0 = rj0 - t.y0, rows = rj1 - rj0 + 1;
-      const int64_t wspan = int64_t(nb * N - 1) * kSubpixel, hspan = int64_t(rows - 1) * kSubpixel;
+      const int64_t wspan = int64_t(nb * N - 1), hspan = int64_t(rows - 1);  // pixels
       const VI tri_id = hn::Set(di, int32_t(id));
       for (int smp = 0; smp < p.spp; ++smp) {
         const int64_t px = int64_t(t.x0 + c0) * kSubpixel + p.offsets[smp][0];
@@ -130,9 +138,13 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
         int64_t e[3], sx[3], sy[3];
         bool reject = false, narrow = true;
         for (int k = 0; k < 3; ++k) {
-          e[k] = s.ex[k] * (px - s.ax[k]) + s.ey[k] * (py - s.ay[k]) - s.bias[k];
-          sx[k] = s.ex[k] * kSubpixel;
-          sy[k] = s.ey[k] * kSubpixel;
+          // Samples of one plane are 256 units apart: E - bias = e0 + 256 K with
+          // K = ex i + ey j (i, j pixels from the first sample), and
+          // e0 + 256 K >= 0  <=>  K >= ceil(-e0 / 256)  <=>  floor(e0 / 256) + K >= 0,
+          // exactly: the same test on numbers 256 times smaller.
+          e[k] = FloorDiv256(s.ex[k] * (px - s.ax[k]) + s.ey[k] * (py - s.ay[k]) - s.bias[k]);
+          sx[k] = s.ex[k];
+          sy[k] = s.ey[k];
           const int64_t dx = s.ex[k] * wspan, dy = s.ey[k] * hspan;
           const int64_t lo = e[k] + std::min<int64_t>(0, dx) + std::min<int64_t>(0, dy);
           const int64_t hi = e[k] + std::max<int64_t>(0, dx) + std::max<int64_t>(0, dy);

@@ -192,8 +192,11 @@ int32_t coordinate(int pixels_lo, int pixels_hi) {
 }
 
 void settings(VisCase& c) {
-  c.width = *rc::gen::inRange(4, 40);
-  c.height = *rc::gen::inRange(4, 40);
+  // Mostly small frames; one in four wider and taller than a 64-pixel tile (more
+  // than one tile; a giant edge across such a tile leaves int32 even as E / 256).
+  const bool large = *rc::gen::inRange(0, 4) == 0;
+  c.width = large ? *rc::gen::inRange(64, 100) : *rc::gen::inRange(4, 40);
+  c.height = large ? *rc::gen::inRange(64, 100) : *rc::gen::inRange(4, 40);
   c.spp = *rc::gen::element(1, 1, 4, 9);
   c.grid = *rc::gen::element(SampleGrid::kRegular, SampleGrid::kRotated);
   c.depth = *rc::gen::element(DepthFormat::kFloat, DepthFormat::kFloat, DepthFormat::kReversed,
@@ -214,12 +217,20 @@ rc::Gen<VisCase> soup() {
     const int n = *rc::gen::inRange(1, 14);
     for (int i = 0; i < n; ++i) {
       std::array<VisCase::Vertex, 3> t;
-      const int kind = c.tris.empty() ? 0 : *rc::gen::inRange(0, 8);
-      if (kind == 6) {  // huge: vertices up to 2^23 px... within the guard band
+      const int kind = c.tris.empty() ? 0 : *rc::gen::inRange(0, 9);
+      if (kind == 6) {  // huge: vertices up to 2^24 units (2^16 px, the guard band) out
         for (auto& v : t) {
-          const int32_t r = 1 << *rc::gen::inRange(12, 24);
+          const int32_t r = 1 << *rc::gen::inRange(12, 25);
           v = {*rc::gen::inRange(-r, r), *rc::gen::inRange(-r, r), depth_value()};
         }
+      } else if (kind == 8) {  // giant: an edge across the guard band through the frame
+        // (its edge function over a tile leaves int32 even as E / 256: the double lanes)
+        const double px = *rc::gen::inRange(0, c.width * kSubpixel),
+                     py = *rc::gen::inRange(0, c.height * kSubpixel);
+        const double a = *rc::gen::inRange(0, 1000) * 2 * M_PI / 1000, len = double(1 << 24) - 4096;
+        t[0] = {int32_t(px - len * std::cos(a)), int32_t(py - len * std::sin(a)), depth_value()};
+        t[1] = {int32_t(px + len * std::cos(a)), int32_t(py + len * std::sin(a)), depth_value()};
+        t[2] = {coordinate(-2, c.width + 2), coordinate(-2, c.height + 2), depth_value()};
       } else if (kind == 7) {  // a copy of an earlier triangle, same depths: exact ties
         t = c.tris[size_t(*rc::gen::inRange(0, int(c.tris.size())))];
       } else {
@@ -318,8 +329,7 @@ void simd_1(const ScreenMesh& m, const RasterSettings& s, Visibility& v) {
 // rule for samples exactly on an edge).
 template <int kRule>  // 0: inclusive (every edge owns them), 1: bottom-right (the mirror of
                       // top-left)
-                      void broken(const ScreenMesh& mesh, const RasterSettings& s,
-                                  Visibility& vis) {
+void broken(const ScreenMesh& mesh, const RasterSettings& s, Visibility& vis) {
   ref::zbuffer_visibility(mesh, s, vis);
   const auto off = sample_offsets(s);
   const int spp = int(off.size());
@@ -384,7 +394,8 @@ double ref_depth(const ScreenMesh& m, const RasterSettings& s, uint32_t t, int64
 // gradient, so the error is a few float ulps of |d| + 8 |dd/dx| (per pixel):
 // measured in those units (bound 3). kFixed24 and kDouble raster in double: the
 // plane against the reference's barycentric sum, so a code may round the other
-// way (one code), and the double depth differs in the last bits.
+// way (one code), and the double depth differs by a few double ulps of the
+// plane's terms (|d| plus gradient times the distance to the farthest vertex).
 double depth_bound(DepthFormat f) {
   switch (f) {
     case DepthFormat::kFloat:
@@ -394,7 +405,7 @@ double depth_bound(DepthFormat f) {
     case DepthFormat::kFixed24:
       return 1;  // measured 0
     case DepthFormat::kDouble:
-      return 1e-14;  // measured 4.3e-15
+      return 8;  // double ulps of the plane's terms
   }
   return 0;
 }
@@ -466,6 +477,20 @@ Verdict agreement(const Subject& subj, const VisCase& c) {
             const double gx =
                 std::abs(ref_depth(m, s, r.tri[at], px + kSubpixel, py) - r.depth[at]);
             out.err /= 0x1p-24 * (std::abs(r.depth[at]) + 8 * gx);
+          } else if (c.depth == DepthFormat::kDouble) {
+            // In double ulps of the plane's terms from the farthest vertex: the
+            // depth plus its gradient times the distance (a plane through a
+            // guard-band vertex 2^16 px away cancels that much).
+            const double gx =
+                std::abs(ref_depth(m, s, r.tri[at], px + kSubpixel, py) - r.depth[at]);
+            const double gy =
+                std::abs(ref_depth(m, s, r.tri[at], px, py + kSubpixel) - r.depth[at]);
+            double far = 0;
+            for (const auto& v : m.tris[r.tri[at]].v)
+              far = std::max(
+                  far,
+                  (gx * std::abs(double(px - v.x)) + gy * std::abs(double(py - v.y))) / kSubpixel);
+            out.err /= 0x1p-52 * (std::abs(r.depth[at]) + far);
           }
           out.measured = true;
           out.unit = std::string(depth_name(c.depth)) + " depth";
@@ -644,8 +669,22 @@ void every_target(const ImageFamily& family) {
     for (int t = 0; t < 12; ++t) {
       std::array<VisCase::Vertex, 3> tri;
       const bool huge = t % 5 == 4;
+      if (t % 5 == 3) {  // an edge across the guard band through the frame (double lanes)
+        const double px = double(rng() % uint32_t(c.width * kSubpixel)),
+                     py = double(rng() % uint32_t(c.height * kSubpixel));
+        const double a = double(rng() % 1000) * 2 * M_PI / 1000, len = double(1 << 24) - 4096;
+        tri[0] = {int32_t(px - len * std::cos(a)), int32_t(py - len * std::sin(a)),
+                  1 + double(rng() % 60000) / 1000};
+        tri[1] = {int32_t(px + len * std::cos(a)), int32_t(py + len * std::sin(a)),
+                  1 + double(rng() % 60000) / 1000};
+        tri[2] = {int32_t(rng() % uint32_t(c.width * kSubpixel)),
+                  int32_t(rng() % uint32_t(c.height * kSubpixel)),
+                  1 + double(rng() % 60000) / 1000};
+        c.tris.push_back(tri);
+        continue;
+      }
       for (auto& v : tri) {
-        const int32_t span = huge ? (1 << 22) : (c.width + 4) * kSubpixel;
+        const int32_t span = huge ? (1 << 24) : (c.width + 4) * kSubpixel;
         v.x = int32_t(int64_t(rng() % uint32_t(2 * span)) - span / 2 + c.width * kSubpixel / 2);
         v.y = int32_t(int64_t(rng() % uint32_t(2 * span)) - span / 2 + c.height * kSubpixel / 2);
         if (rng() % 3 == 0) v.x = v.x / kSubpixel * kSubpixel + kSubpixel / 2;  // on sample columns
