@@ -1,0 +1,182 @@
+// lockstep: the llvmpipe row's agreement with the reference and its timings (run by hand).
+//
+//   ninja -C build lockstep_llvmpipe_check
+//   build/lockstep_llvmpipe_check agree SCENE.nff... [--size N]...   (default sizes 512 1024)
+//   build/lockstep_llvmpipe_check time SCENE.nff [--size N] [--shading flat|gouraud] [--reps R]
+//
+// agree: for each scene, size and shading (flat, gouraud) renders
+// ref::zbuffer and opt::llvmpipe::zbuffer with the same settings and prints
+//   cover    pixels covered by one and not the other (fraction of all pixels)
+//   depth    relative eye-z error |z_l - z_r| / z_r over pixels both cover: the
+//            largest, and the fraction above 1e-4 (a different surface won:
+//            near-coincident or interpenetrating faces, edges)
+//   colour   largest channel difference over pixels both cover, and the
+//            fraction above 1/255 (same story as depth: another triangle won)
+//
+// time: one Context, the first draw (context creation, LLVM compilation) and
+// then R warm draws of the same mesh: median and best of each phase. The thread
+// count is LP_NUM_THREADS (llvmpipe reads it once per process): run
+//   LP_NUM_THREADS=0 build/lockstep_llvmpipe_check time ...   (one thread does all)
+//   LP_NUM_THREADS=2 build/lockstep_llvmpipe_check time ...   (two rasteriser threads)
+// Also prints the cold cost of a whole opt::llvmpipe::zbuffer call in this
+// process (the first: llvmpipe's screen, LLVM's initialisation) and a warm one.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "core/nff.h"
+#include "core/timer.h"
+#include "optimized/raster.h"
+#include "optimized/raster_llvmpipe.h"
+#include "reference/raster.h"
+
+using namespace lockstep;
+
+namespace {
+
+struct Agreement {
+  double cover_frac = 0;      // coverage differs, of all pixels
+  double depth_max = 0;       // largest relative eye-z error, both covered
+  double depth_over = 0;      // fraction of both-covered pixels with relative error > 1e-4
+  double depth_max_same = 0;  // largest relative error among the rest (same surface)
+  double color_max = 0;       // largest channel difference, both covered
+  double color_over = 0;      // fraction of both-covered pixels differing by more than 1/255
+  double color_max_same = 0;  // largest channel difference where depth agrees (same surface)
+};
+
+Agreement compare(const Image& r, const Image& l) {
+  Agreement a;
+  const size_t n = size_t(r.width) * size_t(r.height);
+  size_t cover_diff = 0, both = 0, depth_over = 0, color_over = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const bool cr = std::isfinite(r.depth[i]), cl = std::isfinite(l.depth[i]);
+    if (cr != cl) ++cover_diff;
+    if (!(cr && cl)) continue;
+    ++both;
+    const double e = std::abs(double(l.depth[i]) - double(r.depth[i])) / double(r.depth[i]);
+    a.depth_max = std::max(a.depth_max, e);
+    double c = 0;
+    for (int k = 0; k < 3; ++k) c = std::max(c, std::abs(double(l.rgba[4 * i + k]) - double(r.rgba[4 * i + k])));
+    a.color_max = std::max(a.color_max, c);
+    if (c > 1.0 / 255) ++color_over;
+    if (e > 1e-4) {
+      ++depth_over;
+    } else {
+      a.depth_max_same = std::max(a.depth_max_same, e);
+      a.color_max_same = std::max(a.color_max_same, c);
+    }
+  }
+  a.cover_frac = double(cover_diff) / double(n);
+  a.depth_over = both ? double(depth_over) / double(both) : 0;
+  a.color_over = both ? double(color_over) / double(both) : 0;
+  return a;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0 : v[v.size() / 2];
+}
+
+int agree(const std::vector<std::string>& scenes, std::vector<int> sizes) {
+  if (sizes.empty()) sizes = {512, 1024};
+  std::printf("%-12s %5s %-8s %8s %10s %9s %10s %9s %9s %10s %9s\n", "scene", "size", "shading", "tris", "cover",
+              "depth_max", "depth>1e-4", "depth_sm", "col_max", "col>1/255", "col_sm");
+  for (const std::string& path : scenes) {
+    const Scene scene = read_nff(path);
+    std::string name = path.substr(path.find_last_of('/') + 1);
+    name = name.substr(0, name.find('.'));
+    for (int size : sizes) {
+      for (const char* shading : {"flat", "gouraud"}) {
+        FrameOptions opts;
+        opts.width = opts.height = size;
+        opts.params.set("shading", shading);
+        FrameStats rs, ls;
+        const Image r = ref::zbuffer(scene, opts, &rs);
+        const Image l = opt::llvmpipe::zbuffer(scene, opts, &ls);
+        const Agreement a = compare(r, l);
+        std::printf("%-12s %5d %-8s %8llu %10.3e %9.2e %10.3e %9.2e %9.2e %10.3e %9.2e\n", name.c_str(), size, shading,
+                    (unsigned long long)ls.items, a.cover_frac, a.depth_max, a.depth_over, a.depth_max_same,
+                    a.color_max, a.color_over, a.color_max_same);
+        std::fflush(stdout);
+      }
+    }
+  }
+  return 0;
+}
+
+int time_draws(const std::string& path, int size, const std::string& shading, int reps) {
+  const Scene scene = read_nff(path);
+  FrameOptions opts;
+  opts.width = opts.height = size;
+  opts.params.set("shading", shading);
+  const RasterSettings s = raster_settings(opts.params, path);
+
+  // A whole call, cold (the first in this process) and warm.
+  for (const char* what : {"zbuffer call, cold (first in the process)", "zbuffer call, warm"}) {
+    FrameStats stats;
+    const Stopwatch clock;
+    const Image img = opt::llvmpipe::zbuffer(scene, opts, &stats);
+    std::printf("%-44s %8.2f ms (build_seconds %.2f ms: context + shader compilation)\n", what, 1e3 * clock.seconds(),
+                1e3 * stats.build_seconds);
+  }
+
+  Stopwatch clock;
+  const ScreenMesh mesh = view_scene(scene, size, size, s);
+  std::printf("view_scene (reference, double, 1 thread)    %8.2f ms, %zu triangles\n", 1e3 * clock.seconds(),
+              mesh.tris.size());
+  opt::llvmpipe::Context ctx(size, size, 0, nullptr);
+  std::printf("context creation                            %8.2f ms; LP_NUM_THREADS=%s\n", 1e3 * ctx.create_seconds(),
+              ctx.thread_count().c_str());
+  Image img;
+  opt::llvmpipe::DrawTimes first;
+  ctx.draw(mesh, scene.background, s, img, &first);
+  std::printf("first draw: compile %.2f ms, upload %.2f ms, draw %.2f ms, readback %.2f ms\n", 1e3 * first.compile,
+              1e3 * first.upload, 1e3 * first.draw, 1e3 * first.readback);
+  std::vector<double> up, dr, rb, total;
+  for (int i = 0; i < reps; ++i) {
+    opt::llvmpipe::DrawTimes t;
+    ctx.draw(mesh, scene.background, s, img, &t);
+    up.push_back(t.upload);
+    dr.push_back(t.draw);
+    rb.push_back(t.readback);
+    total.push_back(t.upload + t.draw + t.readback);
+  }
+  std::printf("warm draws (%d): median upload %.2f, draw %.2f (best %.2f), readback %.2f, total %.2f ms\n", reps,
+              1e3 * median(up), 1e3 * median(dr), 1e3 * *std::min_element(dr.begin(), dr.end()), 1e3 * median(rb),
+              1e3 * median(total));
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 3) {
+    std::fprintf(stderr, "usage: %s agree SCENE... [--size N]... | time SCENE [--size N] [--shading S] [--reps R]\n",
+                 argv[0]);
+    return 2;
+  }
+  const std::string mode = argv[1];
+  std::vector<std::string> scenes;
+  std::vector<int> sizes;
+  std::string shading = "flat";
+  int reps = 20;
+  for (int i = 2; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--size" && i + 1 < argc) sizes.push_back(std::atoi(argv[++i]));
+    else if (a == "--shading" && i + 1 < argc) shading = argv[++i];
+    else if (a == "--reps" && i + 1 < argc) reps = std::atoi(argv[++i]);
+    else scenes.push_back(a);
+  }
+  try {
+    if (mode == "agree") return agree(scenes, sizes);
+    if (mode == "time" && scenes.size() == 1) return time_draws(scenes[0], sizes.empty() ? 1024 : sizes[0], shading, reps);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s\n", e.what());
+    return 2;
+  }
+  std::fprintf(stderr, "unknown mode or arguments\n");
+  return 2;
+}
