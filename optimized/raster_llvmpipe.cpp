@@ -28,9 +28,8 @@
 // context creates its screen (measured: later contexts keep the first count).
 // The first Context sets it from FrameOptions::threads unless the user set it;
 // a later request for another count is reported in FrameStats::notes.
-#include "optimized/raster.h"
-
 #include "core/error.h"
+#include "optimized/raster.h"
 
 #ifdef LOCKSTEP_HAVE_OSMESA
 
@@ -76,12 +75,13 @@ double far_plane(double near_z, double far_z) {
 struct Context::State {
   OSMesaContext ctx = nullptr;
   int width = 0, height = 0;
-  bool compiled = false;  // the first draw has been warmed up
+  bool compiled = false;                // the first draw has been warmed up
   std::vector<float> vertices, colors;  // the arrays GL reads (client-side vertex arrays)
   std::vector<float> window_depth;      // glReadPixels' depth, bottom row first
 };
 
-Context::Context(int width, int height, int threads, std::vector<std::string>* notes) : st_(new State) {
+Context::Context(int width, int height, int threads, std::vector<std::string>* notes)
+    : st_(new State) {
   const Stopwatch clock;
   // The thread count must be in the environment before llvmpipe's screen exists.
   const std::string want = lp_threads_for(threads);
@@ -90,9 +90,10 @@ Context::Context(int width, int height, int threads, std::vector<std::string>* n
     setenv("LP_NUM_THREADS", want.c_str(), 0);
     have = std::getenv("LP_NUM_THREADS");
   } else if (want != have && notes) {
-    notes->push_back("llvmpipe: LP_NUM_THREADS=" + std::string(have) +
-                     " is fixed for this process (llvmpipe reads it once, at its first context); threads=" +
-                     std::to_string(threads) + " (LP_NUM_THREADS=" + want + ") needs a process of its own");
+    notes->push_back(
+        "llvmpipe: LP_NUM_THREADS=" + std::string(have) +
+        " is fixed for this process (llvmpipe reads it once, at its first context); threads=" +
+        std::to_string(threads) + " (LP_NUM_THREADS=" + want + ") needs a process of its own");
   }
   threads_ = have ? have : "";
 
@@ -108,16 +109,18 @@ Context::~Context() {
   if (st_->ctx) OSMesaDestroyContext(st_->ctx);
 }
 
-void Context::draw(const ScreenMesh& mesh, const Vec3& background, const RasterSettings& s, Image& img,
-                   DrawTimes* times) {
+void Context::draw(const ScreenMesh& mesh, const Vec3& background, const RasterSettings& s,
+                   Image& img, DrawTimes* times) {
   State& st = *st_;
   DrawTimes t;
   const int W = st.width, H = st.height;
-  if (mesh.width != W || mesh.height != H) throw std::logic_error("llvmpipe: mesh size differs from the context's");
+  if (mesh.width != W || mesh.height != H)
+    throw std::logic_error("llvmpipe: mesh size differs from the context's");
 
   // Colour goes straight into the image: float RGBA, row 0 at the top
   // (OSMESA_Y_UP = 0), colours neither clamped on the vertices nor in the buffer.
-  if (img.width != W || img.height != H || img.rgba.size() != size_t(W) * size_t(H) * 4) img = Image::uninitialized(W, H);
+  if (img.width != W || img.height != H || img.rgba.size() != size_t(W) * size_t(H) * 4)
+    img = Image::uninitialized(W, H);
   if (!OSMesaMakeCurrent(st.ctx, img.rgba.data(), GL_FLOAT, W, H))
     throw std::runtime_error("llvmpipe: OSMesaMakeCurrent (float RGBA) failed");
   OSMesaPixelStore(OSMESA_Y_UP, 0);
@@ -125,8 +128,8 @@ void Context::draw(const ScreenMesh& mesh, const Vec3& background, const RasterS
   glClampColor(GL_CLAMP_FRAGMENT_COLOR, GL_FALSE);
   glClampColor(GL_CLAMP_READ_COLOR, GL_FALSE);
   glDisable(GL_DITHER);
-  glDisable(GL_LIGHTING);  // the colours are lit already
-  glDisable(GL_CULL_FACE); // view_scene culled per RasterSettings::cull; what is left is all drawn
+  glDisable(GL_LIGHTING);   // the colours are lit already
+  glDisable(GL_CULL_FACE);  // view_scene culled per RasterSettings::cull; what is left is all drawn
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDepthRange(0.0, 1.0);
@@ -145,10 +148,12 @@ void Context::draw(const ScreenMesh& mesh, const Vec3& background, const RasterS
   glLoadIdentity();
   glFrustum(-half_w, half_w, -half_h, half_h, n, f);
   // Modelview: the look-at rotation; GL's eye looks down -z. Column-major.
-  const GLdouble look[16] = {cam.right.x, cam.up.x, -cam.forward.x, 0,  //
-                             cam.right.y, cam.up.y, -cam.forward.y, 0,  //
-                             cam.right.z, cam.up.z, -cam.forward.z, 0,  //
+  // clang-format off
+  const GLdouble look[16] = {cam.right.x, cam.up.x, -cam.forward.x, 0,
+                             cam.right.y, cam.up.y, -cam.forward.y, 0,
+                             cam.right.z, cam.up.z, -cam.forward.z, 0,
                              0,           0,        0,              1};
+  // clang-format on
   glMatrixMode(GL_MODELVIEW);
   glLoadMatrixd(look);
 
@@ -222,7 +227,8 @@ void Context::draw(const ScreenMesh& mesh, const Vec3& background, const RasterS
 
 std::string Context::renderer() {
   std::vector<float> px(4);
-  if (!OSMesaMakeCurrent(st_->ctx, px.data(), GL_FLOAT, 1, 1)) return "llvmpipe: OSMesaMakeCurrent failed";
+  if (!OSMesaMakeCurrent(st_->ctx, px.data(), GL_FLOAT, 1, 1))
+    return "llvmpipe: OSMesaMakeCurrent failed";
   auto str = [](GLenum name) {
     const GLubyte* v = glGetString(name);
     return v ? std::string(reinterpret_cast<const char*>(v)) : std::string("?");
@@ -247,9 +253,13 @@ Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   // perspective-correct interpolation (GL's). The depth setting is llvmpipe's
   // own 24-bit buffer whatever is asked.
   if (s.shading != Shading::kFlat && s.shading != Shading::kGouraud)
-    throw InputError(scene.source, 0, "llvmpipe draws only shading=flat or shading=gouraud (lit per triangle or per vertex)");
+    throw InputError(
+        scene.source, 0,
+        "llvmpipe draws only shading=flat or shading=gouraud (lit per triangle or per vertex)");
   if (s.spp != 1) throw InputError(scene.source, 0, "llvmpipe draws one sample per pixel (spp=1)");
-  if (!s.perspective) throw InputError(scene.source, 0, "llvmpipe interpolates perspective-correctly only (interp=perspective)");
+  if (!s.perspective)
+    throw InputError(scene.source, 0,
+                     "llvmpipe interpolates perspective-correctly only (interp=perspective)");
   if (s.silhouette) throw InputError(scene.source, 0, "llvmpipe does not draw silhouettes");
 
   const ScreenMesh mesh = view_scene(scene, opts.width, opts.height, s);
@@ -277,7 +287,8 @@ namespace lockstep::opt::llvmpipe {
 bool available() { return false; }
 std::string version() { return {}; }
 Image zbuffer(const Scene& scene, const FrameOptions&, FrameStats*) {
-  throw InputError(scene.source, 0, "llvmpipe: this build has no OSMesa (install libosmesa6-dev and re-run cmake)");
+  throw InputError(scene.source, 0,
+                   "llvmpipe: this build has no OSMesa (install libosmesa6-dev and re-run cmake)");
 }
 
 }  // namespace lockstep::opt::llvmpipe

@@ -41,7 +41,8 @@ class Context {
   // with a depth plane (eye z, +inf where empty). GL renders into img's pixels
   // directly; the context is released before draw() returns, so img is the
   // caller's again afterwards.
-  void draw(const ScreenMesh& mesh, const Vec3& background, const RasterSettings& s, Image& img, DrawTimes* times);
+  void draw(const ScreenMesh& mesh, const Vec3& background, const RasterSettings& s, Image& img,
+            DrawTimes* times);
 
   // GL_RENDERER and GL_VERSION, e.g. "llvmpipe (LLVM 15.0.6, 256 bits), OpenGL 4.5
   // (Compatibility Profile) Mesa 22.3.6". Leaves no context current.

@@ -59,7 +59,8 @@ Agreement compare(const Image& r, const Image& l) {
     const double e = std::abs(double(l.depth[i]) - double(r.depth[i])) / double(r.depth[i]);
     a.depth_max = std::max(a.depth_max, e);
     double c = 0;
-    for (int k = 0; k < 3; ++k) c = std::max(c, std::abs(double(l.rgba[4 * i + k]) - double(r.rgba[4 * i + k])));
+    for (int k = 0; k < 3; ++k)
+      c = std::max(c, std::abs(double(l.rgba[4 * i + k]) - double(r.rgba[4 * i + k])));
     a.color_max = std::max(a.color_max, c);
     if (c > 1.0 / 255) ++color_over;
     if (e > 1e-4) {
@@ -82,8 +83,9 @@ double median(std::vector<double> v) {
 
 int agree(const std::vector<std::string>& scenes, std::vector<int> sizes) {
   if (sizes.empty()) sizes = {512, 1024};
-  std::printf("%-12s %5s %-8s %8s %10s %9s %10s %9s %9s %10s %9s\n", "scene", "size", "shading", "tris", "cover",
-              "depth_max", "depth>1e-4", "depth_sm", "col_max", "col>1/255", "col_sm");
+  std::printf("%-12s %5s %-8s %8s %10s %9s %10s %9s %9s %10s %9s\n", "scene", "size", "shading",
+              "tris", "cover", "depth_max", "depth>1e-4", "depth_sm", "col_max", "col>1/255",
+              "col_sm");
   for (const std::string& path : scenes) {
     const Scene scene = read_nff(path);
     std::string name = path.substr(path.find_last_of('/') + 1);
@@ -97,9 +99,10 @@ int agree(const std::vector<std::string>& scenes, std::vector<int> sizes) {
         const Image r = ref::zbuffer(scene, opts, &rs);
         const Image l = opt::llvmpipe::zbuffer(scene, opts, &ls);
         const Agreement a = compare(r, l);
-        std::printf("%-12s %5d %-8s %8llu %10.3e %9.2e %10.3e %9.2e %9.2e %10.3e %9.2e\n", name.c_str(), size, shading,
-                    (unsigned long long)ls.items, a.cover_frac, a.depth_max, a.depth_over, a.depth_max_same,
-                    a.color_max, a.color_over, a.color_max_same);
+        std::printf("%-12s %5d %-8s %8llu %10.3e %9.2e %10.3e %9.2e %9.2e %10.3e %9.2e\n",
+                    name.c_str(), size, shading, (unsigned long long)ls.items, a.cover_frac,
+                    a.depth_max, a.depth_over, a.depth_max_same, a.color_max, a.color_over,
+                    a.color_max_same);
         std::fflush(stdout);
       }
     }
@@ -119,22 +122,22 @@ int time_draws(const std::string& path, int size, const std::string& shading, in
     FrameStats stats;
     const Stopwatch clock;
     const Image img = opt::llvmpipe::zbuffer(scene, opts, &stats);
-    std::printf("%-44s %8.2f ms (build_seconds %.2f ms: context + shader compilation)\n", what, 1e3 * clock.seconds(),
-                1e3 * stats.build_seconds);
+    std::printf("%-44s %8.2f ms (build_seconds %.2f ms: context + shader compilation)\n", what,
+                1e3 * clock.seconds(), 1e3 * stats.build_seconds);
   }
 
   Stopwatch clock;
   const ScreenMesh mesh = view_scene(scene, size, size, s);
-  std::printf("view_scene (reference, double, 1 thread)    %8.2f ms, %zu triangles\n", 1e3 * clock.seconds(),
-              mesh.tris.size());
+  std::printf("view_scene (reference, double, 1 thread)    %8.2f ms, %zu triangles\n",
+              1e3 * clock.seconds(), mesh.tris.size());
   opt::llvmpipe::Context ctx(size, size, 0, nullptr);
-  std::printf("context creation                            %8.2f ms; LP_NUM_THREADS=%s\n", 1e3 * ctx.create_seconds(),
-              ctx.thread_count().c_str());
+  std::printf("context creation                            %8.2f ms; LP_NUM_THREADS=%s\n",
+              1e3 * ctx.create_seconds(), ctx.thread_count().c_str());
   Image img;
   opt::llvmpipe::DrawTimes first;
   ctx.draw(mesh, scene.background, s, img, &first);
-  std::printf("first draw: compile %.2f ms, upload %.2f ms, draw %.2f ms, readback %.2f ms\n", 1e3 * first.compile,
-              1e3 * first.upload, 1e3 * first.draw, 1e3 * first.readback);
+  std::printf("first draw: compile %.2f ms, upload %.2f ms, draw %.2f ms, readback %.2f ms\n",
+              1e3 * first.compile, 1e3 * first.upload, 1e3 * first.draw, 1e3 * first.readback);
   std::vector<double> up, dr, rb, total;
   for (int i = 0; i < reps; ++i) {
     opt::llvmpipe::DrawTimes t;
@@ -144,9 +147,10 @@ int time_draws(const std::string& path, int size, const std::string& shading, in
     rb.push_back(t.readback);
     total.push_back(t.upload + t.draw + t.readback);
   }
-  std::printf("warm draws (%d): median upload %.2f, draw %.2f (best %.2f), readback %.2f, total %.2f ms\n", reps,
-              1e3 * median(up), 1e3 * median(dr), 1e3 * *std::min_element(dr.begin(), dr.end()), 1e3 * median(rb),
-              1e3 * median(total));
+  std::printf(
+      "warm draws (%d): median upload %.2f, draw %.2f (best %.2f), readback %.2f, total %.2f ms\n",
+      reps, 1e3 * median(up), 1e3 * median(dr), 1e3 * *std::min_element(dr.begin(), dr.end()),
+      1e3 * median(rb), 1e3 * median(total));
   return 0;
 }
 
@@ -154,8 +158,10 @@ int time_draws(const std::string& path, int size, const std::string& shading, in
 
 int main(int argc, char** argv) {
   if (argc < 3) {
-    std::fprintf(stderr, "usage: %s agree SCENE... [--size N]... | time SCENE [--size N] [--shading S] [--reps R]\n",
-                 argv[0]);
+    std::fprintf(
+        stderr,
+        "usage: %s agree SCENE... [--size N]... | time SCENE [--size N] [--shading S] [--reps R]\n",
+        argv[0]);
     return 2;
   }
   const std::string mode = argv[1];
@@ -165,14 +171,19 @@ int main(int argc, char** argv) {
   int reps = 20;
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--size" && i + 1 < argc) sizes.push_back(std::atoi(argv[++i]));
-    else if (a == "--shading" && i + 1 < argc) shading = argv[++i];
-    else if (a == "--reps" && i + 1 < argc) reps = std::atoi(argv[++i]);
-    else scenes.push_back(a);
+    if (a == "--size" && i + 1 < argc)
+      sizes.push_back(std::atoi(argv[++i]));
+    else if (a == "--shading" && i + 1 < argc)
+      shading = argv[++i];
+    else if (a == "--reps" && i + 1 < argc)
+      reps = std::atoi(argv[++i]);
+    else
+      scenes.push_back(a);
   }
   try {
     if (mode == "agree") return agree(scenes, sizes);
-    if (mode == "time" && scenes.size() == 1) return time_draws(scenes[0], sizes.empty() ? 1024 : sizes[0], shading, reps);
+    if (mode == "time" && scenes.size() == 1)
+      return time_draws(scenes[0], sizes.empty() ? 1024 : sizes[0], shading, reps);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s\n", e.what());
     return 2;
