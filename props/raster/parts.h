@@ -1,0 +1,30 @@
+// lockstep props/raster: the parts of the raster families' properties.
+//
+// Each part adds what it tests of the family it is given (it looks at
+// family.name: zbuffer, scanline, painter) to out; properties.cpp lists them.
+// A new part: its file in props/raster/, its declaration here, its line in
+// kParts (properties.cpp), its file in props/CMakeLists.txt.
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include "props/property.h"
+#include "props/raster/raster_case.h"
+
+namespace lockstep::props::raster {
+
+// A property over RasterCases of one implementation: check judges one case
+// (its Outcomes are pixels or samples); the counterexample text is the case.
+// suite "RayCastCrossCheck" gives check "ray_cast_cross_check" and the test
+// RayCastCrossCheck.<family>__<impl>.
+Property case_property(const ImageFamily& family, const ImageImpl& impl, std::string suite, std::string generator,
+                       rc::Gen<RasterCase> gen, double bound, std::string unit,
+                       std::function<Verdict(const RasterCase&)> check);
+
+// z-buffer frames against ray casting (properties.cpp).
+void cross_check_part(const ImageFamily& family, FamilyProperties& out);
+// World-space against projection-space back-face culling (culling.cpp).
+void culling_part(const ImageFamily& family, FamilyProperties& out);
+
+}  // namespace lockstep::props::raster
