@@ -231,6 +231,7 @@ void register_frames(const Registry& reg) {
       for (int threads : {1, all_threads}) {
         for (const ImageImpl& impl : fam.impls) {
           if (!impl.threaded && threads != 1) continue;  // the reference is single-threaded by design
+          if (impl.unsupported && !impl.unsupported(in.params).empty()) continue;  // e.g. llvmpipe: no Phong
           // Brute force costs the same for every pixel: the reference runs heavy
           // inputs at a quarter of the size per side and the rate carries over.
           const int div = !impl.threaded && in.heavy_for_reference ? 4 : 1;

@@ -31,6 +31,35 @@
 #include "core/error.h"
 #include "optimized/raster.h"
 
+namespace lockstep::opt::llvmpipe {
+
+namespace {
+
+// What this row can draw: the pre-lit shadings (view_scene lights them), one
+// sample per pixel (OSMesa has no multisampling), GL's perspective-correct
+// interpolation. Any depth setting: llvmpipe's depth is its own 24-bit buffer.
+std::string unsupported(const RasterSettings& s) {
+  if (s.shading != Shading::kFlat && s.shading != Shading::kGouraud)
+    return "llvmpipe draws only shading=flat or shading=gouraud (lit per triangle or per vertex)";
+  if (s.spp != 1) return "llvmpipe draws one sample per pixel (spp=1)";
+  if (!s.perspective) return "llvmpipe interpolates perspective-correctly only (no interp=affine)";
+  if (s.silhouette) return "llvmpipe does not draw silhouettes";
+  return "";
+}
+
+}  // namespace
+
+std::string unsupported(const Params& params) {
+  try {
+    return unsupported(raster_settings(params, "settings"));
+  } catch (const InputError&) {
+    return "";  // bad settings are the family's to report (check_params, or the render's
+                // InputError)
+  }
+}
+
+}  // namespace lockstep::opt::llvmpipe
+
 #ifdef LOCKSTEP_HAVE_OSMESA
 
 // glClampColor is GL 3.0: its prototype comes from GL/glext.h, which GL/gl.h
@@ -249,19 +278,7 @@ std::string version() {
 
 Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   const RasterSettings s = raster_settings(opts.params, scene.source);
-  // What this row can draw: the pre-lit shadings, one sample per pixel,
-  // perspective-correct interpolation (GL's). The depth setting is llvmpipe's
-  // own 24-bit buffer whatever is asked.
-  if (s.shading != Shading::kFlat && s.shading != Shading::kGouraud)
-    throw InputError(
-        scene.source, 0,
-        "llvmpipe draws only shading=flat or shading=gouraud (lit per triangle or per vertex)");
-  if (s.spp != 1) throw InputError(scene.source, 0, "llvmpipe draws one sample per pixel (spp=1)");
-  if (!s.perspective)
-    throw InputError(scene.source, 0,
-                     "llvmpipe interpolates perspective-correctly only (interp=perspective)");
-  if (s.silhouette) throw InputError(scene.source, 0, "llvmpipe does not draw silhouettes");
-
+  if (const std::string why = unsupported(s); !why.empty()) throw InputError(scene.source, 0, why);
   const ScreenMesh mesh = view_scene(scene, opts.width, opts.height, s);
   std::vector<std::string> notes;
   Context ctx(opts.width, opts.height, opts.threads, &notes);
@@ -270,7 +287,8 @@ Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   ctx.draw(mesh, scene.background, s, img, &t);
   if (stats) {
     stats->build_seconds = ctx.create_seconds() + t.compile;
-    stats->items = mesh.tris.size();
+    stats->items = mesh.scene_tris + mesh.sphere_tris;  // as the reference counts
+
     for (std::string& line : notes) stats->notes.push_back(std::move(line));
   }
   return img;

@@ -78,9 +78,14 @@ ImageFamily zbuffer_family() {
   // z-buffers compute depth in float) and on silhouettes of supersampled pixels.
   f.tol.color_abs = 1.0 / 255;
   f.tol.pixel_fraction = 0.999;
-  const TypedImpl<Scene> impls[] = {
+  std::vector<TypedImpl<Scene>> impls = {
       {"reference", ref::zbuffer, 0, {}, {}, false},
   };
+  // Mesa's llvmpipe through OSMesa, only where the build found OSMesa
+  // (optimized/raster_llvmpipe.cpp): flat and Gouraud only.
+  if (opt::llvmpipe::available())
+    impls.push_back({"llvmpipe", opt::llvmpipe::zbuffer, 0, {}, "Mesa llvmpipe (OSMesa)", true,
+                     opt::llvmpipe::unsupported});
   f.impls = erase_all<Scene>(impls);
   f.default_impl = "reference";
   return f;

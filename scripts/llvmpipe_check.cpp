@@ -47,6 +47,35 @@ struct Agreement {
   double color_max_same = 0;  // largest channel difference where depth agrees (same surface)
 };
 
+// Pixels whose colour differs by more than 1/255 where both cover, with their
+// neighbours' reference colours (which triangle did llvmpipe take the pixel from?).
+void print_differing(const Image& r, const Image& l, int limit) {
+  int shown = 0;
+  for (int y = 0; y < r.height && shown < limit; ++y)
+    for (int x = 0; x < r.width && shown < limit; ++x) {
+      const size_t i = size_t(y) * r.width + x;
+      if (!std::isfinite(r.depth[i]) || !std::isfinite(l.depth[i])) continue;
+      double c = 0;
+      for (int k = 0; k < 3; ++k)
+        c = std::max(c, std::abs(double(l.rgba[4 * i + k]) - double(r.rgba[4 * i + k])));
+      if (c <= 1.0 / 255) continue;
+      ++shown;
+      auto rc = [&](int xx, int yy) {
+        if (xx < 0 || yy < 0 || xx >= r.width || yy >= r.height) return std::string("-");
+        const float* p = r.pixel(xx, yy);
+        char b[64];
+        std::snprintf(b, sizeof b, "%.3f,%.3f,%.3f", p[0], p[1], p[2]);
+        return std::string(b);
+      };
+      const float* lp = l.pixel(x, y);
+      std::printf(
+          "    (%d, %d): ref %s z %.7g | llvmpipe %.3f,%.3f,%.3f z %.7g | ref above %s below %s "
+          "left %s right %s\n",
+          x, y, rc(x, y).c_str(), r.depth[i], lp[0], lp[1], lp[2], l.depth[i], rc(x, y - 1).c_str(),
+          rc(x, y + 1).c_str(), rc(x - 1, y).c_str(), rc(x + 1, y).c_str());
+    }
+}
+
 Agreement compare(const Image& r, const Image& l) {
   Agreement a;
   const size_t n = size_t(r.width) * size_t(r.height);
@@ -103,6 +132,8 @@ int agree(const std::vector<std::string>& scenes, std::vector<int> sizes) {
                     name.c_str(), size, shading, (unsigned long long)ls.items, a.cover_frac,
                     a.depth_max, a.depth_over, a.depth_max_same, a.color_max, a.color_over,
                     a.color_max_same);
+        if (std::getenv("LLVMPIPE_CHECK_SHOW"))
+          print_differing(r, l, std::atoi(std::getenv("LLVMPIPE_CHECK_SHOW")));
         std::fflush(stdout);
       }
     }
