@@ -89,17 +89,23 @@ std::string lp_threads_for(int threads) {
   return threads <= 1 ? "0" : std::to_string(threads);
 }
 
-// The far plane: a little beyond the scene's far bound, so that the farthest
-// vertex gets a window depth below 1 (the cleared value, which GL_LESS would
-// refuse). At z = far_z, 1 - d = n e / (f - n) for f = far_z (1 + e); e keeps
-// that at least 2^-20, sixteen steps of the 24-bit buffer.
+}  // namespace
+
 double far_plane(double near_z, double far_z) {
   if (!(far_z > near_z)) return 2 * near_z;
+  // At z = far_z, 1 - d = n e / (f - n) for f = far_z (1 + e): e keeps that at
+  // least 2^-20, sixteen steps of the 24-bit buffer.
   const double e = std::max(1e-3, 0x1p-20 * far_z / near_z);
   return far_z * (1 + e);
 }
 
-}  // namespace
+double near_plane(double hither) { return hither * (1 - 0x1p-20); }
+
+double depth_step(double z, double near_z, double far_z) {
+  const double n = near_plane(near_z), f = far_plane(near_z, far_z);
+  // d = f/(f-n) (1 - n/z): dz/dd = z^2 (f - n) / (n f).
+  return 0x1p-24 * z * z * (f - n) / (n * f);
+}
 
 struct Context::State {
   OSMesaContext ctx = nullptr;
@@ -168,9 +174,7 @@ void Context::draw(const ScreenMesh& mesh, const Vec3& background, const RasterS
 
   // Projection: the frustum of core/camera.h's pixel centres (see the header comment).
   const Camera& cam = mesh.camera;
-  // Near a hair closer than hither: view_scene's hither-clipped vertices lie on
-  // the plane, and float rounding must not let GL clip them a second time.
-  const double n = mesh.near_z * (1 - 0x1p-20);
+  const double n = near_plane(mesh.near_z);
   const double f = far_plane(mesh.near_z, mesh.far_z);
   const double half_w = n * cam.pitch * 0.5 * W, half_h = n * cam.pitch * 0.5 * H;
   glMatrixMode(GL_PROJECTION);

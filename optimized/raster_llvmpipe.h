@@ -14,6 +14,16 @@
 
 namespace lockstep::opt::llvmpipe {
 
+// The planes the row's frustum uses for a ScreenMesh's near_z (hither) and
+// far_z. Near is a hair closer than hither: view_scene's hither-clipped vertices
+// lie on that plane, and float rounding must not let GL clip them a second time.
+// Far is a little beyond far_z, so that the farthest vertex gets a window depth
+// below 1 (the cleared value, which GL_LESS would refuse).
+double near_plane(double hither);
+double far_plane(double near_z, double far_z);
+// One step of the 24-bit depth buffer at eye depth z, in eye z (grows as z^2).
+double depth_step(double z, double near_z, double far_z);
+
 // Where the time of one draw() went, in seconds.
 struct DrawTimes {
   double compile = 0;   // the first draw of this context: a one-triangle draw that makes llvmpipe

@@ -6,12 +6,17 @@
 //
 // agree: for each scene, size and shading (flat, gouraud) renders
 // ref::zbuffer and opt::llvmpipe::zbuffer with the same settings and prints
-//   cover    pixels covered by one and not the other (fraction of all pixels)
-//   depth    relative eye-z error |z_l - z_r| / z_r over pixels both cover: the
-//            largest, and the fraction above 1e-4 (a different surface won:
-//            near-coincident or interpenetrating faces, edges)
-//   colour   largest channel difference over pixels both cover, and the
-//            fraction above 1/255 (same story as depth: another triangle won)
+//   cover      pixels covered by one and not the other, of all pixels
+//   owner      pixels both cover where llvmpipe shows another triangle's colour
+//              (a reference neighbour's, within 1/255): the pixel centre is near
+//              an edge between two triangles and the two snaps put it on
+//              different sides; of the pixels both cover
+//   depth_rel  largest relative eye-z error over the other pixels both cover
+//   steps      the same in steps of llvmpipe's 24-bit depth buffer at that depth
+//   col_max    largest channel difference over those pixels (interpolation)
+//   unexp      pixels both cover whose colour is off by more than 1/255 with no
+//              neighbour to explain it, and the largest such difference
+// LLVMPIPE_CHECK_SHOW=N prints the first N pixels whose colours differ.
 //
 // time: one Context, the first draw (context creation, LLVM compilation) and
 // then R warm draws of the same mesh: median and best of each phase. The thread
@@ -38,35 +43,40 @@ using namespace lockstep;
 namespace {
 
 struct Agreement {
-  double cover_frac = 0;      // coverage differs, of all pixels
-  double depth_max = 0;       // largest relative eye-z error, both covered
-  double depth_over = 0;      // fraction of both-covered pixels with relative error > 1e-4
-  double depth_max_same = 0;  // largest relative error among the rest (same surface)
-  double color_max = 0;       // largest channel difference, both covered
-  double color_over = 0;      // fraction of both-covered pixels differing by more than 1/255
-  double color_max_same = 0;  // largest channel difference where depth agrees (same surface)
+  double cover_frac = 0;   // coverage differs, of all pixels
+  double depth_rel = 0;    // largest relative eye-z error, both covered, same triangle
+  double depth_steps = 0;  // the same in steps of the 24-bit buffer at that depth
+  double owner_frac =
+      0;  // both covered, the colour of another triangle (a neighbour's): of both-covered pixels
+  double color_max = 0;  // largest channel difference of the rest (same triangle: interpolation)
+  long unexplained =
+      0;  // both covered, colour off by more than 1/255, and no neighbour has llvmpipe's colour
+  double unexplained_max = 0;
 };
 
-// Pixels whose colour differs by more than 1/255 where both cover, with their
-// neighbours' reference colours (which triangle did llvmpipe take the pixel from?).
+double channel_diff(const float* a, const float* b) {
+  double c = 0;
+  for (int k = 0; k < 3; ++k) c = std::max(c, std::abs(double(a[k]) - double(b[k])));
+  return c;
+}
+
+// The first `limit` pixels both cover whose colours differ by more than 1/255,
+// with the reference colours around them.
 void print_differing(const Image& r, const Image& l, int limit) {
   int shown = 0;
+  auto rc = [&](int x, int y) {
+    if (x < 0 || y < 0 || x >= r.width || y >= r.height) return std::string("-");
+    const float* p = r.pixel(x, y);
+    char b[64];
+    std::snprintf(b, sizeof b, "%.3f,%.3f,%.3f", p[0], p[1], p[2]);
+    return std::string(b);
+  };
   for (int y = 0; y < r.height && shown < limit; ++y)
     for (int x = 0; x < r.width && shown < limit; ++x) {
       const size_t i = size_t(y) * r.width + x;
       if (!std::isfinite(r.depth[i]) || !std::isfinite(l.depth[i])) continue;
-      double c = 0;
-      for (int k = 0; k < 3; ++k)
-        c = std::max(c, std::abs(double(l.rgba[4 * i + k]) - double(r.rgba[4 * i + k])));
-      if (c <= 1.0 / 255) continue;
+      if (channel_diff(l.pixel(x, y), r.pixel(x, y)) <= 1.0 / 255) continue;
       ++shown;
-      auto rc = [&](int xx, int yy) {
-        if (xx < 0 || yy < 0 || xx >= r.width || yy >= r.height) return std::string("-");
-        const float* p = r.pixel(xx, yy);
-        char b[64];
-        std::snprintf(b, sizeof b, "%.3f,%.3f,%.3f", p[0], p[1], p[2]);
-        return std::string(b);
-      };
       const float* lp = l.pixel(x, y);
       std::printf(
           "    (%d, %d): ref %s z %.7g | llvmpipe %.3f,%.3f,%.3f z %.7g | ref above %s below %s "
@@ -76,32 +86,52 @@ void print_differing(const Image& r, const Image& l, int limit) {
     }
 }
 
-Agreement compare(const Image& r, const Image& l) {
+// near_z, far_z: the mesh's, for the depth buffer's step.
+Agreement compare(const Image& r, const Image& l, double near_z, double far_z) {
   Agreement a;
   const size_t n = size_t(r.width) * size_t(r.height);
-  size_t cover_diff = 0, both = 0, depth_over = 0, color_over = 0;
-  for (size_t i = 0; i < n; ++i) {
-    const bool cr = std::isfinite(r.depth[i]), cl = std::isfinite(l.depth[i]);
-    if (cr != cl) ++cover_diff;
-    if (!(cr && cl)) continue;
-    ++both;
-    const double e = std::abs(double(l.depth[i]) - double(r.depth[i])) / double(r.depth[i]);
-    a.depth_max = std::max(a.depth_max, e);
-    double c = 0;
-    for (int k = 0; k < 3; ++k)
-      c = std::max(c, std::abs(double(l.rgba[4 * i + k]) - double(r.rgba[4 * i + k])));
-    a.color_max = std::max(a.color_max, c);
-    if (c > 1.0 / 255) ++color_over;
-    if (e > 1e-4) {
-      ++depth_over;
-    } else {
-      a.depth_max_same = std::max(a.depth_max_same, e);
-      a.color_max_same = std::max(a.color_max_same, c);
+  size_t cover_diff = 0, both = 0, owner = 0;
+  for (int y = 0; y < r.height; ++y)
+    for (int x = 0; x < r.width; ++x) {
+      const size_t i = size_t(y) * r.width + x;
+      const bool cr = std::isfinite(r.depth[i]), cl = std::isfinite(l.depth[i]);
+      if (cr != cl) ++cover_diff;
+      if (!(cr && cl)) continue;
+      ++both;
+      const double c = channel_diff(l.pixel(x, y), r.pixel(x, y));
+      if (c > 1.0 / 255) {
+        // Another triangle won the pixel: llvmpipe's colour is a neighbour's in the reference.
+        bool neighbour = false;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int xx = x + dx, yy = y + dy;
+            if ((dx || dy) && xx >= 0 && yy >= 0 && xx < r.width && yy < r.height &&
+                channel_diff(l.pixel(x, y), r.pixel(xx, yy)) <= 1.0 / 255)
+              neighbour = true;
+          }
+        if (neighbour) {
+          ++owner;
+        } else {
+          ++a.unexplained;
+          a.unexplained_max = std::max(a.unexplained_max, c);
+        }
+        continue;
+      }
+      a.color_max = std::max(a.color_max, c);
+      const double zr = r.depth[i], e = std::abs(double(l.depth[i]) - zr);
+      a.depth_rel = std::max(a.depth_rel, e / zr);
+      const double steps = e / opt::llvmpipe::depth_step(zr, near_z, far_z);
+      if (steps > a.depth_steps && std::getenv("LLVMPIPE_CHECK_SHOW")) {
+        // The depth change to the next pixel, as a measure of the surface's slope.
+        const double zx =
+            x + 1 < r.width && std::isfinite(r.depth[i + 1]) ? r.depth[i + 1] - zr : 0;
+        std::printf("    depth (%d, %d): ref %.9g llvmpipe %.9g, %.1f steps; ref dz/dx %.3g\n", x,
+                    y, zr, double(l.depth[i]), steps, zx);
+      }
+      a.depth_steps = std::max(a.depth_steps, steps);
     }
-  }
   a.cover_frac = double(cover_diff) / double(n);
-  a.depth_over = both ? double(depth_over) / double(both) : 0;
-  a.color_over = both ? double(color_over) / double(both) : 0;
+  a.owner_frac = both ? double(owner) / double(both) : 0;
   return a;
 }
 
@@ -112,9 +142,8 @@ double median(std::vector<double> v) {
 
 int agree(const std::vector<std::string>& scenes, std::vector<int> sizes) {
   if (sizes.empty()) sizes = {512, 1024};
-  std::printf("%-12s %5s %-8s %8s %10s %9s %10s %9s %9s %10s %9s\n", "scene", "size", "shading",
-              "tris", "cover", "depth_max", "depth>1e-4", "depth_sm", "col_max", "col>1/255",
-              "col_sm");
+  std::printf("%-12s %5s %-8s %7s %9s %9s %9s %8s %9s %6s %9s\n", "scene", "size", "shading",
+              "tris", "cover", "owner", "depth_rel", "steps", "col_max", "unexp", "unexp_max");
   for (const std::string& path : scenes) {
     const Scene scene = read_nff(path);
     std::string name = path.substr(path.find_last_of('/') + 1);
@@ -127,11 +156,11 @@ int agree(const std::vector<std::string>& scenes, std::vector<int> sizes) {
         FrameStats rs, ls;
         const Image r = ref::zbuffer(scene, opts, &rs);
         const Image l = opt::llvmpipe::zbuffer(scene, opts, &ls);
-        const Agreement a = compare(r, l);
-        std::printf("%-12s %5d %-8s %8llu %10.3e %9.2e %10.3e %9.2e %9.2e %10.3e %9.2e\n",
-                    name.c_str(), size, shading, (unsigned long long)ls.items, a.cover_frac,
-                    a.depth_max, a.depth_over, a.depth_max_same, a.color_max, a.color_over,
-                    a.color_max_same);
+        const ScreenMesh mesh = view_scene(scene, size, size, raster_settings(opts.params, path));
+        const Agreement a = compare(r, l, mesh.near_z, mesh.far_z);
+        std::printf("%-12s %5d %-8s %7llu %9.2e %9.2e %9.2e %8.0f %9.2e %6ld %9.2e\n", name.c_str(),
+                    size, shading, (unsigned long long)ls.items, a.cover_frac, a.owner_frac,
+                    a.depth_rel, a.depth_steps, a.color_max, a.unexplained, a.unexplained_max);
         if (std::getenv("LLVMPIPE_CHECK_SHOW"))
           print_differing(r, l, std::atoi(std::getenv("LLVMPIPE_CHECK_SHOW")));
         std::fflush(stdout);

@@ -26,5 +26,7 @@ Property case_property(const ImageFamily& family, const ImageImpl& impl, std::st
 void cross_check_part(const ImageFamily& family, FamilyProperties& out);
 // World-space against projection-space back-face culling (culling.cpp).
 void culling_part(const ImageFamily& family, FamilyProperties& out);
+// The llvmpipe peer's coverage against the reference's (llvmpipe.cpp).
+void llvmpipe_part(const ImageFamily& family, FamilyProperties& out);
 
 }  // namespace lockstep::props::raster

@@ -216,6 +216,7 @@ FamilyProperties properties(const ImageFamily& family) {
   static constexpr Part kParts[] = {
       cross_check_part,
       culling_part,
+      llvmpipe_part,
   };
   FamilyProperties out;
   for (Part part : kParts) part(family, out);
