@@ -127,8 +127,9 @@ Context::Context(int width, int height, int threads, std::vector<std::string>* n
   } else if (want != have && notes) {
     notes->push_back(
         "llvmpipe: LP_NUM_THREADS=" + std::string(have) +
-        " is fixed for this process (llvmpipe reads it once, at its first context); threads=" +
-        std::to_string(threads) + " (LP_NUM_THREADS=" + want + ") needs a process of its own");
+        " (from the environment, or an earlier frame of this process: llvmpipe reads it once, at "
+        "its first context) overrides threads=" +
+        std::to_string(threads) + " (LP_NUM_THREADS=" + want + "); run it in a process of its own");
   }
   threads_ = have ? have : "";
 
