@@ -10,7 +10,9 @@
 #include <string>
 
 #include "props/property.h"
+#include "props/raster/exact_coverage.h"
 #include "props/raster/raster_case.h"
+#include "reference/raster.h"
 
 namespace lockstep::props::raster {
 
@@ -24,6 +26,12 @@ Property case_property(const ImageFamily& family, const ImageImpl& impl, std::st
 
 // z-buffer frames against ray casting (properties.cpp).
 void cross_check_part(const ImageFamily& family, FamilyProperties& out);
+// Supersampling against the exact box-filtered image (supersampling.cpp).
+void supersampling_part(const ImageFamily& family, FamilyProperties& out);
+// Its scenes: 1..5 flat, two-sided triangles parallel to the image plane at
+// distinct depths; and their screen triangles for the exact oracle.
+rc::Gen<RasterCase> flat_parallel_scene();
+std::vector<FlatTri> flat_tris(const Scene& scene, const ScreenMesh& mesh);
 // World-space against projection-space back-face culling (culling.cpp).
 void culling_part(const ImageFamily& family, FamilyProperties& out);
 // The llvmpipe peer's coverage against the reference's (llvmpipe.cpp).

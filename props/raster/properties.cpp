@@ -216,6 +216,7 @@ FamilyProperties properties(const ImageFamily& family) {
   static constexpr Part kParts[] = {
       cross_check_part,
       culling_part,
+      supersampling_part,
       llvmpipe_part,
   };
   FamilyProperties out;
