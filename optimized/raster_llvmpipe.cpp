@@ -18,16 +18,30 @@
 // translation by -eye is applied in double before the vertices are rounded to
 // float, so that a scene far from the origin keeps its digits.
 //
-// Depth: 24-bit fixed point (OSMesa's only choice besides 16 and 32 bits of
-// what is still a unorm), GL_LESS, so the first of two equal depths stays, as
-// in the reference. The window depth d of eye depth z is
+// Depth: 24-bit fixed point (OSMesa offers 16 or 24 bits; asking for 32 gives
+// 24), GL_LESS, so the first of two equal depths stays, as in the reference.
+// The window depth d of eye depth z is
 //     d = f/(f-n) (1 - n/z),   z = n f / (f - d (f - n)),
-// with n = hither and f a little beyond the scene's far bound (far()).
+// with n = hither and f a little beyond the scene's far bound (near_plane(),
+// far_plane()). Colour: a float RGBA buffer (OSMesaMakeCurrent with GL_FLOAT),
+// no clamping anywhere (glClampColor), so colours above 1 survive as in the
+// reference; no quantisation. Culling: view_scene has culled per
+// RasterSettings::cull and re-oriented what it keeps, so GL culls nothing.
 //
 // Threads: llvmpipe reads LP_NUM_THREADS once per process, when the first
-// context creates its screen (measured: later contexts keep the first count).
-// The first Context sets it from FrameOptions::threads unless the user set it;
-// a later request for another count is reported in FrameStats::notes.
+// context creates its screen (measured: contexts made after changing it keep
+// the first count of rasteriser threads). The first Context sets it from
+// FrameOptions::threads (1: LP_NUM_THREADS=0, the calling thread bins and
+// rasterises; N > 1: N rasteriser threads; 0: all cores) unless the
+// environment already has it; a later request for another count is reported
+// in FrameStats::notes. So threads=1 and threads=2 need separate processes.
+//
+// Cost: a context per call (no state outlives zbuffer()), so every call pays
+// context creation and LLVM's compilation of the shader variants for this
+// state (FrameStats::build_seconds: about 11 ms in the benchmark, 20-50 ms
+// cold), and the float colour buffer costs a fixed ~7 ms a frame at 1024^2
+// (clear, and OSMesa's copy into the image). scripts/llvmpipe_check.cpp
+// `time` separates the phases.
 #include "core/error.h"
 #include "optimized/raster.h"
 
