@@ -8,6 +8,8 @@
 #include "core/nff.h"
 #include "optimized/raster.h"
 #include "reference/raster.h"
+#include "reference/scanline.h"
+#include "optimized/scanline.h"
 
 namespace lockstep {
 
@@ -113,6 +115,25 @@ ImageFamily zbuffer_family() {
                      true, opt::llvmpipe::unsupported});
   f.impls = erase_all<Scene>(impls);
   f.default_impl = "reference";
+  return f;
+}
+
+ImageFamily scanline_family() {
+  ImageFamily f = raster_family("scanline",
+                                "scanline z-buffer (Watkins; edge table, active edges, incremental spans), "
+                                "flat/Gouraud/Phong/toon shading",
+                                "scanline");
+  // The same samples and fill rule as the z-buffer (coverage equal sample for
+  // sample, props/raster/scanline.cpp); depth and attributes are incremental,
+  // so colours differ from the z-buffer's by the drift, and the visible surface
+  // only where two surfaces are within the drift of each other.
+  f.tol.color_abs = 1.0 / 255;
+  f.tol.pixel_fraction = 0.999;
+  const TypedImpl<Scene> impls[] = {
+      {"reference", ref::scanline, 0, {}, {}, false},
+      {"simd", opt::simd::scanline, 0},
+  };
+  f.impls = erase_all<Scene>(impls);
   return f;
 }
 

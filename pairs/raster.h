@@ -13,5 +13,6 @@
 namespace lockstep {
 
 ImageFamily zbuffer_family();
+ImageFamily scanline_family();
 
 }  // namespace lockstep
