@@ -16,7 +16,8 @@
 //   col_max    largest channel difference over those pixels (interpolation)
 //   unexp      pixels both cover whose colour is off by more than 1/255 with no
 //              neighbour to explain it, and the largest such difference
-// LLVMPIPE_CHECK_SHOW=N prints the first N pixels whose colours differ.
+// LLVMPIPE_CHECK_SHOW=N prints the first N pixels whose colours differ, and
+// each new largest depth error (pixel, both depths, the reference's dz/dx).
 //
 // time: one Context, the first draw (context creation, LLVM compilation) and
 // then R warm draws of the same mesh: median and best of each phase. The thread
