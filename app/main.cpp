@@ -7,6 +7,7 @@
 // main() only dispatches and turns exceptions into exit codes (app/cli.h).
 #include <OpenImageIO/oiioversion.h>
 #include <embree3/rtcore_config.h>
+#include "optimized/raster.h"
 #include "optimized/ray_cast.h"
 #include <cstdio>
 #include <exception>
@@ -49,6 +50,11 @@ void print_version() {
   std::printf("lockstep %s (simd: Highway target %s; embree %d.%d.%d; OpenImageIO %s)\n", LOCKSTEP_VERSION,
               lockstep::opt::simd::target_name(), RTC_VERSION_MAJOR, RTC_VERSION_MINOR, RTC_VERSION_PATCH,
               OIIO_VERSION_STRING);
+  // The zbuffer family's peer row exists only where OSMesa was found at configure time.
+  if (lockstep::opt::llvmpipe::available())
+    std::printf("  llvmpipe row: built (OSMesa: %s)\n", lockstep::opt::llvmpipe::version().c_str());
+  else
+    std::printf("  llvmpipe row: not built (no OSMesa at configure time; scripts/setup.sh installs libosmesa6-dev)\n");
   // Every family and implementation built into this binary; peers are production libraries.
   for (const lockstep::ImageFamily& f : lockstep::registry().image) {
     std::printf("  %-10s", std::string(f.name).c_str());

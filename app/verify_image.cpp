@@ -204,6 +204,14 @@ std::vector<Row> verify_case(const Case& c, const VerifyOptions& o, std::vector<
     if (&impl == &ref) continue;
     if (!c.impls.empty() && std::find(c.impls.begin(), c.impls.end(), name) == c.impls.end()) continue;
     if (!o.only.empty() && std::find(o.only.begin(), o.only.end(), name) == o.only.end()) continue;
+    // A peer that cannot draw this case's settings is not run (no row), and says why.
+    if (impl.unsupported) {
+      const std::string why = impl.unsupported(opts.params);
+      if (!why.empty()) {
+        std::printf("%-22s %-10s n/a: %s\n", c.name.c_str(), name.c_str(), why.c_str());
+        continue;
+      }
+    }
     const Run r = run_frame(fam, impl, c.input, opts, true);
     Row row;
     row.case_name = c.name;

@@ -18,6 +18,7 @@
 #include <malloc.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <limits>
 #include <cmath>
 #include <cstring>
@@ -231,13 +232,14 @@ void register_frames(const Registry& reg) {
       for (int threads : {1, all_threads}) {
         for (const ImageImpl& impl : fam.impls) {
           if (!impl.threaded && threads != 1) continue;  // the reference is single-threaded by design
+          if (impl.unsupported && !impl.unsupported(in.params).empty()) continue;  // e.g. llvmpipe: no Phong
           // Brute force costs the same for every pixel: the reference runs heavy
           // inputs at a quarter of the size per side and the rate carries over.
           const int div = !impl.threaded && in.heavy_for_reference ? 4 : 1;
           const std::string bname = base + "/" + std::string(impl.name) + "/threads:" + std::to_string(threads);
           auto cold = std::make_shared<double>(-1);  // seconds of the cold run, once per benchmark
           benchmark::RegisterBenchmark(bname.c_str(), [input, div, threads, cold, sized = fam.sized, fn = impl.render,
-                                                       unit = std::string(fam.unit)](benchmark::State& st) {
+                                                       unit = std::string(fam.unit), bname](benchmark::State& st) {
             const Input& in = input->get();
             FrameOptions opts;
             opts.width = input->meta.width / div;
@@ -251,6 +253,9 @@ void register_frames(const Registry& reg) {
               Image img = fn(in, opts, &stats);
               *cold = once.seconds();
               benchmark::DoNotOptimize(img.rgba.data());
+              // What the run says the user must hear (e.g. llvmpipe: its thread
+              // count is fixed per process, so threads:N may not be what ran).
+              for (const std::string& note : stats.notes) std::fprintf(stderr, "%s: %s\n", bname.c_str(), note.c_str());
             }
             double build = 0, items = 0;
             uint64_t pixels = 0;

@@ -140,6 +140,11 @@ struct ImageImpl {
   KnownFailure known;
   std::string_view peer; // non-empty: a production library's implementation (e.g. "OpenImageIO 2.4")
   bool threaded = true;  // false: single-threaded by design (the reference)
+  // Settings the implementation cannot draw (a peer's limits, e.g. llvmpipe: flat
+  // and Gouraud only): the reason, or "" when it can. Null: every setting the
+  // family allows. `verify` and the benchmarks skip such cases, saying why; a
+  // direct render throws InputError with the same reason.
+  std::string (*unsupported)(const Params&) = nullptr;
 };
 
 // An analytic judge: for every pixel, whether it must be covered, computed from
@@ -212,6 +217,7 @@ struct TypedImpl {
   KnownFailure known = {};
   std::string_view peer = {};
   bool threaded = true;
+  std::string (*unsupported)(const Params&) = nullptr;  // see ImageImpl::unsupported
 };
 
 template <class In>
@@ -234,6 +240,7 @@ ImageImpl erase(const TypedImpl<In>& t) {
   i.known = t.known;
   i.peer = t.peer;
   i.threaded = t.threaded;
+  i.unsupported = t.unsupported;
   return i;
 }
 

@@ -29,6 +29,10 @@ namespace opt::llvmpipe {
 // True when this build has the OSMesa row; version() then names Mesa's version.
 bool available();
 std::string version();
+// Why these settings are beyond the row (shading other than flat or gouraud,
+// spp > 1, silhouettes, affine interpolation), or "" when it can draw them
+// (ImageImpl::unsupported; zbuffer throws InputError with the same words).
+std::string unsupported(const Params& params);
 Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats);
 }  // namespace opt::llvmpipe
 

@@ -9,6 +9,7 @@ packages=(
   libopenimageio-dev openimageio-tools
   libbenchmark-dev librapidcheck-dev libgtest-dev
   libtbb-dev libhwy-dev gnuplot-nox
+  libosmesa6-dev libgl-dev  # the zbuffer family's llvmpipe row (Mesa OSMesa; GL/gl.h, GL/glext.h)
 )
 
 missing=()

@@ -41,5 +41,7 @@ void interpolation_part(const ImageFamily& family, FamilyProperties& out);
 // The z-buffer's visibility kernel: coverage agreement, watertightness, fill-rule
 // mutants; the optimized set-up's mesh against view_scene's (visibility.cpp).
 void visibility_part(const ImageFamily& family, FamilyProperties& out);
+// The llvmpipe peer's coverage against the reference's (llvmpipe.cpp).
+void llvmpipe_part(const ImageFamily& family, FamilyProperties& out);
 
 }  // namespace lockstep::props::raster

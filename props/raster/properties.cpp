@@ -205,8 +205,12 @@ Property case_property(const ImageFamily& family, const ImageImpl& impl, std::st
 
 void cross_check_part(const ImageFamily& family, FamilyProperties& out) {
   if (family.name != "zbuffer" && family.name != "scanline") return;
+  // The cross-check shades per pixel (Phong); an implementation that cannot
+  // (llvmpipe: flat and Gouraud only) says so through its unsupported().
+  const Params phong{{{"shading", "phong"}}};
   for (const ImageImpl& impl : family.impls)
-    if (impl.name != "llvmpipe") out.properties.push_back(cross_check_property(family, impl));
+    if (!impl.unsupported || impl.unsupported(phong).empty())
+      out.properties.push_back(cross_check_property(family, impl));
 }
 
 // Every part of props/raster: each looks at the family it is given (zbuffer,
@@ -220,6 +224,7 @@ FamilyProperties properties(const ImageFamily& family) {
       scanline_part,
       interpolation_part,
       visibility_part,
+      llvmpipe_part,
   };
   FamilyProperties out;
   for (Part part : kParts) part(family, out);

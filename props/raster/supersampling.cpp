@@ -152,8 +152,11 @@ Verdict converges(const ImageImpl& impl, const RasterCase& c) {
 
 void supersampling_part(const ImageFamily& family, FamilyProperties& out) {
   if (family.name != "zbuffer" && family.name != "scanline") return;
+  // Implementations that cannot supersample (llvmpipe: one sample per pixel)
+  // say so through their unsupported().
+  const Params supersampled{{{"spp", "16"}}};
   for (const ImageImpl& impl : family.impls)
-    if (impl.name != "llvmpipe")
+    if (!impl.unsupported || impl.unsupported(supersampled).empty())
       out.properties.push_back(case_property(family, impl, "SupersamplingConverges", "flat_parallel_scene",
                                              flat_parallel_scene(), 0, "colour",
                                              [&impl](const RasterCase& c) { return converges(impl, c); }));

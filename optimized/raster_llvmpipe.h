@@ -1,0 +1,73 @@
+// lockstep optimized: the llvmpipe row's OpenGL context (only built where
+// libOSMesa is found: LOCKSTEP_HAVE_OSMESA). opt::llvmpipe::zbuffer
+// (optimized/raster.h) is one Context and one draw(); the hand-run timing tool
+// (scripts/llvmpipe_timing.cpp) keeps one Context and draws many times, to
+// separate the one-shot costs (context, LLVM shader compilation) from the frame.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/image.h"
+#include "reference/raster.h"
+
+namespace lockstep::opt::llvmpipe {
+
+// The planes the row's frustum uses for a ScreenMesh's near_z (hither) and
+// far_z. Near is a hair closer than hither: view_scene's hither-clipped vertices
+// lie on that plane, and float rounding must not let GL clip them a second time.
+// Far is a little beyond far_z, so that the farthest vertex gets a window depth
+// below 1 (the cleared value, which GL_LESS would refuse).
+double near_plane(double hither);
+double far_plane(double near_z, double far_z);
+// One step of the 24-bit depth buffer at eye depth z, in eye z (grows as z^2).
+double depth_step(double z, double near_z, double far_z);
+
+// Where the time of one draw() went, in seconds.
+struct DrawTimes {
+  double compile = 0;   // the first draw of this context: a one-triangle draw that makes llvmpipe
+                        // compile (LLVM) its setup and fragment shader variants; 0 afterwards
+  double upload = 0;    // vertex arrays built from the mesh (CPU, ours)
+  double draw = 0;      // glClear + glDrawArrays + glFinish (llvmpipe's binning and rasterisation)
+  double readback = 0;  // colour rows flipped into the image, depth read and turned into eye z
+};
+
+// One OSMesa context (Mesa's gallium frontend, driver llvmpipe unless
+// GALLIUM_DRIVER says otherwise) with a width x height float RGBA colour buffer
+// and a 24-bit depth buffer. Not thread-safe: one context per thread.
+class Context {
+ public:
+  // threads: as FrameOptions::threads. llvmpipe reads LP_NUM_THREADS once per
+  // process, when the first context creates its screen; see thread_count().
+  // A request the process can no longer honour adds a line to notes.
+  Context(int width, int height, int threads, std::vector<std::string>* notes);
+  ~Context();
+  Context(const Context&) = delete;
+  Context& operator=(const Context&) = delete;
+
+  // Draws mesh (view_scene's output for this size) with s.shading (kFlat or
+  // kGouraud) over background into img (made width x height if it is not),
+  // with a depth plane (eye z, +inf where empty). GL renders into img's pixels
+  // directly; the context is released before draw() returns, so img is the
+  // caller's again afterwards.
+  void draw(const ScreenMesh& mesh, const Vec3& background, const RasterSettings& s, Image& img,
+            DrawTimes* times);
+
+  // GL_RENDERER and GL_VERSION, e.g. "llvmpipe (LLVM 15.0.6, 256 bits), OpenGL 4.5
+  // (Compatibility Profile) Mesa 22.3.6". Leaves no context current.
+  std::string renderer();
+
+  double create_seconds() const { return create_seconds_; }
+  // llvmpipe's rasteriser threads in this process (LP_NUM_THREADS; 0: the
+  // calling thread rasterises), as the environment said when the screen was made.
+  std::string thread_count() const { return threads_; }
+
+ private:
+  struct State;
+  std::unique_ptr<State> st_;
+  double create_seconds_ = 0;
+  std::string threads_;
+};
+
+}  // namespace lockstep::opt::llvmpipe
