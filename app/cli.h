@@ -147,6 +147,14 @@ inline const ImageFamily& family_for_path(const std::string& path) {
   throw InputError(path, 0, "no family reads '" + ext + "' files (known: " + known + ")");
 }
 
+// The setting of f that option a ("--shading") names, or null.
+inline const ParamSpec* find_param(const ImageFamily& f, std::string_view a) {
+  if (!a.starts_with("--")) return nullptr;
+  for (const ParamSpec& p : f.params)
+    if (a.substr(2) == p.name) return &p;
+  return nullptr;
+}
+
 // "reference, simd, embree, auto"
 inline std::string impl_names(const ImageFamily& f, std::string_view sep = ", ") {
   std::string s;

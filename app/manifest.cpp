@@ -47,6 +47,24 @@ std::vector<Case> read_manifest(const fs::path& dir) {
     if (c.family) w.erase(w.begin());
     else c.family = &registry().image.front();
     const ImageFamily& fam = *c.family;
+    // The family's settings: name=value fields anywhere after the family (not ref=).
+    for (auto it = w.begin(); it != w.end();) {
+      const size_t eq = it->find('=');
+      if (eq == std::string::npos || eq == 0 || it->starts_with("ref=")) {
+        ++it;
+        continue;
+      }
+      c.params.set(it->substr(0, eq), it->substr(eq + 1));
+      it = w.erase(it);
+    }
+    if (!c.params.items.empty()) {
+      if (!fam.check_params) fail(std::string(fam.name) + " takes no settings, got '" + c.params.str() + "'");
+      try {
+        fam.check_params(c.params);
+      } catch (const InputError& e) {
+        fail(e.what());
+      }
+    }
     if (w.size() < 2 || w.size() > 8)
       fail("expected '[family] case input [size [impls [fail [failpercent [judge [ref]]]]]]', got " +
            std::to_string(w.size()) + " fields after the family");

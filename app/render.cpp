@@ -13,7 +13,7 @@ namespace {
 
 void print_help() {
   std::printf(
-      "usage: lockstep render INPUT [--impl NAME] [--size WxH] [--threads N] -o OUT\n"
+      "usage: lockstep render INPUT [--algo NAME] [SETTINGS] [--impl NAME] [--size WxH] [--threads N] -o OUT\n"
       "\n"
       "Renders INPUT with one implementation of the family that reads it and writes the\n"
       "image; the format follows OUT's extension (.exr and .tif keep float values, .png\n"
@@ -23,6 +23,19 @@ void print_help() {
     std::printf("  %-10s %s from %s; --impl %s (default: %.*s)\n", std::string(f.name).c_str(),
                 std::string(f.what).c_str(), std::string(f.input).c_str(), impl_names(f, "|").c_str(),
                 int(f.default_impl.size()), f.default_impl.data());
+  std::printf("\n  --algo NAME     which family draws an input of a shared extension (.nff:");
+  for (const ImageFamily& f : registry().image)
+    if (!f.algo.empty()) std::printf(" %s", std::string(f.algo).c_str());
+  std::printf("; default: the first)\n");
+  for (const ImageFamily& f : registry().image) {
+    if (f.params.empty()) continue;
+    std::printf("\n  settings of %s:\n", std::string(f.name).c_str());
+    for (const ParamSpec& p : f.params) {
+      std::string left = "--" + std::string(p.name) + (p.flag ? "" : " " + std::string(p.values));
+      std::printf("    %-44s %s%s%s\n", left.c_str(), std::string(p.help).c_str(), p.def.empty() ? "" : "; default ",
+                  std::string(p.def).c_str());
+    }
+  }
   std::printf(
       "\n"
       "  --impl NAME     implementation (default: the family's, above)\n"
@@ -68,9 +81,31 @@ Run run_for_cli(const std::string& who, const ImageFamily& family, const ImageIm
   return r;
 }
 
+// The family that draws in_path: the one of that extension whose algo is
+// `algo` ("raycast" is ray_cast), or the first of that extension.
+const ImageFamily& family_for(const std::string& in_path, const std::string& algo) {
+  const ImageFamily& first = family_for_path(in_path);
+  if (algo.empty()) return first;
+  std::string known;
+  for (const ImageFamily& f : registry().image) {
+    if (f.extension != first.extension || f.algo.empty()) continue;
+    if (f.algo == algo) return f;
+    known += (known.empty() ? "" : "|") + std::string(f.algo);
+  }
+  throw UsageError("--algo: '" + algo + "' is not one of " + known + " for " + std::string(first.extension) + " files");
+}
+
 int render_main(Args args) {
-  std::string in_path, out_path, impl_name, value;
+  std::string in_path, out_path, impl_name, value, algo;
   int width = 0, height = 0, threads = 0;
+  // --algo first: it decides which family's settings the other options may name.
+  for (size_t i = 0; i < args.size(); ++i)
+    if (take_option(args, i, "--algo", value)) algo = value;
+    else if (!is_option(args[i]) && in_path.empty()) in_path = std::string(args[i]);
+  const ImageFamily* chosen = nullptr;
+  if (!in_path.empty()) chosen = &family_for(in_path, algo);
+  in_path.clear();
+  Params params;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string_view a = args[i];
     if (a == "--help" || a == "-h") {
@@ -84,6 +119,11 @@ int render_main(Args args) {
       threads = int(parse_long("--threads", value, 1, 4096));
     } else if (take_option(args, i, "-o", value) || take_option(args, i, "--output", value)) {
       out_path = value;
+    } else if (take_option(args, i, "--algo", value)) {
+      // read above
+    } else if (const ParamSpec* p = chosen ? find_param(*chosen, a) : nullptr) {
+      if (p->flag) params.set(std::string(p->name), "1");
+      else if (take_option(args, i, a, value)) params.set(std::string(p->name), value);
     } else if (is_option(a)) {
       unknown_option(a);
     } else if (in_path.empty()) {
@@ -94,7 +134,14 @@ int render_main(Args args) {
   }
   if (in_path.empty()) throw UsageError("missing INPUT");
   if (out_path.empty()) throw UsageError("missing -o OUT");
-  const ImageFamily& family = family_for_path(in_path);
+  const ImageFamily& family = *chosen;
+  if (!params.items.empty()) {
+    try {
+      family.check_params(params);
+    } catch (const InputError& e) {
+      throw UsageError(std::string(e.what()).substr(std::string("settings: ").size()));
+    }
+  }
   const ImageImpl& impl = find_impl(family, impl_name.empty() ? family.default_impl : impl_name);
   if (!family.sized && width > 0) throw UsageError("--size does not apply to " + std::string(family.name));
 
@@ -107,8 +154,10 @@ int render_main(Args args) {
   opts.width = width > 0 ? width : input.width;
   opts.height = height > 0 ? height : input.height;
   opts.threads = threads;
+  opts.params = params;
   const Run r = run_for_cli("lockstep render", family, impl, input, opts);
   write_image(r.image, out_path);
+  for (const std::string& note : r.stats.notes) std::fprintf(stderr, "lockstep render: %s\n", note.c_str());
   std::fprintf(stderr, "%s -> %s\n", run_summary("lockstep render", family, impl, r).c_str(), out_path.c_str());
   return kExitOk;
 }

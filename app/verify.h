@@ -40,6 +40,7 @@ struct Case {
   RefExpect ref_expect = RefExpect::kAny;
   std::string ref_reason;  // why the reference is expected to be wrong
   Input input;             // loaded by the family
+  Params params;           // the family's settings: the line's name=value fields
   int frame_width() const { return width > 0 ? width : input.width; }
   int frame_height() const { return height > 0 ? height : input.height; }
 };

@@ -108,6 +108,7 @@ std::vector<Row> verify_case(const Case& c, const VerifyOptions& o, std::vector<
   opts.width = w;
   opts.height = h;
   opts.threads = o.threads;
+  opts.params = c.params;
   std::vector<Row> rows;
   const fs::path case_dir = o.report_dir / c.name;
   std::error_code ec;

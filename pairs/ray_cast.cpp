@@ -129,6 +129,7 @@ ImageFamily ray_cast_family() {
   f.verb = "trace";
   f.extension = ".nff";
   f.default_impl = "auto";
+  f.algo = "raycast";
   f.sized = true;
   f.tol.color_abs = rows.tol.color_abs;
   f.tol.pixel_fraction = rows.tol.pixel_fraction;

@@ -3,6 +3,7 @@
 
 #include "pairs/composite.h"
 #include "pairs/ray_cast.h"
+#include "pairs/raster.h"
 
 namespace lockstep {
 
@@ -10,6 +11,7 @@ const Registry& registry() {
   static const Registry r{{
       ray_cast_family(),
       composite_family(),
+      zbuffer_family(),
   }};
   return r;
 }

@@ -13,11 +13,15 @@ FamilyProperties properties(const ImageFamily&);
 namespace composite {
 FamilyProperties properties(const ImageFamily&);
 }
+namespace raster {
+FamilyProperties properties(const ImageFamily&);
+}
 
 const std::vector<ProviderRow>& property_providers() {
   static const std::vector<ProviderRow> rows = {
       {"ray_cast", ray_cast::properties},
       {"composite", composite::properties},
+      {"zbuffer", raster::properties},
   };
   return rows;
 }

@@ -1,0 +1,89 @@
+// lockstep pairs: the raster families' rows (see pairs/raster.h).
+#include "pairs/raster.h"
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include "core/nff.h"
+#include "optimized/raster.h"
+#include "reference/raster.h"
+
+namespace lockstep {
+
+namespace {
+
+Input load_scene(const std::string& path) {
+  Scene s = read_nff(path);
+  const int w = s.view.xres, h = s.view.yres;
+  const Vec3 bg = s.background;
+  return make_input<Scene>(std::move(s), path, w, h, bg);
+}
+
+std::string spd_dir() {
+  if (const char* e = std::getenv("LOCKSTEP_SPD_DIR")) return e;
+  return LOCKSTEP_SPD_DIR;
+}
+
+// The SPD scenes of issue #7 that are present, at 1024 x 1024: flat shading
+// (what the llvmpipe peer draws too) for every scene, and per-sample Phong for two.
+std::vector<BenchInput> spd_frames() {
+  std::vector<BenchInput> out;
+  auto add = [&](const char* name, const char* shading) {
+    const std::string path = spd_dir() + "/" + name + ".nff";
+    if (!std::filesystem::exists(path)) return;
+    BenchInput b;
+    b.name = std::string(name) + "/" + shading;
+    b.input = load_scene(path);
+    b.params.set("shading", shading);
+    const Scene& s = input_as<Scene>(b.input);
+    b.width = b.height = 1024;
+    b.counters = {{"triangles", double(s.triangle_count())}, {"spheres", double(s.sphere_count())}};
+    b.heavy_for_reference = true;
+    out.push_back(std::move(b));
+  };
+  for (const char* name : {"tetra-3", "mount-3", "gears-2", "teapot-2", "sombrero-2", "jacks-2-tess", "lattice-2-tess",
+                           "tree-2-tess", "rings-1-tess", "balls-3", "shells-1"})
+    add(name, "flat");
+  for (const char* name : {"sombrero-2", "balls-3"}) add(name, "phong");
+  return out;
+}
+
+// A raster family over NFF scenes: the shared loader, settings and checks.
+ImageFamily raster_family(std::string_view name, std::string_view what, std::string_view algo) {
+  ImageFamily f;
+  f.name = name;
+  f.what = what;
+  f.algo = algo;
+  f.input = "an NFF scene (.nff)";
+  f.unit = "triangles";
+  f.verb = "draw";
+  f.extension = ".nff";
+  f.default_impl = "simd";
+  f.sized = true;
+  f.load = load_scene;
+  f.params = raster_params();
+  f.check_params = [](const Params& p) { raster_settings(p, "settings"); };
+  f.bench = spd_frames;
+  return f;
+}
+
+}  // namespace
+
+ImageFamily zbuffer_family() {
+  ImageFamily f = raster_family("zbuffer", "z-buffer rasterization (Catmull) with flat/Gouraud/Phong/toon shading",
+                                "zbuffer");
+  // Colour within 1/255 on 99.9% of the pixels, as ray casting: pixels differ
+  // where two surfaces are within the depth format's resolution (the optimized
+  // z-buffers compute depth in float) and on silhouettes of supersampled pixels.
+  f.tol.color_abs = 1.0 / 255;
+  f.tol.pixel_fraction = 0.999;
+  const TypedImpl<Scene> impls[] = {
+      {"reference", ref::zbuffer, 0, {}, {}, false},
+  };
+  f.impls = erase_all<Scene>(impls);
+  f.default_impl = "reference";
+  return f;
+}
+
+}  // namespace lockstep

@@ -1,0 +1,38 @@
+// lockstep props/raster: one generated case of the raster families -- an NFF
+// scene (as text, so that a counterexample file is a scene anyone can render),
+// a frame size and the family's settings.
+//
+// Text form (a counterexample file's body):
+//   raster_case WIDTH HEIGHT [name=value ...]
+//   <the NFF scene>
+#pragma once
+
+#include <rapidcheck.h>
+
+#include <memory>
+#include <string>
+
+#include "core/family.h"
+#include "core/scene.h"
+
+namespace lockstep::props::raster {
+
+struct RasterCase {
+  std::string nff;
+  int width = 32, height = 32;
+  Params params;
+  std::shared_ptr<const Scene> scene() const;  // parsed (throws InputError on a bad text)
+  FrameOptions options() const;               // width, height, params, one thread
+};
+
+std::string write_case(const RasterCase& c);
+RasterCase read_case(const std::string& text, const std::string& file);
+
+// Random scenes. Every vertex is in front of the camera (depth 2..12) and most
+// of each triangle is in view; coordinates are arbitrary doubles, so vertices
+// land anywhere between sample positions.
+//   triangle_soup: 1..6 triangles in random orientations, some two-sided
+//   (transmissive), crossing each other at random; 1..2 lights; phong, cull=world.
+rc::Gen<RasterCase> triangle_soup();
+
+}  // namespace lockstep::props::raster

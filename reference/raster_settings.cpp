@@ -1,0 +1,98 @@
+// lockstep reference: the raster families' settings (reference/raster.h),
+// read from a family's Params (CLI `--shading phong`, corpus `shading=phong`).
+#include <cmath>
+#include <cstdlib>
+#include <string>
+
+#include "core/error.h"
+#include "reference/raster.h"
+
+namespace lockstep {
+
+namespace {
+
+// The index of value among the '|'-separated choices, or throws naming the setting.
+int choose(const std::string& source, std::string_view name, const std::string& value, std::string_view choices) {
+  int index = 0;
+  size_t start = 0;
+  while (start <= choices.size()) {
+    const size_t end = std::min(choices.find('|', start), choices.size());
+    if (choices.substr(start, end - start) == value) return index;
+    ++index;
+    start = end + 1;
+  }
+  throw InputError(source, 0,
+                   std::string(name) + ": '" + value + "' is not one of " + std::string(choices));
+}
+
+double number(const std::string& source, std::string_view name, const std::string& value, double lo, double hi) {
+  char* end = nullptr;
+  const double x = std::strtod(value.c_str(), &end);
+  if (value.empty() || end != value.c_str() + value.size() || !std::isfinite(x) || x < lo || x > hi)
+    throw InputError(source, 0,
+                     std::string(name) + ": '" + value + "' is not a number in [" + std::to_string(lo) + ", " +
+                         std::to_string(hi) + "]");
+  return x;
+}
+
+bool flag(const std::string& source, std::string_view name, const std::string& value) {
+  return choose(source, name, value, "0|1") == 1;
+}
+
+constexpr std::string_view kShadings = "flat|gouraud|phong|blinn|toon";
+constexpr std::string_view kCulls = "world|projection|none";
+constexpr std::string_view kGrids = "regular|rotated";
+constexpr std::string_view kDepths = "float|reversed|fixed24|double";
+constexpr std::string_view kInterps = "perspective|affine";
+
+}  // namespace
+
+std::vector<ParamSpec> raster_params() {
+  return {
+      {"shading", kShadings, "phong", "flat: per polygon; gouraud: per vertex; phong/blinn: per sample; toon: bands"},
+      {"cull", kCulls, "world", "back-face culling (NFF sidedness: transmissive polygons are two-sided)"},
+      {"silhouette", "", "", "draw silhouettes black (|N.V| < 0.2 per sample)", true},
+      {"spp", "1, 4, 9, ... 256 (n x n)", "1", "samples per pixel, box filtered"},
+      {"grid", kGrids, "regular", "sample pattern for spp > 1"},
+      {"split", "", "", "painter: split polygons to resolve cycles and interpenetrations", true},
+      {"tess_error", "pixels, 0.01..16", "0.25", "sphere tessellation: silhouette error bound"},
+      {"depth", kDepths, "float", "what the z-buffer stores and compares"},
+      {"interp", kInterps, "perspective", "attribute interpolation across triangles"},
+  };
+}
+
+RasterSettings raster_settings(const Params& params, const std::string& source) {
+  RasterSettings s;
+  for (const auto& [name, value] : params.items) {
+    if (name == "shading") {
+      s.shading = Shading(choose(source, name, value, kShadings));
+    } else if (name == "cull") {
+      s.cull = CullMode(choose(source, name, value, kCulls));
+    } else if (name == "silhouette") {
+      s.silhouette = flag(source, name, value);
+    } else if (name == "spp") {
+      const double spp = number(source, name, value, 1, 256);
+      const int n = int(std::lround(std::sqrt(spp)));
+      if (spp != std::floor(spp) || n * n != int(spp))
+        throw InputError(source, 0, "spp: '" + value + "' is not a square (1, 4, 9, 16, ... 256: an n x n grid)");
+      s.spp = int(spp);
+    } else if (name == "grid") {
+      s.grid = SampleGrid(choose(source, name, value, kGrids));
+    } else if (name == "split") {
+      s.split = flag(source, name, value);
+    } else if (name == "tess_error") {
+      s.tess_error = number(source, name, value, 0.01, 16);
+    } else if (name == "depth") {
+      s.depth = DepthFormat(choose(source, name, value, kDepths));
+    } else if (name == "interp") {
+      s.perspective = choose(source, name, value, kInterps) == 0;
+    } else {
+      std::string known;
+      for (const ParamSpec& p : raster_params()) known += (known.empty() ? "" : ", ") + std::string(p.name);
+      throw InputError(source, 0, "unknown setting '" + name + "' (known: " + known + ")");
+    }
+  }
+  return s;
+}
+
+}  // namespace lockstep

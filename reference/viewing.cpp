@@ -1,0 +1,376 @@
+// lockstep reference: the viewing pipeline of the raster families
+// (reference/raster.h): world -> eye -> cull -> clip -> screen -> snap.
+//
+// Foley et al., 2nd ed., 6.5 (the viewing transformation), 3.14 (Sutherland and
+// Hodgman's polygon clipping, here against planes in eye space), 15.2.4
+// (back-face culling). Everything is double precision; the only rounding that
+// decides coverage is the final snap to 1/256 pixel, done once per vertex, so
+// that two triangles sharing an edge share its snapped endpoints exactly.
+#include <algorithm>
+#include <cmath>
+#include <tuple>
+#include <vector>
+
+#include "core/shading.h"
+#include "reference/raster.h"
+
+namespace lockstep {
+
+namespace {
+
+// ---------------------------------------------------------------- eye space
+
+// A vertex on its way through the pipeline: eye-space position plus what is
+// interpolated along a clipped edge.
+struct EyeVertex {
+  Vec3 eye;     // x right, y up, z forward (depth along the view axis)
+  Vec3 world;
+  Vec3 normal;  // as given (not yet flipped towards the viewer)
+  Vec3 color;
+};
+
+Vec3 eye_from_world(const Camera& c, const Vec3& p) {
+  const Vec3 d = p - c.eye;
+  return {dot(d, c.right), dot(d, c.up), dot(d, c.forward)};
+}
+
+// ---------------------------------------------------------------- clipping
+
+// The clipping planes, as signed distances that are >= 0 inside: the hither
+// plane z = near, and the four planes of the guard band |x|, |y| <= g z with
+// g = kGuardBand * pitch (the band kGuardBand pixels either side of the image
+// centre; far outside any image, so its cuts are never seen).
+struct ClipPlanes {
+  double near_z, g;
+  static constexpr int kCount = 5;
+  double distance(int k, const Vec3& e) const {
+    switch (k) {
+      case 0: return e.z - near_z;
+      case 1: return g * e.z - e.x;
+      case 2: return g * e.z + e.x;
+      case 3: return g * e.z - e.y;
+      default: return g * e.z + e.y;
+    }
+  }
+};
+
+// The point where edge a-b crosses plane k. The same edge is met from both
+// triangles that share it, in opposite directions; interpolating always from
+// the lexicographically smaller end makes both get the same point, bit for bit.
+EyeVertex intersect(const ClipPlanes& planes, int k, const EyeVertex& a, const EyeVertex& b) {
+  const bool swap = std::tie(b.eye.x, b.eye.y, b.eye.z) < std::tie(a.eye.x, a.eye.y, a.eye.z);
+  const EyeVertex& p = swap ? b : a;
+  const EyeVertex& q = swap ? a : b;
+  const double dp = planes.distance(k, p.eye), dq = planes.distance(k, q.eye);
+  const double t = dp / (dp - dq);
+  auto lerp = [t](const Vec3& u, const Vec3& v) { return u + t * (v - u); };
+  EyeVertex r{lerp(p.eye, q.eye), lerp(p.world, q.world), lerp(p.normal, q.normal), lerp(p.color, q.color)};
+  if (k == 0) r.eye.z = planes.near_z;  // exactly on the hither plane
+  if (length(r.normal) > 0) r.normal = normalize(r.normal);
+  return r;
+}
+
+// Sutherland-Hodgman: the polygon clipped against each plane in turn.
+std::vector<EyeVertex> clip(const ClipPlanes& planes, std::vector<EyeVertex> poly) {
+  for (int k = 0; k < ClipPlanes::kCount && !poly.empty(); ++k) {
+    std::vector<EyeVertex> out;
+    for (size_t i = 0; i < poly.size(); ++i) {
+      const EyeVertex& a = poly[i];
+      const EyeVertex& b = poly[(i + 1) % poly.size()];
+      const bool a_in = planes.distance(k, a.eye) >= 0, b_in = planes.distance(k, b.eye) >= 0;
+      if (a_in) out.push_back(a);
+      if (a_in != b_in) out.push_back(intersect(planes, k, a, b));
+    }
+    poly = std::move(out);
+  }
+  return poly;
+}
+
+bool inside_all(const ClipPlanes& planes, const EyeVertex* v, int n) {
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < ClipPlanes::kCount; ++k)
+      if (planes.distance(k, v[i].eye) < 0) return false;
+  return true;
+}
+
+// ---------------------------------------------------------------- screen
+
+// Eye space -> screen (pixels, y down) -> snapped (1/256 pixel). The image
+// plane at distance 1 has pixel pitch c.pitch and its centre at (W/2, H/2)
+// in screen coordinates, so pixel (i, j)'s centre (i + 1/2, j + 1/2) is the
+// camera's sx(i), sy(j) (core/camera.h).
+ScreenVertex to_screen(const Camera& c, const EyeVertex& e) {
+  const double xs = 0.5 * c.width + e.eye.x / (e.eye.z * c.pitch);
+  const double ys = 0.5 * c.height - e.eye.y / (e.eye.z * c.pitch);
+  ScreenVertex v;
+  v.x = int32_t(std::llround(xs * kSubpixel));
+  v.y = int32_t(std::llround(ys * kSubpixel));
+  v.z = e.eye.z;
+  v.world = e.world;
+  v.normal = e.normal;
+  v.color = e.color;
+  return v;
+}
+
+// Twice the signed area of the snapped triangle, exactly: E01(v2).
+int64_t snapped_area(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex& c) {
+  return int64_t(b.x - a.x) * (c.y - a.y) - int64_t(b.y - a.y) * (c.x - a.x);
+}
+
+// ---------------------------------------------------------------- spheres
+
+// How many latitude rings a sphere needs so that the tessellation's silhouette
+// is within tess_error pixels of the true one. A lat-long mesh with N rings and
+// 2N meridians has facets at most pi/N on a side in angle, so no point of the
+// sphere is farther than r (1 - cos(pi / (N sqrt 2))) from the mesh (the facet's
+// circumcircle has angular radius at most (pi/N)/sqrt 2). Seen from depth
+// z_near = (centre depth - r) or more, one unit there is at most
+// 1 / (z_near pitch) pixels, so the screen error is at most
+//     R (1 - cos(pi / (N sqrt 2))),  R = r / (z_near pitch),
+// and N is the smallest count that keeps it below tess_error (2..256).
+int sphere_rings(double radius, double centre_z, const Camera& cam, double near_z, double tess_error) {
+  constexpr int kMin = 2, kMax = 256;
+  const double z_near = std::max(centre_z - radius, near_z);
+  const double r_px = radius / (z_near * cam.pitch);
+  if (r_px * (1 - std::cos(M_PI / (kMin * std::sqrt(2.0)))) <= tess_error) return kMin;
+  const double max_angle = std::sqrt(2.0) * std::acos(1 - tess_error / r_px);  // pi/N <= this
+  return std::clamp(int(std::ceil(M_PI / max_angle)), kMin, kMax);
+}
+
+struct SphereMesh {
+  std::vector<Vec3> position, normal;
+  std::vector<std::array<uint32_t, 3>> tri;  // counter-clockwise seen from the visible side
+};
+
+// A lat-long sphere: `rings` bands of latitude, 2 * rings meridians; triangles
+// at the poles, two per quad elsewhere. Normals are the exact sphere normals,
+// pointing to the visible side (inwards for NFF's negative radius), and the
+// winding follows them.
+SphereMesh tessellate_sphere(const Vec3& centre, double signed_radius, int rings) {
+  SphereMesh m;
+  const double r = std::abs(signed_radius);
+  const int meridians = 2 * rings;
+  // Vertex (ring k = 0..rings, meridian l): the poles are stored once.
+  auto index = [&](int k, int l) -> uint32_t {
+    if (k == 0) return 0;
+    if (k == rings) return 1;
+    return uint32_t(2 + (k - 1) * meridians + (l % meridians));
+  };
+  auto add = [&](const Vec3& unit) {
+    m.position.push_back(centre + r * unit);
+    m.normal.push_back(signed_radius > 0 ? unit : -unit);
+  };
+  add({0, 0, 1});
+  add({0, 0, -1});
+  for (int k = 1; k < rings; ++k) {
+    const double theta = M_PI * k / rings;
+    for (int l = 0; l < meridians; ++l) {
+      const double phi = 2 * M_PI * l / meridians;
+      add({std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)});
+    }
+  }
+  // Counter-clockwise seen from outside (theta grows southwards, phi eastwards).
+  auto face = [&](uint32_t a, uint32_t b, uint32_t c) {
+    if (signed_radius > 0) m.tri.push_back({a, b, c});
+    else m.tri.push_back({a, c, b});
+  };
+  for (int k = 0; k < rings; ++k)
+    for (int l = 0; l < meridians; ++l) {
+      const uint32_t a = index(k, l), b = index(k + 1, l), c = index(k + 1, l + 1), d = index(k, l + 1);
+      if (k == 0) face(a, b, c);
+      else if (k == rings - 1) face(a, b, d);
+      else {
+        face(a, b, c);
+        face(a, c, d);
+      }
+    }
+  return m;
+}
+
+// Whether a sphere lies wholly outside the view (behind the hither plane or
+// beyond a side of the image, with a pixel of margin): then it is not tessellated.
+bool sphere_outside(const Camera& c, const Vec3& e, double r, double near_z) {
+  if (e.z + r < near_z) return true;
+  const double hx = (0.5 * c.width + 1) * c.pitch, hy = (0.5 * c.height + 1) * c.pitch;
+  // Side planes through the eye: x = hx z etc.; unit normals (1, 0, -hx)/|...|.
+  const double nx = std::sqrt(1 + hx * hx), ny = std::sqrt(1 + hy * hy);
+  return (e.x - hx * e.z) / nx > r || (-e.x - hx * e.z) / nx > r || (e.y - hy * e.z) / ny > r ||
+         (-e.y - hy * e.z) / ny > r;
+}
+
+// ---------------------------------------------------------------- one triangle
+
+struct Emitter {
+  const Scene& scene;
+  const RasterSettings& s;
+  ScreenMesh& mesh;
+  ClipPlanes planes;
+
+  // Adds world triangle (a, b, c), counter-clockwise seen from its front, of
+  // primitive prim; face_normal is its unit front normal; two_sided: the back
+  // is visible too; flat_color: the flat-shading colour, already evaluated.
+  void triangle(const EyeVertex (&v)[3], uint32_t prim, uint32_t source_tri, const Vec3& face_normal,
+                bool two_sided, const Vec3& flat_color) {
+    const Camera& cam = mesh.camera;
+    // Back-face culling in world space: the eye behind the plane of the face
+    // (or in it: an edge-on face covers nothing).
+    const bool front = dot(face_normal, cam.eye - v[0].world) > 0;
+    if (!front && !two_sided && s.cull == CullMode::kWorld) {
+      ++mesh.culled;
+      return;
+    }
+    std::vector<EyeVertex> poly;
+    if (inside_all(planes, v, 3)) {
+      poly.assign(v, v + 3);
+    } else {
+      ++mesh.clipped;
+      poly = clip(planes, std::vector<EyeVertex>(v, v + 3));
+      if (poly.size() < 3) return;  // wholly outside
+    }
+    // Fan of the (convex) clipped polygon.
+    for (size_t k = 1; k + 1 < poly.size(); ++k) {
+      ScreenTri t;
+      t.v = {to_screen(cam, poly[0]), to_screen(cam, poly[k]), to_screen(cam, poly[k + 1])};
+      t.prim = prim;
+      t.source_tri = source_tri;
+      t.flat_color = flat_color;
+      const int64_t area = snapped_area(t.v[0], t.v[1], t.v[2]);
+      if (area == 0) {  // edge-on after snapping: covers no sample
+        ++mesh.degenerate;
+        continue;
+      }
+      // Back-face culling in projection space: a front face keeps NFF's
+      // counter-clockwise order on screen, which is positive area here.
+      if (area < 0 && !two_sided && s.cull == CullMode::kProjection) {
+        ++mesh.culled;
+        continue;
+      }
+      // Drawn from the back (two-sided, cull none, or a world-space front face
+      // that snapping turned over): reorder to positive area.
+      if (area < 0) std::swap(t.v[1], t.v[2]);
+      t.face_normal = front ? face_normal : -face_normal;
+      mesh.tris.push_back(t);
+    }
+  }
+};
+
+// The lighting at a vertex for Gouraud shading: Phong with the normal turned
+// towards the viewer, as ray casting turns it per hit.
+Vec3 lit(const Scene& scene, const Material& m, const Vec3& eye, const Vec3& p, Vec3 n) {
+  const Vec3 v = normalize(eye - p);
+  if (dot(n, v) < 0) n = -n;
+  return phong(scene, m, p, n, v);
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- the pipeline
+
+ScreenMesh view_scene(const Scene& scene, int width, int height, const RasterSettings& s) {
+  ScreenMesh mesh;
+  mesh.camera = Camera::from_view(scene.view, width, height);
+  mesh.width = width;
+  mesh.height = height;
+  const Camera& cam = mesh.camera;
+
+  // Far: the deepest corner of the scene's bounds. Near: the hither distance;
+  // rasterisation needs a positive one, so hither 0 becomes a millionth of far.
+  Vec3 lo, hi;
+  scene_bounds(scene, lo, hi);
+  double far_z = 0;
+  for (int k = 0; k < 8; ++k) {
+    const Vec3 corner{(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z};
+    far_z = std::max(far_z, eye_from_world(cam, corner).z);
+  }
+  mesh.far_z = std::max(far_z * (1 + 1e-6), 1e-300);
+  mesh.near_z = scene.view.hither > 0 ? scene.view.hither : mesh.far_z * 1e-6;
+  if (mesh.far_z <= mesh.near_z) mesh.far_z = 2 * mesh.near_z;
+
+  Emitter emit{scene, s, mesh, {mesh.near_z, kGuardBand * cam.pitch}};
+  auto eye_vertex = [&](const Vec3& p, const Vec3& n) { return EyeVertex{eye_from_world(cam, p), p, n, {}}; };
+
+  // Spheres: tessellated as finely as their size on screen needs.
+  for (uint32_t k = 0; k < scene.sphere_count(); ++k) {
+    const Vec3 c = scene.sphere_center[k];
+    const double r = std::abs(scene.sphere_radius[k]);
+    const Vec3 ce = eye_from_world(cam, c);
+    if (sphere_outside(cam, ce, r, mesh.near_z)) continue;
+    const SphereMesh sm = tessellate_sphere(c, scene.sphere_radius[k], sphere_rings(r, ce.z, cam, mesh.near_z, s.tess_error));
+    const Material& m = scene.materials[scene.sphere_material[k]];
+    for (uint32_t t = 0; t < sm.tri.size(); ++t) {
+      const auto& [a, b, cc] = sm.tri[t];
+      EyeVertex v[3] = {eye_vertex(sm.position[a], sm.normal[a]), eye_vertex(sm.position[b], sm.normal[b]),
+                        eye_vertex(sm.position[cc], sm.normal[cc])};
+      const Vec3 fn = cross(v[1].world - v[0].world, v[2].world - v[0].world);
+      if (length(fn) == 0) continue;
+      const Vec3 face = normalize(fn);
+      Vec3 flat;
+      if (s.shading == Shading::kFlat) flat = lit(scene, m, cam.eye, (v[0].world + v[1].world + v[2].world) / 3.0, face);
+      if (s.shading == Shading::kGouraud)
+        for (auto& x : v) x.color = lit(scene, m, cam.eye, x.world, x.normal);
+      ++mesh.sphere_tris;
+      emit.triangle(v, k, t, face, false, flat);
+    }
+  }
+
+  // Polygons: their triangulation, with the polygon's plane normal, or the
+  // vertex normals of patches.
+  for (uint32_t p = 0; p < scene.polygon_count(); ++p) {
+    const Material& m = scene.materials[scene.poly_material[p]];
+    const Vec3 face = scene.poly_plane[p].n;
+    if (length(face) == 0) continue;  // degenerate polygon: no triangles either
+    Vec3 flat;
+    if (s.shading == Shading::kFlat) {
+      // One lighting evaluation per polygon, at its centroid.
+      Vec3 centroid;
+      for (const Vec3& x : scene.polygon_vertices(p)) centroid += x;
+      flat = lit(scene, m, cam.eye, centroid / double(scene.polygon_vertices(p).size()), face);
+    }
+    for (uint32_t t = scene.poly_tri_first[p]; t < scene.poly_tri_first[p + 1]; ++t) {
+      EyeVertex v[3];
+      for (int i = 0; i < 3; ++i) {
+        const uint32_t vi = scene.tri_vertex[t][i];
+        v[i] = eye_vertex(scene.vertex[vi], scene.poly_is_patch[p] ? scene.vertex_normal[vi] : face);
+        if (s.shading == Shading::kGouraud) v[i].color = lit(scene, m, cam.eye, v[i].world, v[i].normal);
+      }
+      ++mesh.scene_tris;
+      emit.triangle(v, scene.sphere_count() + p, t, face, m.two_sided(), flat);
+    }
+  }
+  return mesh;
+}
+
+// ---------------------------------------------------------------- samples and depth
+
+std::vector<std::array<int32_t, 2>> sample_offsets(const RasterSettings& s) {
+  const int n = int(std::lround(std::sqrt(double(s.spp))));
+  std::vector<std::array<int32_t, 2>> out;
+  for (int b = 0; b < n; ++b)
+    for (int a = 0; a < n; ++a) {
+      // Regular grid position relative to the pixel centre, in pixels.
+      double x = (a + 0.5) / n - 0.5, y = (b + 0.5) / n - 0.5;
+      if (s.grid == SampleGrid::kRotated) {
+        const double xr = x - y / n, yr = y + x / n;  // the shear that makes every row and column distinct
+        x = xr;
+        y = yr;
+      }
+      out.push_back({int32_t(std::lround((0.5 + x) * kSubpixel)), int32_t(std::lround((0.5 + y) * kSubpixel))});
+    }
+  return out;
+}
+
+double stored_depth(DepthFormat f, double z, double near_z, double far_z) {
+  // Window depth: 0 at the near plane, 1 at the far one, affine in 1/z (so in screen space).
+  const double window = (1 / near_z - 1 / z) / (1 / near_z - 1 / far_z);
+  switch (f) {
+    case DepthFormat::kFloat: return double(float(window));
+    case DepthFormat::kReversed: return double(float(near_z / z));
+    case DepthFormat::kFixed24: return std::nearbyint(std::clamp(window, 0.0, 1.0) * double((1 << 24) - 1));
+    case DepthFormat::kDouble: break;
+  }
+  return window;
+}
+
+double empty_depth(DepthFormat f) { return f == DepthFormat::kReversed ? -kInfinity : kInfinity; }
+
+}  // namespace lockstep

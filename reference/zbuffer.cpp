@@ -1,0 +1,195 @@
+// lockstep reference: the z-buffer (Catmull 1974; Foley et al., 2nd ed., 15.4)
+// and the shading of a fragment, over the screen mesh of reference/viewing.cpp.
+//
+// For every triangle, for every sample in its bounding box: the three edge
+// functions in exact integer arithmetic decide coverage (top-left rule for
+// samples exactly on an edge); the normalised edge functions are the screen
+// barycentrics; 1/z is affine in screen space, so the depth at the sample comes
+// from the plane of 1/z through the three vertices; if it is nearer than what
+// the z-buffer holds, depth and colour are written.
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <string>
+
+#include "core/error.h"
+#include "core/shading.h"
+#include "reference/raster.h"
+
+namespace lockstep {
+
+namespace {
+
+// E_ab(P) for the edge a -> b: positive on the inside of a positive-area triangle.
+int64_t edge(const ScreenVertex& a, const ScreenVertex& b, int64_t px, int64_t py) {
+  return int64_t(b.x - a.x) * (py - a.y) - int64_t(b.y - a.y) * (px - a.x);
+}
+
+// The top-left rule: a sample exactly on edge a -> b belongs to this triangle
+// only if the edge is a top edge (horizontal, going right) or a left edge
+// (going up, with y down).
+bool top_left(const ScreenVertex& a, const ScreenVertex& b) {
+  const int32_t dx = b.x - a.x, dy = b.y - a.y;
+  return (dy == 0 && dx > 0) || dy < 0;
+}
+
+bool owns(int64_t e, bool is_top_left) { return e > 0 || (e == 0 && is_top_left); }
+
+}  // namespace
+
+// ---------------------------------------------------------------- shading
+
+Vec3 shade_fragment(const Scene& scene, const ScreenMesh& mesh, const RasterSettings& s, const Fragment& f) {
+  const ScreenTri& t = mesh.tris[f.tri];
+  const Camera& cam = mesh.camera;
+  const Material& m = scene.material_of_prim(t.prim);
+  // The view ray through the sample: its direction has forward component 1, so
+  // the point at eye depth z is eye + z * dir (as ray casting's hit point).
+  const double cx = (f.sx - 0.5 * mesh.width) * cam.pitch, cy = (0.5 * mesh.height - f.sy) * cam.pitch;
+  const Vec3 dir = cam.forward + cx * cam.right + cy * cam.up;
+  const Vec3 v = -normalize(dir);
+
+  // The interpolated normal, renormalised, turned towards the viewer (ray
+  // casting's rule, core/shading.cpp's surface_normal).
+  auto normal = [&] {
+    Vec3 n = f.b[0] * t.v[0].normal + f.b[1] * t.v[1].normal + f.b[2] * t.v[2].normal;
+    n = length(n) > 0 ? normalize(n) : t.face_normal;
+    if (dot(n, dir) > 0) n = -n;
+    return n;
+  };
+
+  Vec3 c;
+  switch (s.shading) {
+    case Shading::kFlat: c = t.flat_color; break;
+    case Shading::kGouraud: c = f.b[0] * t.v[0].color + f.b[1] * t.v[1].color + f.b[2] * t.v[2].color; break;
+    case Shading::kPhong: c = phong(scene, m, cam.eye + f.z * dir, normal(), v, Specular::kPhong); break;
+    case Shading::kBlinn: c = phong(scene, m, cam.eye + f.z * dir, normal(), v, Specular::kBlinn); break;
+    case Shading::kToon: c = toon(scene, m, cam.eye + f.z * dir, normal(), s.toon_bands); break;
+  }
+  // Silhouettes: where the surface turns away from the viewer, N.V near 0.
+  if (s.silhouette && std::abs(dot(normal(), v)) < s.silhouette_eps) c = Vec3{0, 0, 0};
+  return c;
+}
+
+// ---------------------------------------------------------------- the z-buffer
+
+namespace {
+
+// The textbook loop, shared by zbuffer_visibility (no colour) and zbuffer
+// (colour written with the depth): on_write(sample index, fragment) is called
+// for every fragment that passes the depth test.
+template <class OnWrite>
+void zbuffer_loop(const ScreenMesh& mesh, const RasterSettings& s, Visibility& vis,
+                  const std::function<void(double)>& progress, OnWrite on_write) {
+  const int w = mesh.width, h = mesh.height;
+  const auto offsets = sample_offsets(s);
+  const int spp = int(offsets.size());
+  vis.width = w;
+  vis.height = h;
+  vis.spp = spp;
+  vis.tri.assign(size_t(w) * h * spp, Visibility::kNone);
+  vis.depth.assign(size_t(w) * h * spp, empty_depth(s.depth));
+  vis.count.assign(size_t(w) * h * spp, 0);
+
+  for (uint32_t ti = 0; ti < mesh.tris.size(); ++ti) {
+    if (progress && (ti & 4095) == 0) progress(double(ti) / double(mesh.tris.size()));
+    const ScreenTri& t = mesh.tris[ti];
+    const ScreenVertex &v0 = t.v[0], &v1 = t.v[1], &v2 = t.v[2];
+    const int64_t area = edge(v0, v1, v2.x, v2.y);  // > 0 (view_scene's guarantee)
+    const bool tl0 = top_left(v1, v2), tl1 = top_left(v2, v0), tl2 = top_left(v0, v1);
+
+    // The pixels whose squares the triangle's bounding box touches, clamped to the image.
+    const int32_t xmin = std::min({v0.x, v1.x, v2.x}), xmax = std::max({v0.x, v1.x, v2.x});
+    const int32_t ymin = std::min({v0.y, v1.y, v2.y}), ymax = std::max({v0.y, v1.y, v2.y});
+    const int i0 = std::max(0, int(std::floor(double(xmin) / kSubpixel)));
+    const int i1 = std::min(w - 1, int(std::floor(double(xmax) / kSubpixel)));
+    const int j0 = std::max(0, int(std::floor(double(ymin) / kSubpixel)));
+    const int j1 = std::min(h - 1, int(std::floor(double(ymax) / kSubpixel)));
+
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i)
+        for (int k = 0; k < spp; ++k) {
+          const int64_t px = int64_t(i) * kSubpixel + offsets[k][0];
+          const int64_t py = int64_t(j) * kSubpixel + offsets[k][1];
+          // Coverage: all three edge functions on the inside (exact integers).
+          const int64_t e0 = edge(v1, v2, px, py), e1 = edge(v2, v0, px, py), e2 = edge(v0, v1, px, py);
+          if (!owns(e0, tl0) || !owns(e1, tl1) || !owns(e2, tl2)) continue;
+          const size_t index = (size_t(j) * w + i) * spp + k;
+          ++vis.count[index];
+          // Screen barycentrics, then depth from the plane of 1/z.
+          const double l0 = double(e0) / double(area), l1 = double(e1) / double(area), l2 = double(e2) / double(area);
+          const double inv_z = l0 / v0.z + l1 / v1.z + l2 / v2.z;
+          const double z = 1 / inv_z;
+          const double d = stored_depth(s.depth, z, mesh.near_z, mesh.far_z);
+          if (!nearer(s.depth, d, vis.depth[index])) continue;  // the first of equal depths stays
+          vis.depth[index] = d;
+          vis.tri[index] = ti;
+          Fragment f;
+          f.tri = ti;
+          f.z = z;
+          f.sx = double(px) / kSubpixel;
+          f.sy = double(py) / kSubpixel;
+          if (s.perspective) {
+            // Perspective-correct: the barycentrics of the point in 3D are the
+            // screen ones weighted by 1/z (Heckbert and Moreton 1991).
+            f.b[0] = l0 / v0.z / inv_z;
+            f.b[1] = l1 / v1.z / inv_z;
+            f.b[2] = l2 / v2.z / inv_z;
+          } else {
+            f.b[0] = l0;
+            f.b[1] = l1;
+            f.b[2] = l2;
+          }
+          on_write(index, f);
+        }
+  }
+}
+
+}  // namespace
+
+namespace ref {
+
+void zbuffer_visibility(const ScreenMesh& mesh, const RasterSettings& s, Visibility& vis) {
+  zbuffer_loop(mesh, s, vis, {}, [](size_t, const Fragment&) {});
+}
+
+Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
+  const RasterSettings s = raster_settings(opts.params, scene.source);
+  // The sample buffers (colour, depth, visible triangle, coverage count) take
+  // 30 bytes a sample; 2^25 samples (1024 x 1024 at spp 25, 2048 x 2048 at 4) is the most we allow.
+  const double samples = double(opts.width) * opts.height * s.spp;
+  if (samples > double(1 << 25))
+    throw InputError(scene.source, 0,
+                     "size x spp is " + std::to_string(int64_t(samples)) + " samples; at most 33554432 (2^25)");
+  const ScreenMesh mesh = view_scene(scene, opts.width, opts.height, s);
+  Visibility vis;
+  std::vector<Vec3f> sample_color(size_t(samples), Vec3f(scene.background));
+  std::vector<float> sample_z(sample_color.size(), float(kInfinity));
+  zbuffer_loop(mesh, s, vis, opts.progress, [&](size_t index, const Fragment& f) {
+    sample_color[index] = Vec3f(shade_fragment(scene, mesh, s, f));
+    sample_z[index] = float(f.z);
+  });
+  // Resolve: the box filter over each pixel's samples; depth is the nearest sample's.
+  Image image(opts.width, opts.height);
+  image.depth.assign(size_t(opts.width) * opts.height, float(kInfinity));
+  const int spp = vis.spp;
+  for (int j = 0; j < opts.height; ++j)
+    for (int i = 0; i < opts.width; ++i) {
+      Vec3 sum;
+      float z = float(kInfinity);
+      for (int k = 0; k < spp; ++k) {
+        const size_t index = (size_t(j) * opts.width + i) * spp + k;
+        sum += Vec3(sample_color[index]);
+        z = std::min(z, sample_z[index]);
+      }
+      image.set(i, j, sum / double(spp));
+      image.depth[size_t(j) * opts.width + i] = z;
+    }
+  if (stats) stats->items = mesh.scene_tris + mesh.sphere_tris;
+  if (opts.progress) opts.progress(1.0);
+  return image;
+}
+
+}  // namespace ref
+
+}  // namespace lockstep
