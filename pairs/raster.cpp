@@ -7,6 +7,7 @@
 
 #include "core/nff.h"
 #include "optimized/raster.h"
+#include "reference/painter.h"
 #include "reference/raster.h"
 
 namespace lockstep {
@@ -80,6 +81,23 @@ ImageFamily zbuffer_family() {
   f.tol.pixel_fraction = 0.999;
   const TypedImpl<Scene> impls[] = {
       {"reference", ref::zbuffer, 0, {}, {}, false},
+  };
+  f.impls = erase_all<Scene>(impls);
+  f.default_impl = "reference";
+  return f;
+}
+
+ImageFamily painter_family() {
+  ImageFamily f = raster_family("painter",
+                                "painter's algorithm (depth sort, Newell-Newell-Sancha tests, cycles and "
+                                "interpenetrations reported; --split resolves them)",
+                                "painter");
+  // Judged against the z-buffer's tolerance: where the order is right the
+  // painter draws the z-buffer's fragments, bit for bit.
+  f.tol.color_abs = 1.0 / 255;
+  f.tol.pixel_fraction = 0.999;
+  const TypedImpl<Scene> impls[] = {
+      {"reference", ref::painter, 0, {}, {}, false},
   };
   f.impls = erase_all<Scene>(impls);
   f.default_impl = "reference";

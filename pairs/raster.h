@@ -13,5 +13,6 @@
 namespace lockstep {
 
 ImageFamily zbuffer_family();
+ImageFamily painter_family();
 
 }  // namespace lockstep

@@ -27,6 +27,8 @@
 #include <limits>
 #include <queue>
 
+#include "core/error.h"
+
 namespace lockstep {
 
 namespace {
@@ -156,7 +158,7 @@ std::vector<uint32_t> tarjan(const std::vector<std::vector<uint32_t>>& adj, uint
 
 // ---------------------------------------------------------------- per triangle
 
-PainterTri painter_tri(const ScreenTri& t, bool perspective) {
+PainterTri painter_tri(const ScreenTri& t) {
   PainterTri p;
   p.zmin = kInfinity;
   p.zmax = -kInfinity;
@@ -164,7 +166,7 @@ PainterTri painter_tri(const ScreenTri& t, bool perspective) {
     p.x[i] = t.v[i].x;
     p.y[i] = t.v[i].y;
     // The depth the z-buffer interpolates linearly on screen, larger = nearer.
-    const double w = perspective ? 1.0 / t.v[i].z : -t.v[i].z;
+    const double w = 1.0 / t.v[i].z;
     p.s[i] = Vec3(double(p.x[i]), double(p.y[i]), w);
     p.zmin = std::min(p.zmin, t.v[i].z);
     p.zmax = std::max(p.zmax, t.v[i].z);
@@ -377,29 +379,26 @@ bool painter_covers(const ScreenTri& t, const std::array<int64_t, 3>& e) {
 
 Fragment painter_fragment(const ScreenMesh& mesh, uint32_t t, int64_t sx, int64_t sy,
                           const std::array<int64_t, 3>& e, int64_t area, bool perspective) {
+  // Exactly the z-buffer's arithmetic (reference/zbuffer.cpp), so that the same
+  // triangle at the same sample gives the same colour bit for bit.
   const ScreenTri& tri = mesh.tris[t];
   Fragment f;
   f.tri = t;
   f.sx = double(sx) / kSubpixel;
   f.sy = double(sy) / kSubpixel;
-  // Screen-space barycentrics: the area ratios.
-  double lambda[3];
-  for (int i = 0; i < 3; ++i) lambda[i] = double(e[i]) / double(area);
+  // Screen barycentrics (area ratios), then depth from the plane of 1/z.
+  const double l0 = double(e[0]) / double(area), l1 = double(e[1]) / double(area), l2 = double(e[2]) / double(area);
+  const double inv_z = l0 / tri.v[0].z + l1 / tri.v[1].z + l2 / tri.v[2].z;
+  f.z = 1 / inv_z;
   if (perspective) {
-    // Perspective-correct: interpolate 1/z and attribute/z linearly on screen.
-    double q[3], sum = 0;
-    for (int i = 0; i < 3; ++i) {
-      q[i] = lambda[i] / tri.v[i].z;
-      sum += q[i];
-    }
-    for (int i = 0; i < 3; ++i) f.b[i] = q[i] / sum;
-    f.z = 1.0 / sum;
+    // Perspective-correct: screen barycentrics weighted by 1/z.
+    f.b[0] = l0 / tri.v[0].z / inv_z;
+    f.b[1] = l1 / tri.v[1].z / inv_z;
+    f.b[2] = l2 / tri.v[2].z / inv_z;
   } else {
-    f.z = 0;
-    for (int i = 0; i < 3; ++i) {
-      f.b[i] = lambda[i];
-      f.z += lambda[i] * tri.v[i].z;
-    }
+    f.b[0] = l0;
+    f.b[1] = l1;
+    f.b[2] = l2;
   }
   return f;
 }
@@ -411,6 +410,11 @@ namespace ref {
 Image painter(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   const RasterSettings s = raster_settings(opts.params, scene.source);
   const int w = opts.width, h = opts.height;
+  // The same sample budget as the z-buffer (its buffers are the same size).
+  const double samples = double(w) * h * s.spp;
+  if (samples > double(1 << 25))
+    throw InputError(scene.source, 0,
+                     "size x spp is " + std::to_string(int64_t(samples)) + " samples; at most 33554432 (2^25)");
   const ScreenMesh mesh = view_scene(scene, w, h, s);
   const auto offsets = sample_offsets(s);
   const int spp = int(offsets.size());
@@ -418,16 +422,17 @@ Image painter(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   // Steps 1-3: the triangles as the painter sees them, sorted and ordered.
   std::vector<PainterTri> tris;
   tris.reserve(mesh.tris.size());
-  for (const ScreenTri& t : mesh.tris) tris.push_back(painter_tri(t, s.perspective));
+  for (const ScreenTri& t : mesh.tris) tris.push_back(painter_tri(t));
   const PainterPlan plan = painter_plan(tris);
 
-  // Step 4: paint. Per sample: its colour, eye depth, and the triangle painted last.
-  const size_t nsamples = size_t(w) * size_t(h) * size_t(spp);
-  std::vector<Vec3> color(nsamples, scene.background);
-  std::vector<double> depth(nsamples, kInfinity);
-  std::vector<uint32_t> owner(nsamples, Visibility::kNone);
-  uint64_t fragments = 0;
-  for (uint32_t t : plan.order) {
+  // Step 4: paint. Per sample: its colour and eye depth (stored as the z-buffer
+  // stores them), and the triangle painted last.
+  std::vector<Vec3f> color(size_t(samples), Vec3f(scene.background));
+  std::vector<float> depth(color.size(), float(kInfinity));
+  std::vector<uint32_t> owner(color.size(), Visibility::kNone);
+  for (size_t n = 0; n < plan.order.size(); ++n) {
+    if (opts.progress && (n & 4095) == 0) opts.progress(double(n) / double(plan.order.size()));
+    const uint32_t t = plan.order[n];
     const PainterTri& pt = tris[t];
     const bool resolve = s.split && plan.group_size[plan.group[t]] > 1;
     // The pixels whose samples can lie inside the triangle's extent.
@@ -440,7 +445,7 @@ Image painter(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
         for (int k = 0; k < spp; ++k) {
           const int64_t sx = i * kSubpixel + offsets[k][0];
           const int64_t sy = j * kSubpixel + offsets[k][1];
-          // Edge functions, e[i] opposite vertex i.
+          // Edge functions, e[v] opposite vertex v; coverage by the fill rule.
           std::array<int64_t, 3> e;
           for (int v = 0; v < 3; ++v) {
             const int a = (v + 1) % 3, b = (v + 2) % 3;
@@ -448,42 +453,41 @@ Image painter(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
           }
           if (!painter_covers(mesh.tris[t], e)) continue;
           const size_t idx = (size_t(j) * size_t(w) + size_t(i)) * size_t(spp) + size_t(k);
-          // Split: inside a cycle or interpenetration, the sample goes to the one in front.
+          // Split: inside a cycle or interpenetration, the sample goes to the
+          // group's triangle in front there (exactly; ties to the first, as the z-buffer).
           if (resolve && owner[idx] != Visibility::kNone && plan.group[owner[idx]] == plan.group[t] &&
               !nearer_at(pt, t, tris[owner[idx]], owner[idx], sx, sy))
             continue;
           const Fragment f = painter_fragment(mesh, t, sx, sy, e, pt.area, s.perspective);
-          color[idx] = shade_fragment(scene, mesh, s, f);
-          depth[idx] = f.z;
+          color[idx] = Vec3f(shade_fragment(scene, mesh, s, f));
+          depth[idx] = float(f.z);
           owner[idx] = t;
-          ++fragments;
         }
       }
     }
   }
 
-  // Resolve: the box filter over each pixel's samples; the depth plane holds the
-  // nearest sample's eye depth.
+  // Resolve: the box filter over each pixel's samples; depth is the nearest sample's.
   Image image(w, h);
   image.depth.assign(size_t(w) * size_t(h), float(kInfinity));
   for (int j = 0; j < h; ++j) {
     for (int i = 0; i < w; ++i) {
-      Vec3 sum{0, 0, 0};
-      double zmin = kInfinity;
+      Vec3 sum;
+      float z = float(kInfinity);
       for (int k = 0; k < spp; ++k) {
         const size_t idx = (size_t(j) * size_t(w) + size_t(i)) * size_t(spp) + size_t(k);
-        sum += color[idx];
-        zmin = std::min(zmin, depth[idx]);
+        sum += Vec3(color[idx]);
+        z = std::min(z, depth[idx]);
       }
       image.set(i, j, sum / double(spp));
-      image.depth[size_t(j) * size_t(w) + size_t(i)] = float(zmin);
+      image.depth[size_t(j) * size_t(w) + size_t(i)] = z;
     }
   }
   if (stats) {
-    stats->items = mesh.tris.size();
+    stats->items = mesh.scene_tris + mesh.sphere_tris;
     stats->notes = painter_notes(mesh, plan, s.split);
   }
-  (void)fragments;
+  if (opts.progress) opts.progress(1.0);
   return image;
 }
 

@@ -7,7 +7,7 @@
 // The geometry the painter reasons about is the one the z-buffer draws: each
 // ScreenTri of ref::view_scene, with its snapped screen vertices (X, Y in
 // 1/256 pixel) and the depth the z-buffer interpolates linearly on screen
-// (1/z with perspective-correct interpolation, -z with affine). In that
+// (1/z: the z-buffer always takes depth from the plane of 1/z). In that
 // "screen space" S = (X, Y, W) the view is orthographic along W (larger W =
 // nearer), triangles are exactly planar, and "Q hides P at sample s" is exactly
 // "W_Q(s) > W_P(s)". Every test below is exact in S.
@@ -43,12 +43,12 @@ int sign_of_triple_products(const double (*rows)[3], int n);
 // One ScreenTri as the painter sees it.
 struct PainterTri {
   std::array<int64_t, 3> x{}, y{};  // snapped screen position, 1/256 pixel
-  std::array<Vec3, 3> s;            // (x, y, W) in screen space S
+  std::array<Vec3, 3> s;            // (x, y, W = 1/z) in screen space S
   int64_t xmin = 0, xmax = 0, ymin = 0, ymax = 0;
   double zmin = 0, zmax = 0;        // eye depth range
   int64_t area = 0;                 // twice the snapped area (> 0)
 };
-PainterTri painter_tri(const ScreenTri& t, bool perspective);
+PainterTri painter_tri(const ScreenTri& t);
 
 // How two triangles whose screen extents overlap must be drawn; p is the one
 // the depth sort put first (farther).
