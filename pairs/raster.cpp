@@ -7,6 +7,7 @@
 
 #include "core/nff.h"
 #include "optimized/raster.h"
+#include "optimized/painter.h"
 #include "reference/painter.h"
 #include "reference/raster.h"
 
@@ -98,9 +99,10 @@ ImageFamily painter_family() {
   f.tol.pixel_fraction = 0.999;
   const TypedImpl<Scene> impls[] = {
       {"reference", ref::painter, 0, {}, {}, false},
+      {"simd", opt::simd::painter, 0},
   };
   f.impls = erase_all<Scene>(impls);
-  f.default_impl = "reference";
+  f.default_impl = "simd";
   return f;
 }
 

@@ -239,51 +239,78 @@ bool nearer_at(const PainterTri& a, uint32_t ia, const PainterTri& b, uint32_t i
 
 // ---------------------------------------------------------------- the plan
 
-PainterPlan painter_plan(const std::vector<PainterTri>& tris) {
-  PainterPlan plan;
-  const uint32_t n = uint32_t(tris.size());
-  // 1. The depth sort: farthest first; equal keys keep scene order.
-  plan.sorted.resize(n);
-  for (uint32_t i = 0; i < n; ++i) plan.sorted[i] = i;
-  std::stable_sort(plan.sorted.begin(), plan.sorted.end(),
-                   [&](uint32_t a, uint32_t b) { return tris[a].zmax > tris[b].zmax; });
-  std::vector<uint32_t> pos(n);
-  for (uint32_t i = 0; i < n; ++i) pos[plan.sorted[i]] = i;
+std::vector<uint32_t> painter_sort(const std::vector<PainterTri>& tris) {
+  // Farthest first; equal keys keep scene order.
+  std::vector<uint32_t> sorted(tris.size());
+  for (uint32_t i = 0; i < sorted.size(); ++i) sorted[i] = i;
+  std::stable_sort(sorted.begin(), sorted.end(), [&](uint32_t a, uint32_t b) { return tris[a].zmax > tris[b].zmax; });
+  return sorted;
+}
 
-  // 2. The pairs whose screen extents overlap (a sweep along x; tests 1 and 2
-  // for all other pairs), each classified.
+std::vector<PairFinding> painter_pairs(const std::vector<PainterTri>& tris, const std::vector<uint32_t>& sorted) {
+  const uint32_t n = uint32_t(tris.size());
+  std::vector<uint32_t> pos(n);
+  for (uint32_t i = 0; i < n; ++i) pos[sorted[i]] = i;
+  // A sweep along x: only pairs whose x extents overlap are looked at (test 1
+  // for all the others), sorted by their left ends.
   std::vector<uint32_t> by_x(n);
   for (uint32_t i = 0; i < n; ++i) by_x[i] = i;
   std::sort(by_x.begin(), by_x.end(), [&](uint32_t a, uint32_t b) {
     return tris[a].xmin != tris[b].xmin ? tris[a].xmin < tris[b].xmin : a < b;
   });
-  std::vector<std::vector<uint32_t>> order_adj(n), group_adj(n);
+  std::vector<PairFinding> out;
   for (uint32_t a = 0; a < n; ++a) {
     const PainterTri& ta = tris[by_x[a]];
     for (uint32_t b = a + 1; b < n && tris[by_x[b]].xmin < ta.xmax; ++b) {
       uint32_t ip = by_x[a], iq = by_x[b];
       if (pos[iq] < pos[ip]) std::swap(ip, iq);  // p: the one the sort draws first
       const PairVerdict v = classify_pair(tris[ip], tris[iq]);
-      if (v.test == 1 || v.test == 2) continue;  // extents disjoint in y (x cannot be, by the sweep)
-      ++plan.pairs;
-      ++plan.decided_by[v.test];
-      switch (v.order) {
-        case PairOrder::kNone: break;
-        case PairOrder::kPFirst: order_adj[ip].push_back(iq); break;
-        case PairOrder::kQFirst: order_adj[iq].push_back(ip); break;
-        case PairOrder::kCoplanar:
-          // The z-buffer keeps the first of equal depths: draw the later one first.
-          order_adj[std::max(ip, iq)].push_back(std::min(ip, iq));
-          plan.coplanar.push_back({std::min(ip, iq), std::max(ip, iq)});
-          break;
-        case PairOrder::kInterpenetrate:
-          group_adj[ip].push_back(iq);
-          group_adj[iq].push_back(ip);
-          plan.interpenetrations.push_back({std::min(ip, iq), std::max(ip, iq)});
-          break;
-      }
+      if (v.test == 1 || v.test == 2) continue;  // extents disjoint (in y: x overlaps, by the sweep)
+      out.push_back({ip, iq, v});
     }
   }
+  return out;
+}
+
+PainterPlan painter_plan(const std::vector<PainterTri>& tris) {
+  std::vector<uint32_t> sorted = painter_sort(tris);
+  const std::vector<PairFinding> pairs = painter_pairs(tris, sorted);
+  return painter_plan(tris, std::move(sorted), pairs);
+}
+
+PainterPlan painter_plan(const std::vector<PainterTri>& tris, std::vector<uint32_t> sorted,
+                         const std::vector<PairFinding>& pairs) {
+  PainterPlan plan;
+  const uint32_t n = uint32_t(tris.size());
+  plan.sorted = std::move(sorted);
+  std::vector<uint32_t> pos(n);
+  for (uint32_t i = 0; i < n; ++i) pos[plan.sorted[i]] = i;
+
+  // 2. The must-draw-before graph from the pairs' verdicts (order_adj), and the
+  // same with interpenetrating pairs tied both ways (group_adj).
+  std::vector<std::vector<uint32_t>> order_adj(n), group_adj(n);
+  for (const auto& [ip, iq, v] : pairs) {
+    ++plan.pairs;
+    ++plan.decided_by[v.test];
+    switch (v.order) {
+      case PairOrder::kNone: break;
+      case PairOrder::kPFirst: order_adj[ip].push_back(iq); break;
+      case PairOrder::kQFirst: order_adj[iq].push_back(ip); break;
+      case PairOrder::kCoplanar:
+        // The z-buffer keeps the first of equal depths: draw the later one first.
+        order_adj[std::max(ip, iq)].push_back(std::min(ip, iq));
+        plan.coplanar.push_back({std::min(ip, iq), std::max(ip, iq)});
+        break;
+      case PairOrder::kInterpenetrate:
+        group_adj[ip].push_back(iq);
+        group_adj[iq].push_back(ip);
+        plan.interpenetrations.push_back({std::min(ip, iq), std::max(ip, iq)});
+        break;
+    }
+  }
+  // Listed in a canonical order, whatever order the pairs came in.
+  std::sort(plan.coplanar.begin(), plan.coplanar.end());
+  std::sort(plan.interpenetrations.begin(), plan.interpenetrations.end());
   for (uint32_t i = 0; i < n; ++i) {
     plan.edges += order_adj[i].size();
     group_adj[i].insert(group_adj[i].end(), order_adj[i].begin(), order_adj[i].end());
@@ -296,6 +323,8 @@ PainterPlan painter_plan(const std::vector<PainterTri>& tris) {
   for (uint32_t t : plan.sorted) members[cyc[t]].push_back(t);
   for (auto& m : members)
     if (m.size() > 1) plan.cycles.push_back(std::move(m));
+  std::sort(plan.cycles.begin(), plan.cycles.end(),
+            [&](const auto& a, const auto& b) { return pos[a.front()] < pos[b.front()]; });
 
   // Groups: cycles and interpenetrating pairs together, the units drawn as one.
   uint32_t ngroup = 0;

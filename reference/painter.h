@@ -85,8 +85,21 @@ struct PainterPlan {
   std::array<uint64_t, 9> decided_by{};  // PairVerdict::test counts
   uint64_t edges = 0;
 };
-// Builds the graph over all pairs of triangles with overlapping screen extents,
-// finds its strongly connected components (Tarjan 1972) and orders them.
+// The steps, separately (the optimized painter replaces the first two):
+// the depth sort (farthest eye z first, ties in scene order);
+std::vector<uint32_t> painter_sort(const std::vector<PainterTri>& tris);
+// every pair whose screen extents overlap, classified (p: the one sorted first);
+struct PairFinding {
+  uint32_t p = 0, q = 0;
+  PairVerdict v;
+};
+std::vector<PairFinding> painter_pairs(const std::vector<PainterTri>& tris, const std::vector<uint32_t>& sorted);
+// the graph of those verdicts, its strongly connected components (Tarjan
+// 1972) and a topological order of them (Kahn 1962). The result does not
+// depend on the order of `pairs`.
+PainterPlan painter_plan(const std::vector<PainterTri>& tris, std::vector<uint32_t> sorted,
+                         const std::vector<PairFinding>& pairs);
+// All three.
 PainterPlan painter_plan(const std::vector<PainterTri>& tris);
 // The notes a run reports: counts, then each cycle and interpenetration with
 // its triangle and primitive indices.
