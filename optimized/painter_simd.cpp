@@ -62,6 +62,17 @@ void fill_owner(uint32_t* p, size_t n, uint32_t t) {
   for (; i < n; ++i) p[i] = t;
 }
 
+// The sample colour as the reference stores it (Vec3f), back in double.
+// GCC 12.2 at -O3 miscompiles Vec3(Vec3f(c)) here: its SLP vectorizer turns
+// the x and y round trips double -> float -> double into plain copies (only z
+// is rounded; seen in the assembly: vmovupd of x, y, vcvtsd2ss/vcvtss2sd of z),
+// and the painter was 1 ulp off the reference. Without SLP vectorization in
+// this one function, every component is rounded.
+[[gnu::noinline, gnu::optimize("no-tree-slp-vectorize")]] Vec3 stored_color(const Vec3& c) {
+  const Vec3f f(c);
+  return Vec3(f);
+}
+
 // One edge of a triangle as a function of the pixel column on a sample row:
 // e(i) = c - d * i; the sample is inside when e(i) >= threshold.
 struct RowEdge {
@@ -229,7 +240,7 @@ Image painter(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
             e[v] = (pt.x[b] - pt.x[a]) * (sy - pt.y[a]) - (pt.y[b] - pt.y[a]) * (sx - pt.x[a]);
           }
           const Fragment f = painter_fragment(mesh, t, sx, sy, e, pt.area, s.perspective);
-          sum += Vec3(Vec3f(shade_fragment(scene, mesh, s, f)));
+          sum += stored_color(shade_fragment(scene, mesh, s, f));
           z = std::min(z, float(f.z));
         }
         image.set(i, j, sum / double(spp));

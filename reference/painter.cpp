@@ -335,6 +335,10 @@ PainterPlan painter_plan(const std::vector<PainterTri>& tris, std::vector<uint32
   // 4. A topological order of the groups (Kahn), earliest in the sort first.
   std::vector<std::vector<uint32_t>> group_members(ngroup);
   for (uint32_t t : plan.sorted) group_members[plan.group[t]].push_back(t);
+  for (const auto& m : group_members)
+    if (m.size() > 1) plan.groups.push_back(m);
+  std::sort(plan.groups.begin(), plan.groups.end(),
+            [&](const auto& a, const auto& b) { return pos[a.front()] < pos[b.front()]; });
   std::vector<uint32_t> indegree(ngroup, 0);
   for (uint32_t i = 0; i < n; ++i)
     for (uint32_t j : group_adj[i])
@@ -359,22 +363,25 @@ PainterPlan painter_plan(const std::vector<PainterTri>& tris, std::vector<uint32
 
 std::vector<std::string> painter_notes(const ScreenMesh& mesh, const PainterPlan& plan, bool split) {
   std::vector<std::string> notes;
-  if (plan.cycles.empty() && plan.interpenetrations.empty() && plan.coplanar.empty()) return notes;
+  if (plan.groups.empty() && plan.coplanar.empty()) return notes;
   const auto tri_name = [&](uint32_t t) {
     return "tri " + std::to_string(t) + " (prim " + std::to_string(mesh.tris[t].prim) + ")";
   };
+  size_t in_groups = 0;
+  for (const auto& g : plan.groups) in_groups += g.size();
   notes.push_back("painter: " + std::to_string(plan.cycles.size()) + " cycle(s), " +
                   std::to_string(plan.interpenetrations.size()) + " interpenetrating pair(s), " +
-                  std::to_string(plan.coplanar.size()) + " coplanar overlap(s) among " +
-                  std::to_string(mesh.tris.size()) + " triangles; " +
+                  std::to_string(plan.coplanar.size()) + " coplanar overlap(s); " + std::to_string(in_groups) +
+                  " of " + std::to_string(mesh.tris.size()) + " triangles in " + std::to_string(plan.groups.size()) +
+                  " group(s) that no order draws right; " +
                   (split ? "split along their planes at every sample they share"
                          : "drawn in depth order: where they overlap the image may be wrong (--split resolves)"));
   constexpr size_t kMaxLines = 64;
   size_t lines = 0, left = 0;
-  for (const auto& c : plan.cycles) {
+  for (const auto& g : plan.groups) {
     if (lines++ >= kMaxLines) { ++left; continue; }
-    std::string s = "painter: cycle of " + std::to_string(c.size()) + " triangles:";
-    for (uint32_t t : c) s += " " + tri_name(t);
+    std::string s = "painter: group of " + std::to_string(g.size()) + " triangles:";
+    for (uint32_t t : g) s += " " + tri_name(t);
     notes.push_back(s);
   }
   for (const auto& [a, b] : plan.interpenetrations) {

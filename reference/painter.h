@@ -79,6 +79,8 @@ struct PainterPlan {
   std::vector<uint32_t> group;      // per triangle: its component (cycles and interpenetrations merged)
   std::vector<uint32_t> group_size; // per component: members
   std::vector<std::vector<uint32_t>> cycles;  // components of the must-draw-before graph with > 1 triangle
+  std::vector<std::vector<uint32_t>> groups;  // components with > 1 triangle once interpenetrating pairs
+                                              // are tied both ways: what no order draws right (in sort order)
   std::vector<std::array<uint32_t, 2>> interpenetrations;
   std::vector<std::array<uint32_t, 2>> coplanar;
   uint64_t pairs = 0;               // pairs whose screen extents overlap
@@ -101,8 +103,9 @@ PainterPlan painter_plan(const std::vector<PainterTri>& tris, std::vector<uint32
                          const std::vector<PairFinding>& pairs);
 // All three.
 PainterPlan painter_plan(const std::vector<PainterTri>& tris);
-// The notes a run reports: counts, then each cycle and interpenetration with
-// its triangle and primitive indices.
+// The notes a run reports: counts, then each group (every triangle that no
+// order draws right), each interpenetrating and coplanar pair, with triangle
+// and primitive indices ("tri N (prim P)").
 std::vector<std::string> painter_notes(const ScreenMesh& mesh, const PainterPlan& plan, bool split);
 
 // The fragment of triangle t at sample (sx, sy) in snapped units, with edge

@@ -12,5 +12,7 @@ namespace lockstep::props::raster {
 
 // z-buffer frames against ray casting (properties.cpp).
 void cross_check_part(const ImageFamily& family, FamilyProperties& out);
+// The painter against the z-buffer, its reports, --split, its exact predicates (painter.cpp).
+void painter_part(const ImageFamily& family, FamilyProperties& out);
 
 }  // namespace lockstep::props::raster

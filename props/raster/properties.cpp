@@ -206,6 +206,7 @@ FamilyProperties properties(const ImageFamily& family) {
   using Part = void (*)(const ImageFamily&, FamilyProperties&);
   static constexpr Part kParts[] = {
       cross_check_part,
+      painter_part,
   };
   FamilyProperties out;
   for (Part part : kParts) part(family, out);
