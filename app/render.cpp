@@ -2,6 +2,7 @@
 // the one whose files end in the input's extension (pairs/registry.h).
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "app/cli.h"
 #include "app/run.h"
@@ -27,11 +28,34 @@ void print_help() {
   for (const ImageFamily& f : registry().image)
     if (!f.algo.empty()) std::printf(" %s", std::string(f.algo).c_str());
   std::printf("; default: the first)\n");
+  // Families with the same settings (the raster families) are listed together.
+  std::vector<const ImageFamily*> done;
   for (const ImageFamily& f : registry().image) {
     if (f.params.empty()) continue;
-    std::printf("\n  settings of %s:\n", std::string(f.name).c_str());
+    auto same = [&f](const ImageFamily& g) {
+      if (g.params.size() != f.params.size()) return false;
+      for (size_t k = 0; k < g.params.size(); ++k)
+        if (g.params[k].name != f.params[k].name) return false;
+      return true;
+    };
+    bool seen = false;
+    for (const ImageFamily* d : done) seen = seen || same(*d);
+    if (seen) continue;
+    done.push_back(&f);
+    std::string names;
+    for (const ImageFamily& g : registry().image)
+      if (same(g)) {
+        if (!names.empty()) names += ", ";
+        names += g.name;
+      }
+    std::printf("\n  settings of %s:\n", names.c_str());
     for (const ParamSpec& p : f.params) {
-      std::string left = "--" + std::string(p.name) + (p.flag ? "" : " " + std::string(p.values));
+      std::string left = "--";
+      left += p.name;
+      if (!p.flag) {
+        left += ' ';
+        left += p.values;
+      }
       std::printf("    %-44s %s%s%s\n", left.c_str(), std::string(p.help).c_str(), p.def.empty() ? "" : "; default ",
                   std::string(p.def).c_str());
     }
@@ -90,7 +114,9 @@ const ImageFamily& family_for(const std::string& in_path, const std::string& alg
   for (const ImageFamily& f : registry().image) {
     if (f.extension != first.extension || f.algo.empty()) continue;
     if (f.algo == algo) return f;
-    known += (known.empty() ? "" : "|") + std::string(f.algo);
+    // Appended piece by piece: `"|" + std::string(...)` trips GCC 12's -Wrestrict (a false positive).
+    if (!known.empty()) known += '|';
+    known += f.algo;
   }
   throw UsageError("--algo: '" + algo + "' is not one of " + known + " for " + std::string(first.extension) + " files");
 }

@@ -236,12 +236,14 @@ void register_frames(const Registry& reg) {
           const int div = !impl.threaded && in.heavy_for_reference ? 4 : 1;
           const std::string bname = base + "/" + std::string(impl.name) + "/threads:" + std::to_string(threads);
           auto cold = std::make_shared<double>(-1);  // seconds of the cold run, once per benchmark
-          benchmark::RegisterBenchmark(bname.c_str(), [input, div, threads, cold, sized = fam.sized, fn = impl.render](benchmark::State& st) {
+          benchmark::RegisterBenchmark(bname.c_str(), [input, div, threads, cold, sized = fam.sized, fn = impl.render,
+                                                       unit = std::string(fam.unit)](benchmark::State& st) {
             const Input& in = input->get();
             FrameOptions opts;
             opts.width = input->meta.width / div;
             opts.height = input->meta.height / div;
             opts.threads = threads;
+            opts.params = input->meta.params;
             if (*cold < 0) {
               malloc_trim(0);
               FrameStats stats;
@@ -250,15 +252,18 @@ void register_frames(const Registry& reg) {
               *cold = once.seconds();
               benchmark::DoNotOptimize(img.rgba.data());
             }
-            double build = 0;
+            double build = 0, items = 0;
             uint64_t pixels = 0;
             for (auto _ : st) {
               FrameStats stats;
               Image img = fn(in, opts, &stats);
               benchmark::DoNotOptimize(img.rgba.data());
               build += stats.build_seconds;
+              items += double(stats.items);
               pixels = uint64_t(img.width) * uint64_t(img.height);
             }
+            // What the family counts (rays, pixels, triangles), per second of real time.
+            st.counters[unit + "_per_s"] = benchmark::Counter(items, benchmark::Counter::kIsRate);
             st.SetItemsProcessed(int64_t(st.iterations() * pixels));
             if (input->meta.bytes > 0) st.SetBytesProcessed(int64_t(double(st.iterations()) * input->meta.bytes));
             st.counters["build_ms"] = 1e3 * build / double(st.iterations());

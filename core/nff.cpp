@@ -1,5 +1,6 @@
 #include "core/nff.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -15,6 +16,8 @@ namespace lockstep {
 
 namespace {
 
+constexpr std::string_view kExtension = "#lockstep";
+
 // A cursor over the file's lines that knows where it is, so every error names a line.
 class Lines {
  public:
@@ -29,7 +32,14 @@ class Lines {
       pos_ = end + 1;
       ++line_no_;
       if (line.find('\0') != std::string_view::npos) fail("binary data (NUL byte) in a text file");
-      const size_t hash = line.find('#');
+      // A '#' starts a comment, except lockstep's extension lines, whose first
+      // word is exactly "#lockstep": they are kept (words()[0] == "#lockstep"),
+      // up to a further '#'.
+      const size_t first = line.find_first_not_of(" \t\r\v\f");
+      const bool extension = first != std::string_view::npos && line.substr(first).starts_with(kExtension) &&
+                             (first + kExtension.size() == line.size() ||
+                              std::isspace(static_cast<unsigned char>(line[first + kExtension.size()])));
+      const size_t hash = line.find('#', extension ? first + 1 : 0);
       if (hash != std::string_view::npos) line = line.substr(0, hash);
       split(line);
       if (!words_.empty()) return true;
@@ -96,6 +106,62 @@ class Lines {
   std::vector<std::string_view> words_;
 };
 
+// A #lockstep line that does not follow a light.
+[[noreturn]] void misplaced_extension(const Lines& in) {
+  const std::string what = in.words().size() > 1 ? " " + std::string(in.words()[1].substr(0, 32)) : "";
+  in.fail("'#lockstep" + what + "' does not follow a light: it must come right after an 'l' line");
+}
+
+// Reads a "#lockstep atten|spot ..." line into the light it follows (the
+// extension is described in core/nff.h). light_line is the 'l' line's number;
+// seen_atten/seen_spot catch a second line of the same kind.
+void read_extension(const Lines& in, Light& light, int light_line, bool& seen_atten, bool& seen_spot) {
+  const auto& w = in.words();
+  if (w.size() < 2) in.fail("'#lockstep' without a keyword (expected 'atten' or 'spot')");
+  const std::string_view key = w[1];
+  auto twice = [&](bool& seen) {
+    if (seen)
+      in.fail("a second '#lockstep " + std::string(key) + "' for the light on line " + std::to_string(light_line));
+    seen = true;
+  };
+  auto number = [&](size_t i) {
+    const double x = in.number(i);
+    return x == 0 ? 0.0 : x;  // -0 reads as 0
+  };
+  if (key == "atten") {
+    in.expect_count(5, "#lockstep atten c1 c2 c3");
+    twice(seen_atten);
+    const Vec3 c{number(2), number(3), number(4)};
+    if (c.x < 0 || c.y < 0 || c.z < 0)
+      in.fail("attenuation coefficients must not be negative, got " + std::string(w[2]) + " " + std::string(w[3]) +
+              " " + std::string(w[4]));
+    if (c.x == 0 && c.y == 0 && c.z == 0) in.fail("attenuation coefficients are all 0");
+    light.atten = c;
+  } else if (key == "spot") {
+    in.expect_count(7, "#lockstep spot dx dy dz cutoff_degrees exponent");
+    twice(seen_spot);
+    const Vec3 d{number(2), number(3), number(4)};
+    // Scale by the largest component first, so that any non-zero finite
+    // direction normalises without underflow or overflow.
+    const double m = std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)});
+    if (m == 0) in.fail("spot direction is zero");
+    const double cutoff = number(5);
+    if (!(cutoff > 0 && cutoff <= 90))
+      in.fail("spot cutoff must be in (0, 90] degrees, got " + std::string(w[5]));
+    const double exponent = number(6);
+    if (exponent < 0) in.fail("spot exponent must not be negative, got " + std::string(w[6]));
+    light.spot = true;
+    light.spot_dir = normalize(d / m);
+    light.spot_cutoff = cutoff;
+    light.spot_exponent = exponent;
+  } else {
+    std::string shown(key.substr(0, 32));
+    for (char& ch : shown)
+      if (!std::isprint(static_cast<unsigned char>(ch))) ch = '?';
+    in.fail("unknown '#lockstep' keyword '" + shown + "' (expected 'atten' or 'spot')");
+  }
+}
+
 void read_view(Lines& in, View& v) {
   const int v_line = in.line();
   in.expect_count(1, "v");
@@ -104,6 +170,7 @@ void read_view(Lines& in, View& v) {
   for (int k = 0; k < 6; ++k) {
     in.require_next("the viewpoint's 'from', 'at', 'up', 'angle', 'hither', 'resolution' lines");
     const auto& w = in.words();
+    if (w[0] == kExtension) misplaced_extension(in);
     int which = -1;
     for (int q = 0; q < 6; ++q)
       if (w[0] == keys[q]) which = q;
@@ -172,11 +239,22 @@ Scene parse_nff(std::string_view text, const std::string& name) {
     return material;
   };
   std::vector<Vec3> verts, normals;
+  // The light the next #lockstep line may modify: set by 'l', cleared by every
+  // other entity (the extension modifies the light immediately before it).
+  bool after_light = false;
+  int light_line = 0;
+  bool seen_atten = false, seen_spot = false;
 
   if (text.empty()) throw InputError(name, 0, "file is empty");
   while (in.next()) {
     const auto& w = in.words();
     const std::string_view e = w[0];
+    if (e == kExtension) {
+      if (!after_light) misplaced_extension(in);
+      read_extension(in, scene.lights.back(), light_line, seen_atten, seen_spot);
+      continue;
+    }
+    after_light = e == "l";
     if (e == "v") {
       if (have_view) in.fail("a second viewpoint ('v'); NFF allows one");
       read_view(in, scene.view);
@@ -193,6 +271,8 @@ Scene parse_nff(std::string_view text, const std::string& name) {
         l.has_color = true;
       }
       scene.lights.push_back(l);
+      light_line = in.line();
+      seen_atten = seen_spot = false;
     } else if (e == "f") {
       in.expect_count(9, "f r g b Kd Ks Shine T index_of_refraction");
       Material m;
@@ -222,6 +302,7 @@ Scene parse_nff(std::string_view text, const std::string& name) {
         if (!in.next())
           in.fail_at_end("file ends early: expected vertex " + std::to_string(i + 1) + " of " + std::to_string(n) +
                          " of the " + (patch ? "patch" : "polygon") + " on line " + std::to_string(poly_line));
+        if (in.words()[0] == kExtension) misplaced_extension(in);
         in.expect_count(patch ? 6 : 3, patch ? "x y z nx ny nz" : "x y z");
         verts.push_back(in.vec3(0));
         if (patch) {

@@ -43,10 +43,22 @@ struct Material {
 
 // NFF 'l': positional light. has_color is false when the file gave none; the
 // intensity is then 1/sqrt(number of lights) (see core/shading.h).
+//
+// lockstep's NFF extension (core/nff.h) adds, per light:
+//   atten  distance attenuation f_att = min(1, 1 / (c1 + c2 d + c3 d^2)),
+//          Foley et al. 16.1.4; the default 1 0 0 is no attenuation;
+//   spot   a Warn spotlight (Warn 1983; Foley et al. 16.1.6): unit direction
+//          spot_dir, cone half-angle spot_cutoff in degrees (0, 90], falloff
+//          exponent spot_exponent >= 0.
 struct Light {
   Vec3 position;
   Vec3 color{1, 1, 1};
   bool has_color = false;
+  Vec3 atten{1, 0, 0};  // c1, c2, c3: all >= 0, not all 0
+  bool spot = false;
+  Vec3 spot_dir{0, 0, -1};     // unit, where the spot points
+  double spot_cutoff = 90.0;   // degrees
+  double spot_exponent = 0.0;
 };
 
 // Plane n.x + d = 0 with unit normal n (n = 0 for a degenerate polygon).

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace lockstep {
 
@@ -56,11 +57,34 @@ Vec3 surface_normal(const Scene& scene, uint32_t prim, uint32_t tri, const Vec3&
   return n;
 }
 
+double attenuation(const Light& light, double d) {
+  // Foley et al. 16.1.4: 1 / (c1 + c2 d + c3 d^2), never brighter than the light
+  // itself (the min(1, .) keeps a light close to a surface from blowing up).
+  const double denominator = light.atten.x + light.atten.y * d + light.atten.z * d * d;
+  return std::min(1.0, 1.0 / denominator);
+}
+
+double spot_cos_cutoff(const Light& light) { return std::cos(light.spot_cutoff * (std::numbers::pi / 180.0)); }
+
+double spot_factor(const Light& light, const Vec3& l) {
+  if (!light.spot) return 1.0;
+  // Warn's model: the light shines along D; a point sees it along -l.
+  const double cos_angle = dot(-l, light.spot_dir);
+  // Outside the cone (angle > cutoff, i.e. cos(angle) < cos(cutoff)): no light.
+  if (cos_angle < spot_cos_cutoff(light)) return 0.0;
+  // Inside: the falloff cos(angle)^exponent (pow(0, 0) = 1: exponent 0 is a hard-edged cone).
+  return std::pow(std::max(0.0, cos_angle), light.spot_exponent);
+}
+
 LightSample light_at(const Scene& scene, const Light& light, const Vec3& p) {
   const double default_ip = 1.0 / std::sqrt(double(scene.lights.size()));
+  const Vec3 to_light = light.position - p;
+  const double d = length(to_light);
   LightSample s;
-  s.l = normalize(light.position - p);
-  s.ip = light.has_color ? light.color : Vec3{default_ip, default_ip, default_ip};
+  s.l = to_light / d;
+  // The light's own intensity, then what distance and the spot cone leave of it.
+  const Vec3 i_light = light.has_color ? light.color : Vec3{default_ip, default_ip, default_ip};
+  s.ip = attenuation(light, d) * spot_factor(light, s.l) * i_light;
   return s;
 }
 

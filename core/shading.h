@@ -14,7 +14,9 @@
 //   * Ip = the light's colour when given, else 1/sqrt(number of lights) (white),
 //     the rule Haines suggests, so that many lights do not saturate;
 //   * the specular highlight is white (the light's colour), not the material's;
-//   * colours are not clamped here; 8-bit outputs clamp on write.
+//   * colours are not clamped here; 8-bit outputs clamp on write;
+//   * Ip may be scaled by distance attenuation and a spotlight cone, given per
+//     light by lockstep's NFF extension (see light_at and core/nff.h).
 #pragma once
 
 #include "core/math.h"
@@ -37,13 +39,28 @@ Vec3 surface_normal(const Scene& scene, uint32_t prim, uint32_t tri, const Vec3&
 enum class Specular : uint8_t { kPhong, kBlinn };
 
 // What one light delivers at p: the unit direction l from p to the light and
-// the intensity ip arriving there (the light's colour or the default
-// 1/sqrt(number of lights)).
+// the intensity ip arriving there,
+//   ip = I_light * f_att(d) * spot(l)
+// with I_light the light's colour or the default 1/sqrt(number of lights),
+// d = |light - p|, and the two factors of lockstep's NFF extension (core/nff.h):
+//   f_att = min(1, 1 / (c1 + c2 d + c3 d^2))    (Foley et al. 16.1.4; 1 by default)
+//   spot  = max(0, -l.D)^exponent if the angle between -l and the spot
+//           direction D is at most the cutoff, else 0   (Warn 1983; Foley 16.1.6;
+//           1 for an ordinary point light).
 struct LightSample {
   Vec3 l;
   Vec3 ip;
 };
 LightSample light_at(const Scene& scene, const Light& light, const Vec3& p);
+
+// The two factors on their own (light_at multiplies them in), for the
+// vectorised shaders and the tests: f_att at distance d, and the spot factor
+// for the unit direction l from the point to the light.
+double attenuation(const Light& light, double d);
+double spot_factor(const Light& light, const Vec3& l);
+// cos(cutoff): -l.D >= this is "inside the cone". Computed in one place so that
+// every implementation draws the cone's edge from the same number.
+double spot_cos_cutoff(const Light& light);
 
 // Phong (or Blinn-Phong) at p with unit normal n and unit direction to the viewer v.
 Vec3 phong(const Scene& scene, const Material& m, const Vec3& p, const Vec3& n, const Vec3& v,

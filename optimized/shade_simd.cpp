@@ -1,7 +1,9 @@
 // Phong shading of a packet of hits; see optimized/shade_simd.h.
 #include "optimized/shade_simd.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/shading.h"
 
@@ -20,7 +22,7 @@ void ShadePacketImpl(const ShadeScene& s, ShadePacket& p) {
   const hn::CappedTag<float, ShadePacket::kLanes> df;
   const hn::RebindToSigned<decltype(df)> di;
   using VF = hn::Vec<decltype(df)>;
-  const VF zero = hn::Zero(df), two = hn::Set(df, 2.0f);
+  const VF zero = hn::Zero(df), one = hn::Set(df, 1.0f), two = hn::Set(df, 2.0f);
   for (size_t k0 = 0; k0 < size_t(ShadePacket::kLanes); k0 += hn::Lanes(df)) {
     const VF px = hn::Load(df, p.px + k0), py = hn::Load(df, p.py + k0), pz = hn::Load(df, p.pz + k0);
     const VF nx = hn::Load(df, p.nx + k0), ny = hn::Load(df, p.ny + k0), nz = hn::Load(df, p.nz + k0);
@@ -35,11 +37,34 @@ void ShadePacketImpl(const ShadeScene& s, ShadePacket& p) {
       VF lx = hn::Sub(hn::Set(df, s.lx[l]), px);
       VF ly = hn::Sub(hn::Set(df, s.ly[l]), py);
       VF lz = hn::Sub(hn::Set(df, s.lz[l]), pz);
-      const VF inv = hn::Div(hn::Set(df, 1.0f), hn::Sqrt(hn::MulAdd(lx, lx, hn::MulAdd(ly, ly, hn::Mul(lz, lz)))));
+      const VF dist = hn::Sqrt(hn::MulAdd(lx, lx, hn::MulAdd(ly, ly, hn::Mul(lz, lz))));
+      const VF inv = hn::Div(one, dist);
       lx = hn::Mul(lx, inv), ly = hn::Mul(ly, inv), lz = hn::Mul(lz, inv);
       const VF ndl = hn::MulAdd(nx, lx, hn::MulAdd(ny, ly, hn::Mul(nz, lz)));
-      const auto lit = hn::Gt(ndl, zero);  // light in front of the surface
+      auto lit = hn::Gt(ndl, zero);  // light in front of the surface
       if (hn::AllFalse(df, lit)) continue;
+      // What reaches the point of the light's intensity: attenuation times spot.
+      VF reach = one;
+      if (s.attenuated[l]) {
+        // min(1, 1 / (c1 + c2 d + c3 d^2)); a zero denominator gives inf, clamped to 1.
+        const VF den = hn::MulAdd(hn::MulAdd(hn::Set(df, s.c3[l]), dist, hn::Set(df, s.c2[l])), dist,
+                                  hn::Set(df, s.c1[l]));
+        reach = hn::Min(one, hn::Div(one, den));
+      }
+      if (s.spot[l]) {
+        // cos of the angle between -L and D; outside the cone the light is off.
+        const VF cos_a = hn::Neg(hn::MulAdd(lx, hn::Set(df, s.dx[l]),
+                                            hn::MulAdd(ly, hn::Set(df, s.dy[l]), hn::Mul(lz, hn::Set(df, s.dz[l])))));
+        lit = hn::And(lit, hn::Ge(cos_a, hn::Set(df, s.cos_cutoff[l])));
+        if (hn::AllFalse(df, lit)) continue;
+        if (s.exponent[l] != 0.0f) {  // exponent 0: a hard-edged cone, factor 1 inside
+          // cos_a^exponent as exp(exponent log cos_a); cos_a <= 0 (only at a 90 degree cutoff) gives 0.
+          const auto pos = hn::Gt(cos_a, zero);
+          const VF safe = hn::IfThenElse(pos, cos_a, one);
+          const VF falloff = hn::CallExp(df, hn::Mul(hn::Set(df, s.exponent[l]), hn::CallLog(df, safe)));
+          reach = hn::Mul(reach, hn::IfThenElseZero(pos, falloff));
+        }
+      }
       // R = 2 (N.L) N - L, the mirror direction; specular = ks max(0, R.V)^shine.
       const VF rx = hn::MulSub(hn::Mul(two, ndl), nx, lx);
       const VF ry = hn::MulSub(hn::Mul(two, ndl), ny, ly);
@@ -53,9 +78,9 @@ void ShadePacketImpl(const ShadeScene& s, ShadePacket& p) {
       }
       const VF d = hn::IfThenElseZero(lit, ndl);
       spec = hn::IfThenElseZero(lit, spec);
-      r = hn::MulAdd(hn::Set(df, s.ir[l]), hn::MulAdd(d, kr, spec), r);
-      g = hn::MulAdd(hn::Set(df, s.ig[l]), hn::MulAdd(d, kg, spec), g);
-      b = hn::MulAdd(hn::Set(df, s.ib[l]), hn::MulAdd(d, kb, spec), b);
+      r = hn::MulAdd(hn::Mul(reach, hn::Set(df, s.ir[l])), hn::MulAdd(d, kr, spec), r);
+      g = hn::MulAdd(hn::Mul(reach, hn::Set(df, s.ig[l])), hn::MulAdd(d, kg, spec), g);
+      b = hn::MulAdd(hn::Mul(reach, hn::Set(df, s.ib[l])), hn::MulAdd(d, kb, spec), b);
     }
     const auto hit = hn::RebindMask(df, hn::Ne(hn::Load(di, p.hit + k0), hn::Zero(di)));
     hn::Store(hn::IfThenElse(hit, r, hn::Set(df, float(s.background.x))), df, p.r + k0);
@@ -84,6 +109,14 @@ ShadeScene prepare_shading(const Scene& scene, const simd::Frame& frame) {
     s.lx.push_back(float(p.x)), s.ly.push_back(float(p.y)), s.lz.push_back(float(p.z));
     const Vec3 ip = l.has_color ? l.color : Vec3{default_ip, default_ip, default_ip};
     s.ir.push_back(float(ip.x)), s.ig.push_back(float(ip.y)), s.ib.push_back(float(ip.z));
+    s.c1.push_back(float(l.atten.x)), s.c2.push_back(float(l.atten.y)), s.c3.push_back(float(l.atten.z));
+    s.attenuated.push_back(l.atten != Vec3{1, 0, 0});
+    const Vec3 dir = frame.dir(l.spot_dir);
+    s.spot.push_back(l.spot);
+    s.dx.push_back(float(dir.x)), s.dy.push_back(float(dir.y)), s.dz.push_back(float(dir.z));
+    s.cos_cutoff.push_back(float(spot_cos_cutoff(l)));
+    // Clamped to the float range: an overflowing exponent would give inf * log(1) = NaN.
+    s.exponent.push_back(float(std::min(l.spot_exponent, double(std::numeric_limits<float>::max()))));
   }
   return s;
 }

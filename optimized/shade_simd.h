@@ -1,7 +1,8 @@
 // lockstep optimized: Phong shading of 8 hits at once (Highway).
 //
 // The same local illumination as core/shading.h (ambient 0.1 kd C, per light
-// Ip [kd C max(0, N.L) + ks max(0, R.V)^shine], Ip = colour or 1/sqrt(lights)),
+// Ip [kd C max(0, N.L) + ks max(0, R.V)^shine], Ip = colour or 1/sqrt(lights),
+// times the extension's distance attenuation and spot factor),
 // evaluated in float across a packet, with pow as exp(shine log x) from
 // hwy/contrib/math. The per-hit set-up (hit point, normal, material) stays
 // scalar and double (fill_lane), because it differs per primitive type; the
@@ -22,6 +23,13 @@ namespace lockstep::opt {
 struct ShadeScene {
   std::vector<float> lx, ly, lz;   // light positions in the frame
   std::vector<float> ir, ig, ib;   // light intensities
+  // lockstep's NFF extension (core/shading.h, light_at), per light:
+  std::vector<float> c1, c2, c3;   // attenuation 1 / (c1 + c2 d + c3 d^2), clamped to 1
+  std::vector<uint8_t> attenuated; // false: c = 1 0 0, skip the division
+  std::vector<uint8_t> spot;       // a spotlight:
+  std::vector<float> dx, dy, dz;   //   unit direction in the frame
+  std::vector<float> cos_cutoff;   //   spot_cos_cutoff(), from the same double
+  std::vector<float> exponent;     //   falloff exponent
   Vec3 background;
 };
 ShadeScene prepare_shading(const Scene& scene, const simd::Frame& frame);

@@ -41,10 +41,10 @@ std::vector<BenchInput> spd_frames() {
     const Scene& s = input_as<Scene>(b.input);
     b.width = b.height = 1024;
     b.counters = {{"triangles", double(s.triangle_count())}, {"spheres", double(s.sphere_count())}};
-    b.heavy_for_reference = true;
+    b.heavy_for_reference = false;  // the reference draws 1024^2 in well under a second: same size, same work
     out.push_back(std::move(b));
   };
-  for (const char* name : {"tetra-3", "mount-3", "gears-2", "teapot-2", "sombrero-2", "jacks-2-tess", "lattice-2-tess",
+  for (const char* name : {"tetra-3", "mount-3", "gears-2", "teapot-2", "sombrero-2", "sombrero-3", "jacks-2-tess", "lattice-2-tess",
                            "tree-2-tess", "rings-1-tess", "balls-3", "shells-1"})
     add(name, "flat");
   for (const char* name : {"sombrero-2", "balls-3"}) add(name, "phong");

@@ -4,7 +4,8 @@
 // lockstep::InputError -- never another exception, never a crash (built under
 // AddressSanitizer + UBSan by scripts/fuzz.sh, any memory error or undefined
 // behaviour aborts the run). Inputs: random bytes, random token soups from the
-// NFF vocabulary with hostile numbers, and SPD files (props/data) mutated by
+// NFF vocabulary (lockstep's #lockstep light extension included) with hostile
+// numbers, and SPD files (props/data; spotlights.nff carries the extension) mutated by
 // byte flips, insertions, deletions, duplications, number swaps, line
 // insertions and truncation.
 //
@@ -69,6 +70,14 @@ std::string inconsistency(const Scene& s) {
   for (const auto& p : s.poly_plane)
     if (!std::isfinite(p.n.x) || !std::isfinite(p.n.y) || !std::isfinite(p.n.z) || !std::isfinite(p.d))
       return "non-finite plane";
+  for (const auto& l : s.lights) {  // the light extension (core/nff.h)
+    if (!(l.atten.x >= 0 && l.atten.y >= 0 && l.atten.z >= 0) || l.atten == lockstep::Vec3{0, 0, 0} ||
+        !std::isfinite(l.atten.x + l.atten.y + l.atten.z))
+      return "bad attenuation";
+    if (!(std::abs(lockstep::length(l.spot_dir) - 1) < 1e-12)) return "spot direction not unit";
+    if (!(l.spot_cutoff > 0 && l.spot_cutoff <= 90)) return "spot cutoff";
+    if (!(l.spot_exponent >= 0 && std::isfinite(l.spot_exponent))) return "spot exponent";
+  }
   if (s.view.xres < 1 || s.view.yres < 1 || s.view.xres > lockstep::kMaxResolution ||
       s.view.yres > lockstep::kMaxResolution)
     return "resolution";
@@ -106,7 +115,8 @@ std::vector<std::string> seeds() {
 }
 
 const std::vector<std::string> kWords = {
-    "v", "b", "l", "f", "s", "p", "pp", "c", "from", "at", "up", "angle", "hither", "resolution", "#", "x"};
+    "v", "b", "l", "f", "s", "p", "pp", "c", "from", "at", "up", "angle", "hither", "resolution", "#", "x",
+    "#lockstep", "#lockstep", "atten", "spot", "\n#lockstep atten", "\n#lockstep spot"};
 const std::vector<std::string> kNumbers = {
     "0", "1", "-1", "3", "0.5", "1e-300", "1e308", "1.8e308", "-1e400", "1e-400", "nan", "inf", "-inf", "NaN",
     "0x1p-1074", "0x1.fffffffffffffp+1023", "4e-324", "-0", "+1", "1.", ".5", "1e", "--1", "1e+", "0x", "2147483648",

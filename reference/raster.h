@@ -34,8 +34,9 @@
 //     E_ab(P) = (b.x - a.x)(P.y - a.y) - (b.y - a.y)(P.x - a.x).
 // A sample P is inside when E12(P), E20(P), E01(P) are all >= 0, and an edge
 // with E = 0 at P owns P only if it is a top edge (dy = 0, dx > 0) or a left
-// edge (dy < 0). With y down, positive area is clockwise on screen, which is
-// NFF's counter-clockwise front face seen through the camera.
+// edge (dy < 0). With y down, positive area is clockwise as the viewer sees
+// it: NFF's front faces (counter-clockwise seen from the front) come out of the
+// projection with negative area, and view_scene stores them reordered.
 #pragma once
 
 #include <array>
@@ -117,7 +118,7 @@ struct ScreenVertex {
 };
 
 struct ScreenTri {
-  std::array<ScreenVertex, 3> v;  // positive area (see the fill rule above)
+  std::array<ScreenVertex, 3> v;  // positive area (see the fill rule above): a front face's v[1], v[2] swapped
   uint32_t prim = 0;              // scene primitive: spheres first, then polygons (Scene::prim_count)
   uint32_t source_tri = 0;        // polygons: index into Scene::tri_vertex; spheres: the tessellation's triangle
   Vec3 face_normal;               // unit world normal of the drawn side

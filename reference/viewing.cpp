@@ -239,14 +239,15 @@ struct Emitter {
         ++mesh.degenerate;
         continue;
       }
-      // Back-face culling in projection space: a front face keeps NFF's
-      // counter-clockwise order on screen, which is positive area here.
-      if (area < 0 && !two_sided && s.cull == CullMode::kProjection) {
+      // Back-face culling in projection space: a front face is counter-clockwise
+      // as the viewer sees it (NFF's order), which with y down is negative area.
+      if (area > 0 && !two_sided && s.cull == CullMode::kProjection) {
         ++mesh.culled;
         continue;
       }
-      // Drawn from the back (two-sided, cull none, or a world-space front face
-      // that snapping turned over): reorder to positive area.
+      // The rasteriser takes positive area: front faces are reordered; so is a
+      // face drawn from its back (two-sided, cull none, or a world-space front
+      // face that snapping turned over) the other way round.
       if (area < 0) std::swap(t.v[1], t.v[2]);
       t.face_normal = front ? face_normal : -face_normal;
       mesh.tris.push_back(t);

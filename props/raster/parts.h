@@ -6,12 +6,34 @@
 // kParts (properties.cpp), its file in props/CMakeLists.txt.
 #pragma once
 
+#include <functional>
+#include <string>
+
 #include "props/property.h"
+#include "props/raster/exact_coverage.h"
+#include "props/raster/raster_case.h"
+#include "reference/raster.h"
 
 namespace lockstep::props::raster {
 
+// A property over RasterCases of one implementation: check judges one case
+// (its Outcomes are pixels or samples); the counterexample text is the case.
+// suite "RayCastCrossCheck" gives check "ray_cast_cross_check" and the test
+// RayCastCrossCheck.<family>__<impl>.
+Property case_property(const ImageFamily& family, const ImageImpl& impl, std::string suite, std::string generator,
+                       rc::Gen<RasterCase> gen, double bound, std::string unit,
+                       std::function<Verdict(const RasterCase&)> check);
+
 // z-buffer frames against ray casting (properties.cpp).
 void cross_check_part(const ImageFamily& family, FamilyProperties& out);
+// Supersampling against the exact box-filtered image (supersampling.cpp).
+void supersampling_part(const ImageFamily& family, FamilyProperties& out);
+// Its scenes: 1..5 flat, two-sided triangles parallel to the image plane at
+// distinct depths; and their screen triangles for the exact oracle.
+rc::Gen<RasterCase> flat_parallel_scene();
+std::vector<FlatTri> flat_tris(const Scene& scene, const ScreenMesh& mesh);
+// World-space against projection-space back-face culling (culling.cpp).
+void culling_part(const ImageFamily& family, FamilyProperties& out);
 // The painter against the z-buffer, its reports, --split, its exact predicates (painter.cpp).
 void painter_part(const ImageFamily& family, FamilyProperties& out);
 

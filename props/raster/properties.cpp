@@ -167,32 +167,41 @@ Verdict cross_check(const ImageImpl& impl, const RasterCase& c) {
 }
 
 Property cross_check_property(const ImageFamily& family, const ImageImpl& impl) {
-  Property p;
-  p.family = std::string(family.name);
-  p.check = "ray_cast_cross_check";
-  p.suite = "RayCastCrossCheck";
-  p.name = std::string(family.name) + "__" + std::string(impl.name);
-  p.generator = "triangle_soup";
-  p.pair = std::string(family.name);
-  p.impl = std::string(impl.name);
-  p.bound = 1.0 / 255;
-  p.unit = "colour";
-  p.units = "pixels";
-  const auto gen = std::make_shared<const rc::Gen<RasterCase>>(triangle_soup());
-  p.run = [gen, &impl] {
-    auto c = std::make_shared<const RasterCase>(**gen);
-    Ran r;
-    r.verdict = cross_check(impl, *c);
-    r.text = [c](long) { return write_case(*c); };
-    return r;
-  };
-  p.replay = [&impl](const std::string& text, const std::string& file) {
-    return cross_check(impl, read_case(text, file));
-  };
-  return p;
+  return case_property(family, impl, "RayCastCrossCheck", "triangle_soup", triangle_soup(), 1.0 / 255, "colour",
+                       [&impl](const RasterCase& c) { return cross_check(impl, c); });
 }
 
 }  // namespace
+
+Property case_property(const ImageFamily& family, const ImageImpl& impl, std::string suite, std::string generator,
+                       rc::Gen<RasterCase> gen, double bound, std::string unit,
+                       std::function<Verdict(const RasterCase&)> check) {
+  Property p;
+  p.family = std::string(family.name);
+  // "RayCastCrossCheck" -> "ray_cast_cross_check"
+  for (char ch : suite) {
+    if (std::isupper(static_cast<unsigned char>(ch)) && !p.check.empty()) p.check += '_';
+    p.check += char(std::tolower(static_cast<unsigned char>(ch)));
+  }
+  p.suite = suite;
+  p.name = std::string(family.name) + "__" + std::string(impl.name);
+  p.generator = generator;
+  p.pair = std::string(family.name);
+  p.impl = std::string(impl.name);
+  p.bound = bound;
+  p.unit = unit;
+  p.units = "pixels";
+  const auto g = std::make_shared<const rc::Gen<RasterCase>>(std::move(gen));
+  p.run = [g, check] {
+    auto c = std::make_shared<const RasterCase>(**g);
+    Ran r;
+    r.verdict = check(*c);
+    r.text = [c](long) { return write_case(*c); };
+    return r;
+  };
+  p.replay = [check](const std::string& text, const std::string& file) { return check(read_case(text, file)); };
+  return p;
+}
 
 void cross_check_part(const ImageFamily& family, FamilyProperties& out) {
   if (family.name != "zbuffer") return;
@@ -206,6 +215,8 @@ FamilyProperties properties(const ImageFamily& family) {
   using Part = void (*)(const ImageFamily&, FamilyProperties&);
   static constexpr Part kParts[] = {
       cross_check_part,
+      culling_part,
+      supersampling_part,
       painter_part,
   };
   FamilyProperties out;

@@ -107,3 +107,37 @@ rc::Gen<RasterCase> triangle_soup() {
 }
 
 }  // namespace lockstep::props::raster
+
+namespace lockstep::props::raster {
+
+rc::Gen<RasterCase> edge_on_soup() {
+  return rc::gen::exec([] {
+    RasterCase c;
+    c.width = *rc::gen::inRange(8, 49);
+    c.height = *rc::gen::inRange(8, 49);
+    const int tris = *rc::gen::inRange(1, 7);
+    std::string s = camera_block(c.width, c.height) + "b 0.1 0.2 0.3\nl 4 5 3\n";
+    const double half = std::tan(20.0 * M_PI / 180.0);
+    for (int t = 0; t < tris; ++t) {
+      s += "f " + num(0.2 + 0.8 * *unit_double()) + " " + num(0.2 + 0.8 * *unit_double()) + " 0.5 0.8 0 1 0 1\np 3\n";
+      // Two points in view, a third in the plane through them and the eye
+      // (at the origin), then pushed off that plane by a relative offset.
+      Vec3 p[3];
+      for (int k = 0; k < 2; ++k) {
+        const double z = 2 + 10 * *unit_double();
+        p[k] = {(2.2 * *unit_double() - 1.1) * half * z, (2.2 * *unit_double() - 1.1) * half * z, -z};
+      }
+      const double a = *gen::uniform(-0.5, 1.5), b = *gen::uniform(0.2, 1.5);
+      p[2] = b * (p[0] + a * (p[1] - p[0]));
+      const Vec3 n = normalize(cross(p[0], p[1]));
+      const double off = *gen::log_uniform(1e-9, 1e-1) * (*rc::gen::arbitrary<bool>() ? 1 : -1);
+      p[2] += off * length(p[2]) * n;
+      for (const Vec3& v : p) s += num(v.x) + " " + num(v.y) + " " + num(v.z) + "\n";
+    }
+    c.nff = s;
+    c.params.set("shading", "flat");
+    return c;
+  });
+}
+
+}  // namespace lockstep::props::raster

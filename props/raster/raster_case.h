@@ -34,5 +34,9 @@ RasterCase read_case(const std::string& text, const std::string& file);
 //   triangle_soup: 1..6 triangles in random orientations, some two-sided
 //   (transmissive), crossing each other at random; 1..2 lights; phong, cull=world.
 rc::Gen<RasterCase> triangle_soup();
+//   edge_on_soup: as triangle_soup, but each triangle's plane passes within a
+//   random distance (1e-9 .. 1e-1 relative, either side) of the eye: faces seen
+//   edge-on or nearly, where world-space and projection-space culling may part.
+rc::Gen<RasterCase> edge_on_soup();
 
 }  // namespace lockstep::props::raster

@@ -42,6 +42,9 @@ std::string to_nff(const Scene& s) {
     o << "l " << hex(l.position);
     if (l.has_color) o << " " << hex(l.color);
     o << "\n";
+    if (l.atten != Vec3{1, 0, 0}) o << "#lockstep atten " << hex(l.atten) << "\n";
+    if (l.spot)
+      o << "#lockstep spot " << hex(l.spot_dir) << " " << hex(l.spot_cutoff) << " " << hex(l.spot_exponent) << "\n";
   }
   long current = -1;
   auto material = [&](uint32_t m) {

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "core/camera.h"
+#include "core/shading.h"
 #include "props/property.h"
 #include "props/ray_cast/conditioning.h"
 
@@ -29,6 +30,27 @@ std::string oracle_text(const OracleTrace& o) {
 std::string ray_line(const Case& c, size_t i) { return "ray " + std::to_string(i) + ": " + hex(c.rays[i]); }
 
 bool is_tied(const OracleTrace& o, uint32_t p) { return std::find(o.tied.begin(), o.tied.end(), p) != o.tied.end(); }
+
+// The spot cone's edge is a second decision boundary in a render (core/nff.h):
+// inside the cone the light counts, outside it does not. A pixel whose hit
+// point p sits on the edge within the implementation's arithmetic may
+// legitimately differ. The decision is cos(angle) = -L.D >= cos(cutoff); in
+// float, p carries an error of about eps |p - eye| (the frame's origin is near
+// the eye) and the light's position eps |light - eye|, each turning L by that
+// over |light - p|, plus a few eps of rounding in L and D. Returns the light's
+// index when |cos(angle) - cos(cutoff)| is within band times that, else -1.
+int on_spot_edge(const Scene& scene, const Vec3& eye, const Vec3& p, double band) {
+  for (size_t k = 0; k < scene.lights.size(); ++k) {
+    const Light& light = scene.lights[k];
+    if (!light.spot) continue;
+    const double d = length(light.position - p);
+    const Vec3 l = (light.position - p) / d;
+    const double margin = std::abs(dot(-l, light.spot_dir) - spot_cos_cutoff(light));
+    const double scale = 1.0 + (length(p - eye) + length(light.position - eye)) / d;
+    if (margin <= band * scale) return int(k);
+  }
+  return -1;
+}
 
 }  // namespace
 
@@ -254,6 +276,13 @@ Verdict check_render(const Subject& s, const Case& c) {
       out.err = err;
       out.kind = view_of(o.best, s.info.mode).margin <= band ? Outcome::explained : Outcome::unexplained;
       out.label = out.kind == Outcome::explained ? view_of(o.best, s.info.mode).margin_why : "pixel";
+      if (out.kind == Outcome::unexplained && o.best.hit) {
+        const int spot = on_spot_edge(c.scene, ray.o, ray.o + to_double(o.best.t) * ray.d, band);
+        if (spot >= 0) {
+          out.kind = Outcome::explained;
+          out.label = "spot_edge";
+        }
+      }
       char buf[256];
       std::snprintf(buf, sizeof buf, "pixel (%d, %d): %s rgba %.9g %.9g %.9g %.9g; %s rgba %.9g %.9g %.9g %.9g; error %.3g (tol %.3g); ",
                     x, y, s.info.name.c_str(), pa[0], pa[1], pa[2], pa[3], ref.info.name.c_str(), pb[0], pb[1], pb[2],

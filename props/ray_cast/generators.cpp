@@ -226,6 +226,19 @@ Case scenes() {
     l.position = {*uniform(-10, 10), *uniform(-10, 10), *uniform(-10, 10)};
     l.has_color = *chance(1, 2);
     if (l.has_color) l.color = {*uniform(0.2, 1), *uniform(0.2, 1), *uniform(0.2, 1)};
+    // lockstep's NFF extension (core/nff.h): attenuation on about a third of the
+    // lights, strong enough to matter at the scene's distances (5 .. 25) ...
+    if (*chance(1, 3)) l.atten = {*uniform(0.05, 1), *uniform(0, 0.3), *uniform(0, 0.02)};
+    // ... and a spot on about a third, aimed near the middle of the scene so
+    // that its cone (and often its edge) falls on something.
+    if (*chance(1, 3)) {
+      l.spot = true;
+      const Vec3 target{*uniform(-3, 3), *uniform(-3, 3), *uniform(-3, 3)};
+      const Vec3 aim = target - l.position;  // zero only when both shrink to one point
+      l.spot_dir = length(aim) > 0 ? normalize(aim) : Vec3{0, 0, -1};
+      l.spot_cutoff = *uniform(10, 90);
+      l.spot_exponent = *chance(1, 4) ? 0.0 : *uniform(0, 40);
+    }
     s.lights.push_back(l);
   }
   s.background = {*uniform(0, 1), *uniform(0, 1), *uniform(0, 1)};
@@ -561,7 +574,7 @@ const std::vector<Named>& generators() {
       {"rays_at_polygon", kPolygonKernel, false,
        "one star-shaped (concave) polygon, exactly coplanar vertices, rays aimed at its bounding box",
        exec<rays_at_polygon>()},
-      {"scenes", kTrace | kRender, false, "1-6 spheres, 0-3 polygons, 1-3 lights, a camera; 16x16 renders",
+      {"scenes", kTrace | kRender, false, "1-6 spheres, 0-3 polygons, 1-3 lights (some attenuated, some spots), a camera; 16x16 renders",
        exec<scenes>()},
       {"grazing_rays", kSphereKernel | kTrace, true, "rays tangent to a sphere, components nudged +-4 ulps",
        exec<grazing_rays>()},

@@ -1,0 +1,224 @@
+#!/usr/bin/env python3
+"""Charts and tables of the raster families for BENCHMARKS.md.
+
+usage: raster_charts.py STUDY_CSV [BENCH_JSON] OUT_DIR
+
+STUDY_CSV is the output of `lockstep_raster_study all` (props/raster/study.cpp);
+BENCH_JSON Google Benchmark's JSON of `lockstep_bench --benchmark_filter=frame/(zbuffer|scanline|painter)`.
+
+  raster_scaling.png        time per 1024^2 frame against triangle count, per
+                            implementation and thread count (flat shading)
+  raster_tessellation.png   speed against accuracy: time per frame against the
+                            error of the z-buffer image vs ray casting, per
+                            sphere tessellation target
+  raster_supersampling.png  error against the exact box filter, against spp and time
+  raster_zfight.png         the z-fighting failure map per depth format
+Prints the markdown tables used in BENCHMARKS.md.
+"""
+import json
+import os
+import re
+import subprocess
+import sys
+
+
+def sections(path):
+    """{study: (header fields, rows)} from the study's CSV (comment line, then rows)."""
+    out, name = {}, None
+    for line in open(path):
+        line = line.strip()
+        if not line:
+            continue
+        if line.startswith("#"):
+            m = re.match(r"# (\w+): ([^ ]+)", line)
+            name = m.group(1)
+            out[name] = (m.group(2).split(","), [], line)
+        elif name:
+            out[name][1].append(line.split(","))
+    return out
+
+
+def gnuplot(script):
+    subprocess.run(["gnuplot"], input=script, text=True, check=True)
+
+
+def tessellation(sec, out):
+    fields, rows, title = sec
+    print("\n### Tessellation: z-buffer (Phong per sample) against ray casting\n")
+    print("| scene | tess_error (px) | sphere triangles | ms/frame | mean error | pixels over 1/255 |")
+    print("|---|---:|---:|---:|---:|---:|")
+    data = {}
+    for r in rows:
+        scene, e, tris, ms, mean, pct = r[0], r[1], int(r[2]), float(r[3]), float(r[4]), float(r[5])
+        print(f"| {scene} | {e} | {tris} | {ms:.1f} | {mean:.4f} | {pct:.2f}% |")
+        data.setdefault(scene, []).append((ms, mean, e, tris))
+    dat = os.path.join(out, "raster_tessellation.dat")
+    with open(dat, "w") as f:
+        for scene, pts in data.items():
+            f.write(f"# {scene}\n")
+            for ms, mean, e, tris in pts:
+                f.write(f"{ms} {mean} {e}\n")
+            f.write("\n\n")
+    plots = ", ".join(
+        f"'{dat}' index {k} using 1:2 with linespoints title '{s}', '' index {k} using 1:2:3 with labels offset 1,0.6 notitle"
+        for k, s in enumerate(data))
+    gnuplot(f"""set terminal pngcairo size 800,500
+set output '{out}/raster_tessellation.png'
+set title "Speed against accuracy: sphere tessellation (labels: silhouette error target, px)"
+set xlabel "ms per frame"; set ylabel "mean |z-buffer - ray cast|"
+set logscale xy; set grid
+plot {plots}
+""")
+
+
+def supersampling(sec, out):
+    fields, rows, title = sec
+    print("\n### Supersampling against the exact box-filtered image\n")
+    print("| grid | spp | ms/frame | mean error | max error |")
+    print("|---|---:|---:|---:|---:|")
+    data = {}
+    for grid, spp, ms, mean, mx in rows:
+        print(f"| {grid} | {spp} | {float(ms):.2f} | {float(mean):.5f} | {float(mx):.4f} |")
+        data.setdefault(grid, []).append((spp, ms, mean, mx))
+    dat = os.path.join(out, "raster_supersampling.dat")
+    with open(dat, "w") as f:
+        for grid, pts in data.items():
+            f.write(f"# {grid}\n")
+            for p in pts:
+                f.write(" ".join(p) + "\n")
+            f.write("\n\n")
+    gnuplot(f"""set terminal pngcairo size 1000,450
+set output '{out}/raster_supersampling.png'
+set multiplot layout 1,2 title "Supersampling converging to the exact box filter"
+set logscale xy; set grid
+set xlabel "samples per pixel"; set ylabel "error"
+plot '{dat}' index 0 using 2:3 with linespoints title 'regular mean', '' index 0 using 2:4 with linespoints title 'regular max', \
+     '' index 1 using 2:3 with linespoints title 'rotated mean', '' index 1 using 2:4 with linespoints title 'rotated max'
+set xlabel "ms per frame"
+plot '{dat}' index 0 using 2:3 with linespoints title 'regular mean', '' index 1 using 2:3 with linespoints title 'rotated mean'
+unset multiplot
+""")
+
+
+def zfight(sec, out):
+    fields, rows, title = sec
+    fmts = []
+    grid = {}
+    for fmt, near, ratio, sep, wrong in rows:
+        if fmt not in fmts:
+            fmts.append(fmt)
+        grid[(fmt, float(near), float(sep))] = float(wrong)
+    nears = sorted({k[1] for k in grid})
+    seps = sorted({k[2] for k in grid}, reverse=True)
+    print("\n### Z-fighting: share of pixels where the back plane wins (depth 10..100)\n")
+    print("| format | near | " + " | ".join(f"sep {s:g}" for s in seps) + " |")
+    print("|---|---:|" + "---:|" * len(seps))
+    for fmt in fmts:
+        for n in nears:
+            print(f"| {fmt} | {n:g} | " + " | ".join(f"{100 * grid[(fmt, n, s)]:.0f}%" for s in seps) + " |")
+    dat = os.path.join(out, "raster_zfight.dat")
+    with open(dat, "w") as f:
+        for fmt in fmts:
+            f.write(f"# {fmt}\n")
+            for i, n in enumerate(nears):
+                for j, s in enumerate(seps):
+                    f.write(f"{j} {i} {grid[(fmt, n, s)]}\n")
+                f.write("\n")
+            f.write("\n")
+    xt = ", ".join(f'"{s:g}" {j}' for j, s in enumerate(seps))
+    yt = ", ".join(f'"{n:g}" {i}' for i, n in enumerate(nears))
+    plots = "\n".join(
+        f"set title '{fmt}'\nplot '{dat}' index {k} using 1:2:3 with image notitle" for k, fmt in enumerate(fmts))
+    gnuplot(f"""set terminal pngcairo size 1100,300
+set output '{out}/raster_zfight.png'
+set multiplot layout 1,{len(fmts)} title "Z-fighting: share of wrong pixels (black 0, white 1); far = 100"
+set xtics ({xt}) rotate by 45 right; set ytics ({yt})
+set xlabel "separation"; set ylabel "near"
+set cbrange [0:1]; set palette gray; unset colorbox
+{plots}
+unset multiplot
+""")
+
+
+def gouraud(sec):
+    fields, rows, title = sec
+    print("\n### Gouraud's missed highlights (shiny sphere, against Phong)\n")
+    print("| tess_error (px) | triangles | Phong peak | Gouraud peak | max error | mean error |")
+    print("|---:|---:|---:|---:|---:|---:|")
+    for r in rows:
+        print("| " + " | ".join(r) + " |")
+
+
+def bench(path, out):
+    data = json.load(open(path))
+    rows = []
+    for b in data["benchmarks"]:
+        if b.get("run_type") == "aggregate":
+            continue
+        m = re.match(r"frame/(\w+)/([\w.-]+)/(\w+)/(\w+)/threads:(\d+)", b["name"])
+        if not m:
+            continue
+        fam, scene, shading, impl, threads = m.groups()
+        ms = b["real_time"] if b.get("time_unit") == "ms" else b["real_time"] / 1e6
+        rows.append((fam, scene, shading, impl, int(threads), ms, b.get("triangles", 0), b.get("first_ms", 0),
+                     b.get("items_per_second", 0)))
+    print("\n### Frames at 1024^2 (ms per frame, warm; cold first frame in brackets)\n")
+    impls = sorted({(r[0], r[3], r[4]) for r in rows})
+    scenes = []
+    for r in rows:
+        if (r[1], r[2]) not in scenes:
+            scenes.append((r[1], r[2]))
+    print("| scene | shading | triangles | " + " | ".join(f"{f} {i} {t}T" for f, i, t in impls) + " |")
+    print("|---|---|---:|" + "---:|" * len(impls))
+    for sc, sh in scenes:
+        cells = []
+        tris = 0
+        for f, i, t in impls:
+            hit = [r for r in rows if r[0] == f and r[1] == sc and r[2] == sh and r[3] == i and r[4] == t]
+            if hit:
+                tris = hit[0][6]
+                cells.append(f"{hit[0][5]:.2f} ({hit[0][7]:.0f})")
+            else:
+                cells.append("")
+        print(f"| {sc} | {sh} | {int(tris)} | " + " | ".join(cells) + " |")
+    dat = os.path.join(out, "raster_scaling.dat")
+    series = [(f, i, t) for f, i, t in impls]
+    with open(dat, "w") as fh:
+        for f, i, t in series:
+            fh.write(f"# {f} {i} {t}\n")
+            for r in sorted((r for r in rows if r[0] == f and r[3] == i and r[4] == t and r[2] == "flat"),
+                            key=lambda r: r[6]):
+                fh.write(f"{r[6]} {r[5]} {r[1]}\n")
+            fh.write("\n\n")
+    plots = ", ".join(f"'{dat}' index {k} using 1:2 with linespoints title '{f} {i} {t}T'"
+                      for k, (f, i, t) in enumerate(series))
+    gnuplot(f"""set terminal pngcairo size 800,500
+set output '{out}/raster_scaling.png'
+set title "Time per 1024^2 frame against triangle count (flat shading, SPD scenes)"
+set xlabel "triangles in the scene"; set ylabel "ms per frame"
+set logscale xy; set grid; set key left top
+plot {plots}
+""")
+
+
+def main():
+    if len(sys.argv) not in (3, 4):
+        print(__doc__)
+        sys.exit(2)
+    out = sys.argv[-1]
+    os.makedirs(out, exist_ok=True)
+    sec = sections(sys.argv[1])
+    if "tessellation" in sec:
+        tessellation(sec["tessellation"], out)
+    if "supersampling" in sec:
+        supersampling(sec["supersampling"], out)
+    if "zfight" in sec:
+        zfight(sec["zfight"], out)
+    if "gouraud" in sec:
+        gouraud(sec["gouraud"])
+    if len(sys.argv) == 4:
+        bench(sys.argv[2], out)
+
+
+if __name__ == "__main__":
+    main()
