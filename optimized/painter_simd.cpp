@@ -21,8 +21,6 @@
 //   * shading: each sample once, by its owner, with the reference's fragment
 //     arithmetic and shade_fragment, over TBB row bands -- the image is the
 //     reference's bit for bit.
-#include "optimized/painter.h"
-
 #include <hwy/contrib/sort/vqsort.h>
 #include <hwy/highway.h>
 #include <tbb/blocked_range.h>
@@ -34,6 +32,7 @@
 #include <mutex>
 
 #include "core/error.h"
+#include "optimized/painter.h"
 #include "optimized/tiling.h"
 
 namespace lockstep::opt::simd {
@@ -105,8 +104,8 @@ std::vector<uint32_t> depth_sort(const std::vector<PainterTri>& tris) {
 namespace {
 
 // The reference's painter_pairs, its sweep cut into chunks over threads.
-std::vector<PairFinding> pairs_parallel(const std::vector<PainterTri>& tris, const std::vector<uint32_t>& sorted,
-                                        int threads) {
+std::vector<PairFinding> pairs_parallel(const std::vector<PainterTri>& tris,
+                                        const std::vector<uint32_t>& sorted, int threads) {
   const uint32_t n = uint32_t(tris.size());
   std::vector<uint32_t> pos(n);
   for (uint32_t i = 0; i < n; ++i) pos[sorted[i]] = i;
@@ -118,23 +117,25 @@ std::vector<PairFinding> pairs_parallel(const std::vector<PainterTri>& tris, con
   std::vector<PairFinding> out;
   std::mutex m;
   tbb::task_arena(resolve_threads(threads)).execute([&] {
-    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n, 256), [&](const tbb::blocked_range<uint32_t>& r) {
-      std::vector<PairFinding> local;
-      for (uint32_t a = r.begin(); a < r.end(); ++a) {
-        const PainterTri& ta = tris[by_x[a]];
-        for (uint32_t b = a + 1; b < n && tris[by_x[b]].xmin < ta.xmax; ++b) {
-          const PainterTri& tb = tris[by_x[b]];
-          if (ta.ymax <= tb.ymin || tb.ymax <= ta.ymin) continue;  // test 2, before the call
-          uint32_t ip = by_x[a], iq = by_x[b];
-          if (pos[iq] < pos[ip]) std::swap(ip, iq);
-          const PairVerdict v = classify_pair(tris[ip], tris[iq]);
-          if (v.test == 1 || v.test == 2) continue;
-          local.push_back({ip, iq, v});
-        }
-      }
-      std::lock_guard<std::mutex> lock(m);
-      out.insert(out.end(), local.begin(), local.end());
-    });
+    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n, 256),
+                      [&](const tbb::blocked_range<uint32_t>& r) {
+                        std::vector<PairFinding> local;
+                        for (uint32_t a = r.begin(); a < r.end(); ++a) {
+                          const PainterTri& ta = tris[by_x[a]];
+                          for (uint32_t b = a + 1; b < n && tris[by_x[b]].xmin < ta.xmax; ++b) {
+                            const PainterTri& tb = tris[by_x[b]];
+                            if (ta.ymax <= tb.ymin || tb.ymax <= ta.ymin)
+                              continue;  // test 2, before the call
+                            uint32_t ip = by_x[a], iq = by_x[b];
+                            if (pos[iq] < pos[ip]) std::swap(ip, iq);
+                            const PairVerdict v = classify_pair(tris[ip], tris[iq]);
+                            if (v.test == 1 || v.test == 2) continue;
+                            local.push_back({ip, iq, v});
+                          }
+                        }
+                        std::lock_guard<std::mutex> lock(m);
+                        out.insert(out.end(), local.begin(), local.end());
+                      });
   });
   return out;
 }
@@ -146,8 +147,9 @@ Image painter(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   const int w = opts.width, h = opts.height;
   const double samples = double(w) * h * s.spp;
   if (samples > double(1 << 25))
-    throw InputError(scene.source, 0,
-                     "size x spp is " + std::to_string(int64_t(samples)) + " samples; at most 33554432 (2^25)");
+    throw InputError(
+        scene.source, 0,
+        "size x spp is " + std::to_string(int64_t(samples)) + " samples; at most 33554432 (2^25)");
   const ScreenMesh mesh = view_scene(scene, w, h, s);
   const auto offsets = sample_offsets(s);
   const int spp = int(offsets.size());
@@ -186,7 +188,8 @@ Image painter(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
         // E(i) = dx (sy - ay) - dy (i 256 + ox - ax) = c - dy 256 i >= threshold.
         int64_t lo = i0, hi = i1;
         for (const RowEdge& e : edges) {
-          const int64_t c = e.dx * (sy - e.ay) - e.dy * (ox - e.ax) - e.threshold;  // need c - D i >= 0
+          const int64_t c =
+              e.dx * (sy - e.ay) - e.dy * (ox - e.ax) - e.threshold;  // need c - D i >= 0
           const int64_t D = e.dy * kSubpixel;
           if (D == 0) {
             if (c < 0) lo = hi + 1;

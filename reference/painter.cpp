@@ -200,12 +200,18 @@ PairVerdict classify_pair(const PainterTri& p, const PainterTri& q) {
   // The order tests say which order would be right where they overlap; an
   // order is only a constraint where the projections share interior (test 5).
   PairVerdict v{PairOrder::kNone, 0};
-  if (coplanar) v = {PairOrder::kCoplanar, 3};
-  else if (p.zmin >= q.zmax) v = {PairOrder::kPFirst, 0};  // p wholly farther
-  else if (q.zmin >= p.zmax) v = {PairOrder::kQFirst, 0};
-  else if (p_behind_q) v = {PairOrder::kPFirst, 3};        // test 3
-  else if (q_front_p) v = {PairOrder::kPFirst, 4};         // test 4
-  else if (q_behind_p || p_front_q) v = {PairOrder::kQFirst, 6};  // the reversed tests: swap
+  if (coplanar)
+    v = {PairOrder::kCoplanar, 3};
+  else if (p.zmin >= q.zmax)
+    v = {PairOrder::kPFirst, 0};  // p wholly farther
+  else if (q.zmin >= p.zmax)
+    v = {PairOrder::kQFirst, 0};
+  else if (p_behind_q)
+    v = {PairOrder::kPFirst, 3};  // test 3
+  else if (q_front_p)
+    v = {PairOrder::kPFirst, 4};  // test 4
+  else if (q_behind_p || p_front_q)
+    v = {PairOrder::kQFirst, 6};  // the reversed tests: swap
   // Test 5: projections disjoint (exact, on the snapped screen triangles).
   if (projections_disjoint(p, q)) return {PairOrder::kNone, 5};
   if (v.test != 0 || v.order != PairOrder::kNone) return v;
@@ -215,10 +221,12 @@ PairVerdict classify_pair(const PainterTri& p, const PainterTri& q) {
   const int d = witness_sign(p, q);
   if (d > 0) return {PairOrder::kPFirst, 8};
   if (d < 0) return {PairOrder::kQFirst, 8};
-  return {PairOrder::kInterpenetrate, 8};  // cannot happen for disjoint triangles; be safe and report
+  return {PairOrder::kInterpenetrate,
+          8};  // cannot happen for disjoint triangles; be safe and report
 }
 
-bool nearer_at(const PainterTri& a, uint32_t ia, const PainterTri& b, uint32_t ib, int64_t sx, int64_t sy) {
+bool nearer_at(const PainterTri& a, uint32_t ia, const PainterTri& b, uint32_t ib, int64_t sx,
+               int64_t sy) {
   // W_a(s) = sum_i W_ai e_ai(s) / A_a, likewise for b. Compare the cross-multiplied
   // numerators exactly: sum_i W_ai e_ai A_b - sum_i W_bi e_bi A_a.
   double rows[6][3];
@@ -243,11 +251,13 @@ std::vector<uint32_t> painter_sort(const std::vector<PainterTri>& tris) {
   // Farthest first; equal keys keep scene order.
   std::vector<uint32_t> sorted(tris.size());
   for (uint32_t i = 0; i < sorted.size(); ++i) sorted[i] = i;
-  std::stable_sort(sorted.begin(), sorted.end(), [&](uint32_t a, uint32_t b) { return tris[a].zmax > tris[b].zmax; });
+  std::stable_sort(sorted.begin(), sorted.end(),
+                   [&](uint32_t a, uint32_t b) { return tris[a].zmax > tris[b].zmax; });
   return sorted;
 }
 
-std::vector<PairFinding> painter_pairs(const std::vector<PainterTri>& tris, const std::vector<uint32_t>& sorted) {
+std::vector<PairFinding> painter_pairs(const std::vector<PainterTri>& tris,
+                                       const std::vector<uint32_t>& sorted) {
   const uint32_t n = uint32_t(tris.size());
   std::vector<uint32_t> pos(n);
   for (uint32_t i = 0; i < n; ++i) pos[sorted[i]] = i;
@@ -265,7 +275,8 @@ std::vector<PairFinding> painter_pairs(const std::vector<PainterTri>& tris, cons
       uint32_t ip = by_x[a], iq = by_x[b];
       if (pos[iq] < pos[ip]) std::swap(ip, iq);  // p: the one the sort draws first
       const PairVerdict v = classify_pair(tris[ip], tris[iq]);
-      if (v.test == 1 || v.test == 2) continue;  // extents disjoint (in y: x overlaps, by the sweep)
+      if (v.test == 1 || v.test == 2)
+        continue;  // extents disjoint (in y: x overlaps, by the sweep)
       out.push_back({ip, iq, v});
     }
   }
@@ -293,9 +304,14 @@ PainterPlan painter_plan(const std::vector<PainterTri>& tris, std::vector<uint32
     ++plan.pairs;
     ++plan.decided_by[v.test];
     switch (v.order) {
-      case PairOrder::kNone: break;
-      case PairOrder::kPFirst: order_adj[ip].push_back(iq); break;
-      case PairOrder::kQFirst: order_adj[iq].push_back(ip); break;
+      case PairOrder::kNone:
+        break;
+      case PairOrder::kPFirst:
+        order_adj[ip].push_back(iq);
+        break;
+      case PairOrder::kQFirst:
+        order_adj[iq].push_back(ip);
+        break;
       case PairOrder::kCoplanar:
         // The z-buffer keeps the first of equal depths: draw the later one first.
         order_adj[std::max(ip, iq)].push_back(std::min(ip, iq));
@@ -361,7 +377,8 @@ PainterPlan painter_plan(const std::vector<PainterTri>& tris, std::vector<uint32
   return plan;
 }
 
-std::vector<std::string> painter_notes(const ScreenMesh& mesh, const PainterPlan& plan, bool split) {
+std::vector<std::string> painter_notes(const ScreenMesh& mesh, const PainterPlan& plan,
+                                       bool split) {
   std::vector<std::string> notes;
   if (plan.groups.empty() && plan.coplanar.empty()) return notes;
   const auto tri_name = [&](uint32_t t) {
@@ -369,30 +386,42 @@ std::vector<std::string> painter_notes(const ScreenMesh& mesh, const PainterPlan
   };
   size_t in_groups = 0;
   for (const auto& g : plan.groups) in_groups += g.size();
-  notes.push_back("painter: " + std::to_string(plan.cycles.size()) + " cycle(s), " +
-                  std::to_string(plan.interpenetrations.size()) + " interpenetrating pair(s), " +
-                  std::to_string(plan.coplanar.size()) + " coplanar overlap(s); " + std::to_string(in_groups) +
-                  " of " + std::to_string(mesh.tris.size()) + " triangles in " + std::to_string(plan.groups.size()) +
-                  " group(s) that no order draws right; " +
-                  (split ? "split along their planes at every sample they share"
-                         : "drawn in depth order: where they overlap the image may be wrong (--split resolves)"));
+  notes.push_back(
+      "painter: " + std::to_string(plan.cycles.size()) + " cycle(s), " +
+      std::to_string(plan.interpenetrations.size()) + " interpenetrating pair(s), " +
+      std::to_string(plan.coplanar.size()) + " coplanar overlap(s); " + std::to_string(in_groups) +
+      " of " + std::to_string(mesh.tris.size()) + " triangles in " +
+      std::to_string(plan.groups.size()) + " group(s) that no order draws right; " +
+      (split
+           ? "split along their planes at every sample they share"
+           : "drawn in depth order: where they overlap the image may be wrong (--split resolves)"));
   constexpr size_t kMaxLines = 64;
   size_t lines = 0, left = 0;
   for (const auto& g : plan.groups) {
-    if (lines++ >= kMaxLines) { ++left; continue; }
+    if (lines++ >= kMaxLines) {
+      ++left;
+      continue;
+    }
     std::string s = "painter: group of " + std::to_string(g.size()) + " triangles:";
     for (uint32_t t : g) s += " " + tri_name(t);
     notes.push_back(s);
   }
   for (const auto& [a, b] : plan.interpenetrations) {
-    if (lines++ >= kMaxLines) { ++left; continue; }
+    if (lines++ >= kMaxLines) {
+      ++left;
+      continue;
+    }
     notes.push_back("painter: interpenetration: " + tri_name(a) + " and " + tri_name(b));
   }
   for (const auto& [a, b] : plan.coplanar) {
-    if (lines++ >= kMaxLines) { ++left; continue; }
+    if (lines++ >= kMaxLines) {
+      ++left;
+      continue;
+    }
     notes.push_back("painter: coplanar overlap: " + tri_name(a) + " and " + tri_name(b));
   }
-  if (left > 0) notes.push_back("painter: ... and " + std::to_string(left) + " more findings not listed");
+  if (left > 0)
+    notes.push_back("painter: ... and " + std::to_string(left) + " more findings not listed");
   return notes;
 }
 
@@ -423,7 +452,8 @@ Fragment painter_fragment(const ScreenMesh& mesh, uint32_t t, int64_t sx, int64_
   f.sx = double(sx) / kSubpixel;
   f.sy = double(sy) / kSubpixel;
   // Screen barycentrics (area ratios), then depth from the plane of 1/z.
-  const double l0 = double(e[0]) / double(area), l1 = double(e[1]) / double(area), l2 = double(e[2]) / double(area);
+  const double l0 = double(e[0]) / double(area), l1 = double(e[1]) / double(area),
+               l2 = double(e[2]) / double(area);
   const double inv_z = l0 / tri.v[0].z + l1 / tri.v[1].z + l2 / tri.v[2].z;
   f.z = 1 / inv_z;
   if (perspective) {
@@ -449,8 +479,9 @@ Image painter(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   // The same sample budget as the z-buffer (its buffers are the same size).
   const double samples = double(w) * h * s.spp;
   if (samples > double(1 << 25))
-    throw InputError(scene.source, 0,
-                     "size x spp is " + std::to_string(int64_t(samples)) + " samples; at most 33554432 (2^25)");
+    throw InputError(
+        scene.source, 0,
+        "size x spp is " + std::to_string(int64_t(samples)) + " samples; at most 33554432 (2^25)");
   const ScreenMesh mesh = view_scene(scene, w, h, s);
   const auto offsets = sample_offsets(s);
   const int spp = int(offsets.size());
@@ -491,7 +522,8 @@ Image painter(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
           const size_t idx = (size_t(j) * size_t(w) + size_t(i)) * size_t(spp) + size_t(k);
           // Split: inside a cycle or interpenetration, the sample goes to the
           // group's triangle in front there (exactly; ties to the first, as the z-buffer).
-          if (resolve && owner[idx] != Visibility::kNone && plan.group[owner[idx]] == plan.group[t] &&
+          if (resolve && owner[idx] != Visibility::kNone &&
+              plan.group[owner[idx]] == plan.group[t] &&
               !nearer_at(pt, t, tris[owner[idx]], owner[idx], sx, sy))
             continue;
           const Fragment f = painter_fragment(mesh, t, sx, sy, e, pt.area, s.perspective);

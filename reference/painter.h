@@ -45,8 +45,8 @@ struct PainterTri {
   std::array<int64_t, 3> x{}, y{};  // snapped screen position, 1/256 pixel
   std::array<Vec3, 3> s;            // (x, y, W = 1/z) in screen space S
   int64_t xmin = 0, xmax = 0, ymin = 0, ymax = 0;
-  double zmin = 0, zmax = 0;        // eye depth range
-  int64_t area = 0;                 // twice the snapped area (> 0)
+  double zmin = 0, zmax = 0;  // eye depth range
+  int64_t area = 0;           // twice the snapped area (> 0)
 };
 PainterTri painter_tri(const ScreenTri& t);
 
@@ -71,19 +71,23 @@ PairVerdict classify_pair(const PainterTri& p, const PainterTri& q);
 
 // Exact: is triangle a nearer than triangle b at the sample (sx, sy) (snapped
 // units)? Equal depths: the lower index (the z-buffer keeps the first).
-bool nearer_at(const PainterTri& a, uint32_t ia, const PainterTri& b, uint32_t ib, int64_t sx, int64_t sy);
+bool nearer_at(const PainterTri& a, uint32_t ia, const PainterTri& b, uint32_t ib, int64_t sx,
+               int64_t sy);
 
 struct PainterPlan {
-  std::vector<uint32_t> sorted;     // triangle indices, farthest eye z first (ties: scene order)
-  std::vector<uint32_t> order;      // the drawing order: components topologically, members in sorted order
-  std::vector<uint32_t> group;      // per triangle: its component (cycles and interpenetrations merged)
-  std::vector<uint32_t> group_size; // per component: members
-  std::vector<std::vector<uint32_t>> cycles;  // components of the must-draw-before graph with > 1 triangle
-  std::vector<std::vector<uint32_t>> groups;  // components with > 1 triangle once interpenetrating pairs
-                                              // are tied both ways: what no order draws right (in sort order)
+  std::vector<uint32_t> sorted;  // triangle indices, farthest eye z first (ties: scene order)
+  std::vector<uint32_t>
+      order;  // the drawing order: components topologically, members in sorted order
+  std::vector<uint32_t> group;  // per triangle: its component (cycles and interpenetrations merged)
+  std::vector<uint32_t> group_size;  // per component: members
+  std::vector<std::vector<uint32_t>>
+      cycles;  // components of the must-draw-before graph with > 1 triangle
+  std::vector<std::vector<uint32_t>>
+      groups;  // components with > 1 triangle once interpenetrating pairs
+               // are tied both ways: what no order draws right (in sort order)
   std::vector<std::array<uint32_t, 2>> interpenetrations;
   std::vector<std::array<uint32_t, 2>> coplanar;
-  uint64_t pairs = 0;               // pairs whose screen extents overlap
+  uint64_t pairs = 0;                    // pairs whose screen extents overlap
   std::array<uint64_t, 9> decided_by{};  // PairVerdict::test counts
   uint64_t edges = 0;
 };
@@ -95,7 +99,8 @@ struct PairFinding {
   uint32_t p = 0, q = 0;
   PairVerdict v;
 };
-std::vector<PairFinding> painter_pairs(const std::vector<PainterTri>& tris, const std::vector<uint32_t>& sorted);
+std::vector<PairFinding> painter_pairs(const std::vector<PainterTri>& tris,
+                                       const std::vector<uint32_t>& sorted);
 // the graph of those verdicts, its strongly connected components (Tarjan
 // 1972) and a topological order of them (Kahn 1962). The result does not
 // depend on the order of `pairs`.

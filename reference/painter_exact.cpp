@@ -139,7 +139,8 @@ int orient3d(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   const double adx = a.x - d.x, ady = a.y - d.y, adz = a.z - d.z;
   const double bdx = b.x - d.x, bdy = b.y - d.y, bdz = b.z - d.z;
   const double cdx = c.x - d.x, cdy = c.y - d.y, cdz = c.z - d.z;
-  const double det = adx * (bdy * cdz - bdz * cdy) + bdx * (cdy * adz - cdz * ady) + cdx * (ady * bdz - adz * bdy);
+  const double det =
+      adx * (bdy * cdz - bdz * cdy) + bdx * (cdy * adz - cdz * ady) + cdx * (ady * bdz - adz * bdy);
   const double permanent = std::fabs(adx) * (std::fabs(bdy * cdz) + std::fabs(bdz * cdy)) +
                            std::fabs(bdx) * (std::fabs(cdy * adz) + std::fabs(cdz * ady)) +
                            std::fabs(cdx) * (std::fabs(ady * bdz) + std::fabs(adz * bdy));
@@ -160,7 +161,8 @@ int orient3d(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
 
 int sign_of_triple_products(const double (*rows)[3], int n) {
   Expansion total{0.0};
-  for (int i = 0; i < n; ++i) total = add(total, scale(scale(Expansion{rows[i][0]}, rows[i][1]), rows[i][2]));
+  for (int i = 0; i < n; ++i)
+    total = add(total, scale(scale(Expansion{rows[i][0]}, rows[i][1]), rows[i][2]));
   return sign(total);
 }
 
@@ -197,7 +199,8 @@ bool segments_meet(const P2& a, const P2& b, const P2& c, const P2& d) {
 // Point p in the closed triangle abc (any orientation, possibly degenerate).
 bool point_in_triangle(const P2& p, const P2& a, const P2& b, const P2& c) {
   const int o = orient(a, b, c);
-  if (o == 0) return segments_meet(a, b, p, p) || segments_meet(b, c, p, p) || segments_meet(c, a, p, p);
+  if (o == 0)
+    return segments_meet(a, b, p, p) || segments_meet(b, c, p, p) || segments_meet(c, a, p, p);
   const int o1 = orient(a, b, p) * o, o2 = orient(b, c, p) * o, o3 = orient(c, a, p) * o;
   return o1 >= 0 && o2 >= 0 && o3 >= 0;
 }
@@ -238,7 +241,8 @@ bool segment_meets_triangle(const Vec3& p, const Vec3& q, const std::array<Vec3,
   }
   // The segment meets the plane in one point; it is in the closed triangle iff
   // the line pq passes on the same side of (or through) all three edges.
-  const int o1 = orient3d(p, q, t[0], t[1]), o2 = orient3d(p, q, t[1], t[2]), o3 = orient3d(p, q, t[2], t[0]);
+  const int o1 = orient3d(p, q, t[0], t[1]), o2 = orient3d(p, q, t[1], t[2]),
+            o3 = orient3d(p, q, t[2], t[0]);
   return (o1 >= 0 && o2 >= 0 && o3 >= 0) || (o1 <= 0 && o2 <= 0 && o3 <= 0);
 }
 

@@ -25,6 +25,8 @@
 //       reference painter without split on 100 cyclic triples and 100
 //       interpenetrating pairs, printed; every cyclic triple must draw some
 //       pixel wrong, and none may with split.
+#include "reference/painter.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -44,7 +46,6 @@
 #include "props/raster/painter_oracle.h"
 #include "props/raster/parts.h"
 #include "props/raster/raster_case.h"
-#include "reference/painter.h"
 
 namespace lockstep::props::raster {
 
@@ -58,16 +59,18 @@ std::string num(double x) {
   return buf;
 }
 
-std::string vec(double x, double y, double z) { return num(x) + " " + num(y) + " " + num(z) + "\n"; }
+std::string vec(double x, double y, double z) {
+  return num(x) + " " + num(y) + " " + num(z) + "\n";
+}
 
 std::string view_block(int w, int h) {
-  return "v\nfrom 0 0 0\nat 0 0 -1\nup 0 1 0\nangle 40\nhither 1\nresolution " + std::to_string(w) + " " +
-         std::to_string(h) + "\nb 0.1 0.1 0.2\nl 4 5 10\nl -6 2 8 0.6 0.6 0.6\n";
+  return "v\nfrom 0 0 0\nat 0 0 -1\nup 0 1 0\nangle 40\nhither 1\nresolution " + std::to_string(w) +
+         " " + std::to_string(h) + "\nb 0.1 0.1 0.2\nl 4 5 10\nl -6 2 8 0.6 0.6 0.6\n";
 }
 
 std::string material(const Uniform& u, bool two_sided) {
-  return "f " + num(0.2 + 0.8 * u()) + " " + num(0.2 + 0.8 * u()) + " " + num(0.2 + 0.8 * u()) + " 0.8 " +
-         num(0.4 * u()) + " 12 " + (two_sided ? "0.5" : "0") + " 1\n";
+  return "f " + num(0.2 + 0.8 * u()) + " " + num(0.2 + 0.8 * u()) + " " + num(0.2 + 0.8 * u()) +
+         " 0.8 " + num(0.4 * u()) + " 12 " + (two_sided ? "0.5" : "0") + " 1\n";
 }
 
 // Layered: triangle k lies in slab s_k = {d0 + s gap + m <= n.p <= d0 + (s+1) gap - m}
@@ -128,7 +131,8 @@ std::string interpenetrating_pair_nff(const Uniform& u, int w, int h) {
   for (const auto& t : tri) {
     s += material(u, true) + "p 3\n";
     for (const auto& p : t) {
-      const double x = p[0] + 0.6 * (u() - 0.5), y = p[1] + 0.6 * (u() - 0.5), z = p[2] + 0.6 * (u() - 0.5);
+      const double x = p[0] + 0.6 * (u() - 0.5), y = p[1] + 0.6 * (u() - 0.5),
+                   z = p[2] + 0.6 * (u() - 0.5);
       s += vec(c * x - sn * y, sn * x + c * y, z - 10);
     }
   }
@@ -166,7 +170,8 @@ std::set<uint32_t> reported_tris(const std::vector<std::string>& notes) {
 }
 
 // Per pixel: the largest number of the given triangles covering one of its samples.
-std::vector<int> cover_count(const Scene& scene, const RasterCase& c, const std::set<uint32_t>& which) {
+std::vector<int> cover_count(const Scene& scene, const RasterCase& c,
+                             const std::set<uint32_t>& which) {
   const RasterSettings s = raster_settings(c.params, "<case>");
   const ScreenMesh mesh = view_scene(scene, c.width, c.height, s);
   const auto offsets = sample_offsets(s);
@@ -224,10 +229,10 @@ std::string pixel_detail(const ImageImpl& impl, const Frames& f, int i, int j, d
   const float* a = f.painter.pixel(i, j);
   const float* b = f.zbuffer.pixel(i, j);
   std::ostringstream d;
-  d << "pixel (" << i << ", " << j << "): painter " << impl.name << " (" << a[0] << ", " << a[1] << ", " << a[2]
-    << ") depth " << f.painter.depth[size_t(j) * f.painter.width + i] << " vs z-buffer (" << b[0] << ", " << b[1]
-    << ", " << b[2] << ") depth " << f.zbuffer.depth[size_t(j) * f.zbuffer.width + i] << ", error " << err
-    << "; notes:";
+  d << "pixel (" << i << ", " << j << "): painter " << impl.name << " (" << a[0] << ", " << a[1]
+    << ", " << a[2] << ") depth " << f.painter.depth[size_t(j) * f.painter.width + i]
+    << " vs z-buffer (" << b[0] << ", " << b[1] << ", " << b[2] << ") depth "
+    << f.zbuffer.depth[size_t(j) * f.zbuffer.width + i] << ", error " << err << "; notes:";
   for (const auto& n : f.notes) d << " [" << n << "]";
   return d.str();
 }
@@ -287,13 +292,15 @@ Verdict reports_or_splits(const ImageImpl& impl, const RasterCase& c, bool split
 }
 
 Property frame_property(const ImageFamily& family, const ImageImpl& impl, const std::string& suite,
-                        const std::string& check, const std::string& gen_name, SceneMaker make, bool split,
+                        const std::string& check, const std::string& gen_name, SceneMaker make,
+                        bool split,
                         std::function<Verdict(const ImageImpl&, const RasterCase&)> judge) {
   Property p;
   p.family = std::string(family.name);
   p.check = check;
   p.suite = suite;
-  p.name = std::string(family.name) + "__" + std::string(impl.name) + (gen_name == "layered" ? "" : "__" + gen_name);
+  p.name = std::string(family.name) + "__" + std::string(impl.name) +
+           (gen_name == "layered" ? "" : "__" + gen_name);
   p.generator = gen_name;
   p.pair = std::string(family.name);
   p.impl = std::string(impl.name);
@@ -340,7 +347,8 @@ PairsCase read_pairs(const std::string& text, const std::string& file) {
   std::istringstream in(text.substr(std::min(text.size(), text.find("tri_tri_pairs"))));
   std::string head;
   size_t n = 0;
-  if (!(in >> head >> n) || head != "tri_tri_pairs") throw InputError(file, 0, "expected 'tri_tri_pairs N'");
+  if (!(in >> head >> n) || head != "tri_tri_pairs")
+    throw InputError(file, 0, "expected 'tri_tri_pairs N'");
   PairsCase c;
   c.pairs.resize(n);
   for (auto& pr : c.pairs)
@@ -362,8 +370,9 @@ rc::Gen<PairsCase> pairs_gen() {
       const int kind = int(*gen::int_in(0, 3));
       auto grid = [] { return double(*gen::int_in(-3, 3)) * 0.5; };
       for (auto& t : pr)
-        for (Vec3& v : t) v = kind == 0 ? Vec3(*gen::uniform(-1, 1), *gen::uniform(-1, 1), *gen::uniform(-1, 1))
-                                        : Vec3(grid(), grid(), grid());
+        for (Vec3& v : t)
+          v = kind == 0 ? Vec3(*gen::uniform(-1, 1), *gen::uniform(-1, 1), *gen::uniform(-1, 1))
+                        : Vec3(grid(), grid(), grid());
       if (kind == 2) {  // share a vertex or an edge
         pr[1][0] = pr[0][int(*gen::int_in(0, 2))];
         if (*gen::chance(1, 2)) pr[1][1] = pr[0][int(*gen::int_in(0, 2))];
@@ -374,7 +383,9 @@ rc::Gen<PairsCase> pairs_gen() {
         v[axis] = gen::nudge(v[axis], *gen::int_in(-3, 3));
       }
       // Non-degenerate triangles only (the predicate's precondition).
-      if (oracle_collinear(pr[0][0], pr[0][1], pr[0][2]) || oracle_collinear(pr[1][0], pr[1][1], pr[1][2])) continue;
+      if (oracle_collinear(pr[0][0], pr[0][1], pr[0][2]) ||
+          oracle_collinear(pr[1][0], pr[1][1], pr[1][2]))
+        continue;
       c.pairs.push_back(pr);
     }
     return c;
@@ -388,11 +399,16 @@ Verdict check_pairs(const PairsCase& c) {
     o.unit = "decision";
     const bool got = exact::triangles_intersect(t, u), want = oracle_triangles_intersect(t, u);
     std::string why;
-    if (got != want) why = std::string("triangles_intersect ") + (got ? "true" : "false") + ", CGAL " + (want ? "true" : "false");
+    if (got != want)
+      why = std::string("triangles_intersect ") + (got ? "true" : "false") + ", CGAL " +
+            (want ? "true" : "false");
     // orient3d of every vertex of u against t's plane (ours is -CGAL's orientation).
     for (int k = 0; k < 3 && why.empty(); ++k) {
-      const int a = exact::orient3d(t[0], t[1], t[2], u[k]), b = -oracle_orientation(t[0], t[1], t[2], u[k]);
-      if (a != b) why = "orient3d of u[" + std::to_string(k) + "]: " + std::to_string(a) + ", CGAL " + std::to_string(b);
+      const int a = exact::orient3d(t[0], t[1], t[2], u[k]),
+                b = -oracle_orientation(t[0], t[1], t[2], u[k]);
+      if (a != b)
+        why = "orient3d of u[" + std::to_string(k) + "]: " + std::to_string(a) + ", CGAL " +
+              std::to_string(b);
     }
     if (!why.empty()) {
       o.kind = Outcome::unexplained;
@@ -425,7 +441,9 @@ Property exact_property(const ImageFamily& family) {
     r.text = [c](long) { return write_pairs(*c); };
     return r;
   };
-  p.replay = [](const std::string& text, const std::string& file) { return check_pairs(read_pairs(text, file)); };
+  p.replay = [](const std::string& text, const std::string& file) {
+    return check_pairs(read_pairs(text, file));
+  };
   return p;
 }
 
@@ -439,7 +457,8 @@ void failure_map(const ImageFamily& family) {
     const char* name;
     SceneMaker make;
   };
-  for (const Row& row : {Row{"cyclic_triple", cyclic_triple_nff}, Row{"interpenetrating_pair", interpenetrating_pair_nff}}) {
+  for (const Row& row : {Row{"cyclic_triple", cyclic_triple_nff},
+                         Row{"interpenetrating_pair", interpenetrating_pair_nff}}) {
     double sum = 0, lo = 1, hi = 0, sum_split = 0;
     int cases = 0, reported = 0, with_wrong = 0;
     for (int n = 0; n < 100; ++n) {
@@ -464,7 +483,9 @@ void failure_map(const ImageFamily& family) {
       with_wrong += wrong > 0;
       reported += !f.notes.empty();
       ++cases;
-      if (row.make == cyclic_triple_nff) EXPECT_GT(wrong, 0) << "a cyclic triple drawn right in depth order:\n" << c.nff;
+      if (row.make == cyclic_triple_nff) {
+        EXPECT_GT(wrong, 0) << "a cyclic triple drawn right in depth order:\n" << c.nff;
+      }
       // With split: nothing wrong.
       c.params.set("split", "1");
       c.params.set("depth", "double");
@@ -479,9 +500,11 @@ void failure_map(const ImageFamily& family) {
       sum_split += double(wrong_split);
       EXPECT_EQ(wrong_split, 0) << "split differs from the z-buffer:\n" << c.nff;
     }
-    std::printf("painter failure map, %s (64x64, flat, %d cases): wrong pixels / covered pixels mean %.4f, min %.4f, "
-                "max %.4f; %d cases with wrong pixels, %d reported; with split: %.0f wrong pixels in all\n",
-                row.name, cases, sum / cases, lo, hi, with_wrong, reported, sum_split);
+    std::printf(
+        "painter failure map, %s (64x64, flat, %d cases): wrong pixels / covered pixels mean %.4f, "
+        "min %.4f, "
+        "max %.4f; %d cases with wrong pixels, %d reported; with split: %.0f wrong pixels in all\n",
+        row.name, cases, sum / cases, lo, hi, with_wrong, reported, sum_split);
   }
 }
 
@@ -490,19 +513,17 @@ void failure_map(const ImageFamily& family) {
 void painter_part(const ImageFamily& family, FamilyProperties& out) {
   if (family.name != "painter") return;
   for (const ImageImpl& impl : family.impls) {
-    out.properties.push_back(frame_property(family, impl, "PainterEqualsZbuffer", "equals_zbuffer", "layered",
-                                            layered_nff, false, equals_zbuffer));
-    for (const auto& [name, make] : {std::pair<std::string, SceneMaker>{"cyclic_triple", cyclic_triple_nff},
-                                     std::pair<std::string, SceneMaker>{"interpenetrating_pair",
-                                                                        interpenetrating_pair_nff}}) {
-      out.properties.push_back(frame_property(family, impl, "PainterReports", "reports", name, make, false,
-                                              [](const ImageImpl& i, const RasterCase& c) {
-                                                return reports_or_splits(i, c, false);
-                                              }));
-      out.properties.push_back(frame_property(family, impl, "PainterSplit", "split", name, make, true,
-                                              [](const ImageImpl& i, const RasterCase& c) {
-                                                return reports_or_splits(i, c, true);
-                                              }));
+    out.properties.push_back(frame_property(family, impl, "PainterEqualsZbuffer", "equals_zbuffer",
+                                            "layered", layered_nff, false, equals_zbuffer));
+    for (const auto& [name, make] :
+         {std::pair<std::string, SceneMaker>{"cyclic_triple", cyclic_triple_nff},
+          std::pair<std::string, SceneMaker>{"interpenetrating_pair", interpenetrating_pair_nff}}) {
+      out.properties.push_back(frame_property(
+          family, impl, "PainterReports", "reports", name, make, false,
+          [](const ImageImpl& i, const RasterCase& c) { return reports_or_splits(i, c, false); }));
+      out.properties.push_back(frame_property(
+          family, impl, "PainterSplit", "split", name, make, true,
+          [](const ImageImpl& i, const RasterCase& c) { return reports_or_splits(i, c, true); }));
     }
   }
   out.properties.push_back(exact_property(family));

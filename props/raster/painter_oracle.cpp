@@ -21,6 +21,8 @@ int oracle_orientation(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& 
   return o == CGAL::POSITIVE ? 1 : (o == CGAL::NEGATIVE ? -1 : 0);
 }
 
-bool oracle_collinear(const Vec3& a, const Vec3& b, const Vec3& c) { return CGAL::collinear(pt(a), pt(b), pt(c)); }
+bool oracle_collinear(const Vec3& a, const Vec3& b, const Vec3& c) {
+  return CGAL::collinear(pt(a), pt(b), pt(c));
+}
 
 }  // namespace lockstep::props::raster
