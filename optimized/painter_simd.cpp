@@ -9,7 +9,8 @@
 //     the double key, so the sort equals painter_sort exactly.
 //   * pair tests: the x sweep cut into chunks over TBB threads, each pair
 //     classified by the reference's classify_pair (exact predicates: the filter
-//     decides almost every orientation in plain doubles); the plan is built
+//     decides almost every orientation in plain doubles), after test 5 alone
+//     (exact integers), which settles most pairs of a mesh; the plan is built
 //     from the findings by the shared painter_plan, which does not depend on
 //     their order.
 //   * painting: what is painted is only the owner of each sample (the triangle

@@ -43,21 +43,11 @@ int64_t edge(int64_t ax, int64_t ay, int64_t bx, int64_t by, int64_t px, int64_t
 
 // Which side of the plane of t the point v lies on: +1 in front (larger W, nearer),
 // -1 behind, 0 on it. t has positive screen area, so orient3d's sign flips.
-int side(const PainterTri& t, const Vec3& v) { return -exact::orient3d(t.s[0], t.s[1], t.s[2], v); }
-
-// Whether the interiors of the two screen triangles are disjoint: some edge of
-// one has the whole other triangle on its outer side or on it (separating axis).
-bool projections_disjoint(const PainterTri& p, const PainterTri& q) {
-  for (int i = 0; i < 3; ++i) {
-    const int j = (i + 1) % 3;
-    bool q_out = true, p_out = true;
-    for (int k = 0; k < 3; ++k) {
-      q_out = q_out && edge(p.x[i], p.y[i], p.x[j], p.y[j], q.x[k], q.y[k]) <= 0;
-      p_out = p_out && edge(q.x[i], q.y[i], q.x[j], q.y[j], p.x[k], p.y[k]) <= 0;
-    }
-    if (q_out || p_out) return true;
-  }
-  return false;
+int side(const PainterTri& t, const Vec3& v) {
+  // A vertex of t lies on its plane (mesh neighbours share vertices: this is
+  // the common case, and one the floating-point filter can never decide).
+  if (v == t.s[0] || v == t.s[1] || v == t.s[2]) return 0;
+  return -exact::orient3d(t.s[0], t.s[1], t.s[2], v);
 }
 
 // Point (x, y) in the closed screen triangle t.
@@ -180,6 +170,22 @@ PainterTri painter_tri(const ScreenTri& t) {
 }
 
 // ---------------------------------------------------------------- one pair
+
+// Whether the interiors of the two screen triangles are disjoint: some edge of
+// one has the whole other triangle on its outer side or on it (separating axis).
+bool projections_disjoint(const PainterTri& p, const PainterTri& q) {
+  for (int i = 0; i < 3; ++i) {
+    const int j = (i + 1) % 3;
+    bool q_out = true, p_out = true;
+    for (int k = 0; k < 3; ++k) {
+      q_out = q_out && edge(p.x[i], p.y[i], p.x[j], p.y[j], q.x[k], q.y[k]) <= 0;
+      p_out = p_out && edge(q.x[i], q.y[i], q.x[j], q.y[j], p.x[k], p.y[k]) <= 0;
+    }
+    if (q_out || p_out) return true;
+  }
+  return false;
+}
+
 
 PairVerdict classify_pair(const PainterTri& p, const PainterTri& q) {
   // Tests 1 and 2: screen extents disjoint in x, in y (touching counts: no

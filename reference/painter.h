@@ -68,6 +68,9 @@ struct PairVerdict {
   int test = 0;
 };
 PairVerdict classify_pair(const PainterTri& p, const PainterTri& q);
+// Test 5 alone: the interiors of the two screen triangles are disjoint (exact).
+// classify_pair(p, q) is then {kNone, 5} whenever the extents overlap.
+bool projections_disjoint(const PainterTri& p, const PainterTri& q);
 
 // Exact: is triangle a nearer than triangle b at the sample (sx, sy) (snapped
 // units)? Equal depths: the lower index (the z-buffer keeps the first).
