@@ -186,7 +186,6 @@ bool projections_disjoint(const PainterTri& p, const PainterTri& q) {
   return false;
 }
 
-
 PairVerdict classify_pair(const PainterTri& p, const PainterTri& q) {
   // Tests 1 and 2: screen extents disjoint in x, in y (touching counts: no
   // sample is inside both, the fill rule gives a shared boundary to one).
