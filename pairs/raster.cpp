@@ -6,10 +6,12 @@
 #include <string>
 
 #include "core/nff.h"
-#include "optimized/raster.h"
 #include "optimized/painter.h"
+#include "optimized/raster.h"
 #include "reference/painter.h"
 #include "reference/raster.h"
+#include "reference/scanline.h"
+#include "optimized/scanline.h"
 
 namespace lockstep {
 
@@ -88,13 +90,33 @@ ImageFamily zbuffer_family() {
   return f;
 }
 
+ImageFamily scanline_family() {
+  ImageFamily f = raster_family("scanline",
+                                "scanline z-buffer (Watkins; edge table, active edges, incremental spans), "
+                                "flat/Gouraud/Phong/toon shading",
+                                "scanline");
+  // The same samples and fill rule as the z-buffer (coverage equal sample for
+  // sample, props/raster/scanline.cpp); depth and attributes are incremental,
+  // so colours differ from the z-buffer's by the drift, and the visible surface
+  // only where two surfaces are within the drift of each other.
+  f.tol.color_abs = 1.0 / 255;
+  f.tol.pixel_fraction = 0.999;
+  const TypedImpl<Scene> impls[] = {
+      {"reference", ref::scanline, 0, {}, {}, false},
+      {"simd", opt::simd::scanline, 0},
+  };
+  f.impls = erase_all<Scene>(impls);
+  return f;
+}
+
 ImageFamily painter_family() {
   ImageFamily f = raster_family("painter",
                                 "painter's algorithm (depth sort, Newell-Newell-Sancha tests, cycles and "
                                 "interpenetrations reported; --split resolves them)",
                                 "painter");
   // Judged against the z-buffer's tolerance: where the order is right the
-  // painter draws the z-buffer's fragments, bit for bit.
+  // painter draws the z-buffer's fragments, bit for bit; simd paints the same
+  // plan and agrees with the reference bit for bit (props/raster/painter.cpp).
   f.tol.color_abs = 1.0 / 255;
   f.tol.pixel_fraction = 0.999;
   const TypedImpl<Scene> impls[] = {

@@ -13,6 +13,7 @@
 namespace lockstep {
 
 ImageFamily zbuffer_family();
+ImageFamily scanline_family();
 ImageFamily painter_family();
 
 }  // namespace lockstep

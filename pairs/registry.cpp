@@ -12,6 +12,7 @@ const Registry& registry() {
       ray_cast_family(),
       composite_family(),
       zbuffer_family(),
+      scanline_family(),
       painter_family(),
   }};
   return r;

@@ -22,6 +22,7 @@ const std::vector<ProviderRow>& property_providers() {
       {"ray_cast", ray_cast::properties},
       {"composite", composite::properties},
       {"zbuffer", raster::properties},
+      {"scanline", raster::properties},
       {"painter", raster::properties},
   };
   return rows;

@@ -76,7 +76,7 @@ enum class DepthFormat : uint8_t {
   kFloat,     // window depth d = (1/n - 1/z) / (1/n - 1/f) in [0, 1], as a float; nearer = smaller
   kReversed,  // reversed-Z: d = n / z as a float (infinite far plane); nearer = larger
   kFixed24,   // the window depth d rounded to 24-bit fixed point, as most hardware
-  kDouble,    // 1/z in double: the reference's exact-ish answer
+  kDouble,    // the window depth d in double: the reference's exact-ish answer
 };
 
 struct RasterSettings {

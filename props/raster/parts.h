@@ -34,6 +34,10 @@ rc::Gen<RasterCase> flat_parallel_scene();
 std::vector<FlatTri> flat_tris(const Scene& scene, const ScreenMesh& mesh);
 // World-space against projection-space back-face culling (culling.cpp).
 void culling_part(const ImageFamily& family, FamilyProperties& out);
+// scanline: coverage against the z-buffer on snapped meshes, frames against the z-buffer (scanline.cpp).
+void scanline_part(const ImageFamily& family, FamilyProperties& out);
+// scanline: the interpolation lessons, measured (interpolation.cpp).
+void interpolation_part(const ImageFamily& family, FamilyProperties& out);
 // The painter against the z-buffer, its reports, --split, its exact predicates (painter.cpp).
 void painter_part(const ImageFamily& family, FamilyProperties& out);
 

@@ -204,7 +204,7 @@ Property case_property(const ImageFamily& family, const ImageImpl& impl, std::st
 }
 
 void cross_check_part(const ImageFamily& family, FamilyProperties& out) {
-  if (family.name != "zbuffer") return;
+  if (family.name != "zbuffer" && family.name != "scanline") return;
   for (const ImageImpl& impl : family.impls)
     if (impl.name != "llvmpipe") out.properties.push_back(cross_check_property(family, impl));
 }
@@ -217,6 +217,8 @@ FamilyProperties properties(const ImageFamily& family) {
       cross_check_part,
       culling_part,
       supersampling_part,
+      scanline_part,
+      interpolation_part,
       painter_part,
   };
   FamilyProperties out;

@@ -151,7 +151,7 @@ Verdict converges(const ImageImpl& impl, const RasterCase& c) {
 }  // namespace
 
 void supersampling_part(const ImageFamily& family, FamilyProperties& out) {
-  if (family.name != "zbuffer") return;
+  if (family.name != "zbuffer" && family.name != "scanline") return;
   for (const ImageImpl& impl : family.impls)
     if (impl.name != "llvmpipe")
       out.properties.push_back(case_property(family, impl, "SupersamplingConverges", "flat_parallel_scene",

@@ -1,0 +1,27 @@
+// lockstep optimized: the scanline z-buffer (the contract is reference/raster.h
+// and reference/scanline.h).
+//
+//   simd  optimized/scanline_simd.cpp  the reference's edge table, active edge
+//         list and exact integer edge walk; spans filled by Highway vectors
+//         (depth test + write, 8 floats per AVX2 vector, 16 per AVX-512) with
+//         the stored depth interpolated directly (it is affine in screen space);
+//         bands of rows on TBB; the visible samples shaded from their exact
+//         edge functions (the fragments of ref::zbuffer).
+#pragma once
+
+#include "reference/raster.h"
+
+namespace lockstep {
+
+namespace opt::simd {
+// Same contract as ref::scanline_visibility; threads = 0: all cores.
+void scanline_visibility(const ScreenMesh& mesh, const RasterSettings& s, int threads,
+                         Visibility& vis);
+Image scanline(const Scene& scene, const FrameOptions& opts, FrameStats* stats);
+// The Highway target the span fills run on ("AVX2", "AVX3", ...).
+const char* scanline_target_name();
+// Float lanes per vector of that target (the span fill's step).
+size_t scanline_lanes();
+}  // namespace opt::simd
+
+}  // namespace lockstep
