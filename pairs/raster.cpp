@@ -6,7 +6,9 @@
 #include <string>
 
 #include "core/nff.h"
+#include "optimized/painter.h"
 #include "optimized/raster.h"
+#include "reference/painter.h"
 #include "reference/raster.h"
 #include "reference/scanline.h"
 #include "optimized/scanline.h"
@@ -142,6 +144,25 @@ ImageFamily scanline_family() {
       {"simd", opt::simd::scanline, 0},
   };
   f.impls = erase_all<Scene>(impls);
+  return f;
+}
+
+ImageFamily painter_family() {
+  ImageFamily f = raster_family("painter",
+                                "painter's algorithm (depth sort, Newell-Newell-Sancha tests, cycles and "
+                                "interpenetrations reported; --split resolves them)",
+                                "painter");
+  // Judged against the z-buffer's tolerance: where the order is right the
+  // painter draws the z-buffer's fragments, bit for bit; simd paints the same
+  // plan and agrees with the reference bit for bit (props/raster/painter.cpp).
+  f.tol.color_abs = 1.0 / 255;
+  f.tol.pixel_fraction = 0.999;
+  const TypedImpl<Scene> impls[] = {
+      {"reference", ref::painter, 0, {}, {}, false},
+      {"simd", opt::simd::painter, 0},
+  };
+  f.impls = erase_all<Scene>(impls);
+  f.default_impl = "simd";
   return f;
 }
 

@@ -14,5 +14,6 @@ namespace lockstep {
 
 ImageFamily zbuffer_family();
 ImageFamily scanline_family();
+ImageFamily painter_family();
 
 }  // namespace lockstep

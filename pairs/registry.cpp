@@ -13,6 +13,7 @@ const Registry& registry() {
       composite_family(),
       zbuffer_family(),
       scanline_family(),
+      painter_family(),
   }};
   return r;
 }

@@ -23,6 +23,7 @@ const std::vector<ProviderRow>& property_providers() {
       {"composite", composite::properties},
       {"zbuffer", raster::properties},
       {"scanline", raster::properties},
+      {"painter", raster::properties},
   };
   return rows;
 }

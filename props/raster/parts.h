@@ -43,5 +43,7 @@ void interpolation_part(const ImageFamily& family, FamilyProperties& out);
 void visibility_part(const ImageFamily& family, FamilyProperties& out);
 // The llvmpipe peer's coverage against the reference's (llvmpipe.cpp).
 void llvmpipe_part(const ImageFamily& family, FamilyProperties& out);
+// The painter against the z-buffer, its reports, --split, its exact predicates (painter.cpp).
+void painter_part(const ImageFamily& family, FamilyProperties& out);
 
 }  // namespace lockstep::props::raster

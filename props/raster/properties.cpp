@@ -225,6 +225,7 @@ FamilyProperties properties(const ImageFamily& family) {
       interpolation_part,
       visibility_part,
       llvmpipe_part,
+      painter_part,
   };
   FamilyProperties out;
   for (Part part : kParts) part(family, out);
