@@ -13,6 +13,8 @@ BENCH_JSON Google Benchmark's JSON of `lockstep_bench --benchmark_filter=frame/(
                             sphere tessellation target
   raster_supersampling.png  error against the exact box filter, against spp and time
   raster_zfight.png         the z-fighting failure map per depth format
+  raster_painter.png        the painter's failure map: wrong pixels per case, sorted,
+                            for cyclic triples and interpenetrating pairs
 Prints the markdown tables used in BENCHMARKS.md.
 """
 import json
@@ -149,6 +151,39 @@ def gouraud(sec):
         print("| " + " | ".join(r) + " |")
 
 
+def painter(sec, out):
+    fields, rows, title = sec
+    print("\n### The painter's failure map (random 64x64 flat scenes, against the z-buffer)\n")
+    print("| scenes | cases | drawn wrong | reported | wrong pixels (of covered): median | mean | max "
+          "| wrong pixels with split |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|")
+    kinds = {}
+    for r in rows:
+        kinds.setdefault(r[0], []).append((float(r[2]), int(r[3]), int(r[4]), int(r[5])))
+    dat = os.path.join(out, "raster_painter.dat")
+    with open(dat, "w") as f:
+        for kind, cs in kinds.items():
+            fr = sorted(c[0] for c in cs)
+            wrong = sum(1 for c in cs if c[1] > 0)
+            rep = sum(1 for c in cs if c[1] > 0 and c[2])
+            split = sum(c[3] for c in cs)
+            print(f"| {kind.replace('_', ' ')} | {len(cs)} | {wrong} | {rep} of {wrong} | {100 * fr[len(fr) // 2]:.1f}% "
+                  f"| {100 * sum(fr) / len(fr):.1f}% | {100 * fr[-1]:.1f}% | {split} |")
+            f.write(f"# {kind}\n")
+            for k, v in enumerate(fr):
+                f.write(f"{100.0 * (k + 0.5) / len(fr)} {100 * v}\n")
+            f.write("\n\n")
+    plots = ", ".join(f"'{dat}' index {k} using 1:2 with lines lw 2 title '{kind.replace('_', ' ')}'"
+                      for k, kind in enumerate(kinds))
+    gnuplot(f"""set terminal pngcairo size 800,500
+set output '{out}/raster_painter.png'
+set title "Painter's algorithm: wrong pixels per scene (sorted), 64x64 flat, against the z-buffer"
+set xlabel "scenes (percentile)"; set ylabel "wrong pixels, % of covered"
+set grid; set key left top
+plot {plots}
+""")
+
+
 def bench(path, out):
     data = json.load(open(path))
     rows = []
@@ -216,6 +251,8 @@ def main():
         zfight(sec["zfight"], out)
     if "gouraud" in sec:
         gouraud(sec["gouraud"])
+    if "painter" in sec:
+        painter(sec["painter"], out)
     if len(sys.argv) == 4:
         bench(sys.argv[2], out)
 

@@ -450,65 +450,76 @@ Property exact_property(const ImageFamily& family) {
 // ---------------------------------------------------------------- the failure map
 
 void failure_map(const ImageFamily& family) {
-  std::mt19937_64 rng(20261125);
-  std::uniform_real_distribution<double> dist(0, 1);
-  const Uniform u = [&] { return dist(rng); };
-  struct Row {
-    const char* name;
-    SceneMaker make;
-  };
-  for (const Row& row : {Row{"cyclic_triple", cyclic_triple_nff},
-                         Row{"interpenetrating_pair", interpenetrating_pair_nff}}) {
-    double sum = 0, lo = 1, hi = 0, sum_split = 0;
-    int cases = 0, reported = 0, with_wrong = 0;
-    for (int n = 0; n < 100; ++n) {
-      RasterCase c;
-      c.width = c.height = 64;
-      c.nff = row.make(u, c.width, c.height);
-      c.params.set("shading", "flat");
-      const Frames f = render_both(family.reference(), c);
-      // Wrong pixels, over the pixels the scene covers.
-      int wrong = 0, covered = 0;
-      for (int j = 0; j < c.height; ++j)
-        for (int i = 0; i < c.width; ++i) {
-          bool cov = false;
-          const double err = pixel_error(f, i, j, cov);
-          covered += !std::isinf(f.zbuffer.depth[size_t(j) * c.width + i]);
-          wrong += cov || err > 0;
-        }
-      const double frac = covered ? double(wrong) / covered : 0;
-      sum += frac;
-      lo = std::min(lo, frac);
-      hi = std::max(hi, frac);
-      with_wrong += wrong > 0;
-      reported += !f.notes.empty();
-      ++cases;
-      if (row.make == cyclic_triple_nff) {
-        EXPECT_GT(wrong, 0) << "a cyclic triple drawn right in depth order:\n" << c.nff;
+  for (const char* kind : {"cyclic_triple", "interpenetrating_pair"}) {
+    const std::vector<PainterMapCase> cases =
+        painter_failure_map(family.reference(), kind, 100, 20261125);
+    double sum = 0, lo = 1, hi = 0, wrong_split = 0;
+    int reported = 0, with_wrong = 0;
+    for (const PainterMapCase& c : cases) {
+      sum += c.wrong_fraction;
+      lo = std::min(lo, c.wrong_fraction);
+      hi = std::max(hi, c.wrong_fraction);
+      with_wrong += c.wrong > 0;
+      reported += c.reported;
+      wrong_split += c.wrong_split;
+      if (kind == std::string("cyclic_triple")) {
+        EXPECT_GT(c.wrong, 0) << "a cyclic triple drawn right in depth order:\n" << c.nff;
       }
-      // With split: nothing wrong.
-      c.params.set("split", "1");
-      c.params.set("depth", "double");
-      const Frames fs = render_both(family.reference(), c);
-      int wrong_split = 0;
-      for (int j = 0; j < c.height; ++j)
-        for (int i = 0; i < c.width; ++i) {
-          bool cov = false;
-          const double err = pixel_error(fs, i, j, cov);
-          wrong_split += cov || err > 0;
-        }
-      sum_split += double(wrong_split);
-      EXPECT_EQ(wrong_split, 0) << "split differs from the z-buffer:\n" << c.nff;
+      EXPECT_TRUE(c.wrong == 0 || c.reported) << "wrong pixels, nothing reported:\n" << c.nff;
+      EXPECT_EQ(c.wrong_split, 0) << "split differs from the z-buffer:\n" << c.nff;
     }
     std::printf(
-        "painter failure map, %s (64x64, flat, %d cases): wrong pixels / covered pixels mean %.4f, "
-        "min %.4f, "
-        "max %.4f; %d cases with wrong pixels, %d reported; with split: %.0f wrong pixels in all\n",
-        row.name, cases, sum / cases, lo, hi, with_wrong, reported, sum_split);
+        "painter failure map, %s (64x64, flat, %zu cases): wrong pixels / covered pixels mean "
+        "%.4f, "
+        "min %.4f, max %.4f; %d cases with wrong pixels, %d reported; with split: %.0f wrong "
+        "pixels in all\n",
+        kind, cases.size(), sum / double(cases.size()), lo, hi, with_wrong, reported, wrong_split);
   }
 }
 
 }  // namespace
+
+std::vector<PainterMapCase> painter_failure_map(const ImageImpl& impl, const std::string& kind,
+                                                int cases, uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> dist(0, 1);
+  const Uniform u = [&] { return dist(rng); };
+  const SceneMaker make = kind == "cyclic_triple" ? cyclic_triple_nff : interpenetrating_pair_nff;
+  std::vector<PainterMapCase> out;
+  for (int n = 0; n < cases; ++n) {
+    RasterCase c;
+    c.width = c.height = 64;
+    c.nff = make(u, c.width, c.height);
+    c.params.set("shading", "flat");
+    PainterMapCase m;
+    m.nff = c.nff;
+    const Frames f = render_both(impl, c);
+    // Wrong pixels (coverage or colour differs from the z-buffer's), over the
+    // pixels the scene covers.
+    int covered = 0;
+    for (int j = 0; j < c.height; ++j)
+      for (int i = 0; i < c.width; ++i) {
+        bool cov = false;
+        const double err = pixel_error(f, i, j, cov);
+        covered += !std::isinf(f.zbuffer.depth[size_t(j) * c.width + i]);
+        m.wrong += cov || err > 0;
+      }
+    m.wrong_fraction = covered ? double(m.wrong) / covered : 0;
+    m.reported = !f.notes.empty();
+    // With split (and the z-buffer in double depth, as exact as the splits): nothing wrong.
+    c.params.set("split", "1");
+    c.params.set("depth", "double");
+    const Frames fs = render_both(impl, c);
+    for (int j = 0; j < c.height; ++j)
+      for (int i = 0; i < c.width; ++i) {
+        bool cov = false;
+        const double err = pixel_error(fs, i, j, cov);
+        m.wrong_split += cov || err > 0;
+      }
+    out.push_back(std::move(m));
+  }
+  return out;
+}
 
 void painter_part(const ImageFamily& family, FamilyProperties& out) {
   if (family.name != "painter") return;

@@ -6,8 +6,10 @@
 // kParts (properties.cpp), its file in props/CMakeLists.txt.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "props/property.h"
 #include "props/raster/exact_coverage.h"
@@ -20,9 +22,9 @@ namespace lockstep::props::raster {
 // (its Outcomes are pixels or samples); the counterexample text is the case.
 // suite "RayCastCrossCheck" gives check "ray_cast_cross_check" and the test
 // RayCastCrossCheck.<family>__<impl>.
-Property case_property(const ImageFamily& family, const ImageImpl& impl, std::string suite, std::string generator,
-                       rc::Gen<RasterCase> gen, double bound, std::string unit,
-                       std::function<Verdict(const RasterCase&)> check);
+Property case_property(const ImageFamily& family, const ImageImpl& impl, std::string suite,
+                       std::string generator, rc::Gen<RasterCase> gen, double bound,
+                       std::string unit, std::function<Verdict(const RasterCase&)> check);
 
 // z-buffer frames against ray casting (properties.cpp).
 void cross_check_part(const ImageFamily& family, FamilyProperties& out);
@@ -34,7 +36,8 @@ rc::Gen<RasterCase> flat_parallel_scene();
 std::vector<FlatTri> flat_tris(const Scene& scene, const ScreenMesh& mesh);
 // World-space against projection-space back-face culling (culling.cpp).
 void culling_part(const ImageFamily& family, FamilyProperties& out);
-// scanline: coverage against the z-buffer on snapped meshes, frames against the z-buffer (scanline.cpp).
+// scanline: coverage against the z-buffer on snapped meshes, frames against the z-buffer
+// (scanline.cpp).
 void scanline_part(const ImageFamily& family, FamilyProperties& out);
 // scanline: the interpolation lessons, measured (interpolation.cpp).
 void interpolation_part(const ImageFamily& family, FamilyProperties& out);
@@ -45,5 +48,17 @@ void visibility_part(const ImageFamily& family, FamilyProperties& out);
 void llvmpipe_part(const ImageFamily& family, FamilyProperties& out);
 // The painter against the z-buffer, its reports, --split, its exact predicates (painter.cpp).
 void painter_part(const ImageFamily& family, FamilyProperties& out);
+// The painter's failure map (painter.cpp): random 64x64 flat scenes of one kind
+// ("cyclic_triple" or "interpenetrating_pair") drawn by impl without and with
+// split, each against the z-buffer.
+struct PainterMapCase {
+  std::string nff;
+  double wrong_fraction = 0;  // wrong pixels over the pixels the scene covers
+  int wrong = 0;              // pixels whose coverage or colour differs from the z-buffer's
+  bool reported = false;      // the painter reported a cycle or an interpenetration
+  int wrong_split = 0;        // wrong pixels with split=1
+};
+std::vector<PainterMapCase> painter_failure_map(const ImageImpl& impl, const std::string& kind,
+                                                int cases, uint64_t seed);
 
 }  // namespace lockstep::props::raster
