@@ -11,12 +11,15 @@
 //   * everything else (culling in world or projection space, the flat colour
 //     per polygon, the Gouraud colour per vertex, the degenerate and culled
 //     counts) is the reference's arithmetic, operation for operation.
-// Only the common case is done here: no spheres, and no triangle that needs
-// clipping (at the hither plane or the guard band). Anything else is handed to
-// ref::view_scene whole, so the result is always view_scene's.
+// Spheres run view_scene's own sphere step (ref::view_spheres) on chunks of
+// spheres in parallel. Polygons: only the common case is done here, no
+// triangle that needs clipping (at the hither plane or the guard band); when
+// one does, all polygons go through view_scene's own polygon step
+// (ref::view_polygons), so the result is always view_scene's.
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 
@@ -67,29 +70,41 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
                        int threads, ScreenMesh& mesh,
                        std::vector<std::vector<ScreenTri>>& out_chunks) {
   out_chunks.clear();
-  if (scene.sphere_count() > 0) {
-    mesh = lockstep::view_scene(scene, width, height, s);
-    return;
-  }
-  mesh = ScreenMesh();
-  mesh.camera = Camera::from_view(scene.view, width, height);
-  mesh.width = width;
-  mesh.height = height;
+  // The frame, near and far: view_scene's own step.
+  mesh = lockstep::view_frame(scene, width, height);
   const Camera& cam = mesh.camera;
-  // Near and far exactly as view_scene.
-  Vec3 lo, hi;
-  scene_bounds(scene, lo, hi);
-  double far_z = 0;
-  for (int k = 0; k < 8; ++k) {
-    const Vec3 corner{(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z};
-    far_z = std::max(far_z, eye_from_world(cam, corner).z);
+  tbb::task_arena arena(resolve_threads(threads));
+
+  // Spheres: view_scene's own sphere step (tessellation, clipping, culling),
+  // run on chunks of spheres in parallel, each chunk into its own mesh; the
+  // chunks' triangles then follow one another in sphere order, as in view_scene.
+  const uint32_t spheres = scene.sphere_count();
+  // At least 16 spheres a chunk, at most 64 chunks (each chunk gets its own
+  // bins per tile in the binning).
+  const uint32_t spheres_per_chunk = std::max<uint32_t>(16, (spheres + 63) / 64);
+  std::vector<ScreenMesh> sphere_chunks((spheres + spheres_per_chunk - 1) / spheres_per_chunk);
+  arena.execute([&] {
+    tbb::parallel_for(size_t(0), sphere_chunks.size(), [&](size_t c) {
+      ScreenMesh& part = sphere_chunks[c];
+      part.camera = cam;
+      part.width = width;
+      part.height = height;
+      part.near_z = mesh.near_z;
+      part.far_z = mesh.far_z;
+      const uint32_t first = uint32_t(c) * spheres_per_chunk;
+      lockstep::view_spheres(scene, s, first, std::min(spheres, first + spheres_per_chunk), part);
+    });
+  });
+  for (ScreenMesh& part : sphere_chunks) {
+    mesh.sphere_tris += part.sphere_tris;
+    mesh.culled += part.culled;
+    mesh.clipped += part.clipped;
+    mesh.degenerate += part.degenerate;
+    if (!part.tris.empty()) out_chunks.push_back(std::move(part.tris));
   }
-  mesh.far_z = std::max(far_z * (1 + 1e-6), 1e-300);
-  mesh.near_z = scene.view.hither > 0 ? scene.view.hither : mesh.far_z * 1e-6;
-  if (mesh.far_z <= mesh.near_z) mesh.far_z = 2 * mesh.near_z;
+
   const double near_z = mesh.near_z, g = kGuardBand * cam.pitch;
 
-  tbb::task_arena arena(resolve_threads(threads));
   // Every vertex once: eye space, the clip test, the snapped screen position.
   std::vector<Projected> pv(scene.vertex.size());
   arena.execute([&] {
@@ -181,7 +196,15 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
   };
   arena.execute([&] { tbb::parallel_for(uint32_t(0), nchunks, run_chunk); });
   if (clipping) {
-    mesh = lockstep::view_scene(scene, width, height, s);
+    // Some polygon needs clipping: view_scene's own polygon step, for all of
+    // them, after the spheres' chunks.
+    ScreenMesh part = mesh;
+    lockstep::view_polygons(scene, s, 0, polys, part);
+    mesh.scene_tris = part.scene_tris;
+    mesh.culled = part.culled;
+    mesh.clipped = part.clipped;
+    mesh.degenerate = part.degenerate;
+    out_chunks.push_back(std::move(part.tris));
     return;
   }
   for (Chunk& c : chunks) {

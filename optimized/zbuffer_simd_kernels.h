@@ -115,8 +115,8 @@ void raster_tile(const RasterParams& p, const TileJob& t, double* depth, int32_t
 const char* target_name();
 
 // opt::simd::view_scene's mesh, left in the set-up's chunks: mesh holds the
-// frame, near, far, counts and (when the set-up handed the scene to
-// view_scene) all triangles; chunks the rest, in order after mesh.tris.
+// frame, near, far and counts (no triangles); chunks the triangles, in mesh
+// order (spheres' chunks, then polygons').
 void view_scene_chunks(const Scene& scene, int width, int height, const RasterSettings& s,
                        int threads, ScreenMesh& mesh, std::vector<std::vector<ScreenTri>>& chunks);
 

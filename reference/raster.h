@@ -141,6 +141,14 @@ struct ScreenMesh {
 // The viewing pipeline above, in double precision, for a width x height frame.
 ScreenMesh view_scene(const Scene& scene, int width, int height, const RasterSettings& s);
 
+// Its steps, for implementations that run them in pieces (opt::simd::view_scene):
+// the frame (camera, near and far; no triangles), then the triangles of spheres
+// [first, last), then those of polygons [first, last), each appended to
+// mesh.tris with the counts, as view_scene emits them.
+ScreenMesh view_frame(const Scene& scene, int width, int height);
+void view_spheres(const Scene& scene, const RasterSettings& s, uint32_t first, uint32_t last, ScreenMesh& mesh);
+void view_polygons(const Scene& scene, const RasterSettings& s, uint32_t first, uint32_t last, ScreenMesh& mesh);
+
 // The n*n sample positions of a pixel, in 1/256 pixel from its top-left corner
 // (spp = 1: the centre, (128, 128)). Rounded to the snapping grid.
 std::vector<std::array<int32_t, 2>> sample_offsets(const RasterSettings& s);

@@ -267,7 +267,7 @@ Vec3 lit(const Scene& scene, const Material& m, const Vec3& eye, const Vec3& p, 
 
 // ---------------------------------------------------------------- the pipeline
 
-ScreenMesh view_scene(const Scene& scene, int width, int height, const RasterSettings& s) {
+ScreenMesh view_frame(const Scene& scene, int width, int height) {
   ScreenMesh mesh;
   mesh.camera = Camera::from_view(scene.view, width, height);
   mesh.width = width;
@@ -286,12 +286,15 @@ ScreenMesh view_scene(const Scene& scene, int width, int height, const RasterSet
   mesh.far_z = std::max(far_z * (1 + 1e-6), 1e-300);
   mesh.near_z = scene.view.hither > 0 ? scene.view.hither : mesh.far_z * 1e-6;
   if (mesh.far_z <= mesh.near_z) mesh.far_z = 2 * mesh.near_z;
+  return mesh;
+}
 
+void view_spheres(const Scene& scene, const RasterSettings& s, uint32_t first, uint32_t last, ScreenMesh& mesh) {
+  const Camera& cam = mesh.camera;
   Emitter emit{scene, s, mesh, {mesh.near_z, kGuardBand * cam.pitch}};
   auto eye_vertex = [&](const Vec3& p, const Vec3& n) { return EyeVertex{eye_from_world(cam, p), p, n, {}}; };
-
-  // Spheres: tessellated as finely as their size on screen needs.
-  for (uint32_t k = 0; k < scene.sphere_count(); ++k) {
+  // Each sphere tessellated as finely as its size on screen needs.
+  for (uint32_t k = first; k < last; ++k) {
     const Vec3 c = scene.sphere_center[k];
     const double r = std::abs(scene.sphere_radius[k]);
     const Vec3 ce = eye_from_world(cam, c);
@@ -313,10 +316,15 @@ ScreenMesh view_scene(const Scene& scene, int width, int height, const RasterSet
       emit.triangle(v, k, t, face, false, flat);
     }
   }
+}
 
-  // Polygons: their triangulation, with the polygon's plane normal, or the
+void view_polygons(const Scene& scene, const RasterSettings& s, uint32_t first, uint32_t last, ScreenMesh& mesh) {
+  const Camera& cam = mesh.camera;
+  Emitter emit{scene, s, mesh, {mesh.near_z, kGuardBand * cam.pitch}};
+  auto eye_vertex = [&](const Vec3& p, const Vec3& n) { return EyeVertex{eye_from_world(cam, p), p, n, {}}; };
+  // Each polygon's triangulation, with the polygon's plane normal, or the
   // vertex normals of patches.
-  for (uint32_t p = 0; p < scene.polygon_count(); ++p) {
+  for (uint32_t p = first; p < last; ++p) {
     const Material& m = scene.materials[scene.poly_material[p]];
     const Vec3 face = scene.poly_plane[p].n;
     if (length(face) == 0) continue;  // degenerate polygon: no triangles either
@@ -338,6 +346,15 @@ ScreenMesh view_scene(const Scene& scene, int width, int height, const RasterSet
       emit.triangle(v, scene.sphere_count() + p, t, face, m.two_sided(), flat);
     }
   }
+}
+
+ScreenMesh view_scene(const Scene& scene, int width, int height, const RasterSettings& s) {
+  // The frame: camera, near and far.
+  ScreenMesh mesh = view_frame(scene, width, height);
+  // Spheres first (tessellated as finely as their size on screen needs), then
+  // polygons: the scene's primitive order, which decides ties in depth.
+  view_spheres(scene, s, 0, scene.sphere_count(), mesh);
+  view_polygons(scene, s, 0, scene.polygon_count(), mesh);
   return mesh;
 }
 

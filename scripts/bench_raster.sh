@@ -20,7 +20,7 @@ $B --benchmark_filter='frame/(zbuffer|scanline|painter)/.*/(reference|simd)/' \
   --benchmark_out=$R/raster_own.json "${common[@]}" "$@"
 if ./build/lockstep --version | grep -q 'llvmpipe row: built'; then
   for t in 1 2; do
-    $B --benchmark_filter="frame/zbuffer/.*/llvmpipe/threads:$t\$" \
+    $B --benchmark_filter="frame/zbuffer/.*/llvmpipe/threads:$t/" \
       --benchmark_out=$R/raster_llvmpipe_$t.json "${common[@]}" "$@"
   done
 fi

@@ -603,8 +603,10 @@ std::string mesh_difference(const ScreenMesh& a, const ScreenMesh& b) {
 // handed to view_scene), every culling mode, the shadings whose set-up differs
 // (flat colour, Gouraud colours; Phong's is flat's without the colour).
 void setup_identical() {
-  for (const char* name : {"tetra-3.nff", "teapot-2.nff", "gears-2.nff", "mount-3.nff",
-                           "patches.nff", "concave.nff", "watertight-cube.nff", "balls-2.nff"}) {
+  for (const char* name :
+       {"tetra-3.nff", "teapot-2.nff", "gears-2.nff", "mount-3.nff", "patches.nff", "concave.nff",
+        "watertight-cube.nff", "balls-2.nff", "balls-3.nff", "shells-1.nff", "near-sphere.nff",
+        "sidedness.nff", "spotlights.nff"}) {
     const Scene scene = read_nff(std::string(LOCKSTEP_CORPUS_DIR) + "/scenes/" + name);
     for (CullMode cull : {CullMode::kWorld, CullMode::kProjection, CullMode::kNone})
       for (Shading sh : {Shading::kFlat, Shading::kGouraud})
