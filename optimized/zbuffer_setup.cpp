@@ -13,14 +13,13 @@
 //     counts) is the reference's arithmetic, operation for operation.
 // Spheres run view_scene's own sphere step (ref::view_spheres) on chunks of
 // spheres in parallel. Polygons: only the common case is done here, no
-// triangle that needs clipping (at the hither plane or the guard band); when
-// one does, all polygons go through view_scene's own polygon step
-// (ref::view_polygons), so the result is always view_scene's.
+// polygon with a triangle that needs clipping (at the hither plane or the guard
+// band) goes through view_scene's own polygon step (ref::view_polygons) on its
+// own, in its chunk, so the result is always view_scene's.
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 
 #include "core/shading.h"
@@ -60,8 +59,7 @@ struct Projected {
 
 struct Chunk {
   std::vector<ScreenTri> tris;
-  uint64_t scene_tris = 0, culled = 0, degenerate = 0;
-  bool needs_clipping = false;
+  uint64_t scene_tris = 0, culled = 0, degenerate = 0, clipped = 0;
 };
 
 }  // namespace
@@ -79,9 +77,10 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
   // run on chunks of spheres in parallel, each chunk into its own mesh; the
   // chunks' triangles then follow one another in sphere order, as in view_scene.
   const uint32_t spheres = scene.sphere_count();
-  // At least 16 spheres a chunk, at most 64 chunks (each chunk gets its own
-  // bins per tile in the binning).
-  const uint32_t spheres_per_chunk = std::max<uint32_t>(16, (spheres + 63) / 64);
+  // At most 16 spheres a chunk (a few big spheres are as much work as many
+  // small ones), at most 64 chunks (each chunk gets its own bins per tile).
+  const uint32_t spheres_per_chunk =
+      std::max({1u, std::min<uint32_t>(16, (spheres + 7) / 8), (spheres + 63) / 64});
   std::vector<ScreenMesh> sphere_chunks((spheres + spheres_per_chunk - 1) / spheres_per_chunk);
   arena.execute([&] {
     tbb::parallel_for(size_t(0), sphere_chunks.size(), [&](size_t c) {
@@ -130,12 +129,18 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
   const uint32_t per_chunk = 512;
   const uint32_t nchunks = (polys + per_chunk - 1) / per_chunk;
   std::vector<Chunk> chunks(nchunks);
-  std::atomic<bool> clipping{false};
+  // The frame alone (no triangles, no counts), for view_polygons on one polygon.
+  ScreenMesh frame;
+  frame.camera = cam;
+  frame.width = width;
+  frame.height = height;
+  frame.near_z = mesh.near_z;
+  frame.far_z = mesh.far_z;
   auto run_chunk = [&](uint32_t c) {
     Chunk& out = chunks[c];
     const uint32_t first = c * per_chunk, last = std::min(polys, first + per_chunk);
     out.tris.reserve(size_t(scene.poly_tri_first[last] - scene.poly_tri_first[first]));
-    for (uint32_t p = first; p < last && !clipping.load(std::memory_order_relaxed); ++p) {
+    for (uint32_t p = first; p < last; ++p) {
       const Material& m = scene.materials[scene.poly_material[p]];
       const Vec3 face = scene.poly_plane[p].n;
       if (length(face) == 0) continue;
@@ -147,6 +152,9 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
       }
       const bool patch = scene.poly_is_patch[p] != 0;
       const bool two_sided = m.two_sided();
+      const size_t tris_before = out.tris.size();
+      const uint64_t scene_before = out.scene_tris, culled_before = out.culled, degenerate_before = out.degenerate;
+      bool needs_clipping = false;
       for (uint32_t t = scene.poly_tri_first[p]; t < scene.poly_tri_first[p + 1]; ++t) {
         ++out.scene_tris;
         const auto& tv = scene.tri_vertex[t];
@@ -158,9 +166,8 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
           continue;
         }
         if (!pv[tv[0]].inside || !pv[tv[1]].inside || !pv[tv[2]].inside) {
-          out.needs_clipping = true;
-          clipping = true;
-          return;
+          needs_clipping = true;
+          break;
         }
         ScreenTri& st = out.tris.emplace_back();  // built in place (a ScreenTri is 300 bytes)
         for (int i = 0; i < 3; ++i) {
@@ -192,25 +199,29 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
         if (area < 0) std::swap(st.v[1], st.v[2]);
         st.face_normal = front ? face : -face;
       }
+      if (needs_clipping) {
+        // A triangle of this polygon crosses the hither plane or the guard
+        // band: undo the polygon and run view_scene's own polygon step on it.
+        out.tris.erase(out.tris.begin() + std::ptrdiff_t(tris_before), out.tris.end());
+        out.scene_tris = scene_before;
+        out.culled = culled_before;
+        out.degenerate = degenerate_before;
+        ScreenMesh part = frame;
+        lockstep::view_polygons(scene, s, p, p + 1, part);
+        out.tris.insert(out.tris.end(), part.tris.begin(), part.tris.end());
+        out.scene_tris += part.scene_tris;
+        out.culled += part.culled;
+        out.degenerate += part.degenerate;
+        out.clipped += part.clipped;
+      }
     }
   };
   arena.execute([&] { tbb::parallel_for(uint32_t(0), nchunks, run_chunk); });
-  if (clipping) {
-    // Some polygon needs clipping: view_scene's own polygon step, for all of
-    // them, after the spheres' chunks.
-    ScreenMesh part = mesh;
-    lockstep::view_polygons(scene, s, 0, polys, part);
-    mesh.scene_tris = part.scene_tris;
-    mesh.culled = part.culled;
-    mesh.clipped = part.clipped;
-    mesh.degenerate = part.degenerate;
-    out_chunks.push_back(std::move(part.tris));
-    return;
-  }
   for (Chunk& c : chunks) {
     mesh.scene_tris += c.scene_tris;
     mesh.culled += c.culled;
     mesh.degenerate += c.degenerate;
+    mesh.clipped += c.clipped;
     out_chunks.push_back(std::move(c.tris));
   }
 }

@@ -219,16 +219,19 @@ struct Emitter {
       ++mesh.culled;
       return;
     }
-    std::vector<EyeVertex> poly;
-    if (inside_all(planes, v, 3)) {
-      poly.assign(v, v + 3);
-    } else {
+    // The triangle itself, or the polygon left of it after clipping.
+    const EyeVertex* poly = v;
+    size_t n = 3;
+    std::vector<EyeVertex> clipped;
+    if (!inside_all(planes, v, 3)) {
       ++mesh.clipped;
-      poly = clip(planes, std::vector<EyeVertex>(v, v + 3));
-      if (poly.size() < 3) return;  // wholly outside
+      clipped = clip(planes, std::vector<EyeVertex>(v, v + 3));
+      if (clipped.size() < 3) return;  // wholly outside
+      poly = clipped.data();
+      n = clipped.size();
     }
-    // Fan of the (convex) clipped polygon.
-    for (size_t k = 1; k + 1 < poly.size(); ++k) {
+    // Fan of the (convex) polygon.
+    for (size_t k = 1; k + 1 < n; ++k) {
       ScreenTri t;
       t.v = {to_screen(cam, poly[0]), to_screen(cam, poly[k]), to_screen(cam, poly[k + 1])};
       t.prim = prim;
@@ -301,17 +304,26 @@ void view_spheres(const Scene& scene, const RasterSettings& s, uint32_t first, u
     if (sphere_outside(cam, ce, r, mesh.near_z)) continue;
     const SphereMesh sm = tessellate_sphere(c, scene.sphere_radius[k], sphere_rings(r, ce.z, cam, mesh.near_z, s.tess_error));
     const Material& m = scene.materials[scene.sphere_material[k]];
+    // Every vertex to eye space once (and lit once, for Gouraud): a vertex of
+    // the lat-long mesh is shared by up to six triangles.
+    std::vector<EyeVertex> ev;
+    ev.reserve(sm.position.size());
+    for (size_t i = 0; i < sm.position.size(); ++i) {
+      ev.push_back(eye_vertex(sm.position[i], sm.normal[i]));
+      if (s.shading == Shading::kGouraud) ev.back().color = lit(scene, m, cam.eye, ev.back().world, ev.back().normal);
+    }
     for (uint32_t t = 0; t < sm.tri.size(); ++t) {
       const auto& [a, b, cc] = sm.tri[t];
-      EyeVertex v[3] = {eye_vertex(sm.position[a], sm.normal[a]), eye_vertex(sm.position[b], sm.normal[b]),
-                        eye_vertex(sm.position[cc], sm.normal[cc])};
+      EyeVertex v[3] = {ev[a], ev[b], ev[cc]};
       const Vec3 fn = cross(v[1].world - v[0].world, v[2].world - v[0].world);
       if (length(fn) == 0) continue;
       const Vec3 face = normalize(fn);
+      // The flat colour only for faces that may be drawn: spheres are
+      // one-sided, so a back face is culled in world space (Emitter::triangle).
+      const bool back = !(dot(face, cam.eye - v[0].world) > 0);
       Vec3 flat;
-      if (s.shading == Shading::kFlat) flat = lit(scene, m, cam.eye, (v[0].world + v[1].world + v[2].world) / 3.0, face);
-      if (s.shading == Shading::kGouraud)
-        for (auto& x : v) x.color = lit(scene, m, cam.eye, x.world, x.normal);
+      if (s.shading == Shading::kFlat && !(back && s.cull == CullMode::kWorld))
+        flat = lit(scene, m, cam.eye, (v[0].world + v[1].world + v[2].world) / 3.0, face);
       ++mesh.sphere_tris;
       emit.triangle(v, k, t, face, false, flat);
     }
