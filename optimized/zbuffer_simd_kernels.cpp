@@ -347,14 +347,15 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot,
           const VF att = perspective ? z : one;
           // The view ray through the sample (forward component 1), the point
           // eye + z dir and the unit direction to the viewer.
+          // (Only lighting and silhouettes need them: flat and Gouraud skip it.)
           VF dir[3], pos[3], view[3], nrm[3];
-          for (int c = 0; c < 3; ++c) {
-            dir[c] = hn::MulAdd(dir_v[c], v, hn::MulAdd(dir_u[c], u, dir0[c]));
-            pos[c] = hn::MulAdd(z, dir[c], eye[c]);
-            view[c] = hn::Neg(dir[c]);
-          }
-          normalize3(view);
           if (need_normal) {
+            for (int c = 0; c < 3; ++c) {
+              dir[c] = hn::MulAdd(dir_v[c], v, hn::MulAdd(dir_u[c], u, dir0[c]));
+              pos[c] = hn::MulAdd(z, dir[c], eye[c]);
+              view[c] = hn::Neg(dir[c]);
+            }
+            normalize3(view);
             // The interpolated normal, renormalised (the face normal where it
             // vanishes), turned towards the viewer.
             for (int c = 0; c < 3; ++c) nrm[c] = hn::Mul(a[1 + c], att);
