@@ -188,50 +188,74 @@ def bench(path, out):
     data = json.load(open(path))
     rows = []
     for b in data["benchmarks"]:
-        if b.get("run_type") == "aggregate":
+        if b.get("run_type") == "aggregate" and b.get("aggregate_name") != "median":
             continue
         m = re.match(r"frame/(\w+)/([\w.-]+)/(\w+)/(\w+)/threads:(\d+)", b["name"])
         if not m:
             continue
         fam, scene, shading, impl, threads = m.groups()
         ms = b["real_time"] if b.get("time_unit") == "ms" else b["real_time"] / 1e6
-        rows.append((fam, scene, shading, impl, int(threads), ms, b.get("triangles", 0), b.get("first_ms", 0),
-                     b.get("items_per_second", 0)))
-    print("\n### Frames at 1024^2 (ms per frame, warm; cold first frame in brackets)\n")
-    impls = sorted({(r[0], r[3], r[4]) for r in rows})
+        mtris = b.get("triangles_per_s", 0) / 1e6
+        mpix = b.get("items_per_second", 0) / 1e6
+        drawn = mtris * 1e6 * ms / 1e3  # triangles per frame after tessellation (FrameStats::items)
+        rows.append(dict(fam=fam, scene=scene, shading=shading, impl=impl, threads=int(threads), ms=ms, mtris=mtris,
+                         mpix=mpix, drawn=drawn, first=b.get("first_ms", 0)))
+
+    def get(fam, scene, shading, impl, t):
+        hit = [r for r in rows if (r["fam"], r["scene"], r["shading"], r["impl"], r["threads"]) ==
+               (fam, scene, shading, impl, t)]
+        return hit[0] if hit else None
+
     scenes = []
     for r in rows:
-        if (r[1], r[2]) not in scenes:
-            scenes.append((r[1], r[2]))
-    print("| scene | shading | triangles | " + " | ".join(f"{f} {i} {t}T" for f, i, t in impls) + " |")
-    print("|---|---|---:|" + "---:|" * len(impls))
+        if (r["scene"], r["shading"]) not in scenes:
+            scenes.append((r["scene"], r["shading"]))
+
+    print("\n### The z-buffer at 1024^2: ms per frame (warm; cold first frame in brackets)\n")
+    print("| scene | shading | triangles (spheres tessellated) | reference 1T | simd 1T | simd 2T | llvmpipe 1T | llvmpipe 2T "
+          "| simd / ref, 1T | simd 2T vs llvmpipe 2T |")
+    print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|")
+    for sc, sh in scenes:
+        cells = [get("zbuffer", sc, sh, i, t) for i, t in
+                 (("reference", 1), ("simd", 1), ("simd", 2), ("llvmpipe", 1), ("llvmpipe", 2))]
+        if not any(cells):
+            continue
+        drawn = next(c["drawn"] for c in cells if c)
+        txt = [f"{c['ms']:.2f} ({c['first']:.0f})" if c else "" for c in cells]
+        ref, s1, s2, l2 = cells[0], cells[1], cells[2], cells[4]
+        sp = f"{ref['ms'] / s1['ms']:.1f}x" if ref and s1 else ""
+        vs = f"{l2['ms'] / s2['ms']:.1f}x faster" if l2 and s2 else ""
+        print(f"| {sc} | {sh} | {drawn:.0f} | " + " | ".join(txt) + f" | {sp} | {vs} |")
+
+    impls = sorted({(r["fam"], r["impl"], r["threads"]) for r in rows},
+                   key=lambda k: (["zbuffer", "scanline", "painter"].index(k[0]) if k[0] in
+                                  ("zbuffer", "scanline", "painter") else 9, k[1] != "reference", k[1], k[2]))
+    print("\n### Every raster implementation at 1024^2: Mtris/s / Mpix/s (warm)\n")
+    print("| scene | shading | " + " | ".join(f"{f} {i} {t}T" for f, i, t in impls) + " |")
+    print("|---|---|" + "---:|" * len(impls))
     for sc, sh in scenes:
         cells = []
-        tris = 0
         for f, i, t in impls:
-            hit = [r for r in rows if r[0] == f and r[1] == sc and r[2] == sh and r[3] == i and r[4] == t]
-            if hit:
-                tris = hit[0][6]
-                cells.append(f"{hit[0][5]:.2f} ({hit[0][7]:.0f})")
-            else:
-                cells.append("")
-        print(f"| {sc} | {sh} | {int(tris)} | " + " | ".join(cells) + " |")
+            c = get(f, sc, sh, i, t)
+            cells.append(f"{c['mtris']:.2f} / {c['mpix']:.0f}" if c else "")
+        print(f"| {sc} | {sh} | " + " | ".join(cells) + " |")
+
     dat = os.path.join(out, "raster_scaling.dat")
-    series = [(f, i, t) for f, i, t in impls]
+    series = [k for k in impls if k[0] == "zbuffer"] + [k for k in impls if k[0] != "zbuffer" and k[2] == 2]
     with open(dat, "w") as fh:
         for f, i, t in series:
             fh.write(f"# {f} {i} {t}\n")
-            for r in sorted((r for r in rows if r[0] == f and r[3] == i and r[4] == t and r[2] == "flat"),
-                            key=lambda r: r[6]):
-                fh.write(f"{r[6]} {r[5]} {r[1]}\n")
+            for r in sorted((r for r in rows if (r["fam"], r["impl"], r["threads"]) == (f, i, t) and
+                             r["shading"] == "flat"), key=lambda r: r["drawn"]):
+                fh.write(f"{r['drawn']} {r['ms']} {r['scene']}\n")
             fh.write("\n\n")
     plots = ", ".join(f"'{dat}' index {k} using 1:2 with linespoints title '{f} {i} {t}T'"
                       for k, (f, i, t) in enumerate(series))
-    gnuplot(f"""set terminal pngcairo size 800,500
+    gnuplot(f"""set terminal pngcairo size 900,560
 set output '{out}/raster_scaling.png'
-set title "Time per 1024^2 frame against triangle count (flat shading, SPD scenes)"
-set xlabel "triangles in the scene"; set ylabel "ms per frame"
-set logscale xy; set grid; set key left top
+set title "Time per 1024^2 frame against triangle count (flat shading; SPD scenes, spheres tessellated)"
+set xlabel "triangles (spheres tessellated)"; set ylabel "ms per frame"
+set logscale xy; set grid; set key outside right
 plot {plots}
 """)
 
