@@ -94,9 +94,10 @@ set output '{out}/raster_supersampling.png'
 set multiplot layout 1,2 title "Supersampling converging to the exact box filter"
 set logscale xy; set grid
 set xlabel "samples per pixel"; set ylabel "error"
-plot '{dat}' index 0 using 2:3 with linespoints title 'regular mean', '' index 0 using 2:4 with linespoints title 'regular max', \
-     '' index 1 using 2:3 with linespoints title 'rotated mean', '' index 1 using 2:4 with linespoints title 'rotated max'
-set xlabel "ms per frame"
+plot '{dat}' index 0 using 1:3 with linespoints title 'regular mean', '' index 0 using 1:4 with linespoints title 'regular max', \
+     '' index 1 using 1:3 with linespoints title 'rotated mean', '' index 1 using 1:4 with linespoints title 'rotated max', \
+     0.01/sqrt(x) dashtype 2 title '1/n (n x n samples)'
+set xlabel "ms per frame (64 x 64)"
 plot '{dat}' index 0 using 2:3 with linespoints title 'regular mean', '' index 1 using 2:3 with linespoints title 'rotated mean'
 unset multiplot
 """)
@@ -237,7 +238,7 @@ def bench(path, out):
         cells = []
         for f, i, t in impls:
             c = get(f, sc, sh, i, t)
-            cells.append(f"{c['mtris']:.2f} / {c['mpix']:.0f}" if c else "")
+            cells.append(f"{c['mtris']:.3g} / {c['mpix']:.0f}" if c else "")
         print(f"| {sc} | {sh} | " + " | ".join(cells) + " |")
 
     dat = os.path.join(out, "raster_scaling.dat")
@@ -253,7 +254,7 @@ def bench(path, out):
                       for k, (f, i, t) in enumerate(series))
     gnuplot(f"""set terminal pngcairo size 900,560
 set output '{out}/raster_scaling.png'
-set title "Time per 1024^2 frame against triangle count (flat shading; SPD scenes, spheres tessellated)"
+set title "Time per 1024^2 frame against triangle count (flat, SPD scenes)"
 set xlabel "triangles (spheres tessellated)"; set ylabel "ms per frame"
 set logscale xy; set grid; set key outside right
 plot {plots}
