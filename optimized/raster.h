@@ -18,6 +18,13 @@ Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats);
 // projected once (optimized/zbuffer_setup.cpp); scenes with spheres or with
 // triangles to clip are handed to view_scene itself.
 ScreenMesh view_scene(const Scene& scene, int width, int height, const RasterSettings& s, int threads);
+// The z-buffer's SIMD shading (float, structure of arrays, every Shading mode,
+// box filter) of a visibility found by another method: visible holds, per
+// sample ((y width + x) spp + k, as Visibility::tri), the index into mesh.tris
+// of the triangle seen there, or Visibility::kNone. The image and its depth
+// plane (the nearest sample's eye depth), as opt::simd::zbuffer draws them.
+Image shade_visibility(const Scene& scene, const ScreenMesh& mesh, const RasterSettings& s,
+                       const std::vector<uint32_t>& visible, const FrameOptions& opts);
 }  // namespace opt::simd
 
 namespace opt {

@@ -14,9 +14,10 @@
 //   - the frame is cut into bands of rows, each with its own edge table and
 //     active edge lists (edges enter a band at its first row, their walk
 //     initialised there exactly), on TBB (optimized/tiling.h);
-//   - visibility first, shading after: each visible sample is shaded once, from
-//     its exact edge functions (as ref::zbuffer, with reciprocals instead of
-//     divisions: within an ulp or two of its fragment).
+//   - visibility first, shading after: each visible sample is shaded once, by
+//     the z-buffer's SIMD shading (opt::simd::shade_visibility: float, SoA,
+//     every Shading mode), within the simd z-buffer's 1/255 of the reference;
+//   - the set-up is opt::simd::view_scene (view_scene's mesh, bit for bit).
 #ifndef LOCKSTEP_SCANLINE_SIMD_SHARED
 #define LOCKSTEP_SCANLINE_SIMD_SHARED
 #include <cstddef>
@@ -91,6 +92,7 @@ HWY_AFTER_NAMESPACE();
 #include <vector>
 
 #include "core/error.h"
+#include "optimized/raster.h"
 #include "optimized/scanline.h"
 #include "optimized/tiling.h"
 
@@ -234,35 +236,6 @@ bool make_edge(const Frame& f, uint32_t ti, int a, int b, int32_t oy, int j_begi
   e.qs = floor_div(Ms, e.D);
   e.rs = Ms - e.qs * e.D;
   return true;
-}
-
-// Per triangle, what shading a visible sample needs: 1/area and 1/z_k, so a
-// fragment costs one division (ref::zbuffer divides seven times; the results
-// differ by an ulp or two).
-struct ShadeSetup {
-  double inv_area = 0, inv_z[3] = {0, 0, 0};
-};
-
-// The fragment at sample (px, py) (1/256 pixel) of triangle ti, from the exact
-// integer edge functions (the screen barycentrics) and 1/z.
-Fragment direct_fragment(const ScreenMesh& mesh, const ShadeSetup& ss, uint32_t ti, int64_t px,
-                         int64_t py, bool perspective) {
-  const ScreenTri& t = mesh.tris[ti];
-  auto edge = [&](const ScreenVertex& a, const ScreenVertex& b) {
-    return int64_t(b.x - a.x) * (py - a.y) - int64_t(b.y - a.y) * (px - a.x);
-  };
-  const double l[3] = {double(edge(t.v[1], t.v[2])) * ss.inv_area,
-                       double(edge(t.v[2], t.v[0])) * ss.inv_area,
-                       double(edge(t.v[0], t.v[1])) * ss.inv_area};
-  const double q[3] = {l[0] * ss.inv_z[0], l[1] * ss.inv_z[1], l[2] * ss.inv_z[2]};
-  const double inv_z = q[0] + q[1] + q[2];
-  Fragment fr;
-  fr.tri = ti;
-  fr.z = 1 / inv_z;
-  fr.sx = double(px) / kSubpixel;
-  fr.sy = double(py) / kSubpixel;
-  for (int k = 0; k < 3; ++k) fr.b[k] = perspective ? q[k] * fr.z : l[k];
-  return fr;
 }
 
 // One pixel row's results, sample index i * spp + k.
@@ -423,38 +396,17 @@ Image scanline(const Scene& scene, const FrameOptions& opts, FrameStats* stats) 
     throw InputError(
         scene.source, 0,
         "size x spp is " + std::to_string(int64_t(samples)) + " samples; at most 33554432 (2^25)");
-  const ScreenMesh mesh = view_scene(scene, opts.width, opts.height, s);
+  // The set-up: view_scene's mesh, bit for bit (opt::simd::view_scene, in parallel).
+  const ScreenMesh mesh = opt::simd::view_scene(scene, opts.width, opts.height, s, opts.threads);
   const Frame f = prepare(mesh, s);
-  Image image = Image::uninitialized(opts.width, opts.height);  // every pixel is written below
-  image.depth.assign(size_t(opts.width) * opts.height, float(kInfinity));
-  const Vec3 background = Vec3(Vec3f(scene.background));
-  std::vector<ShadeSetup> shade(mesh.tris.size());
-  for (size_t ti = 0; ti < mesh.tris.size(); ++ti) {
-    const ScreenTri& t = mesh.tris[ti];
-    shade[ti].inv_area = 1 / double(int64_t(t.v[1].x - t.v[0].x) * (t.v[2].y - t.v[0].y) -
-                                     int64_t(t.v[1].y - t.v[0].y) * (t.v[2].x - t.v[0].x));
-    for (int k = 0; k < 3; ++k) shade[ti].inv_z[k] = 1 / t.v[k].z;
-  }
-  scan_frame(f, opts.threads, opts.progress, false, [&](int j, const RowOut& out) {
-    for (int i = 0; i < f.width; ++i) {
-      Vec3 sum;
-      float z = float(kInfinity);
-      for (int k = 0; k < f.spp; ++k) {
-        const uint32_t ti = out.tri[size_t(i) * f.spp + k];
-        if (ti == Visibility::kNone) {
-          sum += background;
-          continue;
-        }
-        const Fragment fr =
-            direct_fragment(mesh, shade[ti], ti, int64_t(i) * kSubpixel + f.offsets[k][0],
-                            int64_t(j) * kSubpixel + f.offsets[k][1], s.perspective);
-        sum += Vec3(Vec3f(shade_fragment(scene, mesh, s, fr)));
-        z = std::min(z, float(fr.z));
-      }
-      image.set(i, j, sum / double(f.spp));
-      image.depth[size_t(j) * f.width + i] = z;
-    }
+  // Visibility first, by scanlines: the visible triangle per sample.
+  std::vector<uint32_t> visible(size_t(opts.width) * size_t(opts.height) * size_t(f.spp),
+                                Visibility::kNone);
+  scan_frame(f, opts.threads, {}, false, [&](int j, const RowOut& out) {
+    std::copy(out.tri.begin(), out.tri.end(), visible.begin() + ptrdiff_t(size_t(j) * opts.width * f.spp));
   });
+  // Then each visible sample shaded once, by the z-buffer's SIMD shading.
+  Image image = opt::simd::shade_visibility(scene, mesh, s, visible, opts);
   if (stats) stats->items = mesh.scene_tris + mesh.sphere_tris;
   return image;
 }

@@ -313,17 +313,12 @@ struct ShadeBuffers {
   size_t size = 0;
 };
 
-template <class T>
-Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh,
-                const std::vector<const ScreenTri*>& tris, const RasterSettings& s,
-                const FrameOptions& opts, FrameStats* stats) {
-  const auto off = sample_offsets(s);
-  const int spp = int(off.size());
-  ShadeSetup shade;
-  const Binned b = bin_mesh(mesh, tris, s, off, opts.threads, &scene, &shade);
-  const RasterParams p = raster_params(mesh, s, b, off);
-  // Lights and camera in float.
-  std::vector<float> lights;
+// The shading kernel's parameters for a frame: lights and camera in float.
+// lights holds the per-light floats sp.light points to.
+zsimd::ShadeParams shade_params(const Scene& scene, const ScreenMesh& mesh, const RasterSettings& s,
+                                const std::vector<std::array<int32_t, 2>>& off, const Binned& b,
+                                std::vector<float>& lights) {
+  lights.clear();
   const double default_ip = scene.lights.empty() ? 0 : 1 / std::sqrt(double(scene.lights.size()));
   for (const Light& l : scene.lights) {
     const Vec3 ip =
@@ -347,59 +342,78 @@ Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh,
   sp.background[0] = float(scene.background.x), sp.background[1] = float(scene.background.y),
   sp.background[2] = float(scene.background.z);
   sp.offsets = off.data();
-  sp.spp = spp;
+  sp.spp = int(off.size());
   const Vec3 du = mesh.camera.pitch * mesh.camera.right, dv = -mesh.camera.pitch * mesh.camera.up;
   sp.dir_u[0] = float(du.x), sp.dir_u[1] = float(du.y), sp.dir_u[2] = float(du.z);
   sp.dir_v[0] = float(dv.x), sp.dir_v[1] = float(dv.y), sp.dir_v[2] = float(dv.z);
   sp.buf_w = b.tw, sp.buf_h = b.th;
+  return sp;
+}
 
+// Shades tile [x0, x1) x [y0, y1) into img: tile_tri is the tile's visible
+// triangle per sample (a tile buffer: plane k, row r, column c at
+// [(k buf_h + r) buf_w + c], -1 for none), every one of them binned to the tile.
+void shade_one_tile(const ScreenMesh& mesh, const Binned& b,
+                    const ShadeSetup& shade, const zsimd::ShadeParams& sp, size_t ntris, int x0,
+                    int y0, int x1, int y1, const int32_t* tile_tri, ShadeBuffers& sb, Image& img) {
+  if (sb.slot.size() != ntris) sb.slot.assign(ntris, 0);
+  const size_t plane = size_t(b.tw) * size_t(b.th);
+  if (sb.size != plane) {
+    sb.rgb = hwy::AllocateAligned<float>(3 * plane);
+    sb.z = hwy::AllocateAligned<float>(plane);
+    sb.size = plane;
+  }
+  // The tile's triangles' planes, moved to the tile's top-left corner, per pixel.
+  sb.planes.clear();
+  const size_t tiles = size_t(b.ntx) * size_t(b.nty);
+  const size_t tile = size_t(y0 / b.th) * size_t(b.ntx) + size_t(x0 / b.tw);
+  const int64_t cx = int64_t(x0) * kSubpixel, cy = int64_t(y0) * kSubpixel;
+  const int rows = shade.rows;
+  for (int c = 0; c < b.nchunks; ++c)
+    for (const uint32_t id : b.bins[size_t(c) * tiles + tile]) {
+      sb.slot[id] = int32_t(sb.planes.size());
+      zsimd::LocalPlanes& L = sb.planes.emplace_back();
+      const TriSetup& t = b.setup[id];
+      for (int row = 0; row < rows; ++row) {
+        const double* a = shade.plane(id) + 3 * row;
+        L.p[row][0] = float(a[0] + a[1] * double(cx - t.x0) + a[2] * double(cy - t.y0));
+        L.p[row][1] = float(a[1] * kSubpixel);
+        L.p[row][2] = float(a[2] * kSubpixel);
+      }
+    }
+  // The view direction through the tile's top-left pixel corner (the reference's
+  // dir = forward + cx right + cy up, cx = (sx - width/2) pitch, cy = (height/2 - sy) pitch).
+  zsimd::ShadeParams tp = sp;
+  const Camera& cam = mesh.camera;
+  const Vec3 d0 = cam.forward + ((x0 - 0.5 * mesh.width) * cam.pitch) * cam.right +
+                  ((0.5 * mesh.height - y0) * cam.pitch) * cam.up;
+  tp.dir0[0] = float(d0.x), tp.dir0[1] = float(d0.y), tp.dir0[2] = float(d0.z);
+  zsimd::shade_tile(tp, tile_tri, sb.slot.data(), sb.planes.data(), shade.tri.get(), x1 - x0,
+                    y1 - y0, sb.rgb.get(), sb.z.get(), img.pixel(x0, y0), size_t(mesh.width) * 4,
+                    img.depth.data() + size_t(y0) * mesh.width + size_t(x0), size_t(mesh.width));
+}
+
+template <class T>
+Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh,
+                const std::vector<const ScreenTri*>& tris, const RasterSettings& s,
+                const FrameOptions& opts, FrameStats* stats) {
+  const auto off = sample_offsets(s);
+  ShadeSetup shade;
+  const Binned b = bin_mesh(mesh, tris, s, off, opts.threads, &scene, &shade);
+  const RasterParams p = raster_params(mesh, s, b, off);
+  std::vector<float> lights;
+  const zsimd::ShadeParams sp = shade_params(scene, mesh, s, off, b, lights);
   Image img = Image::uninitialized(mesh.width, mesh.height);
   img.depth.resize(size_t(mesh.width) * size_t(mesh.height));
-  const size_t tiles = size_t(b.ntx) * size_t(b.nty);
-  const int rows = shade_rows(s);
   tbb::enumerable_thread_specific<TileBuffers<T>> buffers;
   tbb::enumerable_thread_specific<ShadeBuffers> shade_buffers;
-  parallel_tiles(
-      mesh.width, mesh.height, b.tw, b.th, opts.threads, opts.progress,
-      [&](int x0, int y0, int x1, int y1) {
-        TileBuffers<T>& buf = buffers.local();
-        raster_one_tile(p, b, x0, y0, x1, y1, far_value<T>(s.depth), false, buf);
-        ShadeBuffers& sb = shade_buffers.local();
-        if (sb.slot.size() != tris.size()) sb.slot.assign(tris.size(), 0);
-        const size_t plane = size_t(b.tw) * size_t(b.th);
-        if (sb.size != plane) {
-          sb.rgb = hwy::AllocateAligned<float>(3 * plane);
-          sb.z = hwy::AllocateAligned<float>(plane);
-          sb.size = plane;
-        }
-        // The tile's triangles' planes, moved to the tile's top-left corner, per pixel.
-        sb.planes.clear();
-        const size_t tile = size_t(y0 / b.th) * size_t(b.ntx) + size_t(x0 / b.tw);
-        const int64_t cx = int64_t(x0) * kSubpixel, cy = int64_t(y0) * kSubpixel;
-        for (int c = 0; c < b.nchunks; ++c)
-          for (const uint32_t id : b.bins[size_t(c) * tiles + tile]) {
-            sb.slot[id] = int32_t(sb.planes.size());
-            zsimd::LocalPlanes& L = sb.planes.emplace_back();
-            const TriSetup& t = b.setup[id];
-            for (int row = 0; row < rows; ++row) {
-              const double* a = shade.plane(id) + 3 * row;
-              L.p[row][0] = float(a[0] + a[1] * double(cx - t.x0) + a[2] * double(cy - t.y0));
-              L.p[row][1] = float(a[1] * kSubpixel);
-              L.p[row][2] = float(a[2] * kSubpixel);
-            }
-          }
-        // The view direction through the tile's top-left pixel corner (the reference's
-        // dir = forward + cx right + cy up, cx = (sx - width/2) pitch, cy = (height/2 - sy) pitch).
-        zsimd::ShadeParams tp = sp;
-        const Camera& cam = mesh.camera;
-        const Vec3 d0 = cam.forward + ((x0 - 0.5 * mesh.width) * cam.pitch) * cam.right +
-                        ((0.5 * mesh.height - y0) * cam.pitch) * cam.up;
-        tp.dir0[0] = float(d0.x), tp.dir0[1] = float(d0.y), tp.dir0[2] = float(d0.z);
-        zsimd::shade_tile(
-            tp, buf.tri.get(), sb.slot.data(), sb.planes.data(), shade.tri.get(), x1 - x0, y1 - y0,
-            sb.rgb.get(), sb.z.get(), img.pixel(x0, y0), size_t(mesh.width) * 4,
-            img.depth.data() + size_t(y0) * mesh.width + size_t(x0), size_t(mesh.width));
-      });
+  parallel_tiles(mesh.width, mesh.height, b.tw, b.th, opts.threads, opts.progress,
+                 [&](int x0, int y0, int x1, int y1) {
+                   TileBuffers<T>& buf = buffers.local();
+                   raster_one_tile(p, b, x0, y0, x1, y1, far_value<T>(s.depth), false, buf);
+                   shade_one_tile(mesh, b, shade, sp, tris.size(), x0, y0, x1, y1,
+                                  buf.tri.get(), shade_buffers.local(), img);
+                 });
   if (stats) stats->items = mesh.scene_tris + mesh.sphere_tris;
   return img;
 }
@@ -433,6 +447,46 @@ Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
     for (const ScreenTri& t : c) tris.push_back(&t);
   if (double_depth(s.depth)) return zbuffer_t<double>(scene, mesh, tris, s, opts, stats);
   return zbuffer_t<float>(scene, mesh, tris, s, opts, stats);
+}
+
+Image shade_visibility(const Scene& scene, const ScreenMesh& mesh, const RasterSettings& s,
+                       const std::vector<uint32_t>& visible, const FrameOptions& opts) {
+  const auto off = sample_offsets(s);
+  const int spp = int(off.size());
+  std::vector<const ScreenTri*> tris(mesh.tris.size());
+  for (size_t i = 0; i < tris.size(); ++i) tris[i] = &mesh.tris[i];
+  ShadeSetup shade;
+  const Binned b = bin_mesh(mesh, tris, s, off, opts.threads, &scene, &shade);
+  std::vector<float> lights;
+  const zsimd::ShadeParams sp = shade_params(scene, mesh, s, off, b, lights);
+  Image img = Image::uninitialized(mesh.width, mesh.height);
+  img.depth.resize(size_t(mesh.width) * size_t(mesh.height));
+  struct IdBuffer {
+    hwy::AlignedFreeUniquePtr<int32_t[]> tri;
+    size_t size = 0;
+  };
+  tbb::enumerable_thread_specific<IdBuffer> buffers;
+  tbb::enumerable_thread_specific<ShadeBuffers> shade_buffers;
+  parallel_tiles(
+      mesh.width, mesh.height, b.tw, b.th, opts.threads, opts.progress,
+      [&](int x0, int y0, int x1, int y1) {
+        IdBuffer& buf = buffers.local();
+        const size_t n = size_t(b.tw) * size_t(b.th) * size_t(spp);
+        if (buf.size != n) buf.tri = hwy::AllocateAligned<int32_t>(n), buf.size = n;
+        std::fill_n(buf.tri.get(), n, -1);
+        // The tile's samples into the kernel's layout (a visible triangle is
+        // binned to the tile: its box holds the sample).
+        for (int k = 0; k < spp; ++k)
+          for (int y = y0; y < y1; ++y)
+            for (int x = x0; x < x1; ++x) {
+              const uint32_t t = visible[(size_t(y) * size_t(mesh.width) + size_t(x)) * size_t(spp) + size_t(k)];
+              buf.tri[(size_t(k) * size_t(b.th) + size_t(y - y0)) * size_t(b.tw) + size_t(x - x0)] =
+                  t == Visibility::kNone ? -1 : int32_t(t);
+            }
+        shade_one_tile(mesh, b, shade, sp, tris.size(), x0, y0, x1, y1, buf.tri.get(),
+                       shade_buffers.local(), img);
+      });
+  return img;
 }
 
 void zbuffer_visibility(const ScreenMesh& mesh, const RasterSettings& s, int threads,

@@ -141,7 +141,9 @@ ImageFamily scanline_family() {
   f.tol.pixel_fraction = 0.999;
   const TypedImpl<Scene> impls[] = {
       {"reference", ref::scanline, 0, {}, {}, false},
-      {"simd", opt::simd::scanline, 0},
+      // Visibility by the same scanlines (coverage identical to the reference's),
+      // depth in float lanes; shading by the simd z-buffer's float kernel: 1/255.
+      {"simd", opt::simd::scanline, 1.0 / 255},
   };
   f.impls = erase_all<Scene>(impls);
   return f;
