@@ -327,13 +327,10 @@ void scan_band(const Frame& f, int j_begin, int j_end, bool counts, OnRow on_row
           const double X = double(i0 * kSubpixel + col.ox) / kSubpixel, Y = double(ys) / kSubpixel;
           const double d0 = pl.d0 + pl.ddx * (X - pl.x0) + pl.ddy * (Y - pl.y0);
           const size_t base = size_t(col.k) * (w + pad) + size_t(i0);
-          if (f.float_lanes)
-            HWY_DYNAMIC_DISPATCH(sk::FillF)
-            (zf.data() + base, tf.data() + base, i1 - i0 + 1, d0, pl.ddx, int32_t(ti), greater);
-          else
-            HWY_DYNAMIC_DISPATCH(sk::FillD)
-            (zd.data() + base, td.data() + base, i1 - i0 + 1, d0, pl.ddx, double(ti), greater,
-             fixed24);
+          if (f.float_lanes) HWY_DYNAMIC_DISPATCH(sk::FillF)
+          (zf.data() + base, tf.data() + base, i1 - i0 + 1, d0, pl.ddx, int32_t(ti), greater);
+          else HWY_DYNAMIC_DISPATCH(sk::FillD)(zd.data() + base, td.data() + base, i1 - i0 + 1, d0,
+                                               pl.ddx, double(ti), greater, fixed24);
           if (counts)
             for (size_t i = base; i <= base + size_t(i1 - i0); ++i) ++cnt[i];
         }
@@ -403,7 +400,8 @@ Image scanline(const Scene& scene, const FrameOptions& opts, FrameStats* stats) 
   std::vector<uint32_t> visible(size_t(opts.width) * size_t(opts.height) * size_t(f.spp),
                                 Visibility::kNone);
   scan_frame(f, opts.threads, {}, false, [&](int j, const RowOut& out) {
-    std::copy(out.tri.begin(), out.tri.end(), visible.begin() + ptrdiff_t(size_t(j) * opts.width * f.spp));
+    std::copy(out.tri.begin(), out.tri.end(),
+              visible.begin() + ptrdiff_t(size_t(j) * opts.width * f.spp));
   });
   // Then each visible sample shaded once, by the z-buffer's SIMD shading.
   Image image = opt::simd::shade_visibility(scene, mesh, s, visible, opts);

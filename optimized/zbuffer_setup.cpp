@@ -153,7 +153,8 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
       const bool patch = scene.poly_is_patch[p] != 0;
       const bool two_sided = m.two_sided();
       const size_t tris_before = out.tris.size();
-      const uint64_t scene_before = out.scene_tris, culled_before = out.culled, degenerate_before = out.degenerate;
+      const uint64_t scene_before = out.scene_tris, culled_before = out.culled,
+                     degenerate_before = out.degenerate;
       bool needs_clipping = false;
       for (uint32_t t = scene.poly_tri_first[p]; t < scene.poly_tri_first[p + 1]; ++t) {
         ++out.scene_tris;

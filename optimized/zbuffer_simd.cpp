@@ -353,9 +353,9 @@ zsimd::ShadeParams shade_params(const Scene& scene, const ScreenMesh& mesh, cons
 // Shades tile [x0, x1) x [y0, y1) into img: tile_tri is the tile's visible
 // triangle per sample (a tile buffer: plane k, row r, column c at
 // [(k buf_h + r) buf_w + c], -1 for none), every one of them binned to the tile.
-void shade_one_tile(const ScreenMesh& mesh, const Binned& b,
-                    const ShadeSetup& shade, const zsimd::ShadeParams& sp, size_t ntris, int x0,
-                    int y0, int x1, int y1, const int32_t* tile_tri, ShadeBuffers& sb, Image& img) {
+void shade_one_tile(const ScreenMesh& mesh, const Binned& b, const ShadeSetup& shade,
+                    const zsimd::ShadeParams& sp, size_t ntris, int x0, int y0, int x1, int y1,
+                    const int32_t* tile_tri, ShadeBuffers& sb, Image& img) {
   if (sb.slot.size() != ntris) sb.slot.assign(ntris, 0);
   const size_t plane = size_t(b.tw) * size_t(b.th);
   if (sb.size != plane) {
@@ -411,8 +411,8 @@ Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh,
                  [&](int x0, int y0, int x1, int y1) {
                    TileBuffers<T>& buf = buffers.local();
                    raster_one_tile(p, b, x0, y0, x1, y1, far_value<T>(s.depth), false, buf);
-                   shade_one_tile(mesh, b, shade, sp, tris.size(), x0, y0, x1, y1,
-                                  buf.tri.get(), shade_buffers.local(), img);
+                   shade_one_tile(mesh, b, shade, sp, tris.size(), x0, y0, x1, y1, buf.tri.get(),
+                                  shade_buffers.local(), img);
                  });
   if (stats) stats->items = mesh.scene_tris + mesh.sphere_tris;
   return img;
@@ -479,7 +479,8 @@ Image shade_visibility(const Scene& scene, const ScreenMesh& mesh, const RasterS
         for (int k = 0; k < spp; ++k)
           for (int y = y0; y < y1; ++y)
             for (int x = x0; x < x1; ++x) {
-              const uint32_t t = visible[(size_t(y) * size_t(mesh.width) + size_t(x)) * size_t(spp) + size_t(k)];
+              const uint32_t t =
+                  visible[(size_t(y) * size_t(mesh.width) + size_t(x)) * size_t(spp) + size_t(k)];
               buf.tri[(size_t(k) * size_t(b.th) + size_t(y - y0)) * size_t(b.tw) + size_t(x - x0)] =
                   t == Visibility::kNone ? -1 : int32_t(t);
             }
