@@ -34,6 +34,7 @@
 
 #include "core/error.h"
 #include "optimized/painter.h"
+#include "optimized/raster.h"
 #include "optimized/tiling.h"
 
 namespace lockstep::opt::simd {
@@ -151,7 +152,8 @@ Image painter(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
     throw InputError(
         scene.source, 0,
         "size x spp is " + std::to_string(int64_t(samples)) + " samples; at most 33554432 (2^25)");
-  const ScreenMesh mesh = view_scene(scene, w, h, s);
+  // view_scene's mesh, bit for bit, set up in parallel (optimized/zbuffer_setup.cpp).
+  const ScreenMesh mesh = opt::simd::view_scene(scene, w, h, s, opts.threads);
   const auto offsets = sample_offsets(s);
   const int spp = int(offsets.size());
 
