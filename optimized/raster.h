@@ -15,8 +15,9 @@ namespace opt::simd {
 void zbuffer_visibility(const ScreenMesh& mesh, const RasterSettings& s, int threads, Visibility& vis);
 Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats);
 // lockstep::view_scene's mesh, bit for bit, in parallel and with every vertex
-// projected once (optimized/zbuffer_setup.cpp); scenes with spheres or with
-// triangles to clip are handed to view_scene itself.
+// projected once (optimized/zbuffer_setup.cpp); spheres go through view_scene's
+// own sphere step in parallel chunks, polygons that need clipping through its
+// polygon step, one polygon at a time.
 ScreenMesh view_scene(const Scene& scene, int width, int height, const RasterSettings& s, int threads);
 // The z-buffer's SIMD shading (float, structure of arrays, every Shading mode,
 // box filter) of a visibility found by another method: visible holds, per

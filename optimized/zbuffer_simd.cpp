@@ -437,7 +437,7 @@ Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   ScreenMesh mesh;
   std::vector<std::vector<ScreenTri>> chunks;
   zsimd::view_scene_chunks(scene, opts.width, opts.height, s, opts.threads, mesh, chunks);
-  // In mesh order: mesh.tris (a scene handed to view_scene), then the chunks.
+  // In mesh order: mesh.tris (empty: the set-up leaves every triangle in a chunk), then the chunks.
   size_t n = mesh.tris.size();
   for (const auto& c : chunks) n += c.size();
   std::vector<const ScreenTri*> tris;
