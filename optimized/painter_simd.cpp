@@ -145,13 +145,9 @@ std::vector<PairFinding> pairs_parallel(const std::vector<PainterTri>& tris,
 }  // namespace
 
 Image painter(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
-  const RasterSettings s = raster_settings(opts.params, scene.source);
+  const RasterSettings s = frame_settings(scene, opts);
   const int w = opts.width, h = opts.height;
   const double samples = double(w) * h * s.spp;
-  if (samples > double(1 << 25))
-    throw InputError(
-        scene.source, 0,
-        "size x spp is " + std::to_string(int64_t(samples)) + " samples; at most 33554432 (2^25)");
   // view_scene's mesh, bit for bit, set up in parallel (optimized/zbuffer_setup.cpp).
   const ScreenMesh mesh = opt::simd::view_scene(scene, w, h, s, opts.threads);
   const auto offsets = sample_offsets(s);

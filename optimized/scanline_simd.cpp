@@ -387,12 +387,7 @@ void scanline_visibility(const ScreenMesh& mesh, const RasterSettings& s, int th
 }
 
 Image scanline(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
-  const RasterSettings s = raster_settings(opts.params, scene.source);
-  const double samples = double(opts.width) * opts.height * s.spp;
-  if (samples > double(1 << 25))
-    throw InputError(
-        scene.source, 0,
-        "size x spp is " + std::to_string(int64_t(samples)) + " samples; at most 33554432 (2^25)");
+  const RasterSettings s = frame_settings(scene, opts);
   // The set-up: view_scene's mesh, bit for bit (opt::simd::view_scene, in parallel).
   const ScreenMesh mesh = opt::simd::view_scene(scene, opts.width, opts.height, s, opts.threads);
   const Frame f = prepare(mesh, s);

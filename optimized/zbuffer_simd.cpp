@@ -426,13 +426,7 @@ bool double_depth(DepthFormat f) { return f == DepthFormat::kDouble || f == Dept
 }  // namespace
 
 Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
-  const RasterSettings s = raster_settings(opts.params, scene.source);
-  // The reference's limit on the sample buffers (2^25 samples), so both refuse the same frames.
-  const double samples = double(opts.width) * opts.height * s.spp;
-  if (samples > double(1 << 25))
-    throw InputError(
-        scene.source, 0,
-        "size x spp is " + std::to_string(int64_t(samples)) + " samples; at most 33554432 (2^25)");
+  const RasterSettings s = frame_settings(scene, opts);
   // The mesh's triangles stay in the set-up's chunks (no copy into one vector).
   ScreenMesh mesh;
   std::vector<std::vector<ScreenTri>> chunks;

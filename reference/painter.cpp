@@ -479,14 +479,9 @@ Fragment painter_fragment(const ScreenMesh& mesh, uint32_t t, int64_t sx, int64_
 namespace ref {
 
 Image painter(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
-  const RasterSettings s = raster_settings(opts.params, scene.source);
+  const RasterSettings s = frame_settings(scene, opts);
   const int w = opts.width, h = opts.height;
-  // The same sample budget as the z-buffer (its buffers are the same size).
   const double samples = double(w) * h * s.spp;
-  if (samples > double(1 << 25))
-    throw InputError(
-        scene.source, 0,
-        "size x spp is " + std::to_string(int64_t(samples)) + " samples; at most 33554432 (2^25)");
   const ScreenMesh mesh = view_scene(scene, w, h, s);
   const auto offsets = sample_offsets(s);
   const int spp = int(offsets.size());

@@ -97,6 +97,12 @@ struct RasterSettings {
 // tess_error, depth, interp). Throws InputError(source, 0, ...) naming the
 // setting and what it may be.
 RasterSettings raster_settings(const Params& params, const std::string& source);
+// The settings of one frame (raster_settings of opts.params), after the one
+// limit every raster implementation shares: width x height x spp at most 2^25
+// samples (the reference's sample buffers take 30 bytes a sample: 1024 x 1024
+// at spp 25, 2048 x 2048 at 4), so that all refuse the same frames (InputError
+// naming the scene).
+RasterSettings frame_settings(const Scene& scene, const FrameOptions& opts);
 // The settings the raster families understand, for --help and checking.
 std::vector<ParamSpec> raster_params();
 

@@ -95,4 +95,13 @@ RasterSettings raster_settings(const Params& params, const std::string& source) 
   return s;
 }
 
+RasterSettings frame_settings(const Scene& scene, const FrameOptions& opts) {
+  const RasterSettings s = raster_settings(opts.params, scene.source);
+  const double samples = double(opts.width) * opts.height * s.spp;
+  if (samples > double(1 << 25))
+    throw InputError(scene.source, 0,
+                     "size x spp is " + std::to_string(int64_t(samples)) + " samples; at most 33554432 (2^25)");
+  return s;
+}
+
 }  // namespace lockstep

@@ -331,12 +331,7 @@ void scanline_visibility(const ScreenMesh& mesh, const RasterSettings& s, Visibi
 }
 
 Image scanline(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
-  const RasterSettings s = raster_settings(opts.params, scene.source);
-  const double samples = double(opts.width) * opts.height * s.spp;
-  if (samples > double(1 << 25))
-    throw InputError(
-        scene.source, 0,
-        "size x spp is " + std::to_string(int64_t(samples)) + " samples; at most 33554432 (2^25)");
+  const RasterSettings s = frame_settings(scene, opts);
   const ScreenMesh mesh = view_scene(scene, opts.width, opts.height, s);
   const int w = opts.width, spp = int(sample_offsets(s).size());
 

@@ -154,13 +154,9 @@ void zbuffer_visibility(const ScreenMesh& mesh, const RasterSettings& s, Visibil
 }
 
 Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
-  const RasterSettings s = raster_settings(opts.params, scene.source);
-  // The sample buffers (colour, depth, visible triangle, coverage count) take
-  // 30 bytes a sample; 2^25 samples (1024 x 1024 at spp 25, 2048 x 2048 at 4) is the most we allow.
+  const RasterSettings s = frame_settings(scene, opts);
+  // The sample buffers: colour, depth, visible triangle, coverage count.
   const double samples = double(opts.width) * opts.height * s.spp;
-  if (samples > double(1 << 25))
-    throw InputError(scene.source, 0,
-                     "size x spp is " + std::to_string(int64_t(samples)) + " samples; at most 33554432 (2^25)");
   const ScreenMesh mesh = view_scene(scene, opts.width, opts.height, s);
   Visibility vis;
   std::vector<Vec3f> sample_color(size_t(samples), Vec3f(scene.background));
