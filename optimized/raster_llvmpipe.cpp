@@ -296,7 +296,7 @@ std::string version() {
 }
 
 Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
-  const RasterSettings s = raster_settings(opts.params, scene.source);
+  const RasterSettings s = frame_settings(scene, opts);  // as every raster row: at most 2^25 samples
   if (const std::string why = unsupported(s); !why.empty()) throw InputError(scene.source, 0, why);
   const ScreenMesh mesh = view_scene(scene, opts.width, opts.height, s);
   std::vector<std::string> notes;
