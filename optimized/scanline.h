@@ -5,8 +5,8 @@
 //         list and exact integer edge walk; spans filled by Highway vectors
 //         (depth test + write, 8 floats per AVX2 vector, 16 per AVX-512) with
 //         the stored depth interpolated directly (it is affine in screen space);
-//         bands of rows on TBB; the visible samples shaded from their exact
-//         edge functions (the fragments of ref::zbuffer).
+//         bands of rows on TBB; the visible samples shaded by the simd
+//         z-buffer's SIMD kernel (opt::simd::shade_visibility, optimized/raster.h).
 #pragma once
 
 #include "reference/raster.h"
