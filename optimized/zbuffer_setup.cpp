@@ -11,11 +11,13 @@
 //   * everything else (culling in world or projection space, the flat colour
 //     per polygon, the Gouraud colour per vertex, the degenerate and culled
 //     counts) is the reference's arithmetic, operation for operation.
-// Spheres run view_scene's own sphere step (ref::view_spheres) on chunks of
-// spheres in parallel. Polygons: only the common case is done here, no
-// polygon with a triangle that needs clipping (at the hither plane or the guard
-// band) goes through view_scene's own polygon step (ref::view_polygons) on its
-// own, in its chunk, so the result is always view_scene's.
+// Spheres: one unit sphere per ring count in use (not sines and cosines per
+// sphere), then chunks of spheres in parallel, each sphere's vertices projected
+// once and its triangles built in place (view_spheres copies three vertices a
+// triangle, twice). Only the common case is done here: a sphere or polygon with
+// a vertex outside the hither plane or the guard band (a triangle that may need
+// clipping) goes through view_scene's own step (lockstep::view_spheres,
+// view_polygons) on its own, in its chunk, so the result is always view_scene's.
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -62,6 +64,110 @@ struct Chunk {
   uint64_t scene_tris = 0, culled = 0, degenerate = 0, clipped = 0;
 };
 
+constexpr int kMaxRings = 256;  // sphere_rings' upper end
+
+// Whether e (eye space) lies inside the hither plane and the guard band
+// (view_scene's inside_all, for one vertex). Branch-free (& not &&), so that
+// the compiler can vectorise the loops that call it.
+inline bool inside_planes(const Vec3& e, double near_z, double g) {
+  return (e.z - near_z >= 0) & (g * e.z - e.x >= 0) & (g * e.z + e.x >= 0) & (g * e.z - e.y >= 0) &
+         (g * e.z + e.y >= 0);
+}
+
+// A sphere vertex, projected.
+struct SphereVertex {
+  Vec3 world, normal, color;
+  double z = 0;
+  int32_t x = 0, y = 0;
+};
+
+// Sphere k as view_spheres emits it (unit: its unit sphere), appended to out
+// with the counts, when every vertex of its tessellation lies inside the hither
+// plane and the guard band (then no triangle is clipped). Otherwise false, and
+// nothing is emitted. Operation for operation view_spheres' and Emitter::triangle's
+// arithmetic, so the same bits; only the per-triangle copies and the per-sphere
+// sines are gone.
+bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam, double near_z,
+                 double g, uint32_t k, const UnitSphere& unit, std::vector<SphereVertex>& vert,
+                 ScreenMesh& out) {
+  const Vec3 c = scene.sphere_center[k];
+  const double signed_radius = scene.sphere_radius[k];
+  const double r = std::abs(signed_radius);
+  const Material& m = scene.materials[scene.sphere_material[k]];
+  const bool gouraud = s.shading == Shading::kGouraud, flat_shading = s.shading == Shading::kFlat;
+  vert.resize(unit.unit.size());
+  bool inside = true;
+  for (size_t i = 0; i < vert.size(); ++i) {
+    SphereVertex& v = vert[i];
+    const Vec3& u = unit.unit[i];
+    v.world = c + r * u;
+    const Vec3 e = eye_from_world(cam, v.world);
+    inside = inside & inside_planes(e, near_z, g);
+    v.z = e.z;
+    const double xs = 0.5 * cam.width + e.x / (e.z * cam.pitch);
+    const double ys = 0.5 * cam.height - e.y / (e.z * cam.pitch);
+    v.x = int32_t(round_half_away(xs * kSubpixel));
+    v.y = int32_t(round_half_away(ys * kSubpixel));
+  }
+  if (!inside) return false;
+  for (size_t i = 0; i < vert.size(); ++i) {
+    SphereVertex& v = vert[i];
+    v.normal = signed_radius > 0 ? unit.unit[i] : -unit.unit[i];
+    if (gouraud) v.color = lit(scene, m, cam.eye, v.world, v.normal);
+  }
+  for (uint32_t t = 0; t < unit.tri.size(); ++t) {
+    // Counter-clockwise seen from the visible side: reversed inside out.
+    const auto& [a, b0, c0] = unit.tri[t];
+    const uint32_t idx[3] = {a, signed_radius > 0 ? b0 : c0, signed_radius > 0 ? c0 : b0};
+    const Vec3& w0 = vert[idx[0]].world;
+    const Vec3& w1 = vert[idx[1]].world;
+    const Vec3& w2 = vert[idx[2]].world;
+    const Vec3 fn = cross(w1 - w0, w2 - w0);
+    if (length(fn) == 0) continue;
+    const Vec3 face = normalize(fn);
+    const bool front = dot(face, cam.eye - w0) > 0;
+    Vec3 flat;
+    if (flat_shading && !(!front && s.cull == CullMode::kWorld))
+      flat = lit(scene, m, cam.eye, (w0 + w1 + w2) / 3.0, face);
+    ++out.sphere_tris;
+    // Emitter::triangle: world-space culling (spheres are one-sided) ...
+    if (!front && s.cull == CullMode::kWorld) {
+      ++out.culled;
+      continue;
+    }
+    // ... then the snapped area: degenerate, projection-space culling, the
+    // order (positive area: a front face's v[1] and v[2] swapped).
+    const SphereVertex &p0 = vert[idx[0]], &p1 = vert[idx[1]], &p2 = vert[idx[2]];
+    const int64_t area =
+        int64_t(p1.x - p0.x) * (p2.y - p0.y) - int64_t(p1.y - p0.y) * (p2.x - p0.x);
+    if (area == 0) {
+      ++out.degenerate;
+      continue;
+    }
+    if (area > 0 && s.cull == CullMode::kProjection) {
+      ++out.culled;
+      continue;
+    }
+    const SphereVertex* order[3] = {&p0, area < 0 ? &p2 : &p1, area < 0 ? &p1 : &p2};
+    ScreenTri& st = out.tris.emplace_back();  // built in place (a ScreenTri is 300 bytes)
+    for (int i = 0; i < 3; ++i) {
+      const SphereVertex& sv = *order[i];
+      ScreenVertex& v = st.v[size_t(i)];
+      v.x = sv.x;
+      v.y = sv.y;
+      v.z = sv.z;
+      v.world = sv.world;
+      v.normal = sv.normal;
+      if (gouraud) v.color = sv.color;
+    }
+    st.prim = k;
+    st.source_tri = t;
+    st.flat_color = flat;
+    st.face_normal = front ? face : -face;
+  }
+  return true;
+}
+
 }  // namespace
 
 void view_scene_chunks(const Scene& scene, int width, int height, const RasterSettings& s,
@@ -73,10 +179,38 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
   const Camera& cam = mesh.camera;
   tbb::task_arena arena(resolve_threads(threads));
 
-  // Spheres: view_scene's own sphere step (tessellation, clipping, culling),
-  // run on chunks of spheres in parallel, each chunk into its own mesh; the
-  // chunks' triangles then follow one another in sphere order, as in view_scene.
+  const double near_z = mesh.near_z, g = kGuardBand * cam.pitch;
+
+  // Spheres, as view_spheres: each sphere's ring count first (0: outside the
+  // view), then one unit sphere per ring count in use (the sines and cosines
+  // once per frame, not once per sphere), then chunks of spheres in parallel,
+  // each into its own mesh; the chunks' triangles then follow one another in
+  // sphere order, as in view_scene.
   const uint32_t spheres = scene.sphere_count();
+  std::vector<int> rings(spheres, 0);
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, spheres, 1024),
+                      [&](const tbb::blocked_range<uint32_t>& r) {
+                        for (uint32_t k = r.begin(); k < r.end(); ++k) {
+                          const double radius = std::abs(scene.sphere_radius[k]);
+                          const Vec3 ce = eye_from_world(cam, scene.sphere_center[k]);
+                          if (!sphere_outside(cam, ce, radius, near_z))
+                            rings[k] = sphere_rings(radius, ce.z, cam, near_z, s.tess_error);
+                        }
+                      });
+  });
+  std::vector<UnitSphere> units(kMaxRings + 1);
+  {
+    std::vector<char> used(kMaxRings + 1, 0);
+    for (const int n : rings) used[size_t(n)] = 1;
+    std::vector<int> counts;
+    for (int n = 1; n <= kMaxRings; ++n)
+      if (used[size_t(n)]) counts.push_back(n);
+    arena.execute([&] {
+      tbb::parallel_for(size_t(0), counts.size(),
+                        [&](size_t i) { units[size_t(counts[i])] = unit_sphere(counts[i]); });
+    });
+  }
   // At most 16 spheres a chunk (a few big spheres are as much work as many
   // small ones), at most 64 chunks (each chunk gets its own bins per tile).
   const uint32_t spheres_per_chunk =
@@ -91,7 +225,19 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
       part.near_z = mesh.near_z;
       part.far_z = mesh.far_z;
       const uint32_t first = uint32_t(c) * spheres_per_chunk;
-      lockstep::view_spheres(scene, s, first, std::min(spheres, first + spheres_per_chunk), part);
+      const uint32_t last = std::min(spheres, first + spheres_per_chunk);
+      std::vector<SphereVertex> scratch;
+      // About half of each sphere's triangles face the eye.
+      size_t expect = 0;
+      for (uint32_t k = first; k < last; ++k)
+        if (rings[k] != 0) expect += units[size_t(rings[k])].tri.size() / 2 + 1;
+      part.tris.reserve(expect);
+      for (uint32_t k = first; k < last; ++k) {
+        if (rings[k] == 0) continue;
+        // A sphere crossing the hither plane or the guard band: view_spheres itself.
+        if (!view_sphere(scene, s, cam, near_z, g, k, units[size_t(rings[k])], scratch, part))
+          lockstep::view_spheres(scene, s, k, k + 1, part);
+      }
     });
   });
   for (ScreenMesh& part : sphere_chunks) {
@@ -102,7 +248,6 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
     if (!part.tris.empty()) out_chunks.push_back(std::move(part.tris));
   }
 
-  const double near_z = mesh.near_z, g = kGuardBand * cam.pitch;
 
   // Every vertex once: eye space, the clip test, the snapped screen position.
   std::vector<Projected> pv(scene.vertex.size());
@@ -113,9 +258,7 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
             Projected& p = pv[i];
             const Vec3 e = eye_from_world(cam, scene.vertex[i]);
             p.eye = e;
-            // Branch-free (& not &&), so that the compiler can vectorise the loop.
-            const bool inside = (e.z - near_z >= 0) & (g * e.z - e.x >= 0) & (g * e.z + e.x >= 0) &
-                                (g * e.z - e.y >= 0) & (g * e.z + e.y >= 0);
+            const bool inside = inside_planes(e, near_z, g);
             p.inside = inside;
             const double xs = 0.5 * cam.width + e.x / (e.z * cam.pitch);
             const double ys = 0.5 * cam.height - e.y / (e.z * cam.pitch);
@@ -170,9 +313,24 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
           needs_clipping = true;
           break;
         }
+        // The snapped area: degenerate, projection-space culling (a front face is
+        // counter-clockwise as seen, negative area with y down), the order.
+        const Projected &q0 = pv[tv[0]], &q1 = pv[tv[1]], &q2 = pv[tv[2]];
+        const int64_t area =
+            int64_t(q1.x - q0.x) * (q2.y - q0.y) - int64_t(q1.y - q0.y) * (q2.x - q0.x);
+        if (area == 0) {
+          ++out.degenerate;
+          continue;
+        }
+        if (area > 0 && !two_sided && s.cull == CullMode::kProjection) {
+          ++out.culled;
+          continue;
+        }
+        // Positive area: a front face's v[1] and v[2] swapped.
+        const uint32_t order[3] = {tv[0], area < 0 ? tv[2] : tv[1], area < 0 ? tv[1] : tv[2]};
         ScreenTri& st = out.tris.emplace_back();  // built in place (a ScreenTri is 300 bytes)
         for (int i = 0; i < 3; ++i) {
-          const uint32_t vi = tv[size_t(i)];
+          const uint32_t vi = order[i];
           ScreenVertex& v = st.v[size_t(i)];
           v.x = pv[vi].x;
           v.y = pv[vi].y;
@@ -184,20 +342,6 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
         st.prim = scene.sphere_count() + p;
         st.source_tri = t;
         st.flat_color = flat;
-        const int64_t area = int64_t(st.v[1].x - st.v[0].x) * (st.v[2].y - st.v[0].y) -
-                             int64_t(st.v[1].y - st.v[0].y) * (st.v[2].x - st.v[0].x);
-        if (area == 0) {
-          ++out.degenerate;
-          out.tris.pop_back();
-          continue;
-        }
-        // Projection space: a front face is counter-clockwise as seen, negative area with y down.
-        if (area > 0 && !two_sided && s.cull == CullMode::kProjection) {
-          ++out.culled;
-          out.tris.pop_back();
-          continue;
-        }
-        if (area < 0) std::swap(st.v[1], st.v[2]);
         st.face_normal = front ? face : -face;
       }
       if (needs_clipping) {

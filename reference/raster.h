@@ -155,6 +155,18 @@ ScreenMesh view_frame(const Scene& scene, int width, int height);
 void view_spheres(const Scene& scene, const RasterSettings& s, uint32_t first, uint32_t last, ScreenMesh& mesh);
 void view_polygons(const Scene& scene, const RasterSettings& s, uint32_t first, uint32_t last, ScreenMesh& mesh);
 
+// The sphere step's pieces. A sphere of centre c and signed radius R becomes the
+// unit sphere of sphere_rings(|R|, ...) rings, positions c + |R| unit, normals
+// unit (-unit and the winding reversed for R < 0), unless sphere_outside.
+struct UnitSphere {
+  int rings = 0;
+  std::vector<Vec3> unit;                    // the poles (0, 0, 1), (0, 0, -1), then ring by ring
+  std::vector<std::array<uint32_t, 3>> tri;  // counter-clockwise seen from outside
+};
+UnitSphere unit_sphere(int rings);
+int sphere_rings(double radius, double centre_z, const Camera& cam, double near_z, double tess_error);
+bool sphere_outside(const Camera& cam, const Vec3& eye_centre, double radius, double near_z);
+
 // The n*n sample positions of a pixel, in 1/256 pixel from its top-left corner
 // (spp = 1: the centre, (128, 128)). Rounded to the snapping grid.
 std::vector<std::array<int32_t, 2>> sample_offsets(const RasterSettings& s);

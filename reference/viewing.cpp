@@ -119,6 +119,8 @@ int64_t snapped_area(const ScreenVertex& a, const ScreenVertex& b, const ScreenV
 
 // ---------------------------------------------------------------- spheres
 
+}  // namespace
+
 // How many latitude rings a sphere needs so that the tessellation's silhouette
 // is within tess_error pixels of the true one. A lat-long mesh with N rings and
 // 2N meridians has facets at most pi/N on a side in angle, so no point of the
@@ -137,18 +139,12 @@ int sphere_rings(double radius, double centre_z, const Camera& cam, double near_
   return std::clamp(int(std::ceil(M_PI / max_angle)), kMin, kMax);
 }
 
-struct SphereMesh {
-  std::vector<Vec3> position, normal;
-  std::vector<std::array<uint32_t, 3>> tri;  // counter-clockwise seen from the visible side
-};
-
-// A lat-long sphere: `rings` bands of latitude, 2 * rings meridians; triangles
-// at the poles, two per quad elsewhere. Normals are the exact sphere normals,
-// pointing to the visible side (inwards for NFF's negative radius), and the
-// winding follows them.
-SphereMesh tessellate_sphere(const Vec3& centre, double signed_radius, int rings) {
-  SphereMesh m;
-  const double r = std::abs(signed_radius);
+// A lat-long unit sphere: `rings` bands of latitude, 2 * rings meridians;
+// triangles at the poles, two per quad elsewhere, counter-clockwise seen from
+// outside (theta grows southwards, phi eastwards).
+UnitSphere unit_sphere(int rings) {
+  UnitSphere m;
+  m.rings = rings;
   const int meridians = 2 * rings;
   // Vertex (ring k = 0..rings, meridian l): the poles are stored once.
   auto index = [&](int k, int l) -> uint32_t {
@@ -156,32 +152,23 @@ SphereMesh tessellate_sphere(const Vec3& centre, double signed_radius, int rings
     if (k == rings) return 1;
     return uint32_t(2 + (k - 1) * meridians + (l % meridians));
   };
-  auto add = [&](const Vec3& unit) {
-    m.position.push_back(centre + r * unit);
-    m.normal.push_back(signed_radius > 0 ? unit : -unit);
-  };
-  add({0, 0, 1});
-  add({0, 0, -1});
+  m.unit.push_back({0, 0, 1});
+  m.unit.push_back({0, 0, -1});
   for (int k = 1; k < rings; ++k) {
     const double theta = M_PI * k / rings;
     for (int l = 0; l < meridians; ++l) {
       const double phi = 2 * M_PI * l / meridians;
-      add({std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)});
+      m.unit.push_back({std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)});
     }
   }
-  // Counter-clockwise seen from outside (theta grows southwards, phi eastwards).
-  auto face = [&](uint32_t a, uint32_t b, uint32_t c) {
-    if (signed_radius > 0) m.tri.push_back({a, b, c});
-    else m.tri.push_back({a, c, b});
-  };
   for (int k = 0; k < rings; ++k)
     for (int l = 0; l < meridians; ++l) {
       const uint32_t a = index(k, l), b = index(k + 1, l), c = index(k + 1, l + 1), d = index(k, l + 1);
-      if (k == 0) face(a, b, c);
-      else if (k == rings - 1) face(a, b, d);
+      if (k == 0) m.tri.push_back({a, b, c});
+      else if (k == rings - 1) m.tri.push_back({a, b, d});
       else {
-        face(a, b, c);
-        face(a, c, d);
+        m.tri.push_back({a, b, c});
+        m.tri.push_back({a, c, d});
       }
     }
   return m;
@@ -196,6 +183,31 @@ bool sphere_outside(const Camera& c, const Vec3& e, double r, double near_z) {
   const double nx = std::sqrt(1 + hx * hx), ny = std::sqrt(1 + hy * hy);
   return (e.x - hx * e.z) / nx > r || (-e.x - hx * e.z) / nx > r || (e.y - hy * e.z) / ny > r ||
          (-e.y - hy * e.z) / ny > r;
+}
+
+namespace {
+
+struct SphereMesh {
+  std::vector<Vec3> position, normal;
+  std::vector<std::array<uint32_t, 3>> tri;  // counter-clockwise seen from the visible side
+};
+
+// The unit sphere moved to the centre and scaled. Normals are the exact sphere
+// normals, pointing to the visible side (inwards for NFF's negative radius),
+// and the winding follows them.
+SphereMesh tessellate_sphere(const Vec3& centre, double signed_radius, int rings) {
+  const UnitSphere u = unit_sphere(rings);
+  const double r = std::abs(signed_radius);
+  SphereMesh m;
+  for (const Vec3& unit : u.unit) {
+    m.position.push_back(centre + r * unit);
+    m.normal.push_back(signed_radius > 0 ? unit : -unit);
+  }
+  for (const auto& [a, b, c] : u.tri) {
+    if (signed_radius > 0) m.tri.push_back({a, b, c});
+    else m.tri.push_back({a, c, b});
+  }
+  return m;
 }
 
 // ---------------------------------------------------------------- one triangle

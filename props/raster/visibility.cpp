@@ -599,26 +599,31 @@ std::string mesh_difference(const ScreenMesh& a, const ScreenMesh& b) {
   return "";
 }
 
-// The optimized set-up against view_scene on corpus scenes (balls-2: spheres,
-// handed to view_scene), every culling mode, the shadings whose set-up differs
-// (flat colour, Gouraud colours; Phong's is flat's without the colour).
+// The optimized set-up against view_scene on corpus scenes (spheres: balls,
+// shells, near-sphere, which crosses the hither plane), every culling mode, the
+// shadings whose set-up differs (flat colour, Gouraud colours; Phong's is
+// flat's without the colour); the sphere scenes also at 640 x 480, where their
+// spheres get many more rings.
 void setup_identical() {
   for (const char* name :
        {"tetra-3.nff", "teapot-2.nff", "gears-2.nff", "mount-3.nff", "patches.nff", "concave.nff",
         "watertight-cube.nff", "balls-2.nff", "balls-3.nff", "shells-1.nff", "near-sphere.nff",
         "sidedness.nff", "spotlights.nff"}) {
     const Scene scene = read_nff(std::string(LOCKSTEP_CORPUS_DIR) + "/scenes/" + name);
-    for (CullMode cull : {CullMode::kWorld, CullMode::kProjection, CullMode::kNone})
-      for (Shading sh : {Shading::kFlat, Shading::kGouraud})
-        for (int threads : {1, 2}) {
-          RasterSettings s;
-          s.cull = cull;
-          s.shading = sh;
-          const ScreenMesh a = opt::simd::view_scene(scene, 96, 80, s, threads);
-          const ScreenMesh b = lockstep::view_scene(scene, 96, 80, s);
-          EXPECT_EQ(mesh_difference(a, b), "")
-              << name << " cull " << int(cull) << " shading " << int(sh);
-        }
+    std::vector<std::array<int, 2>> sizes = {{96, 80}};
+    if (scene.sphere_count() > 0) sizes.push_back({640, 480});
+    for (const auto& [w, h] : sizes)
+      for (CullMode cull : {CullMode::kWorld, CullMode::kProjection, CullMode::kNone})
+        for (Shading sh : {Shading::kFlat, Shading::kGouraud})
+          for (int threads : {1, 2}) {
+            RasterSettings s;
+            s.cull = cull;
+            s.shading = sh;
+            const ScreenMesh a = opt::simd::view_scene(scene, w, h, s, threads);
+            const ScreenMesh b = lockstep::view_scene(scene, w, h, s);
+            EXPECT_EQ(mesh_difference(a, b), "") << name << " " << w << "x" << h << " cull "
+                                                 << int(cull) << " shading " << int(sh);
+          }
   }
 }
 
