@@ -64,6 +64,9 @@ struct Chunk {
   uint64_t scene_tris = 0, culled = 0, degenerate = 0, clipped = 0;
 };
 
+int64_t floor_div(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+int64_t ceil_div(int64_t a, int64_t b) { return -floor_div(-a, b); }
+
 constexpr int kMaxRings = 256;  // sphere_rings' upper end
 
 // Whether e (eye space) lies inside the hither plane and the guard band
@@ -88,8 +91,8 @@ struct SphereVertex {
 // arithmetic, so the same bits; only the per-triangle copies and the per-sphere
 // sines are gone.
 bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam, double near_z,
-                 double g, uint32_t k, const UnitSphere& unit, std::vector<SphereVertex>& vert,
-                 ScreenMesh& out) {
+                 double g, uint32_t k, const UnitSphere& unit, const SampleGrid* only,
+                 std::vector<SphereVertex>& vert, ScreenMesh& out) {
   const Vec3 c = scene.sphere_center[k];
   const double signed_radius = scene.sphere_radius[k];
   const double r = std::abs(signed_radius);
@@ -126,9 +129,6 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
     if (length(fn) == 0) continue;
     const Vec3 face = normalize(fn);
     const bool front = dot(face, cam.eye - w0) > 0;
-    Vec3 flat;
-    if (flat_shading && !(!front && s.cull == CullMode::kWorld))
-      flat = lit(scene, m, cam.eye, (w0 + w1 + w2) / 3.0, face);
     ++out.sphere_tris;
     // Emitter::triangle: world-space culling (spheres are one-sided) ...
     if (!front && s.cull == CullMode::kWorld) {
@@ -148,6 +148,14 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
       ++out.culled;
       continue;
     }
+    if (only) {
+      const int32_t x[3] = {p0.x, p1.x, p2.x}, y[3] = {p0.y, p1.y, p2.y};
+      if (!only->any(x, y)) continue;
+    }
+    // The flat colour: view_spheres lights every face not culled in world space,
+    // the same bits whenever it is done.
+    Vec3 flat;
+    if (flat_shading) flat = lit(scene, m, cam.eye, (w0 + w1 + w2) / 3.0, face);
     const SphereVertex* order[3] = {&p0, area < 0 ? &p2 : &p1, area < 0 ? &p1 : &p2};
     ScreenTri& st = out.tris.emplace_back();  // built in place (a ScreenTri is 300 bytes)
     for (int i = 0; i < 3; ++i) {
@@ -170,9 +178,40 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
 
 }  // namespace
 
+SampleGrid::SampleGrid(const std::vector<std::array<int32_t, 2>>& offsets, int w, int h)
+    : ox0(kSubpixel), ox1(0), oy0(kSubpixel), oy1(0), width(w), height(h) {
+  for (const auto& o : offsets) {
+    ox0 = std::min(ox0, o[0]), ox1 = std::max(ox1, o[0]);
+    oy0 = std::min(oy0, o[1]), oy1 = std::max(oy1, o[1]);
+  }
+}
+
+void SampleGrid::pixels(int64_t xmin, int64_t xmax, int64_t ymin, int64_t ymax, int32_t& i0,
+                        int32_t& i1, int32_t& j0, int32_t& j1) const {
+  // Pixels i with a sample 256 i + ox inside [xmin, xmax] for some offset ox.
+  i0 = int32_t(std::max<int64_t>(0, ceil_div(xmin - ox1, kSubpixel)));
+  i1 = int32_t(std::min<int64_t>(width - 1, floor_div(xmax - ox0, kSubpixel)));
+  j0 = int32_t(std::max<int64_t>(0, ceil_div(ymin - oy1, kSubpixel)));
+  j1 = int32_t(std::min<int64_t>(height - 1, floor_div(ymax - oy0, kSubpixel)));
+}
+
+namespace {
+
+// Leaves out of tris[first..] the triangles with no sample of the grid in their box.
+void drop_sampleless(const SampleGrid& grid, std::vector<ScreenTri>& tris, size_t first) {
+  const auto keep_end =
+      std::remove_if(tris.begin() + std::ptrdiff_t(first), tris.end(), [&](const ScreenTri& t) {
+        const int32_t x[3] = {t.v[0].x, t.v[1].x, t.v[2].x}, y[3] = {t.v[0].y, t.v[1].y, t.v[2].y};
+        return !grid.any(x, y);
+      });
+  tris.erase(keep_end, tris.end());
+}
+
+}  // namespace
+
 void view_scene_chunks(const Scene& scene, int width, int height, const RasterSettings& s,
                        int threads, ScreenMesh& mesh,
-                       std::vector<std::vector<ScreenTri>>& out_chunks) {
+                       std::vector<std::vector<ScreenTri>>& out_chunks, const SampleGrid* only) {
   out_chunks.clear();
   // The frame, near and far: view_scene's own step.
   mesh = lockstep::view_frame(scene, width, height);
@@ -235,8 +274,12 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
       for (uint32_t k = first; k < last; ++k) {
         if (rings[k] == 0) continue;
         // A sphere crossing the hither plane or the guard band: view_spheres itself.
-        if (!view_sphere(scene, s, cam, near_z, g, k, units[size_t(rings[k])], scratch, part))
+        if (!view_sphere(scene, s, cam, near_z, g, k, units[size_t(rings[k])], only, scratch,
+                         part)) {
+          const size_t before = part.tris.size();
           lockstep::view_spheres(scene, s, k, k + 1, part);
+          if (only) drop_sampleless(*only, part.tris, before);
+        }
       }
     });
   });
@@ -287,12 +330,16 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
       const Material& m = scene.materials[scene.poly_material[p]];
       const Vec3 face = scene.poly_plane[p].n;
       if (length(face) == 0) continue;
+      // The flat colour, lit when the first triangle is kept (the same bits as
+      // view_polygons' up-front evaluation).
       Vec3 flat;
-      if (s.shading == Shading::kFlat) {
+      bool flat_lit = s.shading != Shading::kFlat;
+      auto light_flat = [&] {
         Vec3 centroid;
         for (const Vec3& x : scene.polygon_vertices(p)) centroid += x;
         flat = lit(scene, m, cam.eye, centroid / double(scene.polygon_vertices(p).size()), face);
-      }
+        flat_lit = true;
+      };
       const bool patch = scene.poly_is_patch[p] != 0;
       const bool two_sided = m.two_sided();
       const size_t tris_before = out.tris.size();
@@ -326,6 +373,11 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
           ++out.culled;
           continue;
         }
+        if (only) {
+          const int32_t x[3] = {q0.x, q1.x, q2.x}, y[3] = {q0.y, q1.y, q2.y};
+          if (!only->any(x, y)) continue;
+        }
+        if (!flat_lit) light_flat();
         // Positive area: a front face's v[1] and v[2] swapped.
         const uint32_t order[3] = {tv[0], area < 0 ? tv[2] : tv[1], area < 0 ? tv[1] : tv[2]};
         ScreenTri& st = out.tris.emplace_back();  // built in place (a ScreenTri is 300 bytes)
@@ -353,6 +405,7 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
         out.degenerate = degenerate_before;
         ScreenMesh part = frame;
         lockstep::view_polygons(scene, s, p, p + 1, part);
+        if (only) drop_sampleless(*only, part.tris, 0);
         out.tris.insert(out.tris.end(), part.tris.begin(), part.tris.end());
         out.scene_tris += part.scene_tris;
         out.culled += part.culled;

@@ -38,9 +38,6 @@ using zsimd::RasterParams;
 using zsimd::TileJob;
 using zsimd::TriSetup;
 
-int64_t floor_div(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
-int64_t ceil_div(int64_t a, int64_t b) { return -floor_div(-a, b); }
-
 // Tiles: 64 x 64 pixels up to 4 samples per pixel, smaller beyond (about 16k
 // samples per tile: the buffers stay in L2).
 void tile_size(int spp, int& tw, int& th) {
@@ -61,19 +58,15 @@ double plane_value(const RasterSettings& s, double z, double near_z, double far_
   return (1 / near_z - 1 / z) / (1 / near_z - 1 / far_z);
 }
 
-void set_up(const ScreenMesh& mesh, const RasterSettings& s, const ScreenTri& tri, int32_t ox0,
-            int32_t ox1, int32_t oy0, int32_t oy1, TriSetup& t) {
+void set_up(const ScreenMesh& mesh, const RasterSettings& s, const ScreenTri& tri,
+            const zsimd::SampleGrid& grid, TriSetup& t) {
   const auto& v = tri.v;
   int64_t xmin = v[0].x, xmax = v[0].x, ymin = v[0].y, ymax = v[0].y;
   for (int k = 1; k < 3; ++k) {
     xmin = std::min<int64_t>(xmin, v[k].x), xmax = std::max<int64_t>(xmax, v[k].x);
     ymin = std::min<int64_t>(ymin, v[k].y), ymax = std::max<int64_t>(ymax, v[k].y);
   }
-  // Pixels i with a sample 256 i + ox inside [xmin, xmax] for some offset ox.
-  t.i0 = int32_t(std::max<int64_t>(0, ceil_div(xmin - ox1, kSubpixel)));
-  t.i1 = int32_t(std::min<int64_t>(mesh.width - 1, floor_div(xmax - ox0, kSubpixel)));
-  t.j0 = int32_t(std::max<int64_t>(0, ceil_div(ymin - oy1, kSubpixel)));
-  t.j1 = int32_t(std::min<int64_t>(mesh.height - 1, floor_div(ymax - oy0, kSubpixel)));
+  grid.pixels(xmin, xmax, ymin, ymax, t.i0, t.i1, t.j0, t.j1);
   for (int k = 0; k < 3; ++k) {
     const ScreenVertex& a = v[(k + 1) % 3];
     const ScreenVertex& b = v[(k + 2) % 3];
@@ -176,11 +169,7 @@ Binned bin_mesh(const ScreenMesh& mesh, const std::vector<const ScreenTri*>& tri
   b.ntx = (mesh.width + b.tw - 1) / b.tw;
   b.nty = (mesh.height + b.th - 1) / b.th;
   const size_t tiles = size_t(b.ntx) * size_t(b.nty);
-  int32_t ox0 = kSubpixel, ox1 = 0, oy0 = kSubpixel, oy1 = 0;
-  for (const auto& o : off) {
-    ox0 = std::min(ox0, o[0]), ox1 = std::max(ox1, o[0]);
-    oy0 = std::min(oy0, o[1]), oy1 = std::max(oy1, o[1]);
-  }
+  const zsimd::SampleGrid grid(off, mesh.width, mesh.height);
   const size_t n = tris.size();
   b.setup = std::make_unique_for_overwrite<TriSetup[]>(n);
   if (shade) {
@@ -196,7 +185,7 @@ Binned bin_mesh(const ScreenMesh& mesh, const std::vector<const ScreenTri*>& tri
     std::vector<uint32_t>* bins = b.bins.data() + size_t(c) * tiles;
     for (size_t id = first; id < last; ++id) {
       TriSetup& t = b.setup[id];
-      set_up(mesh, s, *tris[id], ox0, ox1, oy0, oy1, t);
+      set_up(mesh, s, *tris[id], grid, t);
       if (t.i0 > t.i1 || t.j0 > t.j1) continue;
       if (shade)
         set_up_shading(*scene, s, *tris[id], t, shade->tri[id],
@@ -430,7 +419,9 @@ Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   // The mesh's triangles stay in the set-up's chunks (no copy into one vector).
   ScreenMesh mesh;
   std::vector<std::vector<ScreenTri>> chunks;
-  zsimd::view_scene_chunks(scene, opts.width, opts.height, s, opts.threads, mesh, chunks);
+  // Triangles with no sample in their box are left out: they cover nothing.
+  const zsimd::SampleGrid grid(sample_offsets(s), opts.width, opts.height);
+  zsimd::view_scene_chunks(scene, opts.width, opts.height, s, opts.threads, mesh, chunks, &grid);
   // In mesh order: mesh.tris (empty: the set-up leaves every triangle in a chunk), then the chunks.
   size_t n = mesh.tris.size();
   for (const auto& c : chunks) n += c.size();

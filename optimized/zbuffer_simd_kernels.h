@@ -10,6 +10,7 @@
 // (HWY_DYNAMIC_DISPATCH), as in ray_cast_simd_kernels.h.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -114,10 +115,34 @@ void raster_tile(const RasterParams& p, const TileJob& t, double* depth, int32_t
 
 const char* target_name();
 
+// Where a frame's samples are: the sample offsets' extent (1/256 pixel from
+// the pixel's corner) and the frame's size in pixels.
+struct SampleGrid {
+  int32_t ox0 = 128, ox1 = 128, oy0 = 128, oy1 = 128;
+  int width = 0, height = 0;
+  SampleGrid() = default;
+  SampleGrid(const std::vector<std::array<int32_t, 2>>& offsets, int w, int h);
+  // The pixels [i0, i1] x [j0, j1] (inclusive; i0 > i1 or j0 > j1: none) that may
+  // have a sample in the snapped box [xmin, xmax] x [ymin, ymax].
+  void pixels(int64_t xmin, int64_t xmax, int64_t ymin, int64_t ymax, int32_t& i0, int32_t& i1,
+              int32_t& j0, int32_t& j1) const;
+  // Whether the triangle of snapped vertices (x[k], y[k]) has one in its box.
+  bool any(const int32_t x[3], const int32_t y[3]) const {
+    int32_t i0, i1, j0, j1;
+    pixels(std::min({x[0], x[1], x[2]}), std::max({x[0], x[1], x[2]}), std::min({y[0], y[1], y[2]}),
+           std::max({y[0], y[1], y[2]}), i0, i1, j0, j1);
+    return i0 <= i1 && j0 <= j1;
+  }
+};
+
 // opt::simd::view_scene's mesh, left in the set-up's chunks: mesh holds the
 // frame, near, far and counts (no triangles); chunks the triangles, in mesh
-// order (spheres' chunks, then polygons').
+// order (spheres' chunks, then polygons'). With `only`: the triangles that
+// have a sample of that grid in their bounding box, the others left out of the
+// chunks (not of the counts; they would cover nothing) before their flat
+// colour is lit: the z-buffer's image needs no more.
 void view_scene_chunks(const Scene& scene, int width, int height, const RasterSettings& s,
-                       int threads, ScreenMesh& mesh, std::vector<std::vector<ScreenTri>>& chunks);
+                       int threads, ScreenMesh& mesh, std::vector<std::vector<ScreenTri>>& chunks,
+                       const SampleGrid* only = nullptr);
 
 }  // namespace lockstep::opt::zsimd
