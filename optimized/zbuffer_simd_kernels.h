@@ -3,7 +3,7 @@
 // The contract functions (optimized/zbuffer_simd.cpp) prepare one TriSetup per
 // screen triangle and bin them into screen tiles; these kernels then run one
 // tile at a time, on one thread, over tile-local buffers:
-//   raster_tile()  every binned triangle's samples: edge functions 8 samples
+//   raster_tile()  every binned triangle's samples: edge functions 16 samples
 //                  at a time, depth test, coverage count;
 //   shade_tile()   the visible samples' colours (every Shading mode), SoA.
 // Entry points dispatch at run time to the best target the CPU has
