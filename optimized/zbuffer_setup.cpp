@@ -53,12 +53,6 @@ inline int64_t round_half_away(double x) {
   return int64_t(t + (f >= 0.5 ? 1.0 : 0.0) - (f <= -0.5 ? 1.0 : 0.0));
 }
 
-struct Projected {
-  Vec3 eye;
-  int32_t x = 0, y = 0;
-  bool inside = false;  // within the hither plane and the guard band
-};
-
 struct Chunk {
   std::vector<ScreenTri> tris;
   uint64_t scene_tris = 0, culled = 0, degenerate = 0, clipped = 0;
@@ -293,22 +287,20 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
 
 
   // Every vertex once: eye space, the clip test, the snapped screen position.
-  std::vector<Projected> pv(scene.vertex.size());
+  Projection proj;
+  for (int c = 0; c < 3; ++c) {
+    proj.eye[c] = cam.eye[c], proj.right[c] = cam.right[c], proj.up[c] = cam.up[c];
+    proj.forward[c] = cam.forward[c];
+  }
+  proj.near_z = near_z, proj.g = g, proj.pitch = cam.pitch;
+  proj.half_w = 0.5 * cam.width, proj.half_h = 0.5 * cam.height;
+  std::vector<ProjectedVertex> pv(scene.vertex.size());
   arena.execute([&] {
-    tbb::parallel_for(
-        tbb::blocked_range<size_t>(0, pv.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
-          for (size_t i = r.begin(); i < r.end(); ++i) {
-            Projected& p = pv[i];
-            const Vec3 e = eye_from_world(cam, scene.vertex[i]);
-            p.eye = e;
-            const bool inside = inside_planes(e, near_z, g);
-            p.inside = inside;
-            const double xs = 0.5 * cam.width + e.x / (e.z * cam.pitch);
-            const double ys = 0.5 * cam.height - e.y / (e.z * cam.pitch);
-            p.x = int32_t(round_half_away(inside ? xs * kSubpixel : 0.0));
-            p.y = int32_t(round_half_away(inside ? ys * kSubpixel : 0.0));
-          }
-        });
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, pv.size(), 4096),
+                      [&](const tbb::blocked_range<size_t>& r) {
+                        project_vertices(proj, scene.vertex.data() + r.begin(), r.size(),
+                                         pv.data() + r.begin());
+                      });
   });
 
   const uint32_t polys = scene.polygon_count();
@@ -362,7 +354,7 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
         }
         // The snapped area: degenerate, projection-space culling (a front face is
         // counter-clockwise as seen, negative area with y down), the order.
-        const Projected &q0 = pv[tv[0]], &q1 = pv[tv[1]], &q2 = pv[tv[2]];
+        const ProjectedVertex &q0 = pv[tv[0]], &q1 = pv[tv[1]], &q2 = pv[tv[2]];
         const int64_t area =
             int64_t(q1.x - q0.x) * (q2.y - q0.y) - int64_t(q1.y - q0.y) * (q2.x - q0.x);
         if (area == 0) {
@@ -386,7 +378,7 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
           ScreenVertex& v = st.v[size_t(i)];
           v.x = pv[vi].x;
           v.y = pv[vi].y;
-          v.z = pv[vi].eye.z;
+          v.z = pv[vi].z;
           v.world = scene.vertex[vi];
           v.normal = patch ? scene.vertex_normal[vi] : face;
           if (s.shading == Shading::kGouraud) v.color = lit(scene, m, cam.eye, v.world, v.normal);

@@ -490,6 +490,69 @@ void RasterTileDouble(const RasterParams& p, const TileJob& t, double* depth, in
 }
 const char* TargetName() { return hwy::TargetName(HWY_TARGET); }
 
+// ---------------------------------------------------------------- the set-up's vertex step
+//
+// reference/viewing.cpp's eye_from_world, inside_all and to_screen on N
+// vertices at once, with the very same double operations in the same order
+// (no fused multiply-add: the build has -ffp-contract=off), so the same bits;
+// llround as trunc plus a correction (exact: x - trunc(x) is exact). The tail
+// (fewer than N vertices) runs the same lanes on a padded copy.
+void ProjectVertices(const Projection& p, const Vec3* world, size_t n, ProjectedVertex* out) {
+  const hn::ScalableTag<double> d;
+  using V = hn::Vec<decltype(d)>;
+  const size_t N = hn::Lanes(d);
+  const V eye[3] = {hn::Set(d, p.eye[0]), hn::Set(d, p.eye[1]), hn::Set(d, p.eye[2])};
+  const V rt[3] = {hn::Set(d, p.right[0]), hn::Set(d, p.right[1]), hn::Set(d, p.right[2])};
+  const V up[3] = {hn::Set(d, p.up[0]), hn::Set(d, p.up[1]), hn::Set(d, p.up[2])};
+  const V fw[3] = {hn::Set(d, p.forward[0]), hn::Set(d, p.forward[1]), hn::Set(d, p.forward[2])};
+  const V near_z = hn::Set(d, p.near_z), g = hn::Set(d, p.g), zero = hn::Zero(d);
+  const V half_w = hn::Set(d, p.half_w), half_h = hn::Set(d, p.half_h), pitch = hn::Set(d, p.pitch);
+  const V sub = hn::Set(d, double(kSubpixel)), half = hn::Set(d, 0.5), one = hn::Set(d, 1.0);
+  auto dot = [](const V a[3], const V b[3]) {  // (a.x b.x + a.y b.y) + a.z b.z, as Vec3's dot
+    return hn::Add(hn::Add(hn::Mul(a[0], b[0]), hn::Mul(a[1], b[1])), hn::Mul(a[2], b[2]));
+  };
+  auto round_half_away = [&](V x) {
+    const V t = hn::Trunc(x);
+    const V f = hn::Sub(x, t);
+    return hn::Sub(hn::Add(t, hn::IfThenElseZero(hn::Ge(f, half), one)),
+                   hn::IfThenElseZero(hn::Le(f, hn::Neg(half)), one));
+  };
+  HWY_ALIGN double zs[16], xs[16], ys[16], ins[16];
+  HWY_ALIGN double pad[3 * 16];
+  for (size_t i = 0; i < n; i += N) {
+    const size_t m = std::min(N, n - i);
+    const double* src = &world[i].x;
+    if (m < N) {  // the tail: a copy padded with the last vertex
+      for (size_t k = 0; k < N; ++k)
+        for (int c = 0; c < 3; ++c) pad[3 * k + c] = world[i + std::min(k, m - 1)][c];
+      src = pad;
+    }
+    V w[3];
+    hn::LoadInterleaved3(d, src, w[0], w[1], w[2]);
+    const V dv[3] = {hn::Sub(w[0], eye[0]), hn::Sub(w[1], eye[1]), hn::Sub(w[2], eye[2])};
+    const V ex = dot(dv, rt), ey = dot(dv, up), ez = dot(dv, fw);
+    const V gz = hn::Mul(g, ez);
+    const auto inside = hn::And(
+        hn::And(hn::Ge(hn::Sub(ez, near_z), zero), hn::Ge(hn::Sub(gz, ex), zero)),
+        hn::And(hn::And(hn::Ge(hn::Add(gz, ex), zero), hn::Ge(hn::Sub(gz, ey), zero)),
+                hn::Ge(hn::Add(gz, ey), zero)));
+    const V den = hn::Mul(ez, pitch);
+    const V sx = hn::Add(half_w, hn::Div(ex, den));
+    const V sy = hn::Sub(half_h, hn::Div(ey, den));
+    hn::Store(ez, d, zs);
+    hn::Store(round_half_away(hn::IfThenElseZero(inside, hn::Mul(sx, sub))), d, xs);
+    hn::Store(round_half_away(hn::IfThenElseZero(inside, hn::Mul(sy, sub))), d, ys);
+    hn::Store(hn::IfThenElseZero(inside, one), d, ins);
+    for (size_t k = 0; k < m; ++k) {
+      ProjectedVertex& o = out[i + k];
+      o.z = zs[k];
+      o.x = int32_t(int64_t(xs[k]));
+      o.y = int32_t(int64_t(ys[k]));
+      o.inside = ins[k] != 0;
+    }
+  }
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace lockstep::opt::zsimd
 HWY_AFTER_NAMESPACE();
@@ -501,6 +564,11 @@ HWY_EXPORT(RasterTileFloat);
 HWY_EXPORT(RasterTileDouble);
 HWY_EXPORT(TargetName);
 HWY_EXPORT(ShadeTile);
+HWY_EXPORT(ProjectVertices);
+
+void project_vertices(const Projection& p, const Vec3* world, size_t n, ProjectedVertex* out) {
+  HWY_DYNAMIC_DISPATCH(ProjectVertices)(p, world, n, out);
+}
 
 void shade_tile(const ShadeParams& p, const int32_t* tri, const int32_t* slot,
                 const LocalPlanes* planes, const ShadeTri* tris, int cols, int rows, float* rgb,

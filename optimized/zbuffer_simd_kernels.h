@@ -115,6 +115,22 @@ void raster_tile(const RasterParams& p, const TileJob& t, double* depth, int32_t
 
 const char* target_name();
 
+// The set-up's vertex step (zbuffer_setup.cpp): world -> eye space, the clip
+// test and the snapped screen position, as view_scene's eye_from_world,
+// inside_all and to_screen compute them, operation for operation in double (so
+// the same bits), several vertices a vector.
+struct ProjectedVertex {
+  double z = 0;          // eye depth
+  int32_t x = 0, y = 0;  // snapped (0 where not inside)
+  uint8_t inside = 0;    // within the hither plane and the guard band
+};
+struct Projection {
+  double eye[3], right[3], up[3], forward[3];
+  double near_z, g;            // hither, guard band slope
+  double half_w, half_h, pitch;  // 0.5 width, 0.5 height, the camera's pitch
+};
+void project_vertices(const Projection& p, const Vec3* world, size_t n, ProjectedVertex* out);
+
 // Where a frame's samples are: the sample offsets' extent (1/256 pixel from
 // the pixel's corner) and the frame's size in pixels.
 struct SampleGrid {
