@@ -208,7 +208,16 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
                        std::vector<std::vector<ScreenTri>>& out_chunks, const SampleGrid* only) {
   out_chunks.clear();
   // The frame, near and far: view_scene's own step.
-  mesh = lockstep::view_frame(scene, width, height);
+  // (scene_bounds' answer, exact in any order: the spheres as it grows by them,
+  // the vertices a vector at a time.)
+  Vec3 lo{kInfinity, kInfinity, kInfinity}, hi = -lo;
+  for (uint32_t i = 0; i < scene.sphere_count(); ++i) {
+    const Vec3& p = scene.sphere_center[i];
+    const double r = std::abs(scene.sphere_radius[i]);
+    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k] - r), hi[k] = std::max(hi[k], p[k] + r);
+  }
+  grow_bounds(scene.vertex.data(), scene.vertex.size(), lo, hi);
+  mesh = lockstep::view_frame(scene, width, height, lo, hi);
   const Camera& cam = mesh.camera;
   tbb::task_arena arena(resolve_threads(threads));
 

@@ -490,6 +490,30 @@ void RasterTileDouble(const RasterParams& p, const TileJob& t, double* depth, in
 }
 const char* TargetName() { return hwy::TargetName(HWY_TARGET); }
 
+void GrowBounds(const Vec3* points, size_t n, Vec3& lo, Vec3& hi) {
+  const hn::ScalableTag<double> d;
+  const size_t N = hn::Lanes(d);
+  size_t i = 0;
+  if (n >= N) {
+    hn::Vec<decltype(d)> l[3], h[3];
+    for (int c = 0; c < 3; ++c) l[c] = hn::Set(d, lo[c]), h[c] = hn::Set(d, hi[c]);
+    for (; i + N <= n; i += N) {
+      hn::Vec<decltype(d)> p[3];
+      hn::LoadInterleaved3(d, &points[i].x, p[0], p[1], p[2]);
+      for (int c = 0; c < 3; ++c) {  // std::min(l, p) = p < l ? p : l, and the like
+        l[c] = hn::IfThenElse(hn::Lt(p[c], l[c]), p[c], l[c]);
+        h[c] = hn::IfThenElse(hn::Lt(h[c], p[c]), p[c], h[c]);
+      }
+    }
+    HWY_ALIGN double bl[3][16], bh[3][16];
+    for (int c = 0; c < 3; ++c) hn::Store(l[c], d, bl[c]), hn::Store(h[c], d, bh[c]);
+    for (size_t k = 0; k < N; ++k)
+      for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], bl[c][k]), hi[c] = std::max(hi[c], bh[c][k]);
+  }
+  for (; i < n; ++i)
+    for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], points[i][c]), hi[c] = std::max(hi[c], points[i][c]);
+}
+
 // ---------------------------------------------------------------- the set-up's vertex step
 //
 // reference/viewing.cpp's eye_from_world, inside_all and to_screen on N
@@ -565,6 +589,11 @@ HWY_EXPORT(RasterTileDouble);
 HWY_EXPORT(TargetName);
 HWY_EXPORT(ShadeTile);
 HWY_EXPORT(ProjectVertices);
+HWY_EXPORT(GrowBounds);
+
+void grow_bounds(const Vec3* points, size_t n, Vec3& lo, Vec3& hi) {
+  HWY_DYNAMIC_DISPATCH(GrowBounds)(points, n, lo, hi);
+}
 
 void project_vertices(const Projection& p, const Vec3* world, size_t n, ProjectedVertex* out) {
   HWY_DYNAMIC_DISPATCH(ProjectVertices)(p, world, n, out);

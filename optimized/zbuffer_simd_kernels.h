@@ -130,6 +130,9 @@ struct Projection {
   double half_w, half_h, pitch;  // 0.5 width, 0.5 height, the camera's pitch
 };
 void project_vertices(const Projection& p, const Vec3* world, size_t n, ProjectedVertex* out);
+// Grows [lo, hi] by the n points, as scene_bounds does (std::min and std::max:
+// a NaN coordinate is passed over), a vector of points at a time.
+void grow_bounds(const Vec3* points, size_t n, Vec3& lo, Vec3& hi);
 
 // Where a frame's samples are: the sample offsets' extent (1/256 pixel from
 // the pixel's corner) and the frame's size in pixels.

@@ -152,6 +152,8 @@ ScreenMesh view_scene(const Scene& scene, int width, int height, const RasterSet
 // [first, last), then those of polygons [first, last), each appended to
 // mesh.tris with the counts, as view_scene emits them.
 ScreenMesh view_frame(const Scene& scene, int width, int height);
+// The same from the scene's bounds (scene_bounds' lo and hi), found another way.
+ScreenMesh view_frame(const Scene& scene, int width, int height, const Vec3& lo, const Vec3& hi);
 void view_spheres(const Scene& scene, const RasterSettings& s, uint32_t first, uint32_t last, ScreenMesh& mesh);
 void view_polygons(const Scene& scene, const RasterSettings& s, uint32_t first, uint32_t last, ScreenMesh& mesh);
 

@@ -283,6 +283,12 @@ Vec3 lit(const Scene& scene, const Material& m, const Vec3& eye, const Vec3& p, 
 // ---------------------------------------------------------------- the pipeline
 
 ScreenMesh view_frame(const Scene& scene, int width, int height) {
+  Vec3 lo, hi;
+  scene_bounds(scene, lo, hi);
+  return view_frame(scene, width, height, lo, hi);
+}
+
+ScreenMesh view_frame(const Scene& scene, int width, int height, const Vec3& lo, const Vec3& hi) {
   ScreenMesh mesh;
   mesh.camera = Camera::from_view(scene.view, width, height);
   mesh.width = width;
@@ -291,8 +297,6 @@ ScreenMesh view_frame(const Scene& scene, int width, int height) {
 
   // Far: the deepest corner of the scene's bounds. Near: the hither distance;
   // rasterisation needs a positive one, so hither 0 becomes a millionth of far.
-  Vec3 lo, hi;
-  scene_bounds(scene, lo, hi);
   double far_z = 0;
   for (int k = 0; k < 8; ++k) {
     const Vec3 corner{(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z};
