@@ -1,5 +1,5 @@
 // Z-buffer kernels, Highway SIMD: one tile at a time, 16 samples per vector
-// in the raster (8 on AVX2), 8 in the shading.
+// (8 on AVX2), in the raster and in the shading.
 //
 // Rasterisation (raster_tile): Pineda's edge functions over the triangle's
 // bounding box clipped to the tile, one sample plane (one sample offset) at a
@@ -213,10 +213,22 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
 // gathers); lighting then runs once over the block. The lighting is
 // core/shading.h's, in float (pow as exp(shine log x), as shade_simd.cpp).
 // Writes n pixels (alpha 1) of an RGBA image row from three colour vectors;
-// 8 at a time with a 4 x 8 transpose in registers (AVX2 and up), streamed past
+// 8 at a time with a 4 x 8 transpose in registers (AVX2 and up; 16 as two 8s), streamed past
 // the cache when the row is aligned: the frame is written once and not read back.
 template <class DF, class VF = hn::Vec<DF>>
 HWY_INLINE void WritePixels(DF df, VF r, VF g, VF b, float* dst, int n) {
+#if HWY_TARGET <= HWY_AVX3
+  if constexpr (hn::MaxLanes(df) == 16) {  // two halves of 8
+    const hn::Half<DF> dh;
+    if (n > 0)
+      WritePixels(dh, hn::LowerHalf(dh, r), hn::LowerHalf(dh, g), hn::LowerHalf(dh, b), dst,
+                  std::min(n, 8));
+    if (n > 8)
+      WritePixels(dh, hn::UpperHalf(dh, r), hn::UpperHalf(dh, g), hn::UpperHalf(dh, b), dst + 32,
+                  n - 8);
+    return;
+  }
+#endif
 #if HWY_TARGET <= HWY_AVX2
   if (hn::Lanes(df) == 8 && n == 8) {
     const hn::Repartition<double, DF> d64;
@@ -251,7 +263,7 @@ HWY_INLINE void WritePixels(DF df, VF r, VF g, VF b, float* dst, int n) {
 void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot,
                const LocalPlanes* planes, const ShadeTri* tris, int cols, int rows, float* rgb,
                float* zout, float* image, size_t image_stride, float* depth, size_t depth_stride) {
-  const hn::CappedTag<float, 8> df;
+  const hn::CappedTag<float, 16> df;
   const hn::RebindToSigned<decltype(df)> di;
   using VF = hn::Vec<decltype(df)>;
   using VI = hn::Vec<decltype(di)>;
@@ -284,7 +296,7 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot,
   const VF amb = hn::Set(df, float(kAmbient));
   const float bands = float(p.toon_bands),
               band_div = float(p.toon_bands - (p.toon_bands > 1 ? 1 : 0));
-  HWY_ALIGN int32_t idv[8];
+  HWY_ALIGN int32_t idv[16];
 
   auto dot3 = [](const VF a[3], const VF b[3]) {
     return hn::MulAdd(a[0], b[0], hn::MulAdd(a[1], b[1], hn::Mul(a[2], b[2])));
@@ -461,7 +473,7 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot,
         if (n == N) {
           hn::StoreU(z, df, zrow);
         } else {
-          HWY_ALIGN float zz[8];
+          HWY_ALIGN float zz[16];
           hn::Store(z, df, zz);
           std::copy_n(zz, n, zrow);
         }
