@@ -79,7 +79,7 @@ struct NoInitAllocator : std::allocator<T> {
 struct Image {
   int width = 0, height = 0;
   std::vector<float, NoInitAllocator<float>> rgba;  // width * height * 4
-  std::vector<float> depth;  // width * height, or empty: no depth plane (raster families fill it)
+  std::vector<float, NoInitAllocator<float>> depth;  // width * height, or empty: no depth plane (raster families fill it; resize leaves it unwritten)
 
   Image() = default;
   Image(int w, int h) : width(w), height(h), rgba(size_t(w) * size_t(h) * 4, 0.0f) {}

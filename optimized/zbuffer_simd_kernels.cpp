@@ -471,7 +471,12 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot,
                     n);
         float* zrow = depth + size_t(r) * depth_stride + size_t(c0);
         if (n == N) {
-          hn::StoreU(z, df, zrow);
+          // Streamed past the cache as the colours, when aligned (a page-aligned
+          // depth plane, a row of a multiple of 16 pixels).
+          if ((reinterpret_cast<uintptr_t>(zrow) & (sizeof(float) * N - 1)) == 0)
+            hn::Stream(z, df, zrow);
+          else
+            hn::StoreU(z, df, zrow);
         } else {
           HWY_ALIGN float zz[16];
           hn::Store(z, df, zz);
