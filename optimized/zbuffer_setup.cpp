@@ -71,6 +71,41 @@ inline bool inside_planes(const Vec3& e, double near_z, double g) {
          (g * e.z + e.y >= 0);
 }
 
+// The flat colours of a chunk's triangles, lit together in float (ImageOnly):
+// one request per triangle kept, lit by flat_colors at the chunk's end.
+class FlatBatch {
+ public:
+  size_t size() const { return at_.size(); }
+  void truncate(size_t n) {
+    at_.resize(n);
+    for (auto& v : in_) v.resize(n);
+  }
+  // Triangle `at` of the chunk: a face of material m with unit normal n, lit at p.
+  void add(size_t at, const Vec3& p, const Vec3& n, const Material& m) {
+    at_.push_back(at);
+    const double v[kFlatInputs] = {
+        p.x,  p.y,    p.z, n.x, n.y, n.z, m.kd * m.color.x, m.kd * m.color.y, m.kd * m.color.z,
+        m.ks, m.shine};
+    for (int k = 0; k < kFlatInputs; ++k) in_[k].push_back(float(v[k]));
+  }
+  void light(const ShadeParams& p, std::vector<ScreenTri>& tris) {
+    const size_t n = at_.size(), padded = (n + 15) / 16 * 16;
+    if (n == 0) return;
+    const float* in[kFlatInputs];
+    for (int k = 0; k < kFlatInputs; ++k) in_[k].resize(padded), in[k] = in_[k].data();
+    std::vector<float> rgb(3 * padded);
+    float* out[3] = {rgb.data(), rgb.data() + padded, rgb.data() + 2 * padded};
+    flat_colors(p, n, in, out);
+    for (size_t i = 0; i < n; ++i)
+      tris[at_[i]].flat_color = Vec3{double(out[0][i]), double(out[1][i]), double(out[2][i])};
+    truncate(0);
+  }
+
+ private:
+  std::vector<size_t> at_;
+  std::vector<float> in_[kFlatInputs];
+};
+
 // A sphere vertex, projected.
 struct SphereVertex {
   Vec3 world, normal, color;
@@ -85,8 +120,8 @@ struct SphereVertex {
 // arithmetic, so the same bits; only the per-triangle copies and the per-sphere
 // sines are gone.
 bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam, double near_z,
-                 double g, uint32_t k, const UnitSphere& unit, const SampleGrid* only,
-                 std::vector<SphereVertex>& vert, ScreenMesh& out) {
+                 double g, uint32_t k, const UnitSphere& unit, const ImageOnly* image,
+                 FlatBatch& batch, std::vector<SphereVertex>& vert, ScreenMesh& out) {
   const Vec3 c = scene.sphere_center[k];
   const double signed_radius = scene.sphere_radius[k];
   const double r = std::abs(signed_radius);
@@ -142,14 +177,19 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
       ++out.culled;
       continue;
     }
-    if (only) {
+    if (image) {
       const int32_t x[3] = {p0.x, p1.x, p2.x}, y[3] = {p0.y, p1.y, p2.y};
-      if (!only->any(x, y)) continue;
+      if (!image->grid.any(x, y)) continue;
     }
     // The flat colour: view_spheres lights every face not culled in world space,
-    // the same bits whenever it is done.
+    // the same bits whenever it is done; for the image, in float, later.
     Vec3 flat;
-    if (flat_shading) flat = lit(scene, m, cam.eye, (w0 + w1 + w2) / 3.0, face);
+    if (flat_shading) {
+      if (image)
+        batch.add(out.tris.size(), (w0 + w1 + w2) / 3.0, face, m);
+      else
+        flat = lit(scene, m, cam.eye, (w0 + w1 + w2) / 3.0, face);
+    }
     const SphereVertex* order[3] = {&p0, area < 0 ? &p2 : &p1, area < 0 ? &p1 : &p2};
     ScreenTri& st = out.tris.emplace_back();  // built in place (a ScreenTri is 300 bytes)
     for (int i = 0; i < 3; ++i) {
@@ -205,7 +245,7 @@ void drop_sampleless(const SampleGrid& grid, std::vector<ScreenTri>& tris, size_
 
 void view_scene_chunks(const Scene& scene, int width, int height, const RasterSettings& s,
                        int threads, ScreenMesh& mesh,
-                       std::vector<std::vector<ScreenTri>>& out_chunks, const SampleGrid* only) {
+                       std::vector<std::vector<ScreenTri>>& out_chunks, const ImageOnly* image) {
   out_chunks.clear();
   // The frame, near and far: view_scene's own step.
   // (scene_bounds' answer, exact in any order: the spheres as it grows by them,
@@ -214,7 +254,8 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
   for (uint32_t i = 0; i < scene.sphere_count(); ++i) {
     const Vec3& p = scene.sphere_center[i];
     const double r = std::abs(scene.sphere_radius[i]);
-    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k] - r), hi[k] = std::max(hi[k], p[k] + r);
+    for (int k = 0; k < 3; ++k)
+      lo[k] = std::min(lo[k], p[k] - r), hi[k] = std::max(hi[k], p[k] + r);
   }
   grow_bounds(scene.vertex.data(), scene.vertex.size(), lo, hi);
   mesh = lockstep::view_frame(scene, width, height, lo, hi);
@@ -269,6 +310,7 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
       const uint32_t first = uint32_t(c) * spheres_per_chunk;
       const uint32_t last = std::min(spheres, first + spheres_per_chunk);
       std::vector<SphereVertex> scratch;
+      FlatBatch batch;
       // About half of each sphere's triangles face the eye.
       size_t expect = 0;
       for (uint32_t k = first; k < last; ++k)
@@ -277,13 +319,14 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
       for (uint32_t k = first; k < last; ++k) {
         if (rings[k] == 0) continue;
         // A sphere crossing the hither plane or the guard band: view_spheres itself.
-        if (!view_sphere(scene, s, cam, near_z, g, k, units[size_t(rings[k])], only, scratch,
-                         part)) {
+        if (!view_sphere(scene, s, cam, near_z, g, k, units[size_t(rings[k])], image, batch,
+                         scratch, part)) {
           const size_t before = part.tris.size();
           lockstep::view_spheres(scene, s, k, k + 1, part);
-          if (only) drop_sampleless(*only, part.tris, before);
+          if (image) drop_sampleless(image->grid, part.tris, before);
         }
       }
+      if (image) batch.light(image->light, part.tris);
     });
   });
   for (ScreenMesh& part : sphere_chunks) {
@@ -293,7 +336,6 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
     mesh.degenerate += part.degenerate;
     if (!part.tris.empty()) out_chunks.push_back(std::move(part.tris));
   }
-
 
   // Every vertex once: eye space, the clip test, the snapped screen position.
   Projection proj;
@@ -305,11 +347,10 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
   proj.half_w = 0.5 * cam.width, proj.half_h = 0.5 * cam.height;
   std::vector<ProjectedVertex> pv(scene.vertex.size());
   arena.execute([&] {
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, pv.size(), 4096),
-                      [&](const tbb::blocked_range<size_t>& r) {
-                        project_vertices(proj, scene.vertex.data() + r.begin(), r.size(),
-                                         pv.data() + r.begin());
-                      });
+    tbb::parallel_for(
+        tbb::blocked_range<size_t>(0, pv.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+          project_vertices(proj, scene.vertex.data() + r.begin(), r.size(), pv.data() + r.begin());
+        });
   });
 
   const uint32_t polys = scene.polygon_count();
@@ -327,20 +368,23 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
     Chunk& out = chunks[c];
     const uint32_t first = c * per_chunk, last = std::min(polys, first + per_chunk);
     out.tris.reserve(size_t(scene.poly_tri_first[last] - scene.poly_tri_first[first]));
+    FlatBatch batch;
     for (uint32_t p = first; p < last; ++p) {
       const Material& m = scene.materials[scene.poly_material[p]];
       const Vec3 face = scene.poly_plane[p].n;
       if (length(face) == 0) continue;
       // The flat colour, lit when the first triangle is kept (the same bits as
       // view_polygons' up-front evaluation).
-      Vec3 flat;
+      // For the image, each kept triangle asks for the polygon's colour in float.
+      Vec3 flat, centroid;
       bool flat_lit = s.shading != Shading::kFlat;
       auto light_flat = [&] {
-        Vec3 centroid;
         for (const Vec3& x : scene.polygon_vertices(p)) centroid += x;
-        flat = lit(scene, m, cam.eye, centroid / double(scene.polygon_vertices(p).size()), face);
+        centroid = centroid / double(scene.polygon_vertices(p).size());
+        if (!image) flat = lit(scene, m, cam.eye, centroid, face);
         flat_lit = true;
       };
+      const size_t batch_before = batch.size();
       const bool patch = scene.poly_is_patch[p] != 0;
       const bool two_sided = m.two_sided();
       const size_t tris_before = out.tris.size();
@@ -374,11 +418,12 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
           ++out.culled;
           continue;
         }
-        if (only) {
+        if (image) {
           const int32_t x[3] = {q0.x, q1.x, q2.x}, y[3] = {q0.y, q1.y, q2.y};
-          if (!only->any(x, y)) continue;
+          if (!image->grid.any(x, y)) continue;
         }
         if (!flat_lit) light_flat();
+        if (image && s.shading == Shading::kFlat) batch.add(out.tris.size(), centroid, face, m);
         // Positive area: a front face's v[1] and v[2] swapped.
         const uint32_t order[3] = {tv[0], area < 0 ? tv[2] : tv[1], area < 0 ? tv[1] : tv[2]};
         ScreenTri& st = out.tris.emplace_back();  // built in place (a ScreenTri is 300 bytes)
@@ -401,12 +446,13 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
         // A triangle of this polygon crosses the hither plane or the guard
         // band: undo the polygon and run view_scene's own polygon step on it.
         out.tris.erase(out.tris.begin() + std::ptrdiff_t(tris_before), out.tris.end());
+        batch.truncate(batch_before);
         out.scene_tris = scene_before;
         out.culled = culled_before;
         out.degenerate = degenerate_before;
         ScreenMesh part = frame;
         lockstep::view_polygons(scene, s, p, p + 1, part);
-        if (only) drop_sampleless(*only, part.tris, 0);
+        if (image) drop_sampleless(image->grid, part.tris, 0);
         out.tris.insert(out.tris.end(), part.tris.begin(), part.tris.end());
         out.scene_tris += part.scene_tris;
         out.culled += part.culled;
@@ -414,6 +460,7 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
         out.clipped += part.clipped;
       }
     }
+    if (image) batch.light(image->light, out.tris);
   };
   arena.execute([&] { tbb::parallel_for(uint32_t(0), nchunks, run_chunk); });
   for (Chunk& c : chunks) {

@@ -302,11 +302,9 @@ struct ShadeBuffers {
   size_t size = 0;
 };
 
-// The shading kernel's parameters for a frame: lights and camera in float.
-// lights holds the per-light floats sp.light points to.
-zsimd::ShadeParams shade_params(const Scene& scene, const ScreenMesh& mesh, const RasterSettings& s,
-                                const std::vector<std::array<int32_t, 2>>& off, const Binned& b,
-                                std::vector<float>& lights) {
+// The lights and the eye in float, for the kernels: lights holds the
+// per-light floats the result points to.
+zsimd::ShadeParams light_params(const Scene& scene, const Vec3& eye, std::vector<float>& lights) {
   lights.clear();
   const double default_ip = scene.lights.empty() ? 0 : 1 / std::sqrt(double(scene.lights.size()));
   for (const Light& l : scene.lights) {
@@ -319,15 +317,23 @@ zsimd::ShadeParams shade_params(const Scene& scene, const ScreenMesh& mesh, cons
                    float(l.spot_dir.z), float(spot_cos_cutoff(l)), float(l.spot_exponent)});
   }
   zsimd::ShadeParams sp;
+  sp.nlights = int(scene.lights.size());
+  sp.light = lights.data();
+  sp.eye[0] = float(eye.x), sp.eye[1] = float(eye.y), sp.eye[2] = float(eye.z);
+  return sp;
+}
+
+// The shading kernel's parameters for a frame: lights and camera in float.
+// lights holds the per-light floats sp.light points to.
+zsimd::ShadeParams shade_params(const Scene& scene, const ScreenMesh& mesh, const RasterSettings& s,
+                                const std::vector<std::array<int32_t, 2>>& off, const Binned& b,
+                                std::vector<float>& lights) {
+  zsimd::ShadeParams sp = light_params(scene, mesh.camera.eye, lights);
   sp.shading = s.shading;
   sp.perspective = s.perspective;
   sp.silhouette = s.silhouette;
   sp.silhouette_eps = float(s.silhouette_eps);
   sp.toon_bands = s.toon_bands;
-  sp.nlights = int(scene.lights.size());
-  sp.light = lights.data();
-  sp.eye[0] = float(mesh.camera.eye.x), sp.eye[1] = float(mesh.camera.eye.y),
-  sp.eye[2] = float(mesh.camera.eye.z);
   sp.background[0] = float(scene.background.x), sp.background[1] = float(scene.background.y),
   sp.background[2] = float(scene.background.z);
   sp.offsets = off.data();
@@ -419,9 +425,14 @@ Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   // The mesh's triangles stay in the set-up's chunks (no copy into one vector).
   ScreenMesh mesh;
   std::vector<std::vector<ScreenTri>> chunks;
-  // Triangles with no sample in their box are left out: they cover nothing.
-  const zsimd::SampleGrid grid(sample_offsets(s), opts.width, opts.height);
-  zsimd::view_scene_chunks(scene, opts.width, opts.height, s, opts.threads, mesh, chunks, &grid);
+  // Only what the image needs: no triangle without a sample in its box (it
+  // covers nothing), flat colours in float, as the kernel shades.
+  zsimd::ImageOnly image;
+  image.grid = zsimd::SampleGrid(sample_offsets(s), opts.width, opts.height);
+  std::vector<float> lights;
+  image.light =
+      light_params(scene, Camera::from_view(scene.view, opts.width, opts.height).eye, lights);
+  zsimd::view_scene_chunks(scene, opts.width, opts.height, s, opts.threads, mesh, chunks, &image);
   // In mesh order: mesh.tris (empty: the set-up leaves every triangle in a chunk), then the chunks.
   size_t n = mesh.tris.size();
   for (const auto& c : chunks) n += c.size();

@@ -260,6 +260,111 @@ HWY_INLINE void WritePixels(DF df, VF r, VF g, VF b, float* dst, int n) {
   }
 }
 
+// core/shading.h's lighting in float, per lane: phong (Phong or Blinn-Phong
+// specular, pow as exp(shine log x)) or toon, at points pos with unit normals
+// nrm (turned towards the viewer) and unit directions to the viewer view;
+// material kd (kd * colour), ks, shine per lane. Lanes outside valid get the
+// ambient term only. col: the colour.
+template <class DF, class VF, class M>
+HWY_INLINE void Lighting(DF df, const float* light, int nlights, Shading shading, float bands,
+                         float band_div, const VF pos[3], const VF nrm[3], const VF view[3],
+                         const VF kd[3], VF ks, VF shine, M valid, VF col[3]) {
+  const VF zero = hn::Zero(df), one = hn::Set(df, 1.0f), two = hn::Set(df, 2.0f);
+  const VF amb = hn::Set(df, float(kAmbient));
+  auto dot3 = [](const VF a[3], const VF b[3]) {
+    return hn::MulAdd(a[0], b[0], hn::MulAdd(a[1], b[1], hn::Mul(a[2], b[2])));
+  };
+  auto normalize3 = [&](VF a[3]) {
+    const VF inv = hn::Div(one, hn::Sqrt(dot3(a, a)));
+    for (int c = 0; c < 3; ++c) a[c] = hn::Mul(a[c], inv);
+  };
+  for (int c = 0; c < 3; ++c) col[c] = hn::Mul(amb, kd[c]);
+  for (int l = 0; l < nlights; ++l) {
+    const float* li = light + ShadeParams::kLightFloats * l;
+    VF L[3] = {hn::Sub(hn::Set(df, li[0]), pos[0]), hn::Sub(hn::Set(df, li[1]), pos[1]),
+               hn::Sub(hn::Set(df, li[2]), pos[2])};
+    const VF dist = hn::Sqrt(dot3(L, L));
+    const VF inv_d = hn::Div(one, dist);
+    for (int c = 0; c < 3; ++c) L[c] = hn::Mul(L[c], inv_d);
+    const VF ndl = dot3(nrm, L);
+    const auto lit = hn::And(hn::Gt(ndl, zero), valid);
+    if (hn::AllFalse(df, lit)) continue;
+    // core/shading.cpp's light_at: attenuation min(1, 1/(c1 + c2 d + c3 d^2)),
+    // then the spot's cone and falloff (Warn): 0 outside, cos^exponent inside.
+    VF ip = hn::Min(
+        one, hn::Div(one, hn::MulAdd(hn::Mul(hn::Set(df, li[8]), dist), dist,
+                                     hn::MulAdd(hn::Set(df, li[7]), dist, hn::Set(df, li[6])))));
+    if (li[9] != 0.0f) {
+      const VF dir[3] = {hn::Set(df, li[10]), hn::Set(df, li[11]), hn::Set(df, li[12])};
+      const VF cos_angle = hn::Neg(dot3(L, dir));
+      const auto inside = hn::Ge(cos_angle, hn::Set(df, li[13]));
+      const VF exponent = hn::Set(df, li[14]);
+      const auto positive = hn::Gt(cos_angle, zero);
+      VF fall = hn::CallExp(
+          df, hn::Mul(exponent, hn::CallLog(df, hn::IfThenElse(positive, cos_angle, one))));
+      fall = hn::IfThenElse(positive, fall, hn::IfThenElseZero(hn::Eq(exponent, zero), one));
+      ip = hn::Mul(ip, hn::IfThenElseZero(inside, fall));
+    }
+    VF term[3];
+    if (shading == Shading::kToon) {
+      const VF q =
+          hn::Min(one, hn::Div(hn::Floor(hn::Mul(ndl, hn::Set(df, bands))), hn::Set(df, band_div)));
+      for (int c = 0; c < 3; ++c) term[c] = hn::Mul(q, kd[c]);
+    } else {
+      VF cosine;
+      if (shading == Shading::kPhong) {
+        VF R[3];  // L mirrored about N
+        for (int c = 0; c < 3; ++c) R[c] = hn::MulSub(hn::Mul(two, ndl), nrm[c], L[c]);
+        cosine = dot3(R, view);
+      } else {
+        VF Hv[3] = {hn::Add(L[0], view[0]), hn::Add(L[1], view[1]), hn::Add(L[2], view[2])};
+        normalize3(Hv);  // halfway vector (Blinn)
+        cosine = dot3(nrm, Hv);
+      }
+      // ks max(0, cosine)^shine, as std::pow: 0^shine = 0 for shine > 0, x^0 = 1.
+      const auto pos_c = hn::Gt(cosine, zero);
+      const VF safe = hn::IfThenElse(pos_c, cosine, one);
+      VF pw = hn::CallExp(df, hn::Mul(shine, hn::CallLog(df, safe)));
+      pw = hn::IfThenElse(pos_c, pw, hn::IfThenElseZero(hn::Eq(shine, zero), one));
+      const VF spec = hn::IfThenElseZero(hn::Gt(ks, zero), hn::Mul(ks, pw));
+      for (int c = 0; c < 3; ++c) term[c] = hn::MulAdd(ndl, kd[c], spec);
+    }
+    for (int c = 0; c < 3; ++c)
+      col[c] = hn::IfThenElse(lit, hn::MulAdd(hn::Mul(ip, hn::Set(df, li[3 + c])), term[c], col[c]),
+                              col[c]);
+  }
+}
+
+void FlatColors(const ShadeParams& p, size_t n, const float* const* in, float* const* out) {
+  const hn::CappedTag<float, 16> df;
+  using VF = hn::Vec<decltype(df)>;
+  const size_t N = hn::Lanes(df);
+  const VF zero = hn::Zero(df), one = hn::Set(df, 1.0f);
+  const VF eye[3] = {hn::Set(df, p.eye[0]), hn::Set(df, p.eye[1]), hn::Set(df, p.eye[2])};
+  const auto all = hn::Eq(zero, zero);
+  auto dot3 = [](const VF a[3], const VF b[3]) {
+    return hn::MulAdd(a[0], b[0], hn::MulAdd(a[1], b[1], hn::Mul(a[2], b[2])));
+  };
+  for (size_t i = 0; i < n; i += N) {
+    VF pos[3], nrm[3], kd[3], view[3];
+    for (int c = 0; c < 3; ++c) {
+      pos[c] = hn::LoadU(df, in[c] + i);
+      nrm[c] = hn::LoadU(df, in[3 + c] + i);
+      kd[c] = hn::LoadU(df, in[6 + c] + i);
+      view[c] = hn::Sub(eye[c], pos[c]);
+    }
+    const VF inv = hn::Div(one, hn::Sqrt(dot3(view, view)));
+    for (int c = 0; c < 3; ++c) view[c] = hn::Mul(view[c], inv);
+    // view_scene's lit(): the face turned towards the eye.
+    const auto away = hn::Lt(dot3(nrm, view), zero);
+    for (int c = 0; c < 3; ++c) nrm[c] = hn::IfThenElse(away, hn::Neg(nrm[c]), nrm[c]);
+    VF col[3];
+    Lighting(df, p.light, p.nlights, Shading::kPhong, 1.0f, 1.0f, pos, nrm, view, kd,
+             hn::LoadU(df, in[9] + i), hn::LoadU(df, in[10] + i), all, col);
+    for (int c = 0; c < 3; ++c) hn::StoreU(col[c], df, out[c] + i);
+  }
+}
+
 void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot,
                const LocalPlanes* planes, const ShadeTri* tris, int cols, int rows, float* rgb,
                float* zout, float* image, size_t image_stride, float* depth, size_t depth_stride) {
@@ -284,7 +389,7 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot,
   const bool flat = shading == Shading::kFlat, gouraud = shading == Shading::kGouraud;
   const bool lighting = !flat && !gouraud;
   const bool need_normal = lighting || silhouette;
-  const VF zero = hn::Zero(df), one = hn::Set(df, 1.0f), two = hn::Set(df, 2.0f);
+  const VF zero = hn::Zero(df), one = hn::Set(df, 1.0f);
   const VF inf = hn::Set(df, HUGE_VALF);
   const VI none = hn::Set(di, -1);
   const VF bg[3] = {hn::Set(df, p.background[0]), hn::Set(df, p.background[1]),
@@ -293,7 +398,6 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot,
   const VF dir0[3] = {hn::Set(df, p.dir0[0]), hn::Set(df, p.dir0[1]), hn::Set(df, p.dir0[2])};
   const VF dir_u[3] = {hn::Set(df, p.dir_u[0]), hn::Set(df, p.dir_u[1]), hn::Set(df, p.dir_u[2])};
   const VF dir_v[3] = {hn::Set(df, p.dir_v[0]), hn::Set(df, p.dir_v[1]), hn::Set(df, p.dir_v[2])};
-  const VF amb = hn::Set(df, float(kAmbient));
   const float bands = float(p.toon_bands),
               band_div = float(p.toon_bands - (p.toon_bands > 1 ? 1 : 0));
   HWY_ALIGN int32_t idv[16];
@@ -385,64 +489,8 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot,
           } else if (gouraud) {
             for (int c = 0; c < 3; ++c) col[c] = hn::Mul(a[4 + c], att);
           } else {
-            for (int c = 0; c < 3; ++c) col[c] = hn::Mul(amb, kd[c]);
-            for (int l = 0; l < nlights; ++l) {
-              const float* li = light + ShadeParams::kLightFloats * l;
-              VF L[3] = {hn::Sub(hn::Set(df, li[0]), pos[0]), hn::Sub(hn::Set(df, li[1]), pos[1]),
-                         hn::Sub(hn::Set(df, li[2]), pos[2])};
-              const VF dist = hn::Sqrt(dot3(L, L));
-              const VF inv_d = hn::Div(one, dist);
-              for (int c = 0; c < 3; ++c) L[c] = hn::Mul(L[c], inv_d);
-              const VF ndl = dot3(nrm, L);
-              const auto lit = hn::And(hn::Gt(ndl, zero), valid);
-              if (hn::AllFalse(df, lit)) continue;
-              // core/shading.cpp's light_at: attenuation min(1, 1/(c1 + c2 d + c3 d^2)),
-              // then the spot's cone and falloff (Warn): 0 outside, cos^exponent inside.
-              VF ip = hn::Min(one, hn::Div(one, hn::MulAdd(hn::Mul(hn::Set(df, li[8]), dist), dist,
-                                                           hn::MulAdd(hn::Set(df, li[7]), dist,
-                                                                      hn::Set(df, li[6])))));
-              if (li[9] != 0.0f) {
-                const VF dir[3] = {hn::Set(df, li[10]), hn::Set(df, li[11]), hn::Set(df, li[12])};
-                const VF cos_angle = hn::Neg(dot3(L, dir));
-                const auto inside = hn::Ge(cos_angle, hn::Set(df, li[13]));
-                const VF exponent = hn::Set(df, li[14]);
-                const auto positive = hn::Gt(cos_angle, zero);
-                VF fall = hn::CallExp(
-                    df,
-                    hn::Mul(exponent, hn::CallLog(df, hn::IfThenElse(positive, cos_angle, one))));
-                fall =
-                    hn::IfThenElse(positive, fall, hn::IfThenElseZero(hn::Eq(exponent, zero), one));
-                ip = hn::Mul(ip, hn::IfThenElseZero(inside, fall));
-              }
-              VF term[3];
-              if (shading == Shading::kToon) {
-                const VF q = hn::Min(one, hn::Div(hn::Floor(hn::Mul(ndl, hn::Set(df, bands))),
-                                                  hn::Set(df, band_div)));
-                for (int c = 0; c < 3; ++c) term[c] = hn::Mul(q, kd[c]);
-              } else {
-                VF cosine;
-                if (shading == Shading::kPhong) {
-                  VF R[3];  // L mirrored about N
-                  for (int c = 0; c < 3; ++c) R[c] = hn::MulSub(hn::Mul(two, ndl), nrm[c], L[c]);
-                  cosine = dot3(R, view);
-                } else {
-                  VF Hv[3] = {hn::Add(L[0], view[0]), hn::Add(L[1], view[1]),
-                              hn::Add(L[2], view[2])};
-                  normalize3(Hv);  // halfway vector (Blinn)
-                  cosine = dot3(nrm, Hv);
-                }
-                // ks max(0, cosine)^shine, as std::pow: 0^shine = 0 for shine > 0, x^0 = 1.
-                const auto pos_c = hn::Gt(cosine, zero);
-                const VF safe = hn::IfThenElse(pos_c, cosine, one);
-                VF pw = hn::CallExp(df, hn::Mul(shine, hn::CallLog(df, safe)));
-                pw = hn::IfThenElse(pos_c, pw, hn::IfThenElseZero(hn::Eq(shine, zero), one));
-                const VF spec = hn::IfThenElseZero(hn::Gt(ks, zero), hn::Mul(ks, pw));
-                for (int c = 0; c < 3; ++c) term[c] = hn::MulAdd(ndl, kd[c], spec);
-              }
-              for (int c = 0; c < 3; ++c)
-                col[c] = hn::IfThenElse(
-                    lit, hn::MulAdd(hn::Mul(ip, hn::Set(df, li[3 + c])), term[c], col[c]), col[c]);
-            }
+            Lighting(df, light, nlights, shading, bands, band_div, pos, nrm, view, kd, ks, shine,
+                     valid, col);
           }
           if (silhouette) {
             const VF ndv = hn::Abs(dot3(nrm, view));
@@ -525,10 +573,12 @@ void GrowBounds(const Vec3* points, size_t n, Vec3& lo, Vec3& hi) {
     HWY_ALIGN double bl[3][16], bh[3][16];
     for (int c = 0; c < 3; ++c) hn::Store(l[c], d, bl[c]), hn::Store(h[c], d, bh[c]);
     for (size_t k = 0; k < N; ++k)
-      for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], bl[c][k]), hi[c] = std::max(hi[c], bh[c][k]);
+      for (int c = 0; c < 3; ++c)
+        lo[c] = std::min(lo[c], bl[c][k]), hi[c] = std::max(hi[c], bh[c][k]);
   }
   for (; i < n; ++i)
-    for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], points[i][c]), hi[c] = std::max(hi[c], points[i][c]);
+    for (int c = 0; c < 3; ++c)
+      lo[c] = std::min(lo[c], points[i][c]), hi[c] = std::max(hi[c], points[i][c]);
 }
 
 // ---------------------------------------------------------------- the set-up's vertex step
@@ -573,10 +623,10 @@ void ProjectVertices(const Projection& p, const Vec3* world, size_t n, Projected
     const V dv[3] = {hn::Sub(w[0], eye[0]), hn::Sub(w[1], eye[1]), hn::Sub(w[2], eye[2])};
     const V ex = dot(dv, rt), ey = dot(dv, up), ez = dot(dv, fw);
     const V gz = hn::Mul(g, ez);
-    const auto inside = hn::And(
-        hn::And(hn::Ge(hn::Sub(ez, near_z), zero), hn::Ge(hn::Sub(gz, ex), zero)),
-        hn::And(hn::And(hn::Ge(hn::Add(gz, ex), zero), hn::Ge(hn::Sub(gz, ey), zero)),
-                hn::Ge(hn::Add(gz, ey), zero)));
+    const auto inside =
+        hn::And(hn::And(hn::Ge(hn::Sub(ez, near_z), zero), hn::Ge(hn::Sub(gz, ex), zero)),
+                hn::And(hn::And(hn::Ge(hn::Add(gz, ex), zero), hn::Ge(hn::Sub(gz, ey), zero)),
+                        hn::Ge(hn::Add(gz, ey), zero)));
     const V den = hn::Mul(ez, pitch);
     const V sx = hn::Add(half_w, hn::Div(ex, den));
     const V sy = hn::Sub(half_h, hn::Div(ey, den));
@@ -606,6 +656,11 @@ HWY_EXPORT(RasterTileDouble);
 HWY_EXPORT(TargetName);
 HWY_EXPORT(ShadeTile);
 HWY_EXPORT(ProjectVertices);
+HWY_EXPORT(FlatColors);
+
+void flat_colors(const ShadeParams& p, size_t n, const float* const* in, float* const* out) {
+  HWY_DYNAMIC_DISPATCH(FlatColors)(p, n, in, out);
+}
 HWY_EXPORT(GrowBounds);
 
 void grow_bounds(const Vec3* points, size_t n, Vec3& lo, Vec3& hi) {

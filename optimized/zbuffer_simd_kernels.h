@@ -89,6 +89,14 @@ void shade_tile(const ShadeParams& p, const int32_t* tri, const int32_t* slot,
                 const LocalPlanes* planes, const ShadeTri* tris, int cols, int rows, float* rgb,
                 float* z, float* image, size_t image_stride, float* depth, size_t depth_stride);
 
+// Flat colours in float, with shade_tile's lighting (Phong specular, as
+// view_scene's flat colour): for i < n, the colour at point (in[0..2])[i] of a
+// face with unit normal (in[3..5])[i], turned towards the eye here, material
+// kd * colour (in[6..8])[i], ks in[9][i], shine in[10][i]; out[0..2]: red,
+// green, blue. Every array has room for n rounded up to 16.
+inline constexpr int kFlatInputs = 11;
+void flat_colors(const ShadeParams& p, size_t n, const float* const* in, float* const* out);
+
 struct RasterParams {
   const TriSetup* tris = nullptr;
   const std::array<int32_t, 2>* offsets = nullptr;  // sample_offsets()
@@ -126,7 +134,7 @@ struct ProjectedVertex {
 };
 struct Projection {
   double eye[3], right[3], up[3], forward[3];
-  double near_z, g;            // hither, guard band slope
+  double near_z, g;              // hither, guard band slope
   double half_w, half_h, pitch;  // 0.5 width, 0.5 height, the camera's pitch
 };
 void project_vertices(const Projection& p, const Vec3* world, size_t n, ProjectedVertex* out);
@@ -154,14 +162,21 @@ struct SampleGrid {
   }
 };
 
+// What the z-buffer's image needs of the set-up, and no more: the triangles
+// with a sample of grid in their bounding box (the others would cover
+// nothing), their flat colours lit in float (flat_colors with light), as the
+// image is shaded.
+struct ImageOnly {
+  SampleGrid grid;
+  ShadeParams light;  // the lights and the eye
+};
+
 // opt::simd::view_scene's mesh, left in the set-up's chunks: mesh holds the
 // frame, near, far and counts (no triangles); chunks the triangles, in mesh
-// order (spheres' chunks, then polygons'). With `only`: the triangles that
-// have a sample of that grid in their bounding box, the others left out of the
-// chunks (not of the counts; they would cover nothing) before their flat
-// colour is lit: the z-buffer's image needs no more.
+// order (spheres' chunks, then polygons'), every one of view_scene's, bit for
+// bit. With image: only what it needs (the counts are still view_scene's).
 void view_scene_chunks(const Scene& scene, int width, int height, const RasterSettings& s,
                        int threads, ScreenMesh& mesh, std::vector<std::vector<ScreenTri>>& chunks,
-                       const SampleGrid* only = nullptr);
+                       const ImageOnly* image = nullptr);
 
 }  // namespace lockstep::opt::zsimd
