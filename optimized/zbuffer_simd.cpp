@@ -375,6 +375,7 @@ void shade_one_tile(const ScreenMesh& mesh, const Binned& b, const ShadeSetup& s
         L.p[row][1] = float(a[1] * kSubpixel);
         L.p[row][2] = float(a[2] * kSubpixel);
       }
+      L.tri = shade.tri[id];
     }
   // The view direction through the tile's top-left pixel corner (the reference's
   // dir = forward + cx right + cy up, cx = (sx - width/2) pitch, cy = (height/2 - sy) pitch).
@@ -383,8 +384,8 @@ void shade_one_tile(const ScreenMesh& mesh, const Binned& b, const ShadeSetup& s
   const Vec3 d0 = cam.forward + ((x0 - 0.5 * mesh.width) * cam.pitch) * cam.right +
                   ((0.5 * mesh.height - y0) * cam.pitch) * cam.up;
   tp.dir0[0] = float(d0.x), tp.dir0[1] = float(d0.y), tp.dir0[2] = float(d0.z);
-  zsimd::shade_tile(tp, tile_tri, sb.slot.data(), sb.planes.data(), shade.tri.get(), x1 - x0,
-                    y1 - y0, sb.rgb.get(), sb.z.get(), img.pixel(x0, y0), size_t(mesh.width) * 4,
+  zsimd::shade_tile(tp, tile_tri, sb.slot.data(), sb.planes.data(), x1 - x0, y1 - y0, sb.rgb.get(),
+                    sb.z.get(), img.pixel(x0, y0), size_t(mesh.width) * 4,
                     img.depth.data() + size_t(y0) * mesh.width + size_t(x0), size_t(mesh.width));
 }
 

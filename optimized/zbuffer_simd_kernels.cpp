@@ -366,8 +366,8 @@ void FlatColors(const ShadeParams& p, size_t n, const float* const* in, float* c
 }
 
 void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot,
-               const LocalPlanes* planes, const ShadeTri* tris, int cols, int rows, float* rgb,
-               float* zout, float* image, size_t image_stride, float* depth, size_t depth_stride) {
+               const LocalPlanes* planes, int cols, int rows, float* rgb, float* zout,
+               float* image, size_t image_stride, float* depth, size_t depth_stride) {
   const hn::CappedTag<float, 16> df;
   const hn::RebindToSigned<decltype(df)> di;
   using VF = hn::Vec<decltype(df)>;
@@ -438,7 +438,7 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot,
             remaining = hn::AndNot(mi, remaining);
             const auto m = hn::RebindMask(df, mi);
             const LocalPlanes& L = planes[slot[id]];
-            const ShadeTri& T = tris[id];
+            const ShadeTri& T = L.tri;
             auto eval = [&](int k) {
               a[k] = hn::IfThenElse(
                   m,
@@ -672,10 +672,10 @@ void project_vertices(const Projection& p, const Vec3* world, size_t n, Projecte
 }
 
 void shade_tile(const ShadeParams& p, const int32_t* tri, const int32_t* slot,
-                const LocalPlanes* planes, const ShadeTri* tris, int cols, int rows, float* rgb,
-                float* z, float* image, size_t image_stride, float* depth, size_t depth_stride) {
+                const LocalPlanes* planes, int cols, int rows, float* rgb, float* z, float* image,
+                size_t image_stride, float* depth, size_t depth_stride) {
   HWY_DYNAMIC_DISPATCH(ShadeTile)
-  (p, tri, slot, planes, tris, cols, rows, rgb, z, image, image_stride, depth, depth_stride);
+  (p, tri, slot, planes, cols, rows, rgb, z, image, image_stride, depth, depth_stride);
 }
 
 void raster_tile(const RasterParams& p, const TileJob& t, float* depth, int32_t* tri,

@@ -50,10 +50,12 @@ struct ShadeTri {
   float face[3];          // the face normal of the drawn side (where the interpolated one is 0)
 };
 
-// A ShadeTri's planes moved to a tile: base at the tile's top-left pixel
-// corner, gradients per pixel, in float.
+// A triangle as one tile shades it: its ShadeTri's planes moved to the tile
+// (base at the tile's top-left pixel corner, gradients per pixel, in float)
+// and a copy of the ShadeTri, so that the kernel reads only the tile's own.
 struct LocalPlanes {
   float p[ShadeTri::kRows][3];
+  ShadeTri tri;
 };
 
 struct ShadeParams {
@@ -84,10 +86,10 @@ struct ShadeParams {
 // background), its eye depth -- the nearest sample's, +inf for none -- at
 // depth + r * depth_stride + col. rgb (3 planes) and z (1 plane) of buf_w x
 // buf_h floats, aligned, hold the sums while spp > 1. slot[id] is the index
-// into planes of triangle id; tris[id] its ShadeTri. cols x rows: the tile's size.
+// into planes of triangle id. cols x rows: the tile's size.
 void shade_tile(const ShadeParams& p, const int32_t* tri, const int32_t* slot,
-                const LocalPlanes* planes, const ShadeTri* tris, int cols, int rows, float* rgb,
-                float* z, float* image, size_t image_stride, float* depth, size_t depth_stride);
+                const LocalPlanes* planes, int cols, int rows, float* rgb, float* z, float* image,
+                size_t image_stride, float* depth, size_t depth_stride);
 
 // Flat colours in float, with shade_tile's lighting (Phong specular, as
 // view_scene's flat colour): for i < n, the colour at point (in[0..2])[i] of a
