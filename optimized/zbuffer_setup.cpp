@@ -45,14 +45,6 @@ Vec3 lit(const Scene& scene, const Material& m, const Vec3& eye, const Vec3& p, 
   return phong(scene, m, p, n, v);
 }
 
-// std::llround (half away from zero), inline: x - trunc(x) is exact, so this is
-// llround's answer for every finite x (the callers' are below 2^40).
-inline int64_t round_half_away(double x) {
-  const double t = std::trunc(x);
-  const double f = x - t;
-  return int64_t(t + (f >= 0.5 ? 1.0 : 0.0) - (f <= -0.5 ? 1.0 : 0.0));
-}
-
 struct Chunk {
   std::vector<ScreenTri> tris;
   uint64_t scene_tris = 0, culled = 0, degenerate = 0, clipped = 0;
@@ -62,14 +54,6 @@ int64_t floor_div(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1)
 int64_t ceil_div(int64_t a, int64_t b) { return -floor_div(-a, b); }
 
 constexpr int kMaxRings = 256;  // sphere_rings' upper end
-
-// Whether e (eye space) lies inside the hither plane and the guard band
-// (view_scene's inside_all, for one vertex). Branch-free (& not &&), so that
-// the compiler can vectorise the loops that call it.
-inline bool inside_planes(const Vec3& e, double near_z, double g) {
-  return (e.z - near_z >= 0) & (g * e.z - e.x >= 0) & (g * e.z + e.x >= 0) & (g * e.z - e.y >= 0) &
-         (g * e.z + e.y >= 0);
-}
 
 // The flat colours of a chunk's triangles, lit together in float (ImageOnly):
 // one request per triangle kept, lit by flat_colors at the chunk's end.
@@ -106,58 +90,55 @@ class FlatBatch {
   std::vector<float> in_[kFlatInputs];
 };
 
-// A sphere vertex, projected.
-struct SphereVertex {
-  Vec3 world, normal, color;
-  double z = 0;
-  int32_t x = 0, y = 0;
+// A sphere's vertices and faces, projected and tested (view_sphere's scratch).
+struct SphereScratch {
+  std::vector<Vec3> world, color;
+  std::vector<ProjectedVertex> proj;
+  std::vector<double> face;  // 3 per triangle
+  std::vector<uint8_t> flags;
 };
 
 // Sphere k as view_spheres emits it (unit: its unit sphere), appended to out
 // with the counts, when every vertex of its tessellation lies inside the hither
 // plane and the guard band (then no triangle is clipped). Otherwise false, and
 // nothing is emitted. Operation for operation view_spheres' and Emitter::triangle's
-// arithmetic, so the same bits; only the per-triangle copies and the per-sphere
-// sines are gone.
-bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam, double near_z,
-                 double g, uint32_t k, const UnitSphere& unit, const ImageOnly* image,
-                 FlatBatch& batch, std::vector<SphereVertex>& vert, ScreenMesh& out) {
+// arithmetic, so the same bits (the vertices and the face tests a vector at a
+// time); only the per-triangle copies and the per-sphere sines are gone.
+bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
+                 const Projection& projection, uint32_t k, const UnitSphere& unit,
+                 const ImageOnly* image, FlatBatch& batch, SphereScratch& sc, ScreenMesh& out) {
   const Vec3 c = scene.sphere_center[k];
   const double signed_radius = scene.sphere_radius[k];
   const double r = std::abs(signed_radius);
   const Material& m = scene.materials[scene.sphere_material[k]];
   const bool gouraud = s.shading == Shading::kGouraud, flat_shading = s.shading == Shading::kFlat;
-  vert.resize(unit.unit.size());
-  bool inside = true;
-  for (size_t i = 0; i < vert.size(); ++i) {
-    SphereVertex& v = vert[i];
-    const Vec3& u = unit.unit[i];
-    v.world = c + r * u;
-    const Vec3 e = eye_from_world(cam, v.world);
-    inside = inside & inside_planes(e, near_z, g);
-    v.z = e.z;
-    const double xs = 0.5 * cam.width + e.x / (e.z * cam.pitch);
-    const double ys = 0.5 * cam.height - e.y / (e.z * cam.pitch);
-    v.x = int32_t(round_half_away(xs * kSubpixel));
-    v.y = int32_t(round_half_away(ys * kSubpixel));
+  const size_t nv = unit.unit.size(), nt = unit.tri.size();
+  sc.world.resize(nv);
+  sc.proj.resize(nv);
+  for (size_t i = 0; i < nv; ++i) sc.world[i] = c + r * unit.unit[i];
+  project_vertices(projection, sc.world.data(), nv, sc.proj.data());
+  for (size_t i = 0; i < nv; ++i)
+    if (!sc.proj[i].inside) return false;
+  auto normal = [&](uint32_t i) { return signed_radius > 0 ? unit.unit[i] : -unit.unit[i]; };
+  if (gouraud) {
+    sc.color.resize(nv);
+    for (uint32_t i = 0; i < nv; ++i) sc.color[i] = lit(scene, m, cam.eye, sc.world[i], normal(i));
   }
-  if (!inside) return false;
-  for (size_t i = 0; i < vert.size(); ++i) {
-    SphereVertex& v = vert[i];
-    v.normal = signed_radius > 0 ? unit.unit[i] : -unit.unit[i];
-    if (gouraud) v.color = lit(scene, m, cam.eye, v.world, v.normal);
-  }
-  for (uint32_t t = 0; t < unit.tri.size(); ++t) {
-    // Counter-clockwise seen from the visible side: reversed inside out.
+  // Counter-clockwise seen from the visible side: reversed inside out.
+  const bool flip = !(signed_radius > 0);
+  sc.face.resize(3 * nt);
+  sc.flags.resize(nt);
+  sphere_faces(sc.world.data(), unit.tri.data(), nt, flip, cam.eye, sc.face.data(),
+               sc.flags.data());
+  for (uint32_t t = 0; t < nt; ++t) {
+    if (sc.flags[t] & kNoFace) continue;
     const auto& [a, b0, c0] = unit.tri[t];
-    const uint32_t idx[3] = {a, signed_radius > 0 ? b0 : c0, signed_radius > 0 ? c0 : b0};
-    const Vec3& w0 = vert[idx[0]].world;
-    const Vec3& w1 = vert[idx[1]].world;
-    const Vec3& w2 = vert[idx[2]].world;
-    const Vec3 fn = cross(w1 - w0, w2 - w0);
-    if (length(fn) == 0) continue;
-    const Vec3 face = normalize(fn);
-    const bool front = dot(face, cam.eye - w0) > 0;
+    const uint32_t idx[3] = {a, flip ? c0 : b0, flip ? b0 : c0};
+    const Vec3& w0 = sc.world[idx[0]];
+    const Vec3& w1 = sc.world[idx[1]];
+    const Vec3& w2 = sc.world[idx[2]];
+    const Vec3 face{sc.face[3 * t], sc.face[3 * t + 1], sc.face[3 * t + 2]};
+    const bool front = (sc.flags[t] & kFront) != 0;
     ++out.sphere_tris;
     // Emitter::triangle: world-space culling (spheres are one-sided) ...
     if (!front && s.cull == CullMode::kWorld) {
@@ -166,7 +147,7 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
     }
     // ... then the snapped area: degenerate, projection-space culling, the
     // order (positive area: a front face's v[1] and v[2] swapped).
-    const SphereVertex &p0 = vert[idx[0]], &p1 = vert[idx[1]], &p2 = vert[idx[2]];
+    const ProjectedVertex &p0 = sc.proj[idx[0]], &p1 = sc.proj[idx[1]], &p2 = sc.proj[idx[2]];
     const int64_t area =
         int64_t(p1.x - p0.x) * (p2.y - p0.y) - int64_t(p1.y - p0.y) * (p2.x - p0.x);
     if (area == 0) {
@@ -190,17 +171,17 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
       else
         flat = lit(scene, m, cam.eye, (w0 + w1 + w2) / 3.0, face);
     }
-    const SphereVertex* order[3] = {&p0, area < 0 ? &p2 : &p1, area < 0 ? &p1 : &p2};
+    const uint32_t order[3] = {idx[0], area < 0 ? idx[2] : idx[1], area < 0 ? idx[1] : idx[2]};
     ScreenTri& st = out.tris.emplace_back();  // built in place (a ScreenTri is 300 bytes)
     for (int i = 0; i < 3; ++i) {
-      const SphereVertex& sv = *order[i];
+      const uint32_t vi = order[i];
       ScreenVertex& v = st.v[size_t(i)];
-      v.x = sv.x;
-      v.y = sv.y;
-      v.z = sv.z;
-      v.world = sv.world;
-      v.normal = sv.normal;
-      if (gouraud) v.color = sv.color;
+      v.x = sc.proj[vi].x;
+      v.y = sc.proj[vi].y;
+      v.z = sc.proj[vi].z;
+      v.world = sc.world[vi];
+      v.normal = normal(vi);
+      if (gouraud) v.color = sc.color[vi];
     }
     st.prim = k;
     st.source_tri = t;
@@ -264,6 +245,14 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
 
   const double near_z = mesh.near_z, g = kGuardBand * cam.pitch;
 
+  // The projection of the vertices (spheres' and polygons').
+  Projection proj;
+  for (int c = 0; c < 3; ++c) {
+    proj.eye[c] = cam.eye[c], proj.right[c] = cam.right[c], proj.up[c] = cam.up[c];
+    proj.forward[c] = cam.forward[c];
+  }
+  proj.near_z = near_z, proj.g = g, proj.pitch = cam.pitch;
+  proj.half_w = 0.5 * cam.width, proj.half_h = 0.5 * cam.height;
   // Spheres, as view_spheres: each sphere's ring count first (0: outside the
   // view), then one unit sphere per ring count in use (the sines and cosines
   // once per frame, not once per sphere), then chunks of spheres in parallel,
@@ -309,7 +298,7 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
       part.far_z = mesh.far_z;
       const uint32_t first = uint32_t(c) * spheres_per_chunk;
       const uint32_t last = std::min(spheres, first + spheres_per_chunk);
-      std::vector<SphereVertex> scratch;
+      SphereScratch scratch;
       FlatBatch batch;
       // About half of each sphere's triangles face the eye.
       size_t expect = 0;
@@ -319,8 +308,8 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
       for (uint32_t k = first; k < last; ++k) {
         if (rings[k] == 0) continue;
         // A sphere crossing the hither plane or the guard band: view_spheres itself.
-        if (!view_sphere(scene, s, cam, near_z, g, k, units[size_t(rings[k])], image, batch,
-                         scratch, part)) {
+        if (!view_sphere(scene, s, cam, proj, k, units[size_t(rings[k])], image, batch, scratch,
+                         part)) {
           const size_t before = part.tris.size();
           lockstep::view_spheres(scene, s, k, k + 1, part);
           if (image) drop_sampleless(image->grid, part.tris, before);
@@ -338,13 +327,6 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
   }
 
   // Every vertex once: eye space, the clip test, the snapped screen position.
-  Projection proj;
-  for (int c = 0; c < 3; ++c) {
-    proj.eye[c] = cam.eye[c], proj.right[c] = cam.right[c], proj.up[c] = cam.up[c];
-    proj.forward[c] = cam.forward[c];
-  }
-  proj.near_z = near_z, proj.g = g, proj.pitch = cam.pitch;
-  proj.half_w = 0.5 * cam.width, proj.half_h = 0.5 * cam.height;
   std::vector<ProjectedVertex> pv(scene.vertex.size());
   arena.execute([&] {
     tbb::parallel_for(

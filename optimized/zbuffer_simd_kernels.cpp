@@ -366,8 +366,8 @@ void FlatColors(const ShadeParams& p, size_t n, const float* const* in, float* c
 }
 
 void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot,
-               const LocalPlanes* planes, int cols, int rows, float* rgb, float* zout,
-               float* image, size_t image_stride, float* depth, size_t depth_stride) {
+               const LocalPlanes* planes, int cols, int rows, float* rgb, float* zout, float* image,
+               size_t image_stride, float* depth, size_t depth_stride) {
   const hn::CappedTag<float, 16> df;
   const hn::RebindToSigned<decltype(df)> di;
   using VF = hn::Vec<decltype(df)>;
@@ -581,6 +581,53 @@ void GrowBounds(const Vec3* points, size_t n, Vec3& lo, Vec3& hi) {
       lo[c] = std::min(lo[c], points[i][c]), hi[c] = std::max(hi[c], points[i][c]);
 }
 
+void SphereFaces(const Vec3* world, const std::array<uint32_t, 3>* tri, size_t n, bool flip,
+                 const Vec3& eye, double* face, uint8_t* flags) {
+  const hn::ScalableTag<double> d;
+  const hn::RebindToSigned<decltype(d)> di;
+  using V = hn::Vec<decltype(d)>;
+  const size_t N = hn::Lanes(d);
+  const double* base = &world[0].x;
+  const V ex = hn::Set(d, eye.x), ey = hn::Set(d, eye.y), ez = hn::Set(d, eye.z);
+  const V zero = hn::Zero(d);
+  HWY_ALIGN int64_t at[3][8];
+  HWY_ALIGN double out[4][8];
+  const int b = flip ? 2 : 1, c = flip ? 1 : 2;
+  for (size_t i = 0; i < n; i += N) {
+    const size_t m = std::min(N, n - i);
+    for (size_t k = 0; k < N; ++k) {  // the tail repeats the last triangle
+      const auto& t = tri[i + std::min(k, m - 1)];
+      at[0][k] = 3 * int64_t(t[0]), at[1][k] = 3 * int64_t(t[b]), at[2][k] = 3 * int64_t(t[c]);
+    }
+    V w[3][3];  // vertex, coordinate
+    for (int v = 0; v < 3; ++v) {
+      const auto idx = hn::Load(di, at[v]);
+      for (int x = 0; x < 3; ++x) w[v][x] = hn::GatherIndex(d, base + x, idx);
+    }
+    // cross(w1 - w0, w2 - w0), its length, the unit normal: core/math.h's operations.
+    V e1[3], e2[3];
+    for (int x = 0; x < 3; ++x)
+      e1[x] = hn::Sub(w[1][x], w[0][x]), e2[x] = hn::Sub(w[2][x], w[0][x]);
+    const V fn[3] = {hn::Sub(hn::Mul(e1[1], e2[2]), hn::Mul(e1[2], e2[1])),
+                     hn::Sub(hn::Mul(e1[2], e2[0]), hn::Mul(e1[0], e2[2])),
+                     hn::Sub(hn::Mul(e1[0], e2[1]), hn::Mul(e1[1], e2[0]))};
+    const V len = hn::Sqrt(
+        hn::Add(hn::Add(hn::Mul(fn[0], fn[0]), hn::Mul(fn[1], fn[1])), hn::Mul(fn[2], fn[2])));
+    const V un[3] = {hn::Div(fn[0], len), hn::Div(fn[1], len), hn::Div(fn[2], len)};
+    const V to_eye[3] = {hn::Sub(ex, w[0][0]), hn::Sub(ey, w[0][1]), hn::Sub(ez, w[0][2])};
+    const V facing = hn::Add(hn::Add(hn::Mul(un[0], to_eye[0]), hn::Mul(un[1], to_eye[1])),
+                             hn::Mul(un[2], to_eye[2]));
+    for (int x = 0; x < 3; ++x) hn::Store(un[x], d, out[x]);
+    hn::Store(hn::IfThenElse(hn::Eq(len, zero), hn::Set(d, double(kNoFace)),
+                             hn::IfThenElseZero(hn::Gt(facing, zero), hn::Set(d, double(kFront)))),
+              d, out[3]);
+    for (size_t k = 0; k < m; ++k) {
+      for (int x = 0; x < 3; ++x) face[3 * (i + k) + size_t(x)] = out[x][k];
+      flags[i + k] = uint8_t(out[3][k]);
+    }
+  }
+}
+
 // ---------------------------------------------------------------- the set-up's vertex step
 //
 // reference/viewing.cpp's eye_from_world, inside_all and to_screen on N
@@ -657,6 +704,12 @@ HWY_EXPORT(TargetName);
 HWY_EXPORT(ShadeTile);
 HWY_EXPORT(ProjectVertices);
 HWY_EXPORT(FlatColors);
+HWY_EXPORT(SphereFaces);
+
+void sphere_faces(const Vec3* world, const std::array<uint32_t, 3>* tri, size_t n, bool flip,
+                  const Vec3& eye, double* face, uint8_t* flags) {
+  HWY_DYNAMIC_DISPATCH(SphereFaces)(world, tri, n, flip, eye, face, flags);
+}
 
 void flat_colors(const ShadeParams& p, size_t n, const float* const* in, float* const* out) {
   HWY_DYNAMIC_DISPATCH(FlatColors)(p, n, in, out);

@@ -140,6 +140,14 @@ struct Projection {
   double half_w, half_h, pitch;  // 0.5 width, 0.5 height, the camera's pitch
 };
 void project_vertices(const Projection& p, const Vec3* world, size_t n, ProjectedVertex* out);
+// view_spheres' face test for the n triangles tri[i] = (a, b, c) of world
+// (b and c swapped when flip): the unit normal normalize(cross(w_b - w_a,
+// w_c - w_a)) in face[3 i .. 3 i + 2], and flags[i] = kNoFace when the cross
+// product has length 0, else kFront when dot(normal, eye - w_a) > 0 (0: a back
+// face). The same double operations, so the same bits.
+inline constexpr uint8_t kNoFace = 1, kFront = 2;
+void sphere_faces(const Vec3* world, const std::array<uint32_t, 3>* tri, size_t n, bool flip,
+                  const Vec3& eye, double* face, uint8_t* flags);
 // Grows [lo, hi] by the n points, as scene_bounds does (std::min and std::max:
 // a NaN coordinate is passed over), a vector of points at a time.
 void grow_bounds(const Vec3* points, size_t n, Vec3& lo, Vec3& hi);

@@ -154,12 +154,18 @@ UnitSphere unit_sphere(int rings) {
   };
   m.unit.push_back({0, 0, 1});
   m.unit.push_back({0, 0, -1});
+  // The sines and cosines of the meridians' longitudes once, not once per ring.
+  std::vector<double> cos_phi(static_cast<size_t>(meridians)), sin_phi(static_cast<size_t>(meridians));
+  for (int l = 0; l < meridians; ++l) {
+    const double phi = 2 * M_PI * l / meridians;
+    cos_phi[size_t(l)] = std::cos(phi);
+    sin_phi[size_t(l)] = std::sin(phi);
+  }
   for (int k = 1; k < rings; ++k) {
     const double theta = M_PI * k / rings;
-    for (int l = 0; l < meridians; ++l) {
-      const double phi = 2 * M_PI * l / meridians;
-      m.unit.push_back({std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)});
-    }
+    const double sin_theta = std::sin(theta), cos_theta = std::cos(theta);
+    for (int l = 0; l < meridians; ++l)
+      m.unit.push_back({sin_theta * cos_phi[size_t(l)], sin_theta * sin_phi[size_t(l)], cos_theta});
   }
   for (int k = 0; k < rings; ++k)
     for (int l = 0; l < meridians; ++l) {

@@ -67,9 +67,9 @@ int main(int argc, char** argv) {
   ScreenMesh mesh;
   const double t_setup = best_of(reps, [&] { mesh = view_scene(scene, size, size, s); });
   const double tris = double(mesh.tris.size()), pix = double(size) * size;
-  std::printf("%s %dx%d shading=%s spp=%s: %zu screen triangles (culled %llu)\n", argv[1], size,
+  std::printf("%s %dx%d shading=%s spp=%s: %zu screen triangles (culled %llu, from spheres %llu)\n", argv[1], size,
               size, shading.c_str(), spp.c_str(), mesh.tris.size(),
-              (unsigned long long)mesh.culled);
+              (unsigned long long)mesh.culled, (unsigned long long)mesh.sphere_tris);
   ScreenMesh fast;
   const double t_fast =
       best_of(reps, [&] { fast = opt::simd::view_scene(scene, size, size, s, 1); });
