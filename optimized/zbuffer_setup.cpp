@@ -56,10 +56,10 @@ int64_t ceil_div(int64_t a, int64_t b) { return -floor_div(-a, b); }
 constexpr int kMaxRings = 256;  // sphere_rings' upper end
 
 // The flat colours of a chunk's triangles, lit together in float (ImageOnly):
-// one request per triangle kept, lit by flat_colors at the chunk's end.
+// one request per triangle kept, lit by flat_colors at the chunk's end and
+// handed to the sink.
 class FlatBatch {
  public:
-  size_t size() const { return at_.size(); }
   void truncate(size_t n) {
     at_.resize(n);
     for (auto& v : in_) v.resize(n);
@@ -72,7 +72,7 @@ class FlatBatch {
         m.ks, m.shine};
     for (int k = 0; k < kFlatInputs; ++k) in_[k].push_back(float(v[k]));
   }
-  void light(const ShadeParams& p, std::vector<ScreenTri>& tris) {
+  void light(const ShadeParams& p, TriSink& sink, size_t chunk) {
     const size_t n = at_.size(), padded = (n + 15) / 16 * 16;
     if (n == 0) return;
     const float* in[kFlatInputs];
@@ -80,8 +80,10 @@ class FlatBatch {
     std::vector<float> rgb(3 * padded);
     float* out[3] = {rgb.data(), rgb.data() + padded, rgb.data() + 2 * padded};
     flat_colors(p, n, in, out);
-    for (size_t i = 0; i < n; ++i)
-      tris[at_[i]].flat_color = Vec3{double(out[0][i]), double(out[1][i]), double(out[2][i])};
+    for (size_t i = 0; i < n; ++i) {
+      const float rgb[3] = {out[0][i], out[1][i], out[2][i]};
+      sink.set_flat(chunk, at_[i], rgb);
+    }
     truncate(0);
   }
 
@@ -106,7 +108,8 @@ struct SphereScratch {
 // time); only the per-triangle copies and the per-sphere sines are gone.
 bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
                  const Projection& projection, uint32_t k, const UnitSphere& unit,
-                 const ImageOnly* image, FlatBatch& batch, SphereScratch& sc, ScreenMesh& out) {
+                 const ImageOnly* image, size_t chunk, FlatBatch& batch, SphereScratch& sc,
+                 ScreenMesh& out) {
   const Vec3 c = scene.sphere_center[k];
   const double signed_radius = scene.sphere_radius[k];
   const double r = std::abs(signed_radius);
@@ -130,6 +133,7 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
   sc.flags.resize(nt);
   sphere_faces(sc.world.data(), unit.tri.data(), nt, flip, cam.eye, sc.face.data(),
                sc.flags.data());
+  ScreenTri local;
   for (uint32_t t = 0; t < nt; ++t) {
     if (sc.flags[t] & kNoFace) continue;
     const auto& [a, b0, c0] = unit.tri[t];
@@ -162,17 +166,10 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
       const int32_t x[3] = {p0.x, p1.x, p2.x}, y[3] = {p0.y, p1.y, p2.y};
       if (!image->grid.any(x, y)) continue;
     }
-    // The flat colour: view_spheres lights every face not culled in world space,
-    // the same bits whenever it is done; for the image, in float, later.
-    Vec3 flat;
-    if (flat_shading) {
-      if (image)
-        batch.add(out.tris.size(), (w0 + w1 + w2) / 3.0, face, m);
-      else
-        flat = lit(scene, m, cam.eye, (w0 + w1 + w2) / 3.0, face);
-    }
     const uint32_t order[3] = {idx[0], area < 0 ? idx[2] : idx[1], area < 0 ? idx[1] : idx[2]};
-    ScreenTri& st = out.tris.emplace_back();  // built in place (a ScreenTri is 300 bytes)
+    // Built in place (a ScreenTri is 300 bytes), or for the image in `local`
+    // (every field it reads is written for each triangle).
+    ScreenTri& st = image ? local : out.tris.emplace_back();
     for (int i = 0; i < 3; ++i) {
       const uint32_t vi = order[i];
       ScreenVertex& v = st.v[size_t(i)];
@@ -185,8 +182,15 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
     }
     st.prim = k;
     st.source_tri = t;
-    st.flat_color = flat;
     st.face_normal = front ? face : -face;
+    // The flat colour: view_spheres lights every face not culled in world space,
+    // the same bits whenever it is done; for the image, in float, later.
+    if (image) {
+      const size_t at = image->sink->add(chunk, st);
+      if (flat_shading) batch.add(at, (w0 + w1 + w2) / 3.0, face, m);
+    } else if (flat_shading) {
+      st.flat_color = lit(scene, m, cam.eye, (w0 + w1 + w2) / 3.0, face);
+    }
   }
   return true;
 }
@@ -212,14 +216,15 @@ void SampleGrid::pixels(int64_t xmin, int64_t xmax, int64_t ymin, int64_t ymax, 
 
 namespace {
 
-// Leaves out of tris[first..] the triangles with no sample of the grid in their box.
-void drop_sampleless(const SampleGrid& grid, std::vector<ScreenTri>& tris, size_t first) {
-  const auto keep_end =
-      std::remove_if(tris.begin() + std::ptrdiff_t(first), tris.end(), [&](const ScreenTri& t) {
-        const int32_t x[3] = {t.v[0].x, t.v[1].x, t.v[2].x}, y[3] = {t.v[0].y, t.v[1].y, t.v[2].y};
-        return !grid.any(x, y);
-      });
-  tris.erase(keep_end, tris.end());
+// Hands tris[first..] with a sample of the image's grid in their box to its
+// sink (chunk c), and removes them all from tris.
+void to_sink(const ImageOnly& image, size_t c, std::vector<ScreenTri>& tris, size_t first) {
+  for (size_t i = first; i < tris.size(); ++i) {
+    const ScreenTri& t = tris[i];
+    const int32_t x[3] = {t.v[0].x, t.v[1].x, t.v[2].x}, y[3] = {t.v[0].y, t.v[1].y, t.v[2].y};
+    if (image.grid.any(x, y)) image.sink->add(c, t);
+  }
+  tris.resize(first);
 }
 
 }  // namespace
@@ -288,6 +293,11 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
   const uint32_t spheres_per_chunk =
       std::max({1u, std::min<uint32_t>(16, (spheres + 7) / 8), (spheres + 63) / 64});
   std::vector<ScreenMesh> sphere_chunks((spheres + spheres_per_chunk - 1) / spheres_per_chunk);
+  // Polygons: chunks of 512 (after the spheres' chunks, for the sink).
+  const uint32_t polys = scene.polygon_count();
+  const uint32_t per_chunk = 512;
+  const uint32_t nchunks = (polys + per_chunk - 1) / per_chunk;
+  if (image) image->sink->begin(mesh, sphere_chunks.size() + nchunks);
   arena.execute([&] {
     tbb::parallel_for(size_t(0), sphere_chunks.size(), [&](size_t c) {
       ScreenMesh& part = sphere_chunks[c];
@@ -304,18 +314,21 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
       size_t expect = 0;
       for (uint32_t k = first; k < last; ++k)
         if (rings[k] != 0) expect += units[size_t(rings[k])].tri.size() / 2 + 1;
-      part.tris.reserve(expect);
+      if (image)
+        image->sink->reserve(c, expect);
+      else
+        part.tris.reserve(expect);
       for (uint32_t k = first; k < last; ++k) {
         if (rings[k] == 0) continue;
         // A sphere crossing the hither plane or the guard band: view_spheres itself.
-        if (!view_sphere(scene, s, cam, proj, k, units[size_t(rings[k])], image, batch, scratch,
+        if (!view_sphere(scene, s, cam, proj, k, units[size_t(rings[k])], image, c, batch, scratch,
                          part)) {
           const size_t before = part.tris.size();
           lockstep::view_spheres(scene, s, k, k + 1, part);
-          if (image) drop_sampleless(image->grid, part.tris, before);
+          if (image) to_sink(*image, c, part.tris, before);
         }
       }
-      if (image) batch.light(image->light, part.tris);
+      if (image) batch.light(image->light, *image->sink, c);
     });
   });
   for (ScreenMesh& part : sphere_chunks) {
@@ -335,9 +348,6 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
         });
   });
 
-  const uint32_t polys = scene.polygon_count();
-  const uint32_t per_chunk = 512;
-  const uint32_t nchunks = (polys + per_chunk - 1) / per_chunk;
   std::vector<Chunk> chunks(nchunks);
   // The frame alone (no triangles, no counts), for view_polygons on one polygon.
   ScreenMesh frame;
@@ -348,16 +358,41 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
   frame.far_z = mesh.far_z;
   auto run_chunk = [&](uint32_t c) {
     Chunk& out = chunks[c];
+    const size_t sink_chunk = sphere_chunks.size() + c;
     const uint32_t first = c * per_chunk, last = std::min(polys, first + per_chunk);
-    out.tris.reserve(size_t(scene.poly_tri_first[last] - scene.poly_tri_first[first]));
+    const size_t expect = size_t(scene.poly_tri_first[last] - scene.poly_tri_first[first]);
+    if (image)
+      image->sink->reserve(sink_chunk, expect);
+    else
+      out.tris.reserve(expect);
     FlatBatch batch;
+    ScreenTri local;
     for (uint32_t p = first; p < last; ++p) {
       const Material& m = scene.materials[scene.poly_material[p]];
       const Vec3 face = scene.poly_plane[p].n;
       if (length(face) == 0) continue;
+      const uint32_t t_first = scene.poly_tri_first[p], t_last = scene.poly_tri_first[p + 1];
+      // A vertex outside the hither plane or the guard band: a triangle may
+      // need clipping, so view_scene's own polygon step, on this polygon.
+      bool inside = true;
+      for (uint32_t t = t_first; t < t_last; ++t)
+        for (const uint32_t vi : scene.tri_vertex[t]) inside = inside && pv[vi].inside;
+      if (!inside) {
+        ScreenMesh part = frame;
+        lockstep::view_polygons(scene, s, p, p + 1, part);
+        if (image)
+          to_sink(*image, sink_chunk, part.tris, 0);
+        else
+          out.tris.insert(out.tris.end(), part.tris.begin(), part.tris.end());
+        out.scene_tris += part.scene_tris;
+        out.culled += part.culled;
+        out.degenerate += part.degenerate;
+        out.clipped += part.clipped;
+        continue;
+      }
       // The flat colour, lit when the first triangle is kept (the same bits as
-      // view_polygons' up-front evaluation).
-      // For the image, each kept triangle asks for the polygon's colour in float.
+      // view_polygons' up-front evaluation); for the image, each kept triangle
+      // asks for the polygon's colour, in float.
       Vec3 flat, centroid;
       bool flat_lit = s.shading != Shading::kFlat;
       auto light_flat = [&] {
@@ -366,14 +401,9 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
         if (!image) flat = lit(scene, m, cam.eye, centroid, face);
         flat_lit = true;
       };
-      const size_t batch_before = batch.size();
       const bool patch = scene.poly_is_patch[p] != 0;
       const bool two_sided = m.two_sided();
-      const size_t tris_before = out.tris.size();
-      const uint64_t scene_before = out.scene_tris, culled_before = out.culled,
-                     degenerate_before = out.degenerate;
-      bool needs_clipping = false;
-      for (uint32_t t = scene.poly_tri_first[p]; t < scene.poly_tri_first[p + 1]; ++t) {
+      for (uint32_t t = t_first; t < t_last; ++t) {
         ++out.scene_tris;
         const auto& tv = scene.tri_vertex[t];
         // World-space culling (view_scene's Emitter::triangle).
@@ -382,10 +412,6 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
         if (!front && !two_sided && s.cull == CullMode::kWorld) {
           ++out.culled;
           continue;
-        }
-        if (!pv[tv[0]].inside || !pv[tv[1]].inside || !pv[tv[2]].inside) {
-          needs_clipping = true;
-          break;
         }
         // The snapped area: degenerate, projection-space culling (a front face is
         // counter-clockwise as seen, negative area with y down), the order.
@@ -405,10 +431,11 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
           if (!image->grid.any(x, y)) continue;
         }
         if (!flat_lit) light_flat();
-        if (image && s.shading == Shading::kFlat) batch.add(out.tris.size(), centroid, face, m);
         // Positive area: a front face's v[1] and v[2] swapped.
         const uint32_t order[3] = {tv[0], area < 0 ? tv[2] : tv[1], area < 0 ? tv[1] : tv[2]};
-        ScreenTri& st = out.tris.emplace_back();  // built in place (a ScreenTri is 300 bytes)
+        // Built in place (a ScreenTri is 300 bytes), or for the image in `local`
+        // (every field it reads is written for each triangle).
+        ScreenTri& st = image ? local : out.tris.emplace_back();
         for (int i = 0; i < 3; ++i) {
           const uint32_t vi = order[i];
           ScreenVertex& v = st.v[size_t(i)];
@@ -423,26 +450,13 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
         st.source_tri = t;
         st.flat_color = flat;
         st.face_normal = front ? face : -face;
-      }
-      if (needs_clipping) {
-        // A triangle of this polygon crosses the hither plane or the guard
-        // band: undo the polygon and run view_scene's own polygon step on it.
-        out.tris.erase(out.tris.begin() + std::ptrdiff_t(tris_before), out.tris.end());
-        batch.truncate(batch_before);
-        out.scene_tris = scene_before;
-        out.culled = culled_before;
-        out.degenerate = degenerate_before;
-        ScreenMesh part = frame;
-        lockstep::view_polygons(scene, s, p, p + 1, part);
-        if (image) drop_sampleless(image->grid, part.tris, 0);
-        out.tris.insert(out.tris.end(), part.tris.begin(), part.tris.end());
-        out.scene_tris += part.scene_tris;
-        out.culled += part.culled;
-        out.degenerate += part.degenerate;
-        out.clipped += part.clipped;
+        if (image) {
+          const size_t at = image->sink->add(sink_chunk, st);
+          if (s.shading == Shading::kFlat) batch.add(at, centroid, face, m);
+        }
       }
     }
-    if (image) batch.light(image->light, out.tris);
+    if (image) batch.light(image->light, *image->sink, sink_chunk);
   };
   arena.execute([&] { tbb::parallel_for(uint32_t(0), nchunks, run_chunk); });
   for (Chunk& c : chunks) {

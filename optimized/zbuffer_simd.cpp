@@ -45,12 +45,6 @@ void tile_size(int spp, int& tw, int& th) {
   while (tw > 16 && tw * th * spp > 64 * 64 * 4) (th > 16 && th >= tw) ? th /= 2 : tw /= 2;
 }
 
-struct Binned {
-  int tw = 64, th = 64, ntx = 0, nty = 0, nchunks = 0;
-  std::unique_ptr<TriSetup[]> setup;        // per triangle (not zeroed: set_up writes every field)
-  std::vector<std::vector<uint32_t>> bins;  // [chunk * tiles + tile]: triangle ids in mesh order
-};
-
 // The depth plane's value at a vertex of eye depth z (see zbuffer_simd_kernels.cpp):
 // affine in 1/z, so in screen space; stored_depth before its rounding.
 double plane_value(const RasterSettings& s, double z, double near_z, double far_z) {
@@ -151,57 +145,118 @@ void set_up_shading(const Scene& scene, const RasterSettings& s, const ScreenTri
   out.face[2] = float(tri.face_normal.z);
 }
 
-// The shading set-up of a mesh: per triangle a ShadeTri and `rows` plane rows.
-struct ShadeSetup {
-  int rows = 1;
-  std::unique_ptr<zsimd::ShadeTri[]> tri;  // only binned triangles are written (and read)
-  std::unique_ptr<double[]> planes;        // rows * 3 per triangle
-  const double* plane(size_t id) const { return planes.get() + id * size_t(rows) * 3; }
+// One chunk of the binned mesh: per triangle its TriSetup, and for shading its
+// ShadeTri and `rows` attribute planes (a0, ax, ay per row); per tile the
+// chunk's triangles there (indices into the chunk), in mesh order.
+// (Not value-initialised: set_up and set_up_shading write every field.)
+template <class T>
+using Uninit = std::vector<T, NoInitAllocator<T>>;
+struct BinChunk {
+  Uninit<TriSetup> setup;
+  Uninit<zsimd::ShadeTri> shade;
+  Uninit<double> planes;
+  std::vector<std::vector<uint32_t>> bins;
+  uint32_t first = 0;  // the mesh id of the chunk's first triangle
 };
 
-// The triangles of tris (mesh order; mesh gives the frame, near and far). With
-// scene: also set up shading.
-Binned bin_mesh(const ScreenMesh& mesh, const std::vector<const ScreenTri*>& tris,
-                const RasterSettings& s, const std::vector<std::array<int32_t, 2>>& off,
-                int threads, const Scene* scene = nullptr, ShadeSetup* shade = nullptr) {
-  Binned b;
-  tile_size(int(off.size()), b.tw, b.th);
-  b.ntx = (mesh.width + b.tw - 1) / b.tw;
-  b.nty = (mesh.height + b.th - 1) / b.th;
-  const size_t tiles = size_t(b.ntx) * size_t(b.nty);
-  const zsimd::SampleGrid grid(off, mesh.width, mesh.height);
-  const size_t n = tris.size();
-  b.setup = std::make_unique_for_overwrite<TriSetup[]>(n);
-  if (shade) {
-    shade->rows = shade_rows(s);
-    shade->tri = std::make_unique_for_overwrite<zsimd::ShadeTri[]>(n);
-    shade->planes = std::make_unique_for_overwrite<double[]>(n * size_t(shade->rows) * 3);
+// The triangles binned to tiles, chunk by chunk: the z-buffer's set-up (the
+// image path feeds it from view_scene_chunks directly, as a TriSink; the
+// visibility and shade_visibility from a ScreenMesh, bin_mesh). With scene:
+// shading is set up too.
+class Binner final : public zsimd::TriSink {
+ public:
+  Binner(const RasterSettings& s, const std::vector<std::array<int32_t, 2>>& off,
+         const Scene* scene)
+      : s_(s), off_(off), scene_(scene), rows(shade_rows(s)) {
+    tile_size(int(off.size()), tw, th);
   }
-  const size_t per_chunk = 4096;
-  b.nchunks = int((n + per_chunk - 1) / per_chunk);
-  b.bins.resize(size_t(b.nchunks) * tiles);
-  auto chunk = [&](int c) {
-    const size_t first = size_t(c) * per_chunk, last = std::min(n, first + per_chunk);
-    std::vector<uint32_t>* bins = b.bins.data() + size_t(c) * tiles;
-    for (size_t id = first; id < last; ++id) {
-      TriSetup& t = b.setup[id];
-      set_up(mesh, s, *tris[id], grid, t);
-      if (t.i0 > t.i1 || t.j0 > t.j1) continue;
-      if (shade)
-        set_up_shading(*scene, s, *tris[id], t, shade->tri[id],
-                       shade->planes.get() + id * size_t(shade->rows) * 3);
-      for (int ty = t.j0 / b.th; ty <= t.j1 / b.th; ++ty)
-        for (int tx = t.i0 / b.tw; tx <= t.i1 / b.tw; ++tx)
-          bins[size_t(ty) * b.ntx + tx].push_back(uint32_t(id));
+
+  void begin(const ScreenMesh& frame, size_t nchunks) override {
+    frame_.camera = frame.camera;
+    frame_.width = frame.width, frame_.height = frame.height;
+    frame_.near_z = frame.near_z, frame_.far_z = frame.far_z;
+    ntx = (frame.width + tw - 1) / tw;
+    nty = (frame.height + th - 1) / th;
+    grid_ = zsimd::SampleGrid(off_, frame.width, frame.height);
+    chunks.resize(nchunks);
+    for (BinChunk& c : chunks) c.bins.resize(size_t(ntx) * size_t(nty));
+  }
+
+  void reserve(size_t c, size_t n) override {
+    chunks[c].setup.reserve(n);
+    if (scene_) chunks[c].shade.reserve(n), chunks[c].planes.reserve(n * size_t(rows) * 3);
+  }
+
+  size_t add(size_t c, const ScreenTri& tri) override {
+    BinChunk& ch = chunks[c];
+    const size_t at = ch.setup.size();
+    TriSetup& t = ch.setup.emplace_back();
+    set_up(frame_, s_, tri, grid_, t);
+    if (scene_) {
+      ch.planes.resize(ch.planes.size() + size_t(rows) * 3);
+      set_up_shading(*scene_, s_, tri, t, ch.shade.emplace_back(),
+                     ch.planes.data() + ch.planes.size() - size_t(rows) * 3);
     }
+    if (t.i0 > t.i1 || t.j0 > t.j1) return at;  // no sample in its box: in no tile
+    for (int ty = t.j0 / th; ty <= t.j1 / th; ++ty)
+      for (int tx = t.i0 / tw; tx <= t.i1 / tw; ++tx)
+        ch.bins[size_t(ty) * size_t(ntx) + size_t(tx)].push_back(uint32_t(at));
+    return at;
+  }
+
+  void set_flat(size_t c, size_t i, const float rgb[3]) override {
+    std::copy_n(rgb, 3, chunks[c].shade[i].flat);
+  }
+
+  // After the last triangle: each chunk's first mesh id; the triangle count.
+  size_t finish() {
+    size_t n = 0;
+    for (BinChunk& c : chunks) c.first = uint32_t(n), n += c.setup.size();
+    total = n;
+    return n;
+  }
+
+  // A tile's lists of triangles, for raster_tile.
+  void tile_lists(size_t tile, std::vector<zsimd::TileList>& out) const {
+    out.clear();
+    for (const BinChunk& c : chunks)
+      if (!c.bins[tile].empty()) out.push_back({&c.bins[tile], c.setup.data(), int32_t(c.first)});
+  }
+  size_t tile_of(int x0, int y0) const { return size_t(y0 / th) * size_t(ntx) + size_t(x0 / tw); }
+
+  int tw = 64, th = 64, ntx = 0, nty = 0;
+  std::vector<BinChunk> chunks;
+  size_t total = 0;
+
+ private:
+  RasterSettings s_;
+  std::vector<std::array<int32_t, 2>> off_;
+  const Scene* scene_;
+  ScreenMesh frame_;
+  zsimd::SampleGrid grid_;
+
+ public:
+  const int rows;  // attribute planes per triangle
+};
+
+// The triangles of mesh, binned (ids: mesh ids), chunks of 4096 in parallel.
+// With scene: also set up shading.
+void bin_mesh(const ScreenMesh& mesh, int threads, Binner& b) {
+  const size_t n = mesh.tris.size(), per_chunk = 4096;
+  const size_t nchunks = (n + per_chunk - 1) / per_chunk;
+  b.begin(mesh, nchunks);
+  auto chunk = [&](size_t c) {
+    const size_t first = c * per_chunk, last = std::min(n, first + per_chunk);
+    b.reserve(c, last - first);
+    for (size_t id = first; id < last; ++id) b.add(c, mesh.tris[id]);
   };
-  if (b.nchunks <= 1) {
-    if (b.nchunks == 1) chunk(0);
+  if (nchunks <= 1) {
+    if (nchunks == 1) chunk(0);
   } else {
     tbb::task_arena arena(resolve_threads(threads));
-    arena.execute([&] { tbb::parallel_for(0, b.nchunks, chunk); });
+    arena.execute([&] { tbb::parallel_for(size_t(0), nchunks, chunk); });
   }
-  return b;
+  b.finish();
 }
 
 // One thread's tile buffers.
@@ -211,7 +266,7 @@ struct TileBuffers {
   size_t size = 0;
   hwy::AlignedFreeUniquePtr<T[]> depth;
   hwy::AlignedFreeUniquePtr<int32_t[]> tri, count;
-  std::vector<const std::vector<uint32_t>*> lists;
+  std::vector<zsimd::TileList> lists;
   void reset(size_t n, T far_value, bool counting) {
     if (n != size) {
       depth = hwy::AllocateAligned<T>(n);
@@ -226,17 +281,11 @@ struct TileBuffers {
 };
 
 template <class T>
-void raster_one_tile(const RasterParams& p, const Binned& b, int x0, int y0, int x1, int y1,
+void raster_one_tile(const RasterParams& p, const Binner& b, int x0, int y0, int x1, int y1,
                      T far_value, bool counting, TileBuffers<T>& buf) {
   const size_t n = size_t(p.buf_w) * size_t(p.buf_h) * size_t(p.spp);
   buf.reset(n, far_value, counting);
-  const size_t tiles = size_t(b.ntx) * size_t(b.nty);
-  const size_t tile = size_t(y0 / b.th) * size_t(b.ntx) + size_t(x0 / b.tw);
-  buf.lists.clear();
-  for (int c = 0; c < b.nchunks; ++c) {
-    const auto& l = b.bins[size_t(c) * tiles + tile];
-    if (!l.empty()) buf.lists.push_back(&l);
-  }
+  b.tile_lists(b.tile_of(x0, y0), buf.lists);
   TileJob job;
   job.x0 = x0, job.y0 = y0, job.x1 = x1, job.y1 = y1;
   job.lists = buf.lists.data();
@@ -244,10 +293,9 @@ void raster_one_tile(const RasterParams& p, const Binned& b, int x0, int y0, int
   zsimd::raster_tile(p, job, buf.depth.get(), buf.tri.get(), counting ? buf.count.get() : nullptr);
 }
 
-RasterParams raster_params(const ScreenMesh& mesh, const RasterSettings& s, const Binned& b,
+RasterParams raster_params(const RasterSettings& s, const Binner& b,
                            const std::vector<std::array<int32_t, 2>>& off) {
   RasterParams p;
-  p.tris = b.setup.get();
   p.offsets = off.data();
   p.spp = int(off.size());
   p.depth = s.depth;
@@ -270,10 +318,9 @@ void visibility_t(const ScreenMesh& mesh, const RasterSettings& s, int threads, 
   vis.tri.assign(total, Visibility::kNone);
   vis.depth.assign(total, empty_depth(s.depth));
   vis.count.assign(total, 0);
-  std::vector<const ScreenTri*> tris(mesh.tris.size());
-  for (size_t i = 0; i < tris.size(); ++i) tris[i] = &mesh.tris[i];
-  const Binned b = bin_mesh(mesh, tris, s, off, threads);
-  const RasterParams p = raster_params(mesh, s, b, off);
+  Binner b(s, off, nullptr);
+  bin_mesh(mesh, threads, b);
+  const RasterParams p = raster_params(s, b, off);
   const double empty = empty_depth(s.depth);
   tbb::enumerable_thread_specific<TileBuffers<T>> buffers;
   parallel_tiles(
@@ -297,7 +344,7 @@ void visibility_t(const ScreenMesh& mesh, const RasterSettings& s, int threads, 
 struct ShadeBuffers {
   std::vector<int32_t>
       slot;  // per mesh triangle: its index in planes (valid for the tile's triangles)
-  std::vector<zsimd::LocalPlanes> planes;
+  Uninit<zsimd::LocalPlanes> planes;  // (only the rows the shading reads are written)
   hwy::AlignedFreeUniquePtr<float[]> rgb, z;
   size_t size = 0;
 };
@@ -326,7 +373,7 @@ zsimd::ShadeParams light_params(const Scene& scene, const Vec3& eye, std::vector
 // The shading kernel's parameters for a frame: lights and camera in float.
 // lights holds the per-light floats sp.light points to.
 zsimd::ShadeParams shade_params(const Scene& scene, const ScreenMesh& mesh, const RasterSettings& s,
-                                const std::vector<std::array<int32_t, 2>>& off, const Binned& b,
+                                const std::vector<std::array<int32_t, 2>>& off, const Binner& b,
                                 std::vector<float>& lights) {
   zsimd::ShadeParams sp = light_params(scene, mesh.camera.eye, lights);
   sp.shading = s.shading;
@@ -348,10 +395,9 @@ zsimd::ShadeParams shade_params(const Scene& scene, const ScreenMesh& mesh, cons
 // Shades tile [x0, x1) x [y0, y1) into img: tile_tri is the tile's visible
 // triangle per sample (a tile buffer: plane k, row r, column c at
 // [(k buf_h + r) buf_w + c], -1 for none), every one of them binned to the tile.
-void shade_one_tile(const ScreenMesh& mesh, const Binned& b, const ShadeSetup& shade,
-                    const zsimd::ShadeParams& sp, size_t ntris, int x0, int y0, int x1, int y1,
-                    const int32_t* tile_tri, ShadeBuffers& sb, Image& img) {
-  if (sb.slot.size() != ntris) sb.slot.assign(ntris, 0);
+void shade_one_tile(const ScreenMesh& mesh, const Binner& b, const zsimd::ShadeParams& sp, int x0,
+                    int y0, int x1, int y1, const int32_t* tile_tri, ShadeBuffers& sb, Image& img) {
+  if (sb.slot.size() != b.total) sb.slot.assign(b.total, 0);
   const size_t plane = size_t(b.tw) * size_t(b.th);
   if (sb.size != plane) {
     sb.rgb = hwy::AllocateAligned<float>(3 * plane);
@@ -360,22 +406,22 @@ void shade_one_tile(const ScreenMesh& mesh, const Binned& b, const ShadeSetup& s
   }
   // The tile's triangles' planes, moved to the tile's top-left corner, per pixel.
   sb.planes.clear();
-  const size_t tiles = size_t(b.ntx) * size_t(b.nty);
-  const size_t tile = size_t(y0 / b.th) * size_t(b.ntx) + size_t(x0 / b.tw);
+  const size_t tile = b.tile_of(x0, y0);
   const int64_t cx = int64_t(x0) * kSubpixel, cy = int64_t(y0) * kSubpixel;
-  const int rows = shade.rows;
-  for (int c = 0; c < b.nchunks; ++c)
-    for (const uint32_t id : b.bins[size_t(c) * tiles + tile]) {
-      sb.slot[id] = int32_t(sb.planes.size());
+  const int rows = b.rows;
+  for (const BinChunk& c : b.chunks)
+    for (const uint32_t i : c.bins[tile]) {
+      sb.slot[c.first + i] = int32_t(sb.planes.size());
       zsimd::LocalPlanes& L = sb.planes.emplace_back();
-      const TriSetup& t = b.setup[id];
+      const TriSetup& t = c.setup[i];
+      const double* plane_rows = c.planes.data() + size_t(i) * size_t(rows) * 3;
       for (int row = 0; row < rows; ++row) {
-        const double* a = shade.plane(id) + 3 * row;
+        const double* a = plane_rows + 3 * row;
         L.p[row][0] = float(a[0] + a[1] * double(cx - t.x0) + a[2] * double(cy - t.y0));
         L.p[row][1] = float(a[1] * kSubpixel);
         L.p[row][2] = float(a[2] * kSubpixel);
       }
-      L.tri = shade.tri[id];
+      L.tri = c.shade[i];
     }
   // The view direction through the tile's top-left pixel corner (the reference's
   // dir = forward + cx right + cy up, cx = (sx - width/2) pitch, cy = (height/2 - sy) pitch).
@@ -390,13 +436,10 @@ void shade_one_tile(const ScreenMesh& mesh, const Binned& b, const ShadeSetup& s
 }
 
 template <class T>
-Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh,
-                const std::vector<const ScreenTri*>& tris, const RasterSettings& s,
+Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const Binner& b,
+                const RasterSettings& s, const std::vector<std::array<int32_t, 2>>& off,
                 const FrameOptions& opts, FrameStats* stats) {
-  const auto off = sample_offsets(s);
-  ShadeSetup shade;
-  const Binned b = bin_mesh(mesh, tris, s, off, opts.threads, &scene, &shade);
-  const RasterParams p = raster_params(mesh, s, b, off);
+  const RasterParams p = raster_params(s, b, off);
   std::vector<float> lights;
   const zsimd::ShadeParams sp = shade_params(scene, mesh, s, off, b, lights);
   Image img = Image::uninitialized(mesh.width, mesh.height);
@@ -407,8 +450,8 @@ Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh,
                  [&](int x0, int y0, int x1, int y1) {
                    TileBuffers<T>& buf = buffers.local();
                    raster_one_tile(p, b, x0, y0, x1, y1, far_value<T>(s.depth), false, buf);
-                   shade_one_tile(mesh, b, shade, sp, tris.size(), x0, y0, x1, y1, buf.tri.get(),
-                                  shade_buffers.local(), img);
+                   shade_one_tile(mesh, b, sp, x0, y0, x1, y1, buf.tri.get(), shade_buffers.local(),
+                                  img);
                  });
   if (stats) stats->items = mesh.scene_tris + mesh.sphere_tris;
   return img;
@@ -423,37 +466,31 @@ bool double_depth(DepthFormat f) { return f == DepthFormat::kDouble || f == Dept
 
 Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   const RasterSettings s = frame_settings(scene, opts);
-  // The mesh's triangles stay in the set-up's chunks (no copy into one vector).
-  ScreenMesh mesh;
-  std::vector<std::vector<ScreenTri>> chunks;
-  // Only what the image needs: no triangle without a sample in its box (it
-  // covers nothing), flat colours in float, as the kernel shades.
+  const auto off = sample_offsets(s);
+  // The set-up hands its triangles straight to the binner (no ScreenTri is
+  // kept), and only what the image needs: no triangle without a sample in its
+  // box (it covers nothing), flat colours in float, as the kernel shades.
+  Binner b(s, off, &scene);
   zsimd::ImageOnly image;
-  image.grid = zsimd::SampleGrid(sample_offsets(s), opts.width, opts.height);
+  image.grid = zsimd::SampleGrid(off, opts.width, opts.height);
   std::vector<float> lights;
   image.light =
       light_params(scene, Camera::from_view(scene.view, opts.width, opts.height).eye, lights);
-  zsimd::view_scene_chunks(scene, opts.width, opts.height, s, opts.threads, mesh, chunks, &image);
-  // In mesh order: mesh.tris (empty: the set-up leaves every triangle in a chunk), then the chunks.
-  size_t n = mesh.tris.size();
-  for (const auto& c : chunks) n += c.size();
-  std::vector<const ScreenTri*> tris;
-  tris.reserve(n);
-  for (const ScreenTri& t : mesh.tris) tris.push_back(&t);
-  for (const auto& c : chunks)
-    for (const ScreenTri& t : c) tris.push_back(&t);
-  if (double_depth(s.depth)) return zbuffer_t<double>(scene, mesh, tris, s, opts, stats);
-  return zbuffer_t<float>(scene, mesh, tris, s, opts, stats);
+  image.sink = &b;
+  ScreenMesh mesh;
+  std::vector<std::vector<ScreenTri>> none;
+  zsimd::view_scene_chunks(scene, opts.width, opts.height, s, opts.threads, mesh, none, &image);
+  b.finish();
+  if (double_depth(s.depth)) return zbuffer_t<double>(scene, mesh, b, s, off, opts, stats);
+  return zbuffer_t<float>(scene, mesh, b, s, off, opts, stats);
 }
 
 Image shade_visibility(const Scene& scene, const ScreenMesh& mesh, const RasterSettings& s,
                        const std::vector<uint32_t>& visible, const FrameOptions& opts) {
   const auto off = sample_offsets(s);
   const int spp = int(off.size());
-  std::vector<const ScreenTri*> tris(mesh.tris.size());
-  for (size_t i = 0; i < tris.size(); ++i) tris[i] = &mesh.tris[i];
-  ShadeSetup shade;
-  const Binned b = bin_mesh(mesh, tris, s, off, opts.threads, &scene, &shade);
+  Binner b(s, off, &scene);
+  bin_mesh(mesh, opts.threads, b);
   std::vector<float> lights;
   const zsimd::ShadeParams sp = shade_params(scene, mesh, s, off, b, lights);
   Image img = Image::uninitialized(mesh.width, mesh.height);
@@ -481,8 +518,7 @@ Image shade_visibility(const Scene& scene, const ScreenMesh& mesh, const RasterS
               buf.tri[(size_t(k) * size_t(b.th) + size_t(y - y0)) * size_t(b.tw) + size_t(x - x0)] =
                   t == Visibility::kNone ? -1 : int32_t(t);
             }
-        shade_one_tile(mesh, b, shade, sp, tris.size(), x0, y0, x1, y1, buf.tri.get(),
-                       shade_buffers.local(), img);
+        shade_one_tile(mesh, b, sp, x0, y0, x1, y1, buf.tri.get(), shade_buffers.local(), img);
       });
   return img;
 }

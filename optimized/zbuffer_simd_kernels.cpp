@@ -119,11 +119,13 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
   };
 
   for (int l = 0; l < t.nlists; ++l) {
-    const std::vector<uint32_t>& list = *t.lists[l];
+    const std::vector<uint32_t>& list = *t.lists[l].ids;
+    const TriSetup* const tris = t.lists[l].tris;
+    const int32_t first = t.lists[l].first;
     for (size_t li = 0; li < list.size(); ++li) {
       const uint32_t id = list[li];
-      if (li + 1 < list.size()) __builtin_prefetch(&p.tris[list[li + 1]]);
-      const TriSetup& s = p.tris[id];
+      if (li + 1 < list.size()) __builtin_prefetch(&tris[list[li + 1]]);
+      const TriSetup& s = tris[id];
       const int ri0 = std::max(s.i0, t.x0), ri1 = std::min(s.i1, t.x1 - 1);
       const int rj0 = std::max(s.j0, t.y0), rj1 = std::min(s.j1, t.y1 - 1);
       if (ri0 > ri1 || rj0 > rj1) continue;
@@ -131,7 +133,7 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
       const int nb = (ri1 - t.x0 - c0) / N + 1;
       const int r0 = rj0 - t.y0, rows = rj1 - rj0 + 1;
       const int64_t wspan = int64_t(nb * N - 1), hspan = int64_t(rows - 1);  // pixels
-      const VI tri_id = hn::Set(di, int32_t(id));
+      const VI tri_id = hn::Set(di, first + int32_t(id));
       for (int smp = 0; smp < p.spp; ++smp) {
         const int64_t px = int64_t(t.x0 + c0) * kSubpixel + p.offsets[smp][0];
         const int64_t py = int64_t(rj0) * kSubpixel + p.offsets[smp][1];

@@ -100,17 +100,23 @@ inline constexpr int kFlatInputs = 11;
 void flat_colors(const ShadeParams& p, size_t n, const float* const* in, float* const* out);
 
 struct RasterParams {
-  const TriSetup* tris = nullptr;
   const std::array<int32_t, 2>* offsets = nullptr;  // sample_offsets()
   int spp = 1;
   DepthFormat depth = DepthFormat::kFloat;
   int buf_w = 64, buf_h = 64;  // tile buffers: spp planes of buf_h rows of buf_w (a multiple of 16)
 };
 
-// Triangles binned into one tile: lists[0..nlists) in order, each in mesh order.
+// Triangles binned into one tile, a chunk of the mesh at a time: triangle
+// ids[i] of a chunk is tris[ids[i]], its id in the mesh first + ids[i].
+struct TileList {
+  const std::vector<uint32_t>* ids = nullptr;
+  const TriSetup* tris = nullptr;
+  int32_t first = 0;
+};
+// A tile's work: lists[0..nlists) in order, each in mesh order.
 struct TileJob {
   int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // pixels, half-open
-  const std::vector<uint32_t>* const* lists = nullptr;
+  const TileList* lists = nullptr;
   int nlists = 0;
 };
 
@@ -172,19 +178,38 @@ struct SampleGrid {
   }
 };
 
+// Where the image path's set-up puts its triangles one at a time, instead of
+// keeping them in ScreenTri chunks (opt::simd::zbuffer's binner). Triangles
+// come chunk by chunk (each chunk's in mesh order, the chunks in mesh order),
+// a chunk from one thread at a time, different chunks from several at once.
+class TriSink {
+ public:
+  virtual ~TriSink() = default;
+  // First: the frame (camera, size, near and far; no triangles) and the number of chunks.
+  virtual void begin(const ScreenMesh& frame, size_t chunks) = 0;
+  // Room for about n triangles in chunk c (a hint).
+  virtual void reserve(size_t c, size_t n) = 0;
+  // Chunk c's next triangle (t is only read during the call); its index in the chunk.
+  virtual size_t add(size_t c, const ScreenTri& t) = 0;
+  // The flat colour of triangle i of chunk c, when lit after add.
+  virtual void set_flat(size_t c, size_t i, const float rgb[3]) = 0;
+};
+
 // What the z-buffer's image needs of the set-up, and no more: the triangles
 // with a sample of grid in their bounding box (the others would cover
-// nothing), their flat colours lit in float (flat_colors with light), as the
-// image is shaded.
+// nothing), handed to sink, their flat colours lit in float (flat_colors with
+// light), as the image is shaded.
 struct ImageOnly {
   SampleGrid grid;
   ShadeParams light;  // the lights and the eye
+  TriSink* sink = nullptr;
 };
 
 // opt::simd::view_scene's mesh, left in the set-up's chunks: mesh holds the
 // frame, near, far and counts (no triangles); chunks the triangles, in mesh
 // order (spheres' chunks, then polygons'), every one of view_scene's, bit for
-// bit. With image: only what it needs (the counts are still view_scene's).
+// bit. With image: only what it needs, to image->sink (chunks is left empty;
+// the counts are still view_scene's).
 void view_scene_chunks(const Scene& scene, int width, int height, const RasterSettings& s,
                        int threads, ScreenMesh& mesh, std::vector<std::vector<ScreenTri>>& chunks,
                        const ImageOnly* image = nullptr);
