@@ -367,9 +367,13 @@ void FlatColors(const ShadeParams& p, size_t n, const float* const* in, float* c
   }
 }
 
-void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot,
-               const LocalPlanes* planes, int cols, int rows, float* rgb, float* zout, float* image,
-               size_t image_stride, float* depth, size_t depth_stride) {
+// kFlat: flat shading without silhouettes, fixed at compile time (the
+// benchmarks' case: the compiler then keeps no normal, light or Gouraud state,
+// which at 16 lanes otherwise spills to the stack).
+template <bool kFlat>
+HWY_INLINE void ShadeTileT(const ShadeParams& p, const int32_t* tri, const int32_t* slot,
+                           const LocalPlanes* planes, int cols, int rows, float* rgb, float* zout,
+                           float* image, size_t image_stride, float* depth, size_t depth_stride) {
   const hn::CappedTag<float, 16> df;
   const hn::RebindToSigned<decltype(df)> di;
   using VF = hn::Vec<decltype(df)>;
@@ -385,8 +389,8 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot,
   const VF inv_spp = hn::Set(df, 1.0f / float(p.spp));
   // The settings as locals: the stores below may alias p as far as the compiler knows.
   const int spp = p.spp, nlights = p.nlights;
-  const bool perspective = p.perspective, silhouette = p.silhouette;
-  const Shading shading = p.shading;
+  const bool perspective = p.perspective, silhouette = !kFlat && p.silhouette;
+  const Shading shading = kFlat ? Shading::kFlat : p.shading;
   const float* const light = p.light;
   const bool flat = shading == Shading::kFlat, gouraud = shading == Shading::kGouraud;
   const bool lighting = !flat && !gouraud;
@@ -535,6 +539,16 @@ void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot,
       }
     }
   }
+}
+
+void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot,
+               const LocalPlanes* planes, int cols, int rows, float* rgb, float* zout, float* image,
+               size_t image_stride, float* depth, size_t depth_stride) {
+  if (p.shading == Shading::kFlat && !p.silhouette)
+    return ShadeTileT<true>(p, tri, slot, planes, cols, rows, rgb, zout, image, image_stride, depth,
+                            depth_stride);
+  ShadeTileT<false>(p, tri, slot, planes, cols, rows, rgb, zout, image, image_stride, depth,
+                    depth_stride);
 }
 
 void RasterTileFloat(const RasterParams& p, const TileJob& t, float* depth, int32_t* tri,
