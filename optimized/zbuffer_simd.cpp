@@ -45,15 +45,26 @@ void tile_size(int spp, int& tw, int& th) {
   while (tw > 16 && tw * th * spp > 64 * 64 * 4) (th > 16 && th >= tw) ? th /= 2 : tw /= 2;
 }
 
-// The depth plane's value at a vertex of eye depth z (see zbuffer_simd_kernels.cpp):
-// affine in 1/z, so in screen space; stored_depth before its rounding.
-double plane_value(const RasterSettings& s, double z, double near_z, double far_z) {
-  if (s.depth == DepthFormat::kReversed) return near_z / z;
-  return (1 / near_z - 1 / z) / (1 / near_z - 1 / far_z);
-}
+// The stored depth as a function of w = 1/z (see zbuffer_simd_kernels.cpp):
+// affine in w, so in screen space; stored_depth before its rounding, with the
+// frame's constants divided once (a rounding or two from stored_depth's own
+// divisions, as the kernels' plane evaluation is anyway).
+struct DepthMap {
+  bool reversed = false;
+  double near_z = 1, inv_near = 1, inv_range = 1;
+  DepthMap() = default;
+  DepthMap(DepthFormat f, double n, double far)
+      : reversed(f == DepthFormat::kReversed),
+        near_z(n),
+        inv_near(1 / n),
+        inv_range(1 / (1 / n - 1 / far)) {}
+  double operator()(double w) const { return reversed ? near_z * w : (inv_near - w) * inv_range; }
+};
 
-void set_up(const ScreenMesh& mesh, const RasterSettings& s, const ScreenTri& tri,
-            const zsimd::SampleGrid& grid, TriSetup& t) {
+// A triangle's TriSetup; w: its vertices' 1/z, inv_area: 1 / (twice its
+// snapped area), for set_up_shading.
+void set_up(const ScreenTri& tri, const DepthMap& depth, const zsimd::SampleGrid& grid, TriSetup& t,
+            double w[3], double& inv_area) {
   const auto& v = tri.v;
   int64_t xmin = v[0].x, xmax = v[0].x, ymin = v[0].y, ymax = v[0].y;
   for (int k = 1; k < 3; ++k) {
@@ -73,16 +84,13 @@ void set_up(const ScreenMesh& mesh, const RasterSettings& s, const ScreenTri& tr
   t.x0 = v[0].x, t.y0 = v[0].y;
   // Plane through the three vertices' values, from the barycentric gradients
   // b_k = E_k / A (A = E_2(v2), twice the area in snapped units).
-  const double area =
-      double(t.ex[2] * (int64_t(v[2].x) - t.ax[2]) + t.ey[2] * (int64_t(v[2].y) - t.ay[2]));
-  auto plane = [&](double a0, double a1, double a2, double& c0, double& cx, double& cy) {
-    c0 = a0;
-    cx = ((a1 - a0) * double(t.ex[1]) + (a2 - a0) * double(t.ex[2])) / area;
-    cy = ((a1 - a0) * double(t.ey[1]) + (a2 - a0) * double(t.ey[2])) / area;
-  };
-  plane(plane_value(s, v[0].z, mesh.near_z, mesh.far_z),
-        plane_value(s, v[1].z, mesh.near_z, mesh.far_z),
-        plane_value(s, v[2].z, mesh.near_z, mesh.far_z), t.q0, t.qx, t.qy);
+  inv_area =
+      1 / double(t.ex[2] * (int64_t(v[2].x) - t.ax[2]) + t.ey[2] * (int64_t(v[2].y) - t.ay[2]));
+  for (int k = 0; k < 3; ++k) w[k] = 1 / v[k].z;
+  const double q[3] = {depth(w[0]), depth(w[1]), depth(w[2])};
+  t.q0 = q[0];
+  t.qx = ((q[1] - q[0]) * double(t.ex[1]) + (q[2] - q[0]) * double(t.ex[2])) * inv_area;
+  t.qy = ((q[1] - q[0]) * double(t.ey[1]) + (q[2] - q[0]) * double(t.ey[2])) * inv_area;
 }
 
 // How many of ShadeTri's plane rows a shading needs: 1/z always, the normal
@@ -96,10 +104,9 @@ int shade_rows(const RasterSettings& s) {
 // The shading data of a triangle (see zsimd::ShadeTri): out, and its rows of
 // attribute planes at planes (a0, ax, ay per row).
 void set_up_shading(const Scene& scene, const RasterSettings& s, const ScreenTri& tri,
-                    const TriSetup& t, zsimd::ShadeTri& out, double* planes) {
+                    const TriSetup& t, const double w[3], double inv_area, zsimd::ShadeTri& out,
+                    double* planes) {
   const auto& v = tri.v;
-  const double area =
-      double(t.ex[2] * (int64_t(v[2].x) - t.ax[2]) + t.ey[2] * (int64_t(v[2].y) - t.ay[2]));
   const int rows = shade_rows(s);
   for (int row = 0; row < rows; ++row) {
     double a[3];
@@ -127,12 +134,12 @@ void set_up_shading(const Scene& scene, const RasterSettings& s, const ScreenTri
           break;
       }
       // 1/z and, under perspective, attribute / z: affine in screen space.
-      a[k] = row == 0 || s.perspective ? value / x.z : value;
+      a[k] = row == 0 ? w[k] : s.perspective ? value * w[k] : value;
     }
     double* c = planes + 3 * row;
     c[0] = a[0];
-    c[1] = ((a[1] - a[0]) * double(t.ex[1]) + (a[2] - a[0]) * double(t.ex[2])) / area;
-    c[2] = ((a[1] - a[0]) * double(t.ey[1]) + (a[2] - a[0]) * double(t.ey[2])) / area;
+    c[1] = ((a[1] - a[0]) * double(t.ex[1]) + (a[2] - a[0]) * double(t.ex[2])) * inv_area;
+    c[2] = ((a[1] - a[0]) * double(t.ey[1]) + (a[2] - a[0]) * double(t.ey[2])) * inv_area;
   }
   const Material& m = scene.material_of_prim(tri.prim);
   out.k[0] = float(m.kd * m.color.x), out.k[1] = float(m.kd * m.color.y),
@@ -172,12 +179,10 @@ class Binner final : public zsimd::TriSink {
   }
 
   void begin(const ScreenMesh& frame, size_t nchunks) override {
-    frame_.camera = frame.camera;
-    frame_.width = frame.width, frame_.height = frame.height;
-    frame_.near_z = frame.near_z, frame_.far_z = frame.far_z;
     ntx = (frame.width + tw - 1) / tw;
     nty = (frame.height + th - 1) / th;
     grid_ = zsimd::SampleGrid(off_, frame.width, frame.height);
+    depth_ = DepthMap(s_.depth, frame.near_z, frame.far_z);
     chunks.resize(nchunks);
     for (BinChunk& c : chunks) c.bins.resize(size_t(ntx) * size_t(nty));
   }
@@ -191,10 +196,11 @@ class Binner final : public zsimd::TriSink {
     BinChunk& ch = chunks[c];
     const size_t at = ch.setup.size();
     TriSetup& t = ch.setup.emplace_back();
-    set_up(frame_, s_, tri, grid_, t);
+    double w[3], inv_area;
+    set_up(tri, depth_, grid_, t, w, inv_area);
     if (scene_) {
       ch.planes.resize(ch.planes.size() + size_t(rows) * 3);
-      set_up_shading(*scene_, s_, tri, t, ch.shade.emplace_back(),
+      set_up_shading(*scene_, s_, tri, t, w, inv_area, ch.shade.emplace_back(),
                      ch.planes.data() + ch.planes.size() - size_t(rows) * 3);
     }
     if (t.i0 > t.i1 || t.j0 > t.j1) return at;  // no sample in its box: in no tile
@@ -232,8 +238,8 @@ class Binner final : public zsimd::TriSink {
   RasterSettings s_;
   std::vector<std::array<int32_t, 2>> off_;
   const Scene* scene_;
-  ScreenMesh frame_;
   zsimd::SampleGrid grid_;
+  DepthMap depth_;
 
  public:
   const int rows;  // attribute planes per triangle
