@@ -198,9 +198,9 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
               closer = hn::Lt(q, old);
             }
             const auto pass = hn::And(CastMask(dt, di, cover), closer);
-            hn::Store(hn::IfThenElse(pass, q, old), dt, depth + at);
-            const VI cur = hn::Load(di, tri + at);
-            hn::Store(hn::IfThenElse(CastMask(di, dt, pass), tri_id, cur), di, tri + at);
+            // Masked stores (one instruction each on AVX-512; a blend elsewhere).
+            hn::BlendedStore(q, pass, dt, depth + at);
+            hn::BlendedStore(tri_id, CastMask(di, dt, pass), di, tri + at);
           }
         }
       }
