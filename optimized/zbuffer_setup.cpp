@@ -60,36 +60,40 @@ constexpr int kMaxRings = 256;  // sphere_rings' upper end
 // handed to the sink.
 class FlatBatch {
  public:
-  void truncate(size_t n) {
-    at_.resize(n);
-    for (auto& v : in_) v.resize(n);
-  }
   // Triangle `at` of the chunk: a face of material m with unit normal n, lit at p.
   void add(size_t at, const Vec3& p, const Vec3& n, const Material& m) {
     at_.push_back(at);
+    const size_t k = in_.size();
+    in_.resize(k + kFlatInputs);
     const double v[kFlatInputs] = {
         p.x,  p.y,    p.z, n.x, n.y, n.z, m.kd * m.color.x, m.kd * m.color.y, m.kd * m.color.z,
         m.ks, m.shine};
-    for (int k = 0; k < kFlatInputs; ++k) in_[k].push_back(float(v[k]));
+    for (int i = 0; i < kFlatInputs; ++i) in_[k + size_t(i)] = float(v[i]);
   }
   void light(const ShadeParams& p, TriSink& sink, size_t chunk) {
     const size_t n = at_.size(), padded = (n + 15) / 16 * 16;
     if (n == 0) return;
+    // The requests (kFlatInputs floats each) into planes, for the kernel.
+    std::vector<float> soa(kFlatInputs * padded), rgb(3 * padded);
     const float* in[kFlatInputs];
-    for (int k = 0; k < kFlatInputs; ++k) in_[k].resize(padded), in[k] = in_[k].data();
-    std::vector<float> rgb(3 * padded);
+    for (int k = 0; k < kFlatInputs; ++k) {
+      float* plane = soa.data() + size_t(k) * padded;
+      for (size_t i = 0; i < n; ++i) plane[i] = in_[i * kFlatInputs + size_t(k)];
+      in[k] = plane;
+    }
     float* out[3] = {rgb.data(), rgb.data() + padded, rgb.data() + 2 * padded};
     flat_colors(p, n, in, out);
     for (size_t i = 0; i < n; ++i) {
-      const float rgb[3] = {out[0][i], out[1][i], out[2][i]};
-      sink.set_flat(chunk, at_[i], rgb);
+      const float c[3] = {out[0][i], out[1][i], out[2][i]};
+      sink.set_flat(chunk, at_[i], c);
     }
-    truncate(0);
+    at_.clear();
+    in_.clear();
   }
 
  private:
   std::vector<size_t> at_;
-  std::vector<float> in_[kFlatInputs];
+  std::vector<float> in_;  // kFlatInputs per request
 };
 
 // A sphere's vertices and faces, projected and tested (view_sphere's scratch).
@@ -370,7 +374,7 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
     for (uint32_t p = first; p < last; ++p) {
       const Material& m = scene.materials[scene.poly_material[p]];
       const Vec3 face = scene.poly_plane[p].n;
-      if (length(face) == 0) continue;
+      if (dot(face, face) == 0) continue;  // length(face) == 0, without the square root
       const uint32_t t_first = scene.poly_tri_first[p], t_last = scene.poly_tri_first[p + 1];
       // A vertex outside the hither plane or the guard band: a triangle may
       // need clipping, so view_scene's own polygon step, on this polygon.
