@@ -1,19 +1,23 @@
 // The optimized z-buffer (contract: reference/raster.h, optimized/raster.h).
 //
-//   1. Set-up and binning (TBB over chunks of triangles): one TriSetup per
-//      screen triangle (exact int64 edge functions with the top-left bias, the
-//      depth plane, the shading planes) and its sample bounding box, appended to
-//      the lists of the tiles that box touches. Each chunk keeps its own lists,
-//      so a tile reads its triangles chunk by chunk: in mesh order.
+//   1. Set-up and binning (Binner; TBB over chunks of triangles): one TriSetup
+//      per screen triangle (exact int64 edge functions with the top-left bias,
+//      the depth plane, the shading planes) and its sample bounding box,
+//      appended to the lists of the tiles that box touches. Each chunk keeps
+//      its own lists, so a tile reads its triangles chunk by chunk: in mesh order.
 //   2. Tiles (optimized/tiling.h, work-stealing over the threads): raster the
 //      tile's triangles into tile-local buffers (zbuffer_simd_kernels.cpp), then
 //      either copy them into the Visibility (zbuffer_visibility) or shade the
 //      visible samples and box-filter them into the image (zbuffer), while the
-//      tile is still in cache.
+//      tile is still in cache. Flat shading without silhouettes is drawn
+//      forward: the raster writes each passing sample's 1/z and colour, and
+//      shading has no per-triangle work left; the other shadings are deferred
+//      (the visible triangle per sample, then its planes).
 // The screen mesh is view_scene's (viewing, culling, clipping, sphere
-// tessellation, snapping), made by zsimd::view_scene_chunks (zbuffer_setup.cpp):
-// the same mesh bit for bit (left in its chunks), so both z-buffers see the
-// same snapped coordinates.
+// tessellation, snapping), made by zsimd::view_scene_chunks (zbuffer_setup.cpp)
+// with the same coordinates bit for bit; for the image it hands each triangle
+// straight to the Binner (no ScreenTri is kept), leaves out triangles with no
+// sample in their box and lights flat colours in float.
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -22,6 +26,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <type_traits>
 
 #include "core/error.h"
 #include "core/shading.h"
@@ -97,6 +102,10 @@ void set_up(const ScreenTri& tri, const DepthMap& depth, const zsimd::SampleGrid
   t.q0 = q[0];
   t.qx = ((q[1] - q[0]) * double(t.ex[1]) + (q[2] - q[0]) * double(t.ex[2])) * inv_area;
   t.qy = ((q[1] - q[0]) * double(t.ey[1]) + (q[2] - q[0]) * double(t.ey[2])) * inv_area;
+  t.w0 = w[0];
+  t.wx = ((w[1] - w[0]) * double(t.ex[1]) + (w[2] - w[0]) * double(t.ex[2])) * inv_area;
+  t.wy = ((w[1] - w[0]) * double(t.ey[1]) + (w[2] - w[0]) * double(t.ey[2])) * inv_area;
+  for (int c = 0; c < 3; ++c) t.flat[c] = float(tri.flat_color[c]);
 }
 
 // How many of ShadeTri's plane rows a shading needs: 1/z always, the normal
@@ -217,6 +226,7 @@ class Binner final : public zsimd::TriSink {
 
   void set_flat(size_t c, size_t i, const float rgb[3]) override {
     std::copy_n(rgb, 3, chunks[c].shade[i].flat);
+    std::copy_n(rgb, 3, chunks[c].setup[i].flat);
   }
 
   // After the last triangle: each chunk's first mesh id; the triangle count.
@@ -277,12 +287,15 @@ struct TileBuffers {
   size_t size = 0;
   hwy::AlignedFreeUniquePtr<T[]> depth;
   hwy::AlignedFreeUniquePtr<int32_t[]> tri, count;
+  hwy::AlignedFreeUniquePtr<float[]> forward;  // w, r, g, b planes (forward flat shading)
+  zsimd::ForwardFlat flat;
   std::vector<zsimd::TileList> lists;
   void reset(size_t n, T far_value, bool counting) {
     if (n != size) {
       depth = hwy::AllocateAligned<T>(n);
       tri = hwy::AllocateAligned<int32_t>(n);
       count = hwy::AllocateAligned<int32_t>(n);
+      forward.reset();
       size = n;
     }
     std::fill_n(depth.get(), n, far_value);
@@ -291,11 +304,21 @@ struct TileBuffers {
   }
 };
 
+// forward: flat shading drawn forward (float depth only): buf.flat gets w and
+// the colour per sample (not reset: only samples with a triangle are read).
 template <class T>
-void raster_one_tile(const RasterParams& p, const Binner& b, int x0, int y0, int x1, int y1,
-                     T far_value, bool counting, TileBuffers<T>& buf) {
+void raster_one_tile(RasterParams p, const Binner& b, int x0, int y0, int x1, int y1, T far_value,
+                     bool counting, bool forward, TileBuffers<T>& buf) {
   const size_t n = size_t(p.buf_w) * size_t(p.buf_h) * size_t(p.spp);
   buf.reset(n, far_value, counting);
+  if (forward) {
+    if (!buf.forward) {
+      buf.forward = hwy::AllocateAligned<float>(4 * n);
+      buf.flat.w = buf.forward.get();
+      for (int c = 0; c < 3; ++c) buf.flat.rgb[c] = buf.forward.get() + size_t(c + 1) * n;
+    }
+    p.flat = &buf.flat;
+  }
   b.tile_lists(b.tile_of(x0, y0), buf.lists);
   TileJob job;
   job.x0 = x0, job.y0 = y0, job.x1 = x1, job.y1 = y1;
@@ -337,7 +360,7 @@ void visibility_t(const ScreenMesh& mesh, const RasterSettings& s, int threads, 
   parallel_tiles(
       mesh.width, mesh.height, b.tw, b.th, threads, {}, [&](int x0, int y0, int x1, int y1) {
         TileBuffers<T>& buf = buffers.local();
-        raster_one_tile(p, b, x0, y0, x1, y1, far_value<T>(s.depth), true, buf);
+        raster_one_tile(p, b, x0, y0, x1, y1, far_value<T>(s.depth), true, false, buf);
         for (int y = y0; y < y1; ++y)
           for (int x = x0; x < x1; ++x)
             for (int k = 0; k < spp; ++k) {
@@ -406,9 +429,12 @@ zsimd::ShadeParams shade_params(const Scene& scene, const ScreenMesh& mesh, cons
 // Shades tile [x0, x1) x [y0, y1) into img: tile_tri is the tile's visible
 // triangle per sample (a tile buffer: plane k, row r, column c at
 // [(k buf_h + r) buf_w + c], -1 for none), every one of them binned to the tile.
+// forward: the tile was drawn with flat shading forward (w and colours per
+// sample in *forward; no planes needed).
 void shade_one_tile(const ScreenMesh& mesh, const Binner& b, const zsimd::ShadeParams& sp, int x0,
-                    int y0, int x1, int y1, const int32_t* tile_tri, ShadeBuffers& sb, Image& img) {
-  if (sb.slot.size() != b.total) sb.slot.assign(b.total, 0);
+                    int y0, int x1, int y1, const int32_t* tile_tri, ShadeBuffers& sb, Image& img,
+                    const zsimd::ForwardFlat* forward = nullptr) {
+  if (!forward && sb.slot.size() != b.total) sb.slot.assign(b.total, 0);
   const size_t plane = size_t(b.tw) * size_t(b.th);
   if (sb.size != plane) {
     sb.rgb = hwy::AllocateAligned<float>(3 * plane);
@@ -420,7 +446,8 @@ void shade_one_tile(const ScreenMesh& mesh, const Binner& b, const zsimd::ShadeP
   const size_t tile = b.tile_of(x0, y0);
   const int64_t cx = int64_t(x0) * kSubpixel, cy = int64_t(y0) * kSubpixel;
   const int rows = b.rows;
-  for (const BinChunk& c : b.chunks)
+  for (const BinChunk& c : b.chunks) {
+    if (forward) break;
     for (const uint32_t i : c.bins[tile]) {
       sb.slot[c.first + i] = int32_t(sb.planes.size());
       zsimd::LocalPlanes& L = sb.planes.emplace_back();
@@ -434,9 +461,14 @@ void shade_one_tile(const ScreenMesh& mesh, const Binner& b, const zsimd::ShadeP
       }
       L.tri = c.shade[i];
     }
+  }
   // The view direction through the tile's top-left pixel corner (the reference's
   // dir = forward + cx right + cy up, cx = (sx - width/2) pitch, cy = (height/2 - sy) pitch).
   zsimd::ShadeParams tp = sp;
+  if (forward) {
+    tp.forward_w = forward->w;
+    for (int c = 0; c < 3; ++c) tp.forward_rgb[c] = forward->rgb[c];
+  }
   const Camera& cam = mesh.camera;
   const Vec3 d0 = cam.forward + ((x0 - 0.5 * mesh.width) * cam.pitch) * cam.right +
                   ((0.5 * mesh.height - y0) * cam.pitch) * cam.up;
@@ -453,6 +485,9 @@ Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const Binner& b,
   const RasterParams p = raster_params(s, b, off);
   std::vector<float> lights;
   const zsimd::ShadeParams sp = shade_params(scene, mesh, s, off, b, lights);
+  // Flat shading without silhouettes is drawn forward: the raster writes each
+  // sample's w and colour, and shading has no per-triangle work left.
+  const bool forward = std::is_same_v<T, float> && s.shading == Shading::kFlat && !s.silhouette;
   Image img = Image::uninitialized(mesh.width, mesh.height);
   img.depth.resize(size_t(mesh.width) * size_t(mesh.height));
   tbb::enumerable_thread_specific<TileBuffers<T>> buffers;
@@ -460,9 +495,10 @@ Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const Binner& b,
   parallel_tiles(mesh.width, mesh.height, b.tw, b.th, opts.threads, opts.progress,
                  [&](int x0, int y0, int x1, int y1) {
                    TileBuffers<T>& buf = buffers.local();
-                   raster_one_tile(p, b, x0, y0, x1, y1, far_value<T>(s.depth), false, buf);
+                   raster_one_tile(p, b, x0, y0, x1, y1, far_value<T>(s.depth), false, forward,
+                                   buf);
                    shade_one_tile(mesh, b, sp, x0, y0, x1, y1, buf.tri.get(), shade_buffers.local(),
-                                  img);
+                                  img, forward ? &buf.flat : nullptr);
                  });
   if (stats) stats->items = mesh.scene_tris + mesh.sphere_tris;
   return img;

@@ -31,6 +31,8 @@
 // cannot hold). kFixed24 rounds d to its integer code, as stored_depth. The
 // depth test keeps the earlier triangle on ties (strict nearer()), as the
 // reference does, since tiles see their triangles in mesh order.
+// Forward flat shading (RasterParams::flat): a passing sample also gets its
+// triangle's w = 1/z (a plane, as the depth) and flat colour, by masked stores.
 #include "optimized/zbuffer_simd_kernels.h"
 
 #include <algorithm>
@@ -93,7 +95,7 @@ HWY_INLINE int64_t FloorDiv256(int64_t x) { return x >> 8; }
 
 // kReversed, kFixed24: the depth format, fixed at compile time (the inner loop
 // has no branch on it).
-template <bool kReversed, bool kFixed24, class DT>
+template <bool kReversed, bool kFixed24, bool kForward, class DT>
 HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::TFromD<DT>* depth,
                             int32_t* tri, int32_t* count) {
   using T = hn::TFromD<DT>;
@@ -166,11 +168,20 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
         const double q_first = s.q0 + s.qx * double(px - s.x0) + s.qy * double(py - s.y0);
         const double qsx = s.qx * kSubpixel, qsy = s.qy * kSubpixel;
         const VT q_lane = hn::Mul(iota_t, hn::Set(dt, T(qsx)));
+        // Forward flat shading: w = 1/z the same way, and the colour.
+        double w_first = 0, wsx = 0, wsy = 0;
+        VT w_lane = hn::Zero(dt), flat[3] = {w_lane, w_lane, w_lane};
+        if constexpr (kForward) {
+          w_first = s.w0 + s.wx * double(px - s.x0) + s.wy * double(py - s.y0);
+          wsx = s.wx * kSubpixel, wsy = s.wy * kSubpixel;
+          w_lane = hn::Mul(iota_t, hn::Set(dt, T(wsx)));
+          for (int c = 0; c < 3; ++c) flat[c] = hn::Set(dt, T(s.flat[c]));
+        }
         const size_t plane = size_t(smp) * size_t(H);
         for (int r = 0; r < rows; ++r) {
           int64_t er[3];
           for (int k = 0; k < 3; ++k) er[k] = e[k] + sy[k] * r;
-          const double q_row = q_first + qsy * r;
+          const double q_row = q_first + qsy * r, w_row = w_first + wsy * r;
           const size_t row = (plane + size_t(r0 + r)) * size_t(W);
           for (int b = 0; b < nb; ++b) {
             int64_t eb[3];
@@ -201,6 +212,11 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
             // Masked stores (one instruction each on AVX-512; a blend elsewhere).
             hn::BlendedStore(q, pass, dt, depth + at);
             hn::BlendedStore(tri_id, CastMask(di, dt, pass), di, tri + at);
+            if constexpr (kForward) {
+              const VT w = hn::Add(hn::Set(dt, T(w_row + wsx * double(b * N))), w_lane);
+              hn::BlendedStore(w, pass, dt, p.flat->w + at);
+              for (int c = 0; c < 3; ++c) hn::BlendedStore(flat[c], pass, dt, p.flat->rgb[c] + at);
+            }
           }
         }
       }
@@ -390,6 +406,7 @@ HWY_INLINE void ShadeTileT(const ShadeParams& p, const int32_t* tri, const int32
   // The settings as locals: the stores below may alias p as far as the compiler knows.
   const int spp = p.spp, nlights = p.nlights;
   const bool perspective = p.perspective, silhouette = !kFlat && p.silhouette;
+  const bool forward = kFlat && p.forward_w != nullptr;
   const Shading shading = kFlat ? Shading::kFlat : p.shading;
   const float* const light = p.light;
   const bool flat = shading == Shading::kFlat, gouraud = shading == Shading::kGouraud;
@@ -437,6 +454,12 @@ HWY_INLINE void ShadeTileT(const ShadeParams& p, const int32_t* tri, const int32
           for (int k = 1; k < ShadeTri::kRows; ++k) a[k] = zero;
           VF kd[3] = {zero, zero, zero}, ks = zero, shine = one, fl[3] = {zero, zero, zero},
              face[3] = {zero, zero, zero};
+          if (forward) {
+            // Drawn forward by the raster: w and the colour per sample.
+            a[0] = hn::IfThenElse(valid, hn::Load(df, p.forward_w + at), one);
+            for (int c = 0; c < 3; ++c) fl[c] = hn::Load(df, p.forward_rgb[c] + at);
+            remaining = hn::Ne(ids, ids);  // none: no triangle loop
+          }
           // The block's distinct triangles, each broadcast onto its lanes.
           while (!hn::AllFalse(di, remaining)) {
             const int32_t id = idv[hn::FindFirstTrue(di, remaining)];
@@ -556,18 +579,27 @@ void RasterTileFloat(const RasterParams& p, const TileJob& t, float* depth, int3
   // 16 lanes where the CPU has them (AVX-512: 8-13% faster frames than 8 lanes,
   // even on Zen 4, which splits them in two), 8 on AVX2.
   const hn::CappedTag<float, 16> d;
+  if (p.flat) {
+    if (p.depth == DepthFormat::kReversed)
+      return RasterTileT<true, false, true>(d, p, t, depth, tri, count);
+    if (p.depth == DepthFormat::kFixed24)
+      return RasterTileT<false, true, true>(d, p, t, depth, tri, count);
+    return RasterTileT<false, false, true>(d, p, t, depth, tri, count);
+  }
   if (p.depth == DepthFormat::kReversed)
-    return RasterTileT<true, false>(d, p, t, depth, tri, count);
-  if (p.depth == DepthFormat::kFixed24) return RasterTileT<false, true>(d, p, t, depth, tri, count);
-  RasterTileT<false, false>(d, p, t, depth, tri, count);
+    return RasterTileT<true, false, false>(d, p, t, depth, tri, count);
+  if (p.depth == DepthFormat::kFixed24)
+    return RasterTileT<false, true, false>(d, p, t, depth, tri, count);
+  RasterTileT<false, false, false>(d, p, t, depth, tri, count);
 }
 void RasterTileDouble(const RasterParams& p, const TileJob& t, double* depth, int32_t* tri,
                       int32_t* count) {
-  const hn::CappedTag<double, 8> d;
+  const hn::CappedTag<double, 8> d;  // (no forward flat shading: its buffers are float)
   if (p.depth == DepthFormat::kReversed)
-    return RasterTileT<true, false>(d, p, t, depth, tri, count);
-  if (p.depth == DepthFormat::kFixed24) return RasterTileT<false, true>(d, p, t, depth, tri, count);
-  RasterTileT<false, false>(d, p, t, depth, tri, count);
+    return RasterTileT<true, false, false>(d, p, t, depth, tri, count);
+  if (p.depth == DepthFormat::kFixed24)
+    return RasterTileT<false, true, false>(d, p, t, depth, tri, count);
+  RasterTileT<false, false, false>(d, p, t, depth, tri, count);
 }
 const char* TargetName() { return hwy::TargetName(HWY_TARGET); }
 

@@ -33,8 +33,12 @@ struct TriSetup {
   int32_t i0, i1, j0, j1;  // pixels that may hold a covered sample (inclusive; i0 > i1: none)
   // Depth plane q(P) = q0 + qx (P.x - x0) + qy (P.y - y0), P in 1/256 px: the
   // stored depth (kFixed24: the window depth before rounding).
-  double q0, qx,
-      qy;  // (no initialisers: the set-up writes every field; arrays of them are not zeroed first)
+  double q0, qx, qy;
+  // Flat shading drawn forward (RasterParams::flat): the plane of w = 1/z, as
+  // q's, and the triangle's flat colour.
+  double w0, wx, wy;
+  float flat[3];
+  // (No initialisers: the set-up writes every field; arrays of them are not zeroed first.)
 };
 
 // What shading needs of one triangle. Its attribute planes (kept apart, in
@@ -78,6 +82,10 @@ struct ShadeParams {
   const std::array<int32_t, 2>* offsets = nullptr;
   int spp = 1;
   int buf_w = 64, buf_h = 64;
+  // Flat shading without silhouettes, drawn forward by raster_tile: w and the
+  // colours per sample come from these buffers (planes and slots unused).
+  const float* forward_w = nullptr;
+  const float* forward_rgb[3] = {nullptr, nullptr, nullptr};
 };
 
 // Shades the visible samples of a tile (tri: raster_tile's buffer) and
@@ -99,7 +107,16 @@ void shade_tile(const ShadeParams& p, const int32_t* tri, const int32_t* slot,
 inline constexpr int kFlatInputs = 11;
 void flat_colors(const ShadeParams& p, size_t n, const float* const* in, float* const* out);
 
+// Flat shading drawn forward: per sample, alongside the triangle, its w = 1/z
+// and flat colour (tile buffers laid out as raster_tile's), so that shading
+// needs no per-triangle work (shade_tile with ShadeParams::forward).
+struct ForwardFlat {
+  float* w = nullptr;
+  float* rgb[3] = {nullptr, nullptr, nullptr};
+};
+
 struct RasterParams {
+  const ForwardFlat* flat = nullptr;                // float depth formats only
   const std::array<int32_t, 2>* offsets = nullptr;  // sample_offsets()
   int spp = 1;
   DepthFormat depth = DepthFormat::kFloat;
