@@ -290,9 +290,11 @@ struct TileBuffers {
   hwy::AlignedFreeUniquePtr<float[]> forward;  // w, r, g, b planes (forward flat shading)
   zsimd::ForwardFlat flat;
   std::vector<zsimd::TileList> lists;
-  void reset(size_t n, T far_value, bool counting) {
+  // slack: depth values past the last sample the kernel may read (not use): a
+  // row and a vector (raster_tile's two-row blocks).
+  void reset(size_t n, size_t slack, T far_value, bool counting) {
     if (n != size) {
-      depth = hwy::AllocateAligned<T>(n);
+      depth = hwy::AllocateAligned<T>(n + slack);
       tri = hwy::AllocateAligned<int32_t>(n);
       count = hwy::AllocateAligned<int32_t>(n);
       forward.reset();
@@ -310,7 +312,7 @@ template <class T>
 void raster_one_tile(RasterParams p, const Binner& b, int x0, int y0, int x1, int y1, T far_value,
                      bool counting, bool forward, TileBuffers<T>& buf) {
   const size_t n = size_t(p.buf_w) * size_t(p.buf_h) * size_t(p.spp);
-  buf.reset(n, far_value, counting);
+  buf.reset(n, size_t(p.buf_w) + 16, far_value, counting);
   if (forward) {
     if (!buf.forward) {
       buf.forward = hwy::AllocateAligned<float>(4 * n);

@@ -93,11 +93,100 @@ HWY_INLINE hn::Mask<DI> CoverDouble(DI di, const int64_t e[3], const int64_t sx[
 // floor(x / 256) for any int64 (an arithmetic shift).
 HWY_INLINE int64_t FloorDiv256(int64_t x) { return x >> 8; }
 
+// The stored value from the plane value q (kFixed24: its integer code, as stored_depth).
+template <bool kFixed24, class DT, class VT = hn::Vec<DT>>
+HWY_INLINE VT Stored(DT dt, VT q) {
+  using T = hn::TFromD<DT>;
+  if constexpr (kFixed24) {
+    q = hn::Min(hn::Max(q, hn::Zero(dt)), hn::Set(dt, T(1)));
+    q = hn::Round(hn::Mul(q, hn::Set(dt, T(double((1 << 24) - 1)))));
+  }
+  return q;
+}
+
+// A mask of 16 lanes as its two halves.
+template <class D, class DH>
+HWY_INLINE void MaskHalves(D d, DH dh, hn::Mask<D> m, hn::Mask<DH>& lo, hn::Mask<DH>& hi) {
+  uint8_t bits[8] = {};
+  hn::StoreMaskBits(d, m, bits);
+  lo = hn::LoadMaskBits(dh, bits);
+  hi = hn::LoadMaskBits(dh, bits + 1);
+}
+
+// RasterTileT's two rows a vector, for a region of cols <= 8 columns and rows
+// rows: lanes 0-7 are columns 0-7 of row r, lanes 8-15 those of row r + 1;
+// at0: the tile buffers' offset of the region's first sample; e, sx, sy: the
+// edges there (int32-safe over the region and one row more), q and w likewise.
+// Depth is read 8 lanes at a time from both rows (the buffers have a row of
+// slack at their end); everything is written through masks.
+template <bool kReversed, bool kFixed24, bool kForward, class DT>
+HWY_INLINE void PairRows(DT dt, const RasterParams& p, const int64_t e[3], const int64_t sx[3],
+                         const int64_t sy[3], double q_first, double qsx, double qsy,
+                         double w_first, double wsx, double wsy, const hn::Vec<DT> flat[3],
+                         int cols, int rows, size_t at0, int W,
+                         hn::Vec<hn::Rebind<int32_t, DT>> tri_id, hn::TFromD<DT>* depth,
+                         int32_t* tri) {
+  using T = hn::TFromD<DT>;
+  const hn::Rebind<int32_t, DT> di;
+  const hn::Half<DT> dh;
+  const hn::Half<decltype(di)> dhi;
+  using VI = hn::Vec<decltype(di)>;
+  using VT = hn::Vec<DT>;
+  const VI iota = hn::Iota(di, 0);
+  const VI col = hn::And(iota, hn::Set(di, 7)), row = hn::ShiftRight<3>(iota);
+  VI lane_off[3];
+  for (int k = 0; k < 3; ++k)
+    lane_off[k] = hn::Add(hn::Mul(col, hn::Set(di, int32_t(sx[k]))),
+                          hn::Mul(row, hn::Set(di, int32_t(sy[k]))));
+  const VT colf = hn::ConvertTo(dt, col), rowf = hn::ConvertTo(dt, row);
+  const VT q_lane = hn::Add(hn::Mul(colf, hn::Set(dt, T(qsx))), hn::Mul(rowf, hn::Set(dt, T(qsy))));
+  const VT w_lane = hn::Add(hn::Mul(colf, hn::Set(dt, T(wsx))), hn::Mul(rowf, hn::Set(dt, T(wsy))));
+  const auto in_cols = hn::Lt(col, hn::Set(di, cols));
+  const auto first_row = hn::Lt(iota, hn::Set(di, 8));
+  const VI minus1 = hn::Set(di, -1);
+  for (int r = 0; r < rows; r += 2) {
+    VI v[3];
+    for (int k = 0; k < 3; ++k) v[k] = hn::Add(hn::Set(di, int32_t(e[k] + sy[k] * r)), lane_off[k]);
+    auto cover = hn::And(hn::Gt(hn::Or(hn::Or(v[0], v[1]), v[2]), minus1), in_cols);
+    if (r + 1 >= rows) cover = hn::And(cover, first_row);
+    if (hn::AllFalse(di, cover)) continue;
+    const size_t a0 = at0 + size_t(r) * size_t(W), a1 = a0 + size_t(W);
+    const VT q = Stored<kFixed24>(dt, hn::Add(hn::Set(dt, T(q_first + qsy * r)), q_lane));
+    const VT old = hn::Combine(dt, hn::LoadU(dh, depth + a1), hn::LoadU(dh, depth + a0));
+    hn::Mask<DT> closer;
+    if constexpr (kReversed) {
+      closer = hn::Gt(q, old);
+    } else {
+      closer = hn::Lt(q, old);
+    }
+    const auto pass = hn::And(hn::RebindMask(dt, cover), closer);
+    hn::Mask<decltype(dh)> m0, m1;
+    MaskHalves(dt, dh, pass, m0, m1);
+    hn::Mask<decltype(dhi)> i0, i1;
+    MaskHalves(di, dhi, hn::RebindMask(di, pass), i0, i1);
+    hn::BlendedStore(hn::LowerHalf(dh, q), m0, dh, depth + a0);
+    hn::BlendedStore(hn::UpperHalf(dh, q), m1, dh, depth + a1);
+    hn::BlendedStore(hn::LowerHalf(dhi, tri_id), i0, dhi, tri + a0);
+    hn::BlendedStore(hn::UpperHalf(dhi, tri_id), i1, dhi, tri + a1);
+    if constexpr (kForward) {
+      const VT w = hn::Add(hn::Set(dt, T(w_first + wsy * r)), w_lane);
+      hn::BlendedStore(hn::LowerHalf(dh, w), m0, dh, p.flat->w + a0);
+      hn::BlendedStore(hn::UpperHalf(dh, w), m1, dh, p.flat->w + a1);
+      for (int c = 0; c < 3; ++c) {
+        hn::BlendedStore(hn::LowerHalf(dh, flat[c]), m0, dh, p.flat->rgb[c] + a0);
+        hn::BlendedStore(hn::UpperHalf(dh, flat[c]), m1, dh, p.flat->rgb[c] + a1);
+      }
+    }
+  }
+}
+
 // kReversed, kFixed24: the depth format, fixed at compile time (the inner loop
 // has no branch on it).
 template <bool kReversed, bool kFixed24, bool kForward, class DT>
 HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::TFromD<DT>* depth,
                             int32_t* tri, int32_t* count) {
+  // Two rows a vector (PairRows) where 16 float lanes fit.
+  constexpr bool kPairs = sizeof(hn::TFromD<DT>) == 4 && hn::MaxLanes(DT()) == 16;
   using T = hn::TFromD<DT>;
   const hn::Rebind<int32_t, DT> di;
   using VI = hn::Vec<decltype(di)>;
@@ -131,12 +220,18 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
       const int ri0 = std::max(s.i0, t.x0), ri1 = std::min(s.i1, t.x1 - 1);
       const int rj0 = std::max(s.j0, t.y0), rj1 = std::min(s.j1, t.y1 - 1);
       if (ri0 > ri1 || rj0 > rj1) continue;
-      const int c0 = ((ri0 - t.x0) / N) * N;  // tile-local column of the first block
-      const int nb = (ri1 - t.x0 - c0) / N + 1;
       const int r0 = rj0 - t.y0, rows = rj1 - rj0 + 1;
-      const int64_t wspan = int64_t(nb * N - 1), hspan = int64_t(rows - 1);  // pixels
       const VI tri_id = hn::Set(di, first + int32_t(id));
+      // Two rows a vector (lanes 0-7 row r, 8-15 row r + 1, from the region's
+      // own first column) for a region at most 8 pixels wide, with 16 lanes,
+      // when coverage is not counted: a small triangle takes half the blocks.
+      bool pairs = kPairs && N == 16 && count == nullptr && ri1 - ri0 < 8;
       for (int smp = 0; smp < p.spp; ++smp) {
+      retry:
+        const int c0 = pairs ? ri0 - t.x0 : ((ri0 - t.x0) / N) * N;  // tile-local first column
+        const int nb = pairs ? 1 : (ri1 - t.x0 - c0) / N + 1;
+        // The region's extent in pixels (pairs: 8 columns, and a row past the last).
+        const int64_t wspan = pairs ? 7 : int64_t(nb * N - 1), hspan = pairs ? rows : rows - 1;
         const int64_t px = int64_t(t.x0 + c0) * kSubpixel + p.offsets[smp][0];
         const int64_t py = int64_t(rj0) * kSubpixel + p.offsets[smp][1];
         // The three edges at the region's first sample, and their steps per pixel.
@@ -160,24 +255,36 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
             narrow = false;
           }
         }
+        if (pairs && !narrow) {  // (pairs run in int32 only)
+          pairs = false;
+          goto retry;
+        }
         if (reject) continue;
-        VI lane_off[3];
-        for (int k = 0; k < 3; ++k)
-          lane_off[k] = hn::Mul(iota_i, hn::Set(di, int32_t(narrow ? sx[k] : 0)));
         // Depth plane at the region's first sample, per pixel along x and y.
         const double q_first = s.q0 + s.qx * double(px - s.x0) + s.qy * double(py - s.y0);
         const double qsx = s.qx * kSubpixel, qsy = s.qy * kSubpixel;
-        const VT q_lane = hn::Mul(iota_t, hn::Set(dt, T(qsx)));
         // Forward flat shading: w = 1/z the same way, and the colour.
         double w_first = 0, wsx = 0, wsy = 0;
-        VT w_lane = hn::Zero(dt), flat[3] = {w_lane, w_lane, w_lane};
+        VT flat[3] = {hn::Zero(dt), hn::Zero(dt), hn::Zero(dt)};
         if constexpr (kForward) {
           w_first = s.w0 + s.wx * double(px - s.x0) + s.wy * double(py - s.y0);
           wsx = s.wx * kSubpixel, wsy = s.wy * kSubpixel;
-          w_lane = hn::Mul(iota_t, hn::Set(dt, T(wsx)));
           for (int c = 0; c < 3; ++c) flat[c] = hn::Set(dt, T(s.flat[c]));
         }
         const size_t plane = size_t(smp) * size_t(H);
+        if constexpr (kPairs) {
+          if (pairs) {
+            PairRows<kReversed, kFixed24, kForward>(
+                dt, p, e, sx, sy, q_first, qsx, qsy, w_first, wsx, wsy, flat, ri1 - ri0 + 1, rows,
+                (plane + size_t(r0)) * size_t(W) + size_t(c0), W, tri_id, depth, tri);
+            continue;
+          }
+        }
+        VI lane_off[3];
+        for (int k = 0; k < 3; ++k)
+          lane_off[k] = hn::Mul(iota_i, hn::Set(di, int32_t(narrow ? sx[k] : 0)));
+        const VT q_lane = hn::Mul(iota_t, hn::Set(dt, T(qsx)));
+        const VT w_lane = hn::Mul(iota_t, hn::Set(dt, T(wsx)));
         for (int r = 0; r < rows; ++r) {
           int64_t er[3];
           for (int k = 0; k < 3; ++k) er[k] = e[k] + sy[k] * r;
