@@ -55,7 +55,7 @@ int64_t ceil_div(int64_t a, int64_t b) { return -floor_div(-a, b); }
 
 constexpr int kMaxRings = 256;  // sphere_rings' upper end
 
-// The flat colours of a chunk's triangles, lit together in float (ImageOnly):
+// The flat colours of a chunk's triangles, lit together (flat_colors; ImageOnly):
 // one request per triangle kept, lit by flat_colors at the chunk's end and
 // handed to the sink.
 class FlatBatch {
@@ -68,16 +68,17 @@ class FlatBatch {
     const double v[kFlatInputs] = {
         p.x,  p.y,    p.z, n.x, n.y, n.z, m.kd * m.color.x, m.kd * m.color.y, m.kd * m.color.z,
         m.ks, m.shine};
-    for (int i = 0; i < kFlatInputs; ++i) in_[k + size_t(i)] = float(v[i]);
+    for (int i = 0; i < kFlatInputs; ++i) in_[k + size_t(i)] = v[i];
   }
   void light(const ShadeParams& p, TriSink& sink, size_t chunk) {
     const size_t n = at_.size(), padded = (n + 15) / 16 * 16;
     if (n == 0) return;
     // The requests (kFlatInputs floats each) into planes, for the kernel.
-    std::vector<float> soa(kFlatInputs * padded), rgb(3 * padded);
-    const float* in[kFlatInputs];
+    std::vector<double> soa(kFlatInputs * padded);
+    std::vector<float> rgb(3 * padded);
+    const double* in[kFlatInputs];
     for (int k = 0; k < kFlatInputs; ++k) {
-      float* plane = soa.data() + size_t(k) * padded;
+      double* plane = soa.data() + size_t(k) * padded;
       for (size_t i = 0; i < n; ++i) plane[i] = in_[i * kFlatInputs + size_t(k)];
       in[k] = plane;
     }
@@ -93,7 +94,7 @@ class FlatBatch {
 
  private:
   std::vector<size_t> at_;
-  std::vector<float> in_;  // kFlatInputs per request
+  std::vector<double> in_;  // kFlatInputs per request
 };
 
 // A sphere's vertices and faces, projected and tested (view_sphere's scratch).
@@ -188,7 +189,7 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
     st.source_tri = t;
     st.face_normal = front ? face : -face;
     // The flat colour: view_spheres lights every face not culled in world space,
-    // the same bits whenever it is done; for the image, in float, later.
+    // the same bits whenever it is done; for the image, in SIMD, later.
     if (image) {
       const size_t at = image->sink->add(chunk, st);
       if (flat_shading) batch.add(at, (w0 + w1 + w2) / 3.0, face, m);
@@ -396,7 +397,7 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
       }
       // The flat colour, lit when the first triangle is kept (the same bits as
       // view_polygons' up-front evaluation); for the image, each kept triangle
-      // asks for the polygon's colour, in float.
+      // asks for the polygon's colour, lit in SIMD.
       Vec3 flat, centroid;
       bool flat_lit = s.shading != Shading::kFlat;
       auto light_flat = [&] {

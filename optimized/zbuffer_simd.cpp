@@ -17,7 +17,7 @@
 // tessellation, snapping), made by zsimd::view_scene_chunks (zbuffer_setup.cpp)
 // with the same coordinates bit for bit; for the image it hands each triangle
 // straight to the Binner (no ScreenTri is kept), leaves out triangles with no
-// sample in their box and lights flat colours in float.
+// sample in their box and lights flat colours in SIMD (double lanes).
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -56,20 +56,19 @@ void tile_size(int spp, int width, int height, int& tw, int& th) {
   while (tiles() < 32 && tw * th > 64 * 64) halve();
 }
 
-// The stored depth as a function of w = 1/z (see zbuffer_simd_kernels.cpp):
-// affine in w, so in screen space; stored_depth before its rounding, with the
-// frame's constants divided once (a rounding or two from stored_depth's own
-// divisions, as the kernels' plane evaluation is anyway).
+// The stored depth at a vertex of w = 1/z (see zbuffer_simd_kernels.cpp):
+// affine in w, so in screen space; stored_depth before its rounding, with
+// stored_depth's own operations (the constant denominator computed once, the
+// same bits): the depth plane's error stays that of the reference's formula.
 struct DepthMap {
   bool reversed = false;
-  double near_z = 1, inv_near = 1, inv_range = 1;
+  double near_z = 1, inv_near = 1, range = 1;
   DepthMap() = default;
   DepthMap(DepthFormat f, double n, double far)
-      : reversed(f == DepthFormat::kReversed),
-        near_z(n),
-        inv_near(1 / n),
-        inv_range(1 / (1 / n - 1 / far)) {}
-  double operator()(double w) const { return reversed ? near_z * w : (inv_near - w) * inv_range; }
+      : reversed(f == DepthFormat::kReversed), near_z(n), inv_near(1 / n), range(1 / n - 1 / far) {}
+  double operator()(double z, double w) const {
+    return reversed ? near_z / z : (inv_near - w) / range;
+  }
 };
 
 // A triangle's TriSetup; w: its vertices' 1/z, inv_area: 1 / (twice its
@@ -95,13 +94,18 @@ void set_up(const ScreenTri& tri, const DepthMap& depth, const zsimd::SampleGrid
   t.x0 = v[0].x, t.y0 = v[0].y;
   // Plane through the three vertices' values, from the barycentric gradients
   // b_k = E_k / A (A = E_2(v2), twice the area in snapped units).
-  inv_area =
-      1 / double(t.ex[2] * (int64_t(v[2].x) - t.ax[2]) + t.ey[2] * (int64_t(v[2].y) - t.ay[2]));
+  const double area =
+      double(t.ex[2] * (int64_t(v[2].x) - t.ax[2]) + t.ey[2] * (int64_t(v[2].y) - t.ay[2]));
+  inv_area = 1 / area;
   for (int k = 0; k < 3; ++k) w[k] = 1 / v[k].z;
-  const double q[3] = {depth(w[0]), depth(w[1]), depth(w[2])};
+  // The depth plane divides by the area (not times 1/area): the depth test's
+  // numbers, kept within a few ulps of the reference's (CoverageAgreement).
+  const double q[3] = {depth(v[0].z, w[0]), depth(v[1].z, w[1]), depth(v[2].z, w[2])};
   t.q0 = q[0];
-  t.qx = ((q[1] - q[0]) * double(t.ex[1]) + (q[2] - q[0]) * double(t.ex[2])) * inv_area;
-  t.qy = ((q[1] - q[0]) * double(t.ey[1]) + (q[2] - q[0]) * double(t.ey[2])) * inv_area;
+  for (int k = 0; k < 3; ++k) t.qv[k] = q[k];
+  t.area = area;
+  t.qx = ((q[1] - q[0]) * double(t.ex[1]) + (q[2] - q[0]) * double(t.ex[2])) / area;
+  t.qy = ((q[1] - q[0]) * double(t.ey[1]) + (q[2] - q[0]) * double(t.ey[2])) / area;
   t.w0 = w[0];
   t.wx = ((w[1] - w[0]) * double(t.ex[1]) + (w[2] - w[0]) * double(t.ex[2])) * inv_area;
   t.wy = ((w[1] - w[0]) * double(t.ey[1]) + (w[2] - w[0]) * double(t.ey[2])) * inv_area;
@@ -518,7 +522,7 @@ Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   const auto off = sample_offsets(s);
   // The set-up hands its triangles straight to the binner (no ScreenTri is
   // kept), and only what the image needs: no triangle without a sample in its
-  // box (it covers nothing), flat colours in float, as the kernel shades.
+  // box (it covers nothing), flat colours lit in SIMD.
   Binner b(s, off, &scene);
   zsimd::ImageOnly image;
   image.grid = zsimd::SampleGrid(off, opts.width, opts.height);

@@ -307,7 +307,21 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
             if (count)
               hn::Store(hn::Sub(hn::Load(di, count + at), hn::VecFromMask(di, cover)), di,
                         count + at);
-            const VT q = stored(hn::Add(hn::Set(dt, T(q_row + qsx * double(b * N))), q_lane));
+            VT q;
+            if constexpr (sizeof(T) == 8) {
+              // Barycentrics: the exact edge functions (below 2^53) at the lanes.
+              VT acc = hn::Zero(dt);
+              for (int k = 2; k >= 0; --k) {
+                const int64_t E = s.ex[k] * (px + int64_t(b * N) * kSubpixel - s.ax[k]) +
+                                  s.ey[k] * (py + int64_t(r) * kSubpixel - s.ay[k]);
+                const VT Ek = hn::MulAdd(iota_t, hn::Set(dt, T(double(s.ex[k] * kSubpixel))),
+                                         hn::Set(dt, T(double(E))));
+                acc = hn::MulAdd(Ek, hn::Set(dt, T(s.qv[k])), acc);
+              }
+              q = stored(hn::Div(acc, hn::Set(dt, T(s.area))));
+            } else {
+              q = stored(hn::Add(hn::Set(dt, T(q_row + qsx * double(b * N))), q_lane));
+            }
             const VT old = hn::Load(dt, depth + at);
             hn::Mask<DT> closer;
             if constexpr (reversed) {
@@ -395,7 +409,7 @@ HWY_INLINE void Lighting(DF df, const float* light, int nlights, Shading shading
                          float band_div, const VF pos[3], const VF nrm[3], const VF view[3],
                          const VF kd[3], VF ks, VF shine, M valid, VF col[3]) {
   const VF zero = hn::Zero(df), one = hn::Set(df, 1.0f), two = hn::Set(df, 2.0f);
-  const VF amb = hn::Set(df, float(kAmbient));
+  const VF amb = hn::Set(df, hn::TFromD<DF>(kAmbient));
   auto dot3 = [](const VF a[3], const VF b[3]) {
     return hn::MulAdd(a[0], b[0], hn::MulAdd(a[1], b[1], hn::Mul(a[2], b[2])));
   };
@@ -460,33 +474,37 @@ HWY_INLINE void Lighting(DF df, const float* light, int nlights, Shading shading
   }
 }
 
-void FlatColors(const ShadeParams& p, size_t n, const float* const* in, float* const* out) {
-  const hn::CappedTag<float, 16> df;
-  using VF = hn::Vec<decltype(df)>;
-  const size_t N = hn::Lanes(df);
-  const VF zero = hn::Zero(df), one = hn::Set(df, 1.0f);
-  const VF eye[3] = {hn::Set(df, p.eye[0]), hn::Set(df, p.eye[1]), hn::Set(df, p.eye[2])};
+// In double lanes: the flat colour is one value per triangle, so it may as well
+// be close to view_scene's double one (within about 1e-7: the lights are given
+// in float), not float lighting's 1e-6 (pow as exp(shine log x) in float).
+void FlatColors(const ShadeParams& p, size_t n, const double* const* in, float* const* out) {
+  const hn::ScalableTag<double> dd;
+  const hn::Rebind<float, decltype(dd)> df;
+  using VD = hn::Vec<decltype(dd)>;
+  const size_t N = hn::Lanes(dd);
+  const VD zero = hn::Zero(dd), one = hn::Set(dd, 1.0);
+  const VD eye[3] = {hn::Set(dd, p.eye[0]), hn::Set(dd, p.eye[1]), hn::Set(dd, p.eye[2])};
   const auto all = hn::Eq(zero, zero);
-  auto dot3 = [](const VF a[3], const VF b[3]) {
+  auto dot3 = [](const VD a[3], const VD b[3]) {
     return hn::MulAdd(a[0], b[0], hn::MulAdd(a[1], b[1], hn::Mul(a[2], b[2])));
   };
   for (size_t i = 0; i < n; i += N) {
-    VF pos[3], nrm[3], kd[3], view[3];
+    VD pos[3], nrm[3], kd[3], view[3];
     for (int c = 0; c < 3; ++c) {
-      pos[c] = hn::LoadU(df, in[c] + i);
-      nrm[c] = hn::LoadU(df, in[3 + c] + i);
-      kd[c] = hn::LoadU(df, in[6 + c] + i);
+      pos[c] = hn::LoadU(dd, in[c] + i);
+      nrm[c] = hn::LoadU(dd, in[3 + c] + i);
+      kd[c] = hn::LoadU(dd, in[6 + c] + i);
       view[c] = hn::Sub(eye[c], pos[c]);
     }
-    const VF inv = hn::Div(one, hn::Sqrt(dot3(view, view)));
+    const VD inv = hn::Div(one, hn::Sqrt(dot3(view, view)));
     for (int c = 0; c < 3; ++c) view[c] = hn::Mul(view[c], inv);
     // view_scene's lit(): the face turned towards the eye.
     const auto away = hn::Lt(dot3(nrm, view), zero);
     for (int c = 0; c < 3; ++c) nrm[c] = hn::IfThenElse(away, hn::Neg(nrm[c]), nrm[c]);
-    VF col[3];
-    Lighting(df, p.light, p.nlights, Shading::kPhong, 1.0f, 1.0f, pos, nrm, view, kd,
-             hn::LoadU(df, in[9] + i), hn::LoadU(df, in[10] + i), all, col);
-    for (int c = 0; c < 3; ++c) hn::StoreU(col[c], df, out[c] + i);
+    VD col[3];
+    Lighting(dd, p.light, p.nlights, Shading::kPhong, 1.0f, 1.0f, pos, nrm, view, kd,
+             hn::LoadU(dd, in[9] + i), hn::LoadU(dd, in[10] + i), all, col);
+    for (int c = 0; c < 3; ++c) hn::StoreU(hn::DemoteTo(df, col[c]), df, out[c] + i);
   }
 }
 
@@ -866,7 +884,7 @@ void sphere_faces(const Vec3* world, const std::array<uint32_t, 3>* tri, size_t 
   HWY_DYNAMIC_DISPATCH(SphereFaces)(world, tri, n, flip, eye, face, flags);
 }
 
-void flat_colors(const ShadeParams& p, size_t n, const float* const* in, float* const* out) {
+void flat_colors(const ShadeParams& p, size_t n, const double* const* in, float* const* out) {
   HWY_DYNAMIC_DISPATCH(FlatColors)(p, n, in, out);
 }
 HWY_EXPORT(GrowBounds);

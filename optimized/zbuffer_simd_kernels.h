@@ -34,6 +34,11 @@ struct TriSetup {
   // Depth plane q(P) = q0 + qx (P.x - x0) + qy (P.y - y0), P in 1/256 px: the
   // stored depth (kFixed24: the window depth before rounding).
   double q0, qx, qy;
+  // The same depth at the three vertices, and twice the area A: the double
+  // raster (kDouble, kFixed24) takes depth from barycentrics, sum E_k q_k / A,
+  // whose rounding stays within a few ulps of the largest q_k however thin
+  // the triangle (the plane's gradients lose digits to cancellation there).
+  double qv[3], area;
   // Flat shading drawn forward (RasterParams::flat): the plane of w = 1/z, as
   // q's, and the triangle's flat colour.
   double w0, wx, wy;
@@ -99,13 +104,13 @@ void shade_tile(const ShadeParams& p, const int32_t* tri, const int32_t* slot,
                 const LocalPlanes* planes, int cols, int rows, float* rgb, float* z, float* image,
                 size_t image_stride, float* depth, size_t depth_stride);
 
-// Flat colours in float, with shade_tile's lighting (Phong specular, as
-// view_scene's flat colour): for i < n, the colour at point (in[0..2])[i] of a
-// face with unit normal (in[3..5])[i], turned towards the eye here, material
-// kd * colour (in[6..8])[i], ks in[9][i], shine in[10][i]; out[0..2]: red,
-// green, blue. Every array has room for n rounded up to 16.
+// Flat colours with shade_tile's lighting (Phong specular, as view_scene's
+// flat colour), in double lanes: for i < n, the colour at point (in[0..2])[i]
+// of a face with unit normal (in[3..5])[i], turned towards the eye here,
+// material kd * colour (in[6..8])[i], ks in[9][i], shine in[10][i]; out[0..2]:
+// red, green, blue. Every array has room for n rounded up to 16.
 inline constexpr int kFlatInputs = 11;
-void flat_colors(const ShadeParams& p, size_t n, const float* const* in, float* const* out);
+void flat_colors(const ShadeParams& p, size_t n, const double* const* in, float* const* out);
 
 // Flat shading drawn forward: per sample, alongside the triangle, its w = 1/z
 // and flat colour (tile buffers laid out as raster_tile's), so that shading
@@ -214,7 +219,7 @@ class TriSink {
 
 // What the z-buffer's image needs of the set-up, and no more: the triangles
 // with a sample of grid in their bounding box (the others would cover
-// nothing), handed to sink, their flat colours lit in float (flat_colors with
+// nothing), handed to sink, their flat colours lit together in SIMD (flat_colors with
 // light), as the image is shaded.
 struct ImageOnly {
   SampleGrid grid;
