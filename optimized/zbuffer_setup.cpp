@@ -60,6 +60,10 @@ constexpr int kMaxRings = 256;  // sphere_rings' upper end
 // handed to the sink.
 class FlatBatch {
  public:
+  void reserve(size_t n) {
+    at_.reserve(n);
+    in_.reserve(n * kFlatInputs);
+  }
   // Triangle `at` of the chunk: a face of material m with unit normal n, lit at p.
   void add(size_t at, const Vec3& p, const Vec3& n, const Material& m) {
     at_.push_back(at);
@@ -319,9 +323,10 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
       size_t expect = 0;
       for (uint32_t k = first; k < last; ++k)
         if (rings[k] != 0) expect += units[size_t(rings[k])].tri.size() / 2 + 1;
-      if (image)
+      if (image) {
         image->sink->reserve(c, expect);
-      else
+        if (s.shading == Shading::kFlat) batch.reserve(expect);
+      } else
         part.tris.reserve(expect);
       for (uint32_t k = first; k < last; ++k) {
         if (rings[k] == 0) continue;
@@ -366,11 +371,13 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
     const size_t sink_chunk = sphere_chunks.size() + c;
     const uint32_t first = c * per_chunk, last = std::min(polys, first + per_chunk);
     const size_t expect = size_t(scene.poly_tri_first[last] - scene.poly_tri_first[first]);
-    if (image)
-      image->sink->reserve(sink_chunk, expect);
-    else
-      out.tris.reserve(expect);
     FlatBatch batch;
+    if (image) {
+      image->sink->reserve(sink_chunk, expect);
+      if (s.shading == Shading::kFlat) batch.reserve(expect);
+    } else {
+      out.tris.reserve(expect);
+    }
     ScreenTri local;
     for (uint32_t p = first; p < last; ++p) {
       const Material& m = scene.materials[scene.poly_material[p]];
