@@ -24,10 +24,16 @@ namespace lockstep {
 
 // ---------------------------------------------------------------- exact predicates
 namespace exact {
+// Exactness: the expansions are exact as long as no product's rounding error
+// underflows (below 2^-1074) or overflows: every nonzero coordinate and
+// coordinate difference within [2^-300, 2^300] suffices (eye and screen
+// coordinates are far inside). Subnormal inputs can decide wrong
+// (PainterExact labels such cases "underflow").
+//
 // Sign (+1, 0, -1) of (b - a) x (c - a): +1 when a, b, c turn counter-clockwise
-// in a right-handed (x, y) frame. Exact for any finite doubles.
+// in a right-handed (x, y) frame.
 int orient2d(double ax, double ay, double bx, double by, double cx, double cy);
-// Sign of det[a - d; b - d; c - d], exact for any finite doubles. With a, b, c
+// Sign of det[a - d; b - d; c - d]. With a, b, c
 // counter-clockwise seen from above (+z), points above the plane give -1.
 int orient3d(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 // Whether the closed triangles t and u share a point; exact (orient3d and
