@@ -196,18 +196,8 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
   const VI iota_i = hn::Iota(di, 0);
   const VT iota_t = hn::Iota(dt, 0);
   const VI minus1 = hn::Set(di, -1);
-  constexpr bool reversed = kReversed, fixed24 = kFixed24;
-  const double fixed_scale = double((1 << 24) - 1);
+  constexpr bool reversed = kReversed;
   constexpr int64_t kLimit = int64_t(1) << 30;
-
-  // The stored value from the plane value q (kFixed24: its integer code, as stored_depth).
-  auto stored = [&](VT q) -> VT {
-    if constexpr (fixed24) {
-      q = hn::Min(hn::Max(q, hn::Zero(dt)), hn::Set(dt, T(1)));
-      q = hn::Round(hn::Mul(q, hn::Set(dt, T(fixed_scale))));
-    }
-    return q;
-  };
 
   for (int l = 0; l < t.nlists; ++l) {
     const std::vector<uint32_t>& list = *t.lists[l].ids;
@@ -318,9 +308,10 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
                                          hn::Set(dt, T(double(E))));
                 acc = hn::MulAdd(Ek, hn::Set(dt, T(s.qv[k])), acc);
               }
-              q = stored(hn::Div(acc, hn::Set(dt, T(s.area))));
+              q = Stored<kFixed24>(dt, hn::Div(acc, hn::Set(dt, T(s.area))));
             } else {
-              q = stored(hn::Add(hn::Set(dt, T(q_row + qsx * double(b * N))), q_lane));
+              q = Stored<kFixed24>(dt,
+                                   hn::Add(hn::Set(dt, T(q_row + qsx * double(b * N))), q_lane));
             }
             const VT old = hn::Load(dt, depth + at);
             hn::Mask<DT> closer;
