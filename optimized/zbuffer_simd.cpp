@@ -71,10 +71,16 @@ struct DepthMap {
   }
 };
 
-// A triangle's TriSetup; w: its vertices' 1/z, inv_area: 1 / (twice its
-// snapped area), for set_up_shading.
-void set_up(const ScreenTri& tri, const DepthMap& depth, const zsimd::SampleGrid& grid, TriSetup& t,
-            double w[3], double& inv_area) {
+// kFixed24 rasters in double too: its 24-bit codes need more than float's 24-bit
+// significand (a float window depth near 1 is only good to one code, and the
+// plane's rounding adds a few more).
+bool double_depth(DepthFormat f) { return f == DepthFormat::kDouble || f == DepthFormat::kFixed24; }
+
+// A triangle's TriSetup (for the double raster: its corners, else the forward
+// part); w: its vertices' 1/z, inv_area: 1 / (twice its snapped area), for
+// set_up_shading.
+void set_up(const ScreenTri& tri, const DepthMap& depth, const zsimd::SampleGrid& grid,
+            bool double_raster, TriSetup& t, double w[3], double& inv_area) {
   const auto& v = tri.v;
   int64_t xmin = v[0].x, xmax = v[0].x, ymin = v[0].y, ymax = v[0].y;
   for (int k = 1; k < 3; ++k) {
@@ -87,29 +93,31 @@ void set_up(const ScreenTri& tri, const DepthMap& depth, const zsimd::SampleGrid
     const ScreenVertex& b = v[(k + 2) % 3];
     const int64_t dx = int64_t(b.x) - a.x, dy = int64_t(b.y) - a.y;
     t.ax[k] = a.x, t.ay[k] = a.y;
-    t.ex[k] = -dy, t.ey[k] = dx;
+    t.ex[k] = int32_t(-dy), t.ey[k] = int32_t(dx);
     const bool top_left = (dy == 0 && dx > 0) || dy < 0;
     t.bias[k] = top_left ? 0 : 1;
   }
-  t.x0 = v[0].x, t.y0 = v[0].y;
   // Plane through the three vertices' values, from the barycentric gradients
   // b_k = E_k / A (A = E_2(v2), twice the area in snapped units).
-  const double area =
-      double(t.ex[2] * (int64_t(v[2].x) - t.ax[2]) + t.ey[2] * (int64_t(v[2].y) - t.ay[2]));
+  const double area = double(int64_t(t.ex[2]) * (int64_t(v[2].x) - t.ax[2]) +
+                             int64_t(t.ey[2]) * (int64_t(v[2].y) - t.ay[2]));
   inv_area = 1 / area;
   for (int k = 0; k < 3; ++k) w[k] = 1 / v[k].z;
   // The depth plane divides by the area (not times 1/area): the depth test's
   // numbers, kept within a few ulps of the reference's (CoverageAgreement).
   const double q[3] = {depth(v[0].z, w[0]), depth(v[1].z, w[1]), depth(v[2].z, w[2])};
   t.q0 = q[0];
-  for (int k = 0; k < 3; ++k) t.qv[k] = q[k];
-  t.area = area;
   t.qx = ((q[1] - q[0]) * double(t.ex[1]) + (q[2] - q[0]) * double(t.ex[2])) / area;
   t.qy = ((q[1] - q[0]) * double(t.ey[1]) + (q[2] - q[0]) * double(t.ey[2])) / area;
-  t.w0 = w[0];
-  t.wx = ((w[1] - w[0]) * double(t.ex[1]) + (w[2] - w[0]) * double(t.ex[2])) * inv_area;
-  t.wy = ((w[1] - w[0]) * double(t.ey[1]) + (w[2] - w[0]) * double(t.ey[2])) * inv_area;
-  for (int c = 0; c < 3; ++c) t.flat[c] = float(tri.flat_color[c]);
+  if (double_raster) {
+    for (int k = 0; k < 3; ++k) t.dbl.qv[k] = q[k];
+    t.dbl.area = area;
+    return;
+  }
+  t.fwd.w0 = w[0];
+  t.fwd.wx = ((w[1] - w[0]) * double(t.ex[1]) + (w[2] - w[0]) * double(t.ex[2])) * inv_area;
+  t.fwd.wy = ((w[1] - w[0]) * double(t.ey[1]) + (w[2] - w[0]) * double(t.ey[2])) * inv_area;
+  for (int c = 0; c < 3; ++c) t.fwd.flat[c] = float(tri.flat_color[c]);
 }
 
 // How many of ShadeTri's plane rows a shading needs: 1/z always, the normal
@@ -193,7 +201,11 @@ class Binner final : public zsimd::TriSink {
  public:
   Binner(const RasterSettings& s, const std::vector<std::array<int32_t, 2>>& off,
          const Scene* scene)
-      : s_(s), off_(off), scene_(scene), rows(shade_rows(s)) {}
+      : s_(s),
+        off_(off),
+        scene_(scene),
+        double_raster_(double_depth(s.depth)),
+        rows(shade_rows(s)) {}
 
   void begin(const ScreenMesh& frame, size_t nchunks) override {
     tile_size(int(off_.size()), frame.width, frame.height, tw, th);
@@ -215,7 +227,7 @@ class Binner final : public zsimd::TriSink {
     const size_t at = ch.setup.size();
     TriSetup& t = ch.setup.emplace_back();
     double w[3], inv_area;
-    set_up(tri, depth_, grid_, t, w, inv_area);
+    set_up(tri, depth_, grid_, double_raster_, t, w, inv_area);
     if (scene_) {
       ch.planes.resize(ch.planes.size() + size_t(rows) * 3);
       set_up_shading(*scene_, s_, tri, t, w, inv_area, ch.shade.emplace_back(),
@@ -229,8 +241,8 @@ class Binner final : public zsimd::TriSink {
   }
 
   void set_flat(size_t c, size_t i, const float rgb[3]) override {
-    std::copy_n(rgb, 3, chunks[c].shade[i].flat);
-    std::copy_n(rgb, 3, chunks[c].setup[i].flat);
+    if (scene_) std::copy_n(rgb, 3, chunks[c].shade[i].flat);
+    if (!double_raster_) std::copy_n(rgb, 3, chunks[c].setup[i].fwd.flat);
   }
 
   // After the last triangle: each chunk's first mesh id; the triangle count.
@@ -257,6 +269,7 @@ class Binner final : public zsimd::TriSink {
   RasterSettings s_;
   std::vector<std::array<int32_t, 2>> off_;
   const Scene* scene_;
+  bool double_raster_;
   zsimd::SampleGrid grid_;
   DepthMap depth_;
 
@@ -461,7 +474,7 @@ void shade_one_tile(const ScreenMesh& mesh, const Binner& b, const zsimd::ShadeP
       const double* plane_rows = c.planes.data() + size_t(i) * size_t(rows) * 3;
       for (int row = 0; row < rows; ++row) {
         const double* a = plane_rows + 3 * row;
-        L.p[row][0] = float(a[0] + a[1] * double(cx - t.x0) + a[2] * double(cy - t.y0));
+        L.p[row][0] = float(a[0] + a[1] * double(cx - t.x0()) + a[2] * double(cy - t.y0()));
         L.p[row][1] = float(a[1] * kSubpixel);
         L.p[row][2] = float(a[2] * kSubpixel);
       }
@@ -493,6 +506,7 @@ Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const Binner& b,
   const zsimd::ShadeParams sp = shade_params(scene, mesh, s, off, b, lights);
   // Flat shading without silhouettes is drawn forward: the raster writes each
   // sample's w and colour, and shading has no per-triangle work left.
+  // (zbuffer() leaves the shading set-up out then.)
   const bool forward = std::is_same_v<T, float> && s.shading == Shading::kFlat && !s.silhouette;
   Image img = Image::uninitialized(mesh.width, mesh.height);
   img.depth.resize(size_t(mesh.width) * size_t(mesh.height));
@@ -510,10 +524,6 @@ Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const Binner& b,
   return img;
 }
 
-// kFixed24 rasters in double too: its 24-bit codes need more than float's 24-bit
-// significand (a float window depth near 1 is only good to one code, and the
-// plane's rounding adds a few more).
-bool double_depth(DepthFormat f) { return f == DepthFormat::kDouble || f == DepthFormat::kFixed24; }
 
 }  // namespace
 
@@ -523,7 +533,10 @@ Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   // The set-up hands its triangles straight to the binner (no ScreenTri is
   // kept), and only what the image needs: no triangle without a sample in its
   // box (it covers nothing), flat colours lit in SIMD.
-  Binner b(s, off, &scene);
+  // Flat shading drawn forward (zbuffer_t) needs no shading set-up.
+  const bool forward_flat =
+      !double_depth(s.depth) && s.shading == Shading::kFlat && !s.silhouette;
+  Binner b(s, off, forward_flat ? nullptr : &scene);
   zsimd::ImageOnly image;
   image.grid = zsimd::SampleGrid(off, opts.width, opts.height);
   std::vector<float> lights;

@@ -205,7 +205,12 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
     const int32_t first = t.lists[l].first;
     for (size_t li = 0; li < list.size(); ++li) {
       const uint32_t id = list[li];
-      if (li + 1 < list.size()) __builtin_prefetch(&tris[list[li + 1]]);
+      // The triangle four ahead (its set-up's cache lines): the lists read the
+      // set-up arrays out of order, and far beyond the caches on big meshes.
+      if (li + 4 < list.size()) {
+        const char* ahead = reinterpret_cast<const char*>(&tris[list[li + 4]]);
+        for (size_t b = 0; b < sizeof(TriSetup); b += 64) __builtin_prefetch(ahead + b);
+      }
       const TriSetup& s = tris[id];
       const int ri0 = std::max(s.i0, t.x0), ri1 = std::min(s.i1, t.x1 - 1);
       const int rj0 = std::max(s.j0, t.y0), rj1 = std::min(s.j1, t.y1 - 1);
@@ -232,10 +237,11 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
           // K = ex i + ey j (i, j pixels from the first sample), and
           // e0 + 256 K >= 0  <=>  K >= ceil(-e0 / 256)  <=>  floor(e0 / 256) + K >= 0,
           // exactly: the same test on numbers 256 times smaller.
-          e[k] = FloorDiv256(s.ex[k] * (px - s.ax[k]) + s.ey[k] * (py - s.ay[k]) - s.bias[k]);
+          e[k] = FloorDiv256(int64_t(s.ex[k]) * (px - s.ax[k]) + int64_t(s.ey[k]) * (py - s.ay[k]) -
+                             s.bias[k]);
           sx[k] = s.ex[k];
           sy[k] = s.ey[k];
-          const int64_t dx = s.ex[k] * wspan, dy = s.ey[k] * hspan;
+          const int64_t dx = sx[k] * wspan, dy = sy[k] * hspan;
           const int64_t lo = e[k] + std::min<int64_t>(0, dx) + std::min<int64_t>(0, dy);
           const int64_t hi = e[k] + std::max<int64_t>(0, dx) + std::max<int64_t>(0, dy);
           if (hi < 0) reject = true;
@@ -251,15 +257,16 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
         }
         if (reject) continue;
         // Depth plane at the region's first sample, per pixel along x and y.
-        const double q_first = s.q0 + s.qx * double(px - s.x0) + s.qy * double(py - s.y0);
+        const double q_first = s.q0 + s.qx * double(px - s.x0()) + s.qy * double(py - s.y0());
         const double qsx = s.qx * kSubpixel, qsy = s.qy * kSubpixel;
         // Forward flat shading: w = 1/z the same way, and the colour.
         double w_first = 0, wsx = 0, wsy = 0;
         VT flat[3] = {hn::Zero(dt), hn::Zero(dt), hn::Zero(dt)};
         if constexpr (kForward) {
-          w_first = s.w0 + s.wx * double(px - s.x0) + s.wy * double(py - s.y0);
-          wsx = s.wx * kSubpixel, wsy = s.wy * kSubpixel;
-          for (int c = 0; c < 3; ++c) flat[c] = hn::Set(dt, T(s.flat[c]));
+          const TriSetup::Forward& f = s.fwd;
+          w_first = f.w0 + f.wx * double(px - s.x0()) + f.wy * double(py - s.y0());
+          wsx = f.wx * kSubpixel, wsy = f.wy * kSubpixel;
+          for (int c = 0; c < 3; ++c) flat[c] = hn::Set(dt, T(f.flat[c]));
         }
         const size_t plane = size_t(smp) * size_t(H);
         if constexpr (kPairs) {
@@ -302,13 +309,15 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
               // Barycentrics: the exact edge functions (below 2^53) at the lanes.
               VT acc = hn::Zero(dt);
               for (int k = 2; k >= 0; --k) {
-                const int64_t E = s.ex[k] * (px + int64_t(b * N) * kSubpixel - s.ax[k]) +
-                                  s.ey[k] * (py + int64_t(r) * kSubpixel - s.ay[k]);
-                const VT Ek = hn::MulAdd(iota_t, hn::Set(dt, T(double(s.ex[k] * kSubpixel))),
+                // (s's edges: sx and sy are 0 for an edge dropped above.)
+                const int64_t ex = s.ex[k], ey = s.ey[k];
+                const int64_t E = ex * (px + int64_t(b * N) * kSubpixel - s.ax[k]) +
+                                  ey * (py + int64_t(r) * kSubpixel - s.ay[k]);
+                const VT Ek = hn::MulAdd(iota_t, hn::Set(dt, T(double(ex * kSubpixel))),
                                          hn::Set(dt, T(double(E))));
-                acc = hn::MulAdd(Ek, hn::Set(dt, T(s.qv[k])), acc);
+                acc = hn::MulAdd(Ek, hn::Set(dt, T(s.dbl.qv[k])), acc);
               }
-              q = Stored<kFixed24>(dt, hn::Div(acc, hn::Set(dt, T(s.area))));
+              q = Stored<kFixed24>(dt, hn::Div(acc, hn::Set(dt, T(s.dbl.area))));
             } else {
               q = Stored<kFixed24>(dt,
                                    hn::Add(hn::Set(dt, T(q_row + qsx * double(b * N))), q_lane));

@@ -22,29 +22,43 @@ namespace lockstep::opt::zsimd {
 // One triangle, ready for tiles. Snapped coordinates (1/256 pixel) as in the
 // ScreenMesh; edge k is the edge opposite vertex k (a -> b = v1 -> v2, v2 -> v0,
 // v0 -> v1), E_k(P) = ex[k] (P.x - ax[k]) + ey[k] (P.y - ay[k]) exactly in
-// int64, with ex = -(b.y - a.y), ey = b.x - a.x. A sample is inside when
+// int64, with ex = -(b.y - a.y), ey = b.x - a.x (|coordinates| < 2^25, so
+// they fit int32; the products do not). A sample is inside when
 // E_k(P) - bias[k] >= 0 for all k: bias 0 for top and left edges, 1 for the
 // others (E integer, so E - 1 >= 0 is E > 0: the top-left rule).
+// Kept small (144 bytes): a big mesh's set-ups are read back from memory, tile
+// by tile, by the raster.
 struct TriSetup {
   int32_t ax[3], ay[3];
-  int64_t ex[3], ey[3];
+  int32_t ex[3], ey[3];
   int32_t bias[3];
-  int32_t x0, y0;          // vertex 0: the depth plane's origin
   int32_t i0, i1, j0, j1;  // pixels that may hold a covered sample (inclusive; i0 > i1: none)
-  // Depth plane q(P) = q0 + qx (P.x - x0) + qy (P.y - y0), P in 1/256 px: the
-  // stored depth (kFixed24: the window depth before rounding).
+  // Depth plane q(P) = q0 + qx (P.x - x0()) + qy (P.y - y0()), P in 1/256 px:
+  // the stored depth (kFixed24: the window depth before rounding).
   double q0, qx, qy;
-  // The same depth at the three vertices, and twice the area A: the double
-  // raster (kDouble, kFixed24) takes depth from barycentrics, sum E_k q_k / A,
-  // whose rounding stays within a few ulps of the largest q_k however thin
-  // the triangle (the plane's gradients lose digits to cancellation there).
-  double qv[3], area;
-  // Flat shading drawn forward (RasterParams::flat): the plane of w = 1/z, as
-  // q's, and the triangle's flat colour.
-  double w0, wx, wy;
-  float flat[3];
+  // What only one raster reads: the float one with flat shading drawn forward
+  // (RasterParams::flat), or the double one (kDouble, kFixed24).
+  struct Forward {
+    double w0, wx, wy;  // the plane of w = 1/z, as q's
+    float flat[3];      // the triangle's flat colour
+  };
+  struct Corners {
+    // The depth at the three vertices and twice the area A: the double raster
+    // takes depth from barycentrics, sum E_k q_k / A, whose rounding stays
+    // within a few ulps of the largest q_k however thin the triangle (the
+    // plane's gradients lose digits to cancellation there).
+    double qv[3], area;
+  };
+  union {
+    Forward fwd;
+    Corners dbl;
+  };
+  // Vertex 0, the planes' origin (edge 2 starts there).
+  int32_t x0() const { return ax[2]; }
+  int32_t y0() const { return ay[2]; }
   // (No initialisers: the set-up writes every field; arrays of them are not zeroed first.)
 };
+static_assert(sizeof(TriSetup) == 144);
 
 // What shading needs of one triangle. Its attribute planes (kept apart, in
 // double, as many rows as the shading needs) are a(P) = a0 + ax (P.x - x0) +
