@@ -86,6 +86,8 @@ std::string run_summary(const std::string& who, const ImageFamily& f, const Imag
                 r.seconds);
   std::string line = who + ": " + std::string(impl.name) + buf;
   if (!r.stats.chosen.empty()) line += ", chose " + r.stats.chosen;
+  if (r.stats.skipped != 0)
+    line += ", " + std::to_string(r.stats.skipped) + " " + std::string(f.unit) + " hidden (skipped)";
   return line;
 }
 

@@ -74,6 +74,7 @@ struct FrameStats {
   double build_seconds = 0;  // acceleration structure (Embree BVH), inside the run; 0 when none
   uint64_t items = 0;        // rays traced, or pixels composited
   std::string chosen;        // for auto: which implementation it picked and why
+  uint64_t skipped = 0;      // items left out as provably invisible (z-buffer: hidden triangles)
   // What the run found that the user must hear about, one finding per line
   // (painter: the cycles and interpenetrations it could not order); the CLI
   // prints each on stderr, the corpus report beside the case.

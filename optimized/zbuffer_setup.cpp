@@ -28,6 +28,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "core/shading.h"
 #include "optimized/raster.h"
@@ -106,6 +107,153 @@ class FlatBatch {
   std::vector<double> in_;  // kFlatInputs per request
 };
 
+// ---------------------------------------------------------------- hidden spheres
+// (The z-buffer's image only.) A sphere whose every sample is already covered
+// by a nearer sphere's mesh can never pass the depth test, whatever the order:
+// it is not tessellated at all, and of the other spheres, no triangle whose
+// samples are all so covered is kept. The image is the same: only triangles
+// that would lose every depth test are left out.
+//
+// The occluders. A sphere's tessellation (unit_sphere) is a convex polyhedron
+// inscribed in it, so it contains the ball of radius r h (h: the smallest
+// distance from the unit sphere's centre to a face plane). A sample whose ray
+// meets that ball crosses the mesh: the mesh is closed and the fill rule
+// watertight, so a kept triangle covers it: the front face where the ray
+// enters, before it reaches the ball, or the inside-out sphere's far face, at
+// eye depth at most z + r (every point of the mesh is in the sphere). The ball
+// is shrunk by 2 px of its farthest depth first, for the snapping (the drawn
+// surface is the mesh with its vertices moved by 1/512 px) and for the slivers
+// seen edge-on at the silhouette, and only spheres wholly past the hither plane
+// count (no clipping). Per cell of 8 x 8 pixels the map keeps the nearest bound
+// of the spheres whose shrunk ball covers the whole cell (its four corners'
+// rays: the ball's image is convex): the largest of the four corner rays' entry
+// depths into the ball (the entry depth is quasi-convex over the screen: the
+// points whose ray enters by depth Z are the image of ball and half-space
+// z <= Z, a convex set, so its maximum over a cell is at a corner), z + r for
+// an inside-out sphere.
+//
+// The test. Something at eye depth >= z_min with all its samples in a box of
+// cells is hidden when every cell's z_occ is nearer by a margin that outlasts
+// the depth formats' rounding: window depth (1/n - 1/z) / (1/n - 1/f) 1e-5
+// apart (float and 24-bit codes: ~170 steps near 1) and z 1e-5 apart relatively
+// (reversed n / z in float). A triangle's depth is at least its nearest
+// vertex's (up to the plane's few ulps); a sphere's at least z - r.
+class OcclusionMap {
+ public:
+  static constexpr int kCell = 8;
+
+  OcclusionMap(const Camera& cam, int width, int height, double near_z, double far_z)
+      : cam_(cam),
+        width_(width),
+        height_(height),
+        nx_((width + kCell - 1) / kCell),
+        ny_((height + kCell - 1) / kCell),
+        near_(near_z),
+        inv_near_(1 / near_z),
+        range_(1 / near_z - 1 / far_z),
+        z_(size_t(nx_) * size_t(ny_), kInfinity) {}
+
+  // The pixels [i0, i1] x [j0, j1] (clipped to the frame) that may hold a
+  // sample of a mesh inscribed in the ball (eye-space centre ce, radius r):
+  // the ball's image, found from its tangent planes through the eye, and a
+  // pixel more. False when the ball is not wholly past the hither plane.
+  bool sphere_box(const Vec3& ce, double r, int& i0, int& i1, int& j0, int& j1) const {
+    if (!(ce.z - r > near_)) return false;
+    double x_lo, x_hi, y_lo, y_hi;  // tangents x / z and y / z
+    tangents(ce.x, ce.z, r, x_lo, x_hi);
+    tangents(ce.y, ce.z, r, y_lo, y_hi);
+    const double sx0 = 0.5 * width_ + x_lo / cam_.pitch, sx1 = 0.5 * width_ + x_hi / cam_.pitch;
+    const double sy0 = 0.5 * height_ - y_hi / cam_.pitch, sy1 = 0.5 * height_ - y_lo / cam_.pitch;
+    i0 = clamp_to(std::floor(sx0) - 1, width_);
+    i1 = clamp_to(std::floor(sx1) + 1, width_);
+    j0 = clamp_to(std::floor(sy0) - 1, height_);
+    j1 = clamp_to(std::floor(sy1) + 1, height_);
+    return std::isfinite(sx0 + sx1 + sy0 + sy1);
+  }
+
+  // The sphere (eye-space centre ce, radius r, inside out when inverted,
+  // mesh's inner distance h per unit radius) as an occluder.
+  void add(const Vec3& ce, double r, bool inverted, double h) {
+    int i0, i1, j0, j1;
+    if (!sphere_box(ce, r, i0, i1, j0, j1)) return;
+    const double rho = r * h * (1 - 1e-9) - 2 * cam_.pitch * (ce.z + r);
+    if (!(rho > 0)) return;
+    const double z_occ = ce.z + r;
+    // Cells wholly inside [i0, i1 + 1) x [j0, j1 + 1); their corners on the grid of cells.
+    const int a0 = (i0 + kCell - 1) / kCell, a1 = (i1 + 1) / kCell;  // cells [a0, a1)
+    const int b0 = (j0 + kCell - 1) / kCell, b1 = (j1 + 1) / kCell;
+    if (a0 >= a1 || b0 >= b1) return;
+    const int na = a1 - a0 + 1;
+    entry_.assign(size_t(na) * size_t(b1 - b0 + 1), kInfinity);
+    const double c2 = dot(ce, ce), rho2 = rho * rho;
+    for (int b = b0; b <= b1; ++b)
+      for (int a = a0; a <= a1; ++a) {
+        // The ray through the corner (a, b) of cells: its distance to ce.
+        const Vec3 d{(a * kCell - 0.5 * width_) * cam_.pitch, (0.5 * height_ - b * kCell) * cam_.pitch,
+                     1.0};
+        const double len2 = dot(d, d), t = dot(ce, d), miss2 = c2 - t * t / len2;
+        if (!(t > 0 && miss2 < rho2)) continue;
+        // Entry at distance t / |d| - sqrt(rho^2 - miss^2) along the unit ray, eye depth
+        // that times 1 / |d|.
+        const double len = std::sqrt(len2);
+        entry_[size_t(b - b0) * size_t(na) + size_t(a - a0)] =
+            inverted ? z_occ : (t / len - std::sqrt(rho2 - miss2)) / len;
+      }
+    for (int b = b0; b < b1; ++b)
+      for (int a = a0; a < a1; ++a) {
+        const size_t k = size_t(b - b0) * size_t(na) + size_t(a - a0);
+        // (+inf where a corner is outside: the cell is not covered.)
+        const double bound = std::max({entry_[k], entry_[k + 1], entry_[k + size_t(na)],
+                                       entry_[k + size_t(na) + 1]});
+        if (bound < kInfinity) {
+          double& z = z_[size_t(b) * size_t(nx_) + size_t(a)];
+          z = std::min(z, std::min(bound, z_occ));
+        }
+      }
+  }
+
+  // Whether everything at eye depth >= z_min with its samples in pixels
+  // [i0, i1] x [j0, j1] loses to the occluders.
+  bool hidden(int i0, int i1, int j0, int j1, double z_min) const {
+    if (i0 > i1 || j0 > j1) return false;
+    double z_occ = -kInfinity;
+    for (int b = j0 / kCell; b <= j1 / kCell; ++b)
+      for (int a = i0 / kCell; a <= i1 / kCell; ++a)
+        z_occ = std::max(z_occ, z_[size_t(b) * size_t(nx_) + size_t(a)]);
+    return behind(z_min, z_occ);
+  }
+
+ private:
+  // x / z of the two planes through the eye (and the other axis) tangent to the
+  // ball: (x - t z)^2 = r^2 (1 + t^2).
+  static void tangents(double x, double z, double r, double& lo, double& hi) {
+    const double a = z * z - r * r, root = r * std::sqrt(std::max(0.0, x * x + a));
+    lo = (x * z - root) / a, hi = (x * z + root) / a;
+  }
+  static int clamp_to(double v, int n) { return int(std::clamp(v, 0.0, double(n - 1))); }
+  double window(double z) const { return (inv_near_ - 1 / z) / range_; }
+  bool behind(double z_min, double z_occ) const {
+    return z_occ < kInfinity && z_min > z_occ * (1 + 1e-5) && window(z_min) - window(z_occ) > 1e-5;
+  }
+
+  const Camera& cam_;
+  int width_, height_, nx_, ny_;
+  double near_, inv_near_, range_;
+  std::vector<double> z_;  // per cell: the nearest bound of a sphere covering it whole, +inf for none
+  std::vector<double> entry_;  // add's corners' entry depths
+};
+
+// The smallest distance from the unit sphere's centre to its faces' planes.
+double inner_distance(const UnitSphere& u) {
+  double h = 1;
+  for (const auto& [a, b, c] : u.tri) {
+    const Vec3 n = cross(u.unit[b] - u.unit[a], u.unit[c] - u.unit[a]);
+    const double len = length(n);
+    if (len > 0) h = std::min(h, std::abs(dot(n, u.unit[a])) / len);
+  }
+  return h;
+}
+
 // A sphere's vertices and faces, projected and tested (view_sphere's scratch).
 struct SphereScratch {
   std::vector<Vec3> world, color;
@@ -122,8 +270,8 @@ struct SphereScratch {
 // time); only the per-triangle copies and the per-sphere sines are gone.
 bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
                  const Projection& projection, uint32_t k, const UnitSphere& unit,
-                 const ImageOnly* image, size_t chunk, FlatBatch& batch, SphereScratch& sc,
-                 ScreenMesh& out) {
+                 const ImageOnly* image, const OcclusionMap* occlusion, size_t chunk,
+                 FlatBatch& batch, SphereScratch& sc, ScreenMesh& out) {
   const Vec3 c = scene.sphere_center[k];
   const double signed_radius = scene.sphere_radius[k];
   const double r = std::abs(signed_radius);
@@ -177,8 +325,15 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
       continue;
     }
     if (image) {
-      const int32_t x[3] = {p0.x, p1.x, p2.x}, y[3] = {p0.y, p1.y, p2.y};
-      if (!image->grid.any(x, y)) continue;
+      int32_t i0, i1, j0, j1;
+      image->grid.pixels(std::min({p0.x, p1.x, p2.x}), std::max({p0.x, p1.x, p2.x}),
+                         std::min({p0.y, p1.y, p2.y}), std::max({p0.y, p1.y, p2.y}), i0, i1, j0,
+                         j1);
+      if (i0 > i1 || j0 > j1) continue;  // no sample in its box
+      if (occlusion && occlusion->hidden(i0, i1, j0, j1, std::min({p0.z, p1.z, p2.z}))) {
+        ++out.hidden;
+        continue;
+      }
     }
     const uint32_t order[3] = {idx[0], area < 0 ? idx[2] : idx[1], area < 0 ? idx[1] : idx[2]};
     // Built in place (a ScreenTri is 300 bytes), or for the image in `local`
@@ -279,18 +434,21 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
   // sphere order, as in view_scene.
   const uint32_t spheres = scene.sphere_count();
   std::vector<int> rings(spheres, 0);
+  std::vector<Vec3> centre(spheres);  // eye space
   arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<uint32_t>(0, spheres, 1024),
                       [&](const tbb::blocked_range<uint32_t>& r) {
                         for (uint32_t k = r.begin(); k < r.end(); ++k) {
                           const double radius = std::abs(scene.sphere_radius[k]);
                           const Vec3 ce = eye_from_world(cam, scene.sphere_center[k]);
+                          centre[k] = ce;
                           if (!sphere_outside(cam, ce, radius, near_z))
                             rings[k] = sphere_rings(radius, ce.z, cam, near_z, s.tess_error);
                         }
                       });
   });
   std::vector<UnitSphere> units(kMaxRings + 1);
+  std::vector<double> inner(kMaxRings + 1, 0);  // inner_distance per ring count (image only)
   {
     std::vector<char> used(kMaxRings + 1, 0);
     for (const int n : rings) used[size_t(n)] = 1;
@@ -299,8 +457,22 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
       if (used[size_t(n)]) counts.push_back(n);
     arena.execute([&] {
       tbb::parallel_for(size_t(0), counts.size(),
-                        [&](size_t i) { units[size_t(counts[i])] = unit_sphere(counts[i]); });
+                        [&](size_t i) {
+                          const size_t n = size_t(counts[i]);
+                          units[n] = unit_sphere(counts[i]);
+                          if (image) inner[n] = inner_distance(units[n]);
+                        });
     });
+  }
+  // The image: the hidden spheres' occluders (every sphere's inner ball), before
+  // any sphere is tessellated.
+  std::optional<OcclusionMap> occlusion;
+  if (image && s.skip_hidden) {
+    occlusion.emplace(cam, width, height, near_z, mesh.far_z);
+    for (uint32_t k = 0; k < spheres; ++k)
+      if (rings[k] != 0)
+        occlusion->add(centre[k], std::abs(scene.sphere_radius[k]), !(scene.sphere_radius[k] > 0),
+                       inner[size_t(rings[k])]);
   }
   // At most 16 spheres a chunk (a few big spheres are as much work as many
   // small ones), at most 64 chunks (each chunk gets its own bins per tile).
@@ -335,9 +507,21 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
         part.tris.reserve(expect);
       for (uint32_t k = first; k < last; ++k) {
         if (rings[k] == 0) continue;
+        // A sphere hidden whole: counted as tessellated, not tessellated.
+        if (occlusion) {
+          int i0, i1, j0, j1;
+          const double r = std::abs(scene.sphere_radius[k]);
+          if (occlusion->sphere_box(centre[k], r, i0, i1, j0, j1) &&
+              occlusion->hidden(i0, i1, j0, j1, centre[k].z - r)) {
+            const uint64_t n = units[size_t(rings[k])].tri.size();
+            part.sphere_tris += n;
+            part.hidden += n;
+            continue;
+          }
+        }
         // A sphere crossing the hither plane or the guard band: view_spheres itself.
-        if (!view_sphere(scene, s, cam, proj, k, units[size_t(rings[k])], image, c, batch, scratch,
-                         part)) {
+        if (!view_sphere(scene, s, cam, proj, k, units[size_t(rings[k])], image,
+                         occlusion ? &*occlusion : nullptr, c, batch, scratch, part)) {
           const size_t before = part.tris.size();
           lockstep::view_spheres(scene, s, k, k + 1, part);
           if (image) to_sink(*image, c, part.tris, before);
@@ -351,6 +535,7 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
     mesh.culled += part.culled;
     mesh.clipped += part.clipped;
     mesh.degenerate += part.degenerate;
+    mesh.hidden += part.hidden;
     if (!part.tris.empty()) out_chunks.push_back(std::move(part.tris));
   }
 

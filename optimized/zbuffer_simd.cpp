@@ -520,7 +520,10 @@ Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const Binner& b,
                    shade_one_tile(mesh, b, sp, x0, y0, x1, y1, buf.tri.get(), shade_buffers.local(),
                                   img, forward ? &buf.flat : nullptr);
                  });
-  if (stats) stats->items = mesh.scene_tris + mesh.sphere_tris;
+  if (stats) {
+    stats->items = mesh.scene_tris + mesh.sphere_tris;
+    stats->skipped = mesh.hidden;
+  }
   return img;
 }
 

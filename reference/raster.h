@@ -91,10 +91,11 @@ struct RasterSettings {
   double tess_error = 0.25;    // sphere tessellation: silhouette error bound, pixels
   DepthFormat depth = DepthFormat::kFloat;
   bool perspective = true;     // perspective-correct interpolation (false: affine, for the tests)
+  bool skip_hidden = true;     // opt::simd::zbuffer: leave out what nearer spheres hide (same image)
 };
 
 // Reads a family's Params (shading, cull, silhouette, spp, grid, split,
-// tess_error, depth, interp). Throws InputError(source, 0, ...) naming the
+// tess_error, depth, interp, hidden). Throws InputError(source, 0, ...) naming the
 // setting and what it may be.
 RasterSettings raster_settings(const Params& params, const std::string& source);
 // The settings of one frame (raster_settings of opts.params), after the one
@@ -142,6 +143,7 @@ struct ScreenMesh {
   uint64_t culled = 0;           // dropped as back faces
   uint64_t clipped = 0;          // triangles that crossed the hither plane or the guard band
   uint64_t degenerate = 0;       // zero area after snapping (edge-on), dropped
+  uint64_t hidden = 0;           // left out as behind nearer spheres (opt::simd::zbuffer's image only)
 };
 
 // The viewing pipeline above, in double precision, for a width x height frame.

@@ -44,6 +44,7 @@ constexpr std::string_view kCulls = "world|projection|none";
 constexpr std::string_view kGrids = "regular|rotated";
 constexpr std::string_view kDepths = "float|reversed|fixed24|double";
 constexpr std::string_view kInterps = "perspective|affine";
+constexpr std::string_view kHidden = "skip|draw";
 
 }  // namespace
 
@@ -58,6 +59,8 @@ std::vector<ParamSpec> raster_params() {
       {"tess_error", "pixels, 0.01..16", "0.25", "sphere tessellation: silhouette error bound"},
       {"depth", kDepths, "float", "what the z-buffer stores and compares"},
       {"interp", kInterps, "perspective", "attribute interpolation across triangles"},
+      {"hidden", kHidden, "skip",
+       "simd z-buffer: leave out spheres and triangles provably behind nearer spheres (same image)"},
   };
 }
 
@@ -86,6 +89,8 @@ RasterSettings raster_settings(const Params& params, const std::string& source) 
       s.depth = DepthFormat(choose(source, name, value, kDepths));
     } else if (name == "interp") {
       s.perspective = choose(source, name, value, kInterps) == 0;
+    } else if (name == "hidden") {
+      s.skip_hidden = choose(source, name, value, kHidden) == 0;
     } else {
       std::string known;
       for (const ParamSpec& p : raster_params()) known += (known.empty() ? "" : ", ") + std::string(p.name);

@@ -46,6 +46,8 @@ void interpolation_part(const ImageFamily& family, FamilyProperties& out);
 void visibility_part(const ImageFamily& family, FamilyProperties& out);
 // The llvmpipe peer's coverage against the reference's (llvmpipe.cpp).
 void llvmpipe_part(const ImageFamily& family, FamilyProperties& out);
+// The simd z-buffer's hidden-sphere skipping changes no bit of the image (hidden.cpp).
+void hidden_part(const ImageFamily& family, FamilyProperties& out);
 // The painter against the z-buffer, its reports, --split, its exact predicates (painter.cpp).
 void painter_part(const ImageFamily& family, FamilyProperties& out);
 // The painter's failure map (painter.cpp): random 64x64 flat scenes of one kind

@@ -226,6 +226,7 @@ FamilyProperties properties(const ImageFamily& family) {
       visibility_part,
       llvmpipe_part,
       painter_part,
+      hidden_part,
   };
   FamilyProperties out;
   for (Part part : kParts) part(family, out);
