@@ -68,43 +68,40 @@ class FlatBatch {
  public:
   void reserve(size_t n) {
     at_.reserve(n);
-    in_.reserve(n * kFlatInputs);
+    for (auto& plane : in_) plane.reserve(n + 15);
   }
   // Triangle `at` of the chunk: a face of material m with unit normal n, lit at p.
+  // (Kept as planes, the kernel's layout: no transposition later.)
   void add(size_t at, const Vec3& p, const Vec3& n, const Material& m) {
     at_.push_back(at);
-    const size_t k = in_.size();
-    in_.resize(k + kFlatInputs);
     const double v[kFlatInputs] = {
         p.x,  p.y,    p.z, n.x, n.y, n.z, m.kd * m.color.x, m.kd * m.color.y, m.kd * m.color.z,
         m.ks, m.shine};
-    for (int i = 0; i < kFlatInputs; ++i) in_[k + size_t(i)] = v[i];
+    for (int i = 0; i < kFlatInputs; ++i) in_[i].push_back(v[i]);
   }
   void light(const ShadeParams& p, TriSink& sink, size_t chunk) {
     const size_t n = at_.size(), padded = (n + 15) / 16 * 16;
     if (n == 0) return;
-    // The requests (kFlatInputs floats each) into planes, for the kernel.
-    std::vector<double> soa(kFlatInputs * padded);
-    std::vector<float> rgb(3 * padded);
     const double* in[kFlatInputs];
     for (int k = 0; k < kFlatInputs; ++k) {
-      double* plane = soa.data() + size_t(k) * padded;
-      for (size_t i = 0; i < n; ++i) plane[i] = in_[i * kFlatInputs + size_t(k)];
-      in[k] = plane;
+      in_[k].resize(padded, 0.0);  // the kernel reads whole vectors
+      in[k] = in_[k].data();
     }
-    float* out[3] = {rgb.data(), rgb.data() + padded, rgb.data() + 2 * padded};
+    rgb_.resize(3 * padded);
+    float* out[3] = {rgb_.data(), rgb_.data() + padded, rgb_.data() + 2 * padded};
     flat_colors(p, n, in, out);
     for (size_t i = 0; i < n; ++i) {
       const float c[3] = {out[0][i], out[1][i], out[2][i]};
       sink.set_flat(chunk, at_[i], c);
     }
     at_.clear();
-    in_.clear();
+    for (auto& plane : in_) plane.clear();
   }
 
  private:
   std::vector<size_t> at_;
-  std::vector<double> in_;  // kFlatInputs per request
+  std::vector<double> in_[kFlatInputs];  // one plane per input
+  std::vector<float> rgb_;
 };
 
 // ---------------------------------------------------------------- hidden spheres
