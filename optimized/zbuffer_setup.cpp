@@ -251,12 +251,21 @@ double inner_distance(const UnitSphere& u) {
   return h;
 }
 
+// A vertex's w and stored depth, as the sink would work them out.
+VertexDepth vertex_depth(const DepthMap& depth, double z) {
+  VertexDepth d;
+  d.w = 1 / z;
+  d.q = depth(z, d.w);
+  return d;
+}
+
 // A sphere's vertices and faces, projected and tested (view_sphere's scratch).
 struct SphereScratch {
   std::vector<Vec3> world, color;
   std::vector<ProjectedVertex> proj;
   std::vector<double> face;  // 3 per triangle
   std::vector<uint8_t> flags;
+  std::vector<VertexDepth> depth;  // the image's, per vertex
 };
 
 // Sphere k as view_spheres emits it (unit: its unit sphere), appended to out
@@ -267,8 +276,8 @@ struct SphereScratch {
 // time); only the per-triangle copies and the per-sphere sines are gone.
 bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
                  const Projection& projection, uint32_t k, const UnitSphere& unit,
-                 const ImageOnly* image, const OcclusionMap* occlusion, size_t chunk,
-                 FlatBatch& batch, SphereScratch& sc, ScreenMesh& out) {
+                 const ImageOnly* image, const DepthMap& depth_map, const OcclusionMap* occlusion,
+                 size_t chunk, FlatBatch& batch, SphereScratch& sc, ScreenMesh& out) {
   const Vec3 c = scene.sphere_center[k];
   const double signed_radius = scene.sphere_radius[k];
   const double r = std::abs(signed_radius);
@@ -281,6 +290,10 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
   project_vertices(projection, sc.world.data(), nv, sc.proj.data());
   for (size_t i = 0; i < nv; ++i)
     if (!sc.proj[i].inside) return false;
+  if (image) {  // w and the stored depth once per vertex, not per triangle
+    sc.depth.resize(nv);
+    for (size_t i = 0; i < nv; ++i) sc.depth[i] = vertex_depth(depth_map, sc.proj[i].z);
+  }
   auto normal = [&](uint32_t i) { return signed_radius > 0 ? unit.unit[i] : -unit.unit[i]; };
   if (gouraud) {
     sc.color.resize(nv);
@@ -352,7 +365,8 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
     // The flat colour: view_spheres lights every face not culled in world space,
     // the same bits whenever it is done; for the image, in SIMD, later.
     if (image) {
-      const size_t at = image->sink->add(chunk, st);
+      const VertexDepth d[3] = {sc.depth[order[0]], sc.depth[order[1]], sc.depth[order[2]]};
+      const size_t at = image->sink->add(chunk, st, d);
       if (flat_shading) batch.add(at, (w0 + w1 + w2) / 3.0, face, m);
     } else if (flat_shading) {
       st.flat_color = lit(scene, m, cam.eye, (w0 + w1 + w2) / 3.0, face);
@@ -388,7 +402,7 @@ void to_sink(const ImageOnly& image, size_t c, std::vector<ScreenTri>& tris, siz
   for (size_t i = first; i < tris.size(); ++i) {
     const ScreenTri& t = tris[i];
     const int32_t x[3] = {t.v[0].x, t.v[1].x, t.v[2].x}, y[3] = {t.v[0].y, t.v[1].y, t.v[2].y};
-    if (image.grid.any(x, y)) image.sink->add(c, t);
+    if (image.grid.any(x, y)) image.sink->add(c, t, nullptr);
   }
   tris.resize(first);
 }
@@ -415,6 +429,8 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
   tbb::task_arena arena(resolve_threads(threads));
 
   const double near_z = mesh.near_z, g = kGuardBand * cam.pitch;
+  // The image's stored depth (its sink's DepthMap: the same operations, so the same bits).
+  const DepthMap depth_map(s.depth, mesh.near_z, mesh.far_z);
 
   // The projection of the vertices (spheres' and polygons').
   Projection proj;
@@ -517,7 +533,7 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
           }
         }
         // A sphere crossing the hither plane or the guard band: view_spheres itself.
-        if (!view_sphere(scene, s, cam, proj, k, units[size_t(rings[k])], image,
+        if (!view_sphere(scene, s, cam, proj, k, units[size_t(rings[k])], image, depth_map,
                          occlusion ? &*occlusion : nullptr, c, batch, scratch, part)) {
           const size_t before = part.tris.size();
           lockstep::view_spheres(scene, s, k, k + 1, part);
@@ -538,10 +554,14 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
 
   // Every vertex once: eye space, the clip test, the snapped screen position.
   std::vector<ProjectedVertex> pv(scene.vertex.size());
+  std::vector<VertexDepth> pvd(image ? scene.vertex.size() : 0);  // the image's, per vertex
   arena.execute([&] {
     tbb::parallel_for(
         tbb::blocked_range<size_t>(0, pv.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
           project_vertices(proj, scene.vertex.data() + r.begin(), r.size(), pv.data() + r.begin());
+          if (image)
+            for (size_t i = r.begin(); i < r.end(); ++i)
+              if (pv[i].inside) pvd[i] = vertex_depth(depth_map, pv[i].z);
         });
   });
 
@@ -650,7 +670,8 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
         st.flat_color = flat;
         st.face_normal = front ? face : -face;
         if (image) {
-          const size_t at = image->sink->add(sink_chunk, st);
+          const VertexDepth d[3] = {pvd[order[0]], pvd[order[1]], pvd[order[2]]};
+          const size_t at = image->sink->add(sink_chunk, st, d);
           if (s.shading == Shading::kFlat) batch.add(at, centroid, face, m);
         }
       }

@@ -23,6 +23,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -56,20 +57,7 @@ void tile_size(int spp, int width, int height, int& tw, int& th) {
   while (tiles() < 32 && tw * th > 64 * 64) halve();
 }
 
-// The stored depth at a vertex of w = 1/z (see zbuffer_simd_kernels.cpp):
-// affine in w, so in screen space; stored_depth before its rounding, with
-// stored_depth's own operations (the constant denominator computed once, the
-// same bits): the depth plane's error stays that of the reference's formula.
-struct DepthMap {
-  bool reversed = false;
-  double near_z = 1, inv_near = 1, range = 1;
-  DepthMap() = default;
-  DepthMap(DepthFormat f, double n, double far)
-      : reversed(f == DepthFormat::kReversed), near_z(n), inv_near(1 / n), range(1 / n - 1 / far) {}
-  double operator()(double z, double w) const {
-    return reversed ? near_z / z : (inv_near - w) / range;
-  }
-};
+using zsimd::DepthMap;
 
 // kFixed24 rasters in double too: its 24-bit codes need more than float's 24-bit
 // significand (a float window depth near 1 is only good to one code, and the
@@ -77,10 +65,12 @@ struct DepthMap {
 bool double_depth(DepthFormat f) { return f == DepthFormat::kDouble || f == DepthFormat::kFixed24; }
 
 // A triangle's TriSetup (for the double raster: its corners, else the forward
-// part); w: its vertices' 1/z, inv_area: 1 / (twice its snapped area), for
+// part); vd: its vertices' w and stored depth, or null (then worked out here);
+// w: its vertices' 1/z, inv_area: 1 / (twice its snapped area), for
 // set_up_shading.
-void set_up(const ScreenTri& tri, const DepthMap& depth, const zsimd::SampleGrid& grid,
-            bool double_raster, TriSetup& t, double w[3], double& inv_area) {
+void set_up(const ScreenTri& tri, const zsimd::VertexDepth* vd, const DepthMap& depth,
+            const zsimd::SampleGrid& grid, bool double_raster, TriSetup& t, double w[3],
+            double& inv_area) {
   const auto& v = tri.v;
   int64_t xmin = v[0].x, xmax = v[0].x, ymin = v[0].y, ymax = v[0].y;
   for (int k = 1; k < 3; ++k) {
@@ -102,10 +92,13 @@ void set_up(const ScreenTri& tri, const DepthMap& depth, const zsimd::SampleGrid
   const double area = double(int64_t(t.ex[2]) * (int64_t(v[2].x) - t.ax[2]) +
                              int64_t(t.ey[2]) * (int64_t(v[2].y) - t.ay[2]));
   inv_area = 1 / area;
-  for (int k = 0; k < 3; ++k) w[k] = 1 / v[k].z;
+  double q[3];
+  for (int k = 0; k < 3; ++k) {
+    w[k] = vd ? vd[k].w : 1 / v[k].z;
+    q[k] = vd ? vd[k].q : depth(v[k].z, w[k]);
+  }
   // The depth plane divides by the area (not times 1/area): the depth test's
   // numbers, kept within a few ulps of the reference's (CoverageAgreement).
-  const double q[3] = {depth(v[0].z, w[0]), depth(v[1].z, w[1]), depth(v[2].z, w[2])};
   t.q0 = q[0];
   t.qx = ((q[1] - q[0]) * double(t.ex[1]) + (q[2] - q[0]) * double(t.ex[2])) / area;
   t.qy = ((q[1] - q[0]) * double(t.ey[1]) + (q[2] - q[0]) * double(t.ey[2])) / area;
@@ -211,6 +204,7 @@ class Binner final : public zsimd::TriSink {
     tile_size(int(off_.size()), frame.width, frame.height, tw, th);
     ntx = (frame.width + tw - 1) / tw;
     nty = (frame.height + th - 1) / th;
+    tw_log2 = std::countr_zero(unsigned(tw)), th_log2 = std::countr_zero(unsigned(th));
     grid_ = zsimd::SampleGrid(off_, frame.width, frame.height);
     depth_ = DepthMap(s_.depth, frame.near_z, frame.far_z);
     chunks.resize(nchunks);
@@ -222,20 +216,21 @@ class Binner final : public zsimd::TriSink {
     if (scene_) chunks[c].shade.reserve(n), chunks[c].planes.reserve(n * size_t(rows) * 3);
   }
 
-  size_t add(size_t c, const ScreenTri& tri) override {
+  size_t add(size_t c, const ScreenTri& tri, const zsimd::VertexDepth* vd) override {
     BinChunk& ch = chunks[c];
     const size_t at = ch.setup.size();
     TriSetup& t = ch.setup.emplace_back();
     double w[3], inv_area;
-    set_up(tri, depth_, grid_, double_raster_, t, w, inv_area);
+    set_up(tri, vd, depth_, grid_, double_raster_, t, w, inv_area);
     if (scene_) {
       ch.planes.resize(ch.planes.size() + size_t(rows) * 3);
       set_up_shading(*scene_, s_, tri, t, w, inv_area, ch.shade.emplace_back(),
                      ch.planes.data() + ch.planes.size() - size_t(rows) * 3);
     }
     if (t.i0 > t.i1 || t.j0 > t.j1) return at;  // no sample in its box: in no tile
-    for (int ty = t.j0 / th; ty <= t.j1 / th; ++ty)
-      for (int tx = t.i0 / tw; tx <= t.i1 / tw; ++tx)
+    // (Tiles are powers of two: shifts, not divisions, for the pixels' tiles.)
+    for (int ty = t.j0 >> th_log2; ty <= t.j1 >> th_log2; ++ty)
+      for (int tx = t.i0 >> tw_log2; tx <= t.i1 >> tw_log2; ++tx)
         ch.bins[size_t(ty) * size_t(ntx) + size_t(tx)].push_back(uint32_t(at));
     return at;
   }
@@ -262,6 +257,7 @@ class Binner final : public zsimd::TriSink {
   size_t tile_of(int x0, int y0) const { return size_t(y0 / th) * size_t(ntx) + size_t(x0 / tw); }
 
   int tw = 64, th = 64, ntx = 0, nty = 0;
+  int tw_log2 = 6, th_log2 = 6;
   std::vector<BinChunk> chunks;
   size_t total = 0;
 
@@ -286,7 +282,7 @@ void bin_mesh(const ScreenMesh& mesh, int threads, Binner& b) {
   auto chunk = [&](size_t c) {
     const size_t first = c * per_chunk, last = std::min(n, first + per_chunk);
     b.reserve(c, last - first);
-    for (size_t id = first; id < last; ++id) b.add(c, mesh.tris[id]);
+    for (size_t id = first; id < last; ++id) b.add(c, mesh.tris[id], nullptr);
   };
   if (nchunks <= 1) {
     if (nchunks == 1) chunk(0);

@@ -214,6 +214,26 @@ struct SampleGrid {
   }
 };
 
+// The stored depth at a vertex of w = 1/z (see zbuffer_simd_kernels.cpp):
+// affine in w, so in screen space; stored_depth before its rounding, with
+// stored_depth's own operations (the constant denominator computed once, the
+// same bits): the depth plane's error stays that of the reference's formula.
+struct DepthMap {
+  bool reversed = false;
+  double near_z = 1, inv_near = 1, range = 1;
+  DepthMap() = default;
+  DepthMap(DepthFormat f, double n, double far)
+      : reversed(f == DepthFormat::kReversed), near_z(n), inv_near(1 / n), range(1 / n - 1 / far) {}
+  double operator()(double z, double w) const {
+    return reversed ? near_z / z : (inv_near - w) / range;
+  }
+};
+// A vertex's w = 1 / z and stored depth (DepthMap), worked out once per vertex
+// by a set-up that shares vertices between triangles.
+struct VertexDepth {
+  double w = 0, q = 0;
+};
+
 // Where the image path's set-up puts its triangles one at a time, instead of
 // keeping them in ScreenTri chunks (opt::simd::zbuffer's binner). Triangles
 // come chunk by chunk (each chunk's in mesh order, the chunks in mesh order),
@@ -225,8 +245,10 @@ class TriSink {
   virtual void begin(const ScreenMesh& frame, size_t chunks) = 0;
   // Room for about n triangles in chunk c (a hint).
   virtual void reserve(size_t c, size_t n) = 0;
-  // Chunk c's next triangle (t is only read during the call); its index in the chunk.
-  virtual size_t add(size_t c, const ScreenTri& t) = 0;
+  // Chunk c's next triangle (t is only read during the call); its index in the
+  // chunk. d: its vertices' VertexDepth (DepthMap(settings' depth, frame's near
+  // and far)), or null for the sink to work them out.
+  virtual size_t add(size_t c, const ScreenTri& t, const VertexDepth* d) = 0;
   // The flat colour of triangle i of chunk c, when lit after add.
   virtual void set_flat(size_t c, size_t i, const float rgb[3]) = 0;
 };
