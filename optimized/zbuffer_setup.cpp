@@ -240,15 +240,24 @@ class OcclusionMap {
   std::vector<double> entry_;  // add's corners' entry depths
 };
 
-// The smallest distance from the unit sphere's centre to its faces' planes.
-double inner_distance(const UnitSphere& u) {
-  double h = 1;
+// A unit sphere's faces: unit outward normals n and plane distances h =
+// n . (vertex a), planes (for a vector loop), and the smallest h (the inner
+// ball, OcclusionMap).
+struct UnitFaces {
+  std::vector<double> nx, ny, nz, h;
+  double inner = 1;
+};
+UnitFaces unit_faces(const UnitSphere& u) {
+  UnitFaces f;
   for (const auto& [a, b, c] : u.tri) {
-    const Vec3 n = cross(u.unit[b] - u.unit[a], u.unit[c] - u.unit[a]);
+    Vec3 n = cross(u.unit[b] - u.unit[a], u.unit[c] - u.unit[a]);
     const double len = length(n);
-    if (len > 0) h = std::min(h, std::abs(dot(n, u.unit[a])) / len);
+    if (len > 0) n = n / len;
+    const double h = dot(n, u.unit[a]);
+    f.nx.push_back(n.x), f.ny.push_back(n.y), f.nz.push_back(n.z), f.h.push_back(h);
+    if (len > 0) f.inner = std::min(f.inner, std::abs(h));
   }
-  return h;
+  return f;
 }
 
 // A vertex's w and stored depth, as the sink would work them out.
@@ -266,6 +275,8 @@ struct SphereScratch {
   std::vector<double> face;  // 3 per triangle
   std::vector<uint8_t> flags;
   std::vector<VertexDepth> depth;  // the image's, per vertex
+  std::vector<uint32_t> cand;      // the triangles that get the face test
+  std::vector<std::array<uint32_t, 3>> cand_tri;
 };
 
 // Sphere k as view_spheres emits it (unit: its unit sphere), appended to out
@@ -276,6 +287,7 @@ struct SphereScratch {
 // time); only the per-triangle copies and the per-sphere sines are gone.
 bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
                  const Projection& projection, uint32_t k, const UnitSphere& unit,
+                 const UnitFaces& unit_face,
                  const ImageOnly* image, const DepthMap& depth_map, const OcclusionMap* occlusion,
                  size_t chunk, FlatBatch& batch, SphereScratch& sc, ScreenMesh& out) {
   const Vec3 c = scene.sphere_center[k];
@@ -301,20 +313,49 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
   }
   // Counter-clockwise seen from the visible side: reversed inside out.
   const bool flip = !(signed_radius > 0);
-  sc.face.resize(3 * nt);
-  sc.flags.resize(nt);
-  sphere_faces(sc.world.data(), unit.tri.data(), nt, flip, cam.eye, sc.face.data(),
+  // Culling in world space: the faces that are back faces by a clear margin,
+  // found from the unit sphere's normals (N . (eye - w_a) = n . (eye - c) - r h,
+  // n and h the unit face's), are counted and passed over without the world
+  // face test; the others get it (sphere_faces, the reference's operations).
+  // The margin dwarfs the rounding of c + r u and of the cross product (the
+  // unit faces' edges are >= ~1e-4 long, 256 rings), and the sphere must not be
+  // so small beside its distance from the origin that its vertices round together.
+  sc.cand.clear();
+  const Vec3 e_rel = cam.eye - c;
+  const double spread = (length(c) + r) / r;
+  if (s.cull == CullMode::kWorld && spread < 1e6) {
+    const double margin = 1e-9 * (length(e_rel) + r) * std::max(1.0, spread);
+    const double sign = flip ? -1.0 : 1.0;
+    for (uint32_t t = 0; t < nt; ++t) {
+      const double sd = unit_face.nx[t] * e_rel.x + unit_face.ny[t] * e_rel.y +
+                        unit_face.nz[t] * e_rel.z - r * unit_face.h[t];
+      if (sign * sd >= -margin) sc.cand.push_back(t);
+    }
+    const uint64_t clear = nt - sc.cand.size();
+    out.sphere_tris += clear;
+    out.culled += clear;
+  } else {
+    sc.cand.resize(nt);
+    for (uint32_t t = 0; t < nt; ++t) sc.cand[t] = t;
+  }
+  const size_t nc = sc.cand.size();
+  sc.cand_tri.resize(nc);
+  for (size_t i = 0; i < nc; ++i) sc.cand_tri[i] = unit.tri[sc.cand[i]];
+  sc.face.resize(3 * nc);
+  sc.flags.resize(nc);
+  sphere_faces(sc.world.data(), sc.cand_tri.data(), nc, flip, cam.eye, sc.face.data(),
                sc.flags.data());
   ScreenTri local;
-  for (uint32_t t = 0; t < nt; ++t) {
-    if (sc.flags[t] & kNoFace) continue;
+  for (uint32_t i = 0; i < nc; ++i) {
+    if (sc.flags[i] & kNoFace) continue;
+    const uint32_t t = sc.cand[i];
     const auto& [a, b0, c0] = unit.tri[t];
     const uint32_t idx[3] = {a, flip ? c0 : b0, flip ? b0 : c0};
     const Vec3& w0 = sc.world[idx[0]];
     const Vec3& w1 = sc.world[idx[1]];
     const Vec3& w2 = sc.world[idx[2]];
-    const Vec3 face{sc.face[3 * t], sc.face[3 * t + 1], sc.face[3 * t + 2]};
-    const bool front = (sc.flags[t] & kFront) != 0;
+    const Vec3 face{sc.face[3 * i], sc.face[3 * i + 1], sc.face[3 * i + 2]};
+    const bool front = (sc.flags[i] & kFront) != 0;
     ++out.sphere_tris;
     // Emitter::triangle: world-space culling (spheres are one-sided) ...
     if (!front && s.cull == CullMode::kWorld) {
@@ -461,7 +502,7 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
                       });
   });
   std::vector<UnitSphere> units(kMaxRings + 1);
-  std::vector<double> inner(kMaxRings + 1, 0);  // inner_distance per ring count (image only)
+  std::vector<UnitFaces> faces(kMaxRings + 1);  // per ring count
   {
     std::vector<char> used(kMaxRings + 1, 0);
     for (const int n : rings) used[size_t(n)] = 1;
@@ -473,7 +514,7 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
                         [&](size_t i) {
                           const size_t n = size_t(counts[i]);
                           units[n] = unit_sphere(counts[i]);
-                          if (image) inner[n] = inner_distance(units[n]);
+                          faces[n] = unit_faces(units[n]);
                         });
     });
   }
@@ -485,7 +526,7 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
     for (uint32_t k = 0; k < spheres; ++k)
       if (rings[k] != 0)
         occlusion->add(centre[k], std::abs(scene.sphere_radius[k]), !(scene.sphere_radius[k] > 0),
-                       inner[size_t(rings[k])]);
+                       faces[size_t(rings[k])].inner);
   }
   // At most 16 spheres a chunk (a few big spheres are as much work as many
   // small ones), at most 64 chunks (each chunk gets its own bins per tile).
@@ -533,7 +574,8 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
           }
         }
         // A sphere crossing the hither plane or the guard band: view_spheres itself.
-        if (!view_sphere(scene, s, cam, proj, k, units[size_t(rings[k])], image, depth_map,
+        if (!view_sphere(scene, s, cam, proj, k, units[size_t(rings[k])],
+                         faces[size_t(rings[k])], image, depth_map,
                          occlusion ? &*occlusion : nullptr, c, batch, scratch, part)) {
           const size_t before = part.tris.size();
           lockstep::view_spheres(scene, s, k, k + 1, part);
