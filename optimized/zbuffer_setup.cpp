@@ -130,10 +130,11 @@ class FlatBatch {
 // an inside-out sphere.
 //
 // The test. Something at eye depth >= z_min with all its samples in a box of
-// cells is hidden when every cell's z_occ is nearer by a margin that outlasts
-// the depth formats' rounding: window depth (1/n - 1/z) / (1/n - 1/f) 1e-5
-// apart (float and 24-bit codes: ~170 steps near 1) and z 1e-5 apart relatively
-// (reversed n / z in float). A triangle's depth is at least its nearest
+// cells is hidden when every cell's bound z_occ is nearer by a margin that
+// outlasts the depth formats' rounding: window depth (1/n - 1/z) / (1/n - 1/f)
+// 1e-5 apart (float and 24-bit codes: ~170 steps near 1) and z 1e-5 apart
+// relatively (reversed n / z in float). The map keeps, per cell, the depth
+// beyond which that holds, so the test is a maximum and one comparison. A triangle's depth is at least its nearest
 // vertex's (up to the plane's few ulps); a sphere's at least z - r.
 class OcclusionMap {
  public:
@@ -213,11 +214,17 @@ class OcclusionMap {
   // [i0, i1] x [j0, j1] loses to the occluders.
   bool hidden(int i0, int i1, int j0, int j1, double z_min) const {
     if (i0 > i1 || j0 > j1) return false;
-    double z_occ = -kInfinity;
+    double beyond = -kInfinity;
     for (int b = j0 / kCell; b <= j1 / kCell; ++b)
       for (int a = i0 / kCell; a <= i1 / kCell; ++a)
-        z_occ = std::max(z_occ, z_[size_t(b) * size_t(nx_) + size_t(a)]);
-    return behind(z_min, z_occ);
+        beyond = std::max(beyond, z_[size_t(b) * size_t(nx_) + size_t(a)]);
+    return z_min > beyond;
+  }
+
+  // After the last add: each cell's bound becomes the depth beyond which its
+  // occluders hide (hidden_beyond, monotonic: the largest over cells decides).
+  void finish() {
+    for (double& z : z_) z = hidden_beyond(z);
   }
 
  private:
@@ -228,15 +235,22 @@ class OcclusionMap {
     lo = (x * z - root) / a, hi = (x * z + root) / a;
   }
   static int clamp_to(double v, int n) { return int(std::clamp(v, 0.0, double(n - 1))); }
-  double window(double z) const { return (inv_near_ - 1 / z) / range_; }
-  bool behind(double z_min, double z_occ) const {
-    return z_occ < kInfinity && z_min > z_occ * (1 + 1e-5) && window(z_min) - window(z_occ) > 1e-5;
+  // The eye depth beyond which something is hidden by an occluder at z_occ:
+  // 1e-5 further relatively, and 1e-5 further in window depth
+  // (1/n - 1/z) / (1/n - 1/f), i.e. 1/z < 1/z_occ - 1e-5 (1/n - 1/f); +inf for
+  // no occluder.
+  double hidden_beyond(double z_occ) const {
+    if (!(z_occ < kInfinity)) return kInfinity;
+    const double inv = 1 / z_occ - 1e-5 * range_;
+    return inv > 0 ? std::max(z_occ * (1 + 1e-5), 1 / inv) : kInfinity;
   }
 
   const Camera& cam_;
   int width_, height_, nx_, ny_;
   double near_, inv_near_, range_;
-  std::vector<double> z_;  // per cell: the nearest bound of a sphere covering it whole, +inf for none
+  // Per cell: the nearest bound of a sphere covering it whole, +inf for none;
+  // after finish, hidden_beyond of it.
+  std::vector<double> z_;
   std::vector<double> entry_;  // add's corners' entry depths
 };
 
@@ -527,6 +541,7 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
       if (rings[k] != 0)
         occlusion->add(centre[k], std::abs(scene.sphere_radius[k]), !(scene.sphere_radius[k] > 0),
                        faces[size_t(rings[k])].inner);
+    occlusion->finish();
   }
   // At most 16 spheres a chunk (a few big spheres are as much work as many
   // small ones), at most 64 chunks (each chunk gets its own bins per tile).

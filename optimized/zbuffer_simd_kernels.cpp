@@ -107,6 +107,15 @@ HWY_INLINE VT Stored(DT dt, VT q) {
 // A mask of 16 lanes as its two halves.
 template <class D, class DH>
 HWY_INLINE void MaskHalves(D d, DH dh, hn::Mask<D> m, hn::Mask<DH>& lo, hn::Mask<DH>& hi) {
+#if HWY_TARGET <= HWY_AVX3
+  // AVX-512: the mask register's low and high 8 bits (no trip through memory).
+  if constexpr (hn::MaxLanes(D()) == 16 && sizeof(hn::TFromD<D>) == 4) {
+    const uint32_t raw = uint32_t(m.raw);
+    lo = hn::Mask<DH>::FromBits(raw & 0xFFu);
+    hi = hn::Mask<DH>::FromBits(raw >> 8);
+    return;
+  }
+#endif
   uint8_t bits[8] = {};
   hn::StoreMaskBits(d, m, bits);
   lo = hn::LoadMaskBits(dh, bits);
