@@ -79,6 +79,10 @@ class FlatBatch {
         m.ks, m.shine};
     for (int i = 0; i < kFlatInputs; ++i) in_[i].push_back(v[i]);
   }
+  // The last n requests' triangles were numbered from 0: they start at first.
+  void offset_last(size_t n, size_t first) {
+    for (size_t i = at_.size() - n; i < at_.size(); ++i) at_[i] += first;
+  }
   void light(const ShadeParams& p, TriSink& sink, size_t chunk) {
     const size_t n = at_.size(), padded = (n + 15) / 16 * 16;
     if (n == 0) return;
@@ -290,6 +294,7 @@ struct SphereScratch {
   std::vector<uint8_t> flags;
   std::vector<VertexDepth> depth;  // the image's, per vertex
   std::vector<uint32_t> cand;      // the triangles that get the face test
+  std::vector<PosTri> pos;         // for a positions-only sink
   std::vector<std::array<uint32_t, 3>> cand_tri;
 };
 
@@ -360,6 +365,8 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
   sphere_faces(sc.world.data(), sc.cand_tri.data(), nc, flip, cam.eye, sc.face.data(),
                sc.flags.data());
   ScreenTri local;
+  const bool positions = image && image->sink->positions_only();
+  sc.pos.clear();
   for (uint32_t i = 0; i < nc; ++i) {
     if (sc.flags[i] & kNoFace) continue;
     const uint32_t t = sc.cand[i];
@@ -401,6 +408,17 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
       }
     }
     const uint32_t order[3] = {idx[0], area < 0 ? idx[2] : idx[1], area < 0 ? idx[1] : idx[2]};
+    // A sink that reads only positions gets them, the sphere's at once.
+    if (positions) {
+      PosTri& pt = sc.pos.emplace_back();
+      for (int i = 0; i < 3; ++i) {
+        const uint32_t vi = order[i];
+        pt.x[i] = sc.proj[vi].x, pt.y[i] = sc.proj[vi].y, pt.d[i] = sc.depth[vi];
+      }
+      // (Its index in the sphere for now: its chunk's once handed over.)
+      if (flat_shading) batch.add(sc.pos.size() - 1, (w0 + w1 + w2) / 3.0, face, m);
+      continue;
+    }
     // Built in place (a ScreenTri is 300 bytes), or for the image in `local`
     // (every field it reads is written for each triangle).
     ScreenTri& st = image ? local : out.tris.emplace_back();
@@ -426,6 +444,10 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
     } else if (flat_shading) {
       st.flat_color = lit(scene, m, cam.eye, (w0 + w1 + w2) / 3.0, face);
     }
+  }
+  if (positions && !sc.pos.empty()) {
+    const size_t first = image->sink->add_positions(chunk, sc.pos.data(), sc.pos.size());
+    if (flat_shading) batch.offset_last(sc.pos.size(), first);
   }
   return true;
 }

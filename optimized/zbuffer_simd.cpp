@@ -64,39 +64,31 @@ using zsimd::DepthMap;
 // plane's rounding adds a few more).
 bool double_depth(DepthFormat f) { return f == DepthFormat::kDouble || f == DepthFormat::kFixed24; }
 
-// A triangle's TriSetup (for the double raster: its corners, else the forward
-// part); vd: its vertices' w and stored depth, or null (then worked out here);
-// w: its vertices' 1/z, inv_area: 1 / (twice its snapped area), for
-// set_up_shading.
-void set_up(const ScreenTri& tri, const zsimd::VertexDepth* vd, const DepthMap& depth,
-            const zsimd::SampleGrid& grid, bool double_raster, TriSetup& t, double w[3],
-            double& inv_area) {
-  const auto& v = tri.v;
-  int64_t xmin = v[0].x, xmax = v[0].x, ymin = v[0].y, ymax = v[0].y;
+// A triangle's TriSetup from its snapped vertices (x[k], y[k]) and their w and
+// stored depth q (for the double raster: its corners, else the forward part;
+// the flat colour left to set_flat); inv_area: 1 / (twice its snapped area),
+// for set_up_shading.
+void set_up(const int32_t x[3], const int32_t y[3], const double w[3], const double q[3],
+            const zsimd::SampleGrid& grid, bool double_raster, TriSetup& t, double& inv_area) {
+  int64_t xmin = x[0], xmax = x[0], ymin = y[0], ymax = y[0];
   for (int k = 1; k < 3; ++k) {
-    xmin = std::min<int64_t>(xmin, v[k].x), xmax = std::max<int64_t>(xmax, v[k].x);
-    ymin = std::min<int64_t>(ymin, v[k].y), ymax = std::max<int64_t>(ymax, v[k].y);
+    xmin = std::min<int64_t>(xmin, x[k]), xmax = std::max<int64_t>(xmax, x[k]);
+    ymin = std::min<int64_t>(ymin, y[k]), ymax = std::max<int64_t>(ymax, y[k]);
   }
   grid.pixels(xmin, xmax, ymin, ymax, t.i0, t.i1, t.j0, t.j1);
   for (int k = 0; k < 3; ++k) {
-    const ScreenVertex& a = v[(k + 1) % 3];
-    const ScreenVertex& b = v[(k + 2) % 3];
-    const int64_t dx = int64_t(b.x) - a.x, dy = int64_t(b.y) - a.y;
-    t.ax[k] = a.x, t.ay[k] = a.y;
+    const int a = (k + 1) % 3, b = (k + 2) % 3;
+    const int64_t dx = int64_t(x[b]) - x[a], dy = int64_t(y[b]) - y[a];
+    t.ax[k] = x[a], t.ay[k] = y[a];
     t.ex[k] = int32_t(-dy), t.ey[k] = int32_t(dx);
     const bool top_left = (dy == 0 && dx > 0) || dy < 0;
     t.bias[k] = top_left ? 0 : 1;
   }
   // Plane through the three vertices' values, from the barycentric gradients
   // b_k = E_k / A (A = E_2(v2), twice the area in snapped units).
-  const double area = double(int64_t(t.ex[2]) * (int64_t(v[2].x) - t.ax[2]) +
-                             int64_t(t.ey[2]) * (int64_t(v[2].y) - t.ay[2]));
+  const double area = double(int64_t(t.ex[2]) * (int64_t(x[2]) - t.ax[2]) +
+                             int64_t(t.ey[2]) * (int64_t(y[2]) - t.ay[2]));
   inv_area = 1 / area;
-  double q[3];
-  for (int k = 0; k < 3; ++k) {
-    w[k] = vd ? vd[k].w : 1 / v[k].z;
-    q[k] = vd ? vd[k].q : depth(v[k].z, w[k]);
-  }
   // The depth plane divides by the area (not times 1/area): the depth test's
   // numbers, kept within a few ulps of the reference's (CoverageAgreement).
   t.q0 = q[0];
@@ -110,7 +102,23 @@ void set_up(const ScreenTri& tri, const zsimd::VertexDepth* vd, const DepthMap& 
   t.fwd.w0 = w[0];
   t.fwd.wx = ((w[1] - w[0]) * double(t.ex[1]) + (w[2] - w[0]) * double(t.ex[2])) * inv_area;
   t.fwd.wy = ((w[1] - w[0]) * double(t.ey[1]) + (w[2] - w[0]) * double(t.ey[2])) * inv_area;
-  for (int c = 0; c < 3; ++c) t.fwd.flat[c] = float(tri.flat_color[c]);
+}
+
+// The same from a ScreenTri; vd: its vertices' w and stored depth, or null
+// (then worked out here with depth). w: the vertices' 1/z, for set_up_shading.
+void set_up(const ScreenTri& tri, const zsimd::VertexDepth* vd, const DepthMap& depth,
+            const zsimd::SampleGrid& grid, bool double_raster, TriSetup& t, double w[3],
+            double& inv_area) {
+  const auto& v = tri.v;
+  const int32_t x[3] = {v[0].x, v[1].x, v[2].x}, y[3] = {v[0].y, v[1].y, v[2].y};
+  double q[3];
+  for (int k = 0; k < 3; ++k) {
+    w[k] = vd ? vd[k].w : 1 / v[k].z;
+    q[k] = vd ? vd[k].q : depth(v[k].z, w[k]);
+  }
+  set_up(x, y, w, q, grid, double_raster, t, inv_area);
+  if (!double_raster)
+    for (int c = 0; c < 3; ++c) t.fwd.flat[c] = float(tri.flat_color[c]);
 }
 
 // How many of ShadeTri's plane rows a shading needs: 1/z always, the normal
@@ -227,12 +235,35 @@ class Binner final : public zsimd::TriSink {
       set_up_shading(*scene_, s_, tri, t, w, inv_area, ch.shade.emplace_back(),
                      ch.planes.data() + ch.planes.size() - size_t(rows) * 3);
     }
-    if (t.i0 > t.i1 || t.j0 > t.j1) return at;  // no sample in its box: in no tile
+    bin(ch, t, at);
+    return at;
+  }
+
+  bool positions_only() const override { return scene_ == nullptr; }
+  size_t add_positions(size_t c, const zsimd::PosTri* tris, size_t n) override {
+    BinChunk& ch = chunks[c];
+    const size_t first = ch.setup.size();
+    ch.setup.resize(first + n);
+    for (size_t i = 0; i < n; ++i) {
+      const zsimd::PosTri& p = tris[i];
+      TriSetup& t = ch.setup[first + i];
+      const double w[3] = {p.d[0].w, p.d[1].w, p.d[2].w}, q[3] = {p.d[0].q, p.d[1].q, p.d[2].q};
+      double inv_area;
+      set_up(p.x, p.y, w, q, grid_, double_raster_, t, inv_area);
+      if (!double_raster_) t.fwd.flat[0] = t.fwd.flat[1] = t.fwd.flat[2] = 0;  // (set_flat's)
+      bin(ch, t, first + i);
+    }
+    return first;
+  }
+
+  // Triangle at of chunk ch into the bins of the tiles its box meets (none:
+  // no sample in its box).
+  void bin(BinChunk& ch, const TriSetup& t, size_t at) {
+    if (t.i0 > t.i1 || t.j0 > t.j1) return;
     // (Tiles are powers of two: shifts, not divisions, for the pixels' tiles.)
     for (int ty = t.j0 >> th_log2; ty <= t.j1 >> th_log2; ++ty)
       for (int tx = t.i0 >> tw_log2; tx <= t.i1 >> tw_log2; ++tx)
         ch.bins[size_t(ty) * size_t(ntx) + size_t(tx)].push_back(uint32_t(at));
-    return at;
   }
 
   void set_flat(size_t c, size_t i, const float rgb[3]) override {

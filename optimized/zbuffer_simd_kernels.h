@@ -234,6 +234,13 @@ struct VertexDepth {
   double w = 0, q = 0;
 };
 
+// A triangle as a sink that needs only positions and depths takes it
+// (TriSink::add_positions): snapped vertices, their w and stored depth.
+struct PosTri {
+  int32_t x[3], y[3];
+  VertexDepth d[3];
+};
+
 // Where the image path's set-up puts its triangles one at a time, instead of
 // keeping them in ScreenTri chunks (opt::simd::zbuffer's binner). Triangles
 // come chunk by chunk (each chunk's in mesh order, the chunks in mesh order),
@@ -249,6 +256,11 @@ class TriSink {
   // chunk. d: its vertices' VertexDepth (DepthMap(settings' depth, frame's near
   // and far)), or null for the sink to work them out.
   virtual size_t add(size_t c, const ScreenTri& t, const VertexDepth* d) = 0;
+  // Whether the sink reads nothing of a triangle but its positions and depths
+  // (flat shading drawn forward): then the set-up may hand them over n at a
+  // time, add_positions (chunk c's next n triangles; the index of the first).
+  virtual bool positions_only() const { return false; }
+  virtual size_t add_positions(size_t c, const PosTri* t, size_t n) = 0;
   // The flat colour of triangle i of chunk c, when lit after add.
   virtual void set_flat(size_t c, size_t i, const float rgb[3]) = 0;
 };
