@@ -266,14 +266,40 @@ struct UnitFaces {
   double inner = 1;
 };
 UnitFaces unit_faces(const UnitSphere& u) {
+  // The UV sphere turns into itself about z by 2 pi / meridians: per band of
+  // latitude, meridian 0's faces (one at the poles, two elsewhere, in
+  // unit_sphere's order) are worked out, every other meridian's turned from them.
   UnitFaces f;
-  for (const auto& [a, b, c] : u.tri) {
-    Vec3 n = cross(u.unit[b] - u.unit[a], u.unit[c] - u.unit[a]);
-    const double len = length(n);
-    if (len > 0) n = n / len;
-    const double h = dot(n, u.unit[a]);
-    f.nx.push_back(n.x), f.ny.push_back(n.y), f.nz.push_back(n.z), f.h.push_back(h);
-    if (len > 0) f.inner = std::min(f.inner, std::abs(h));
+  const size_t nt = u.tri.size();
+  f.nx.resize(nt), f.ny.resize(nt), f.nz.resize(nt), f.h.resize(nt);
+  const int rings = u.rings, meridians = 2 * rings;
+  std::vector<double> cos_phi(static_cast<size_t>(meridians)), sin_phi(static_cast<size_t>(meridians));
+  for (int l = 0; l < meridians; ++l) {
+    cos_phi[size_t(l)] = std::cos(2 * M_PI * l / meridians);
+    sin_phi[size_t(l)] = std::sin(2 * M_PI * l / meridians);
+  }
+  size_t t = 0;
+  for (int k = 0; k < rings; ++k) {
+    const int per = (k == 0 || k == rings - 1) ? 1 : 2;
+    Vec3 n0[2];
+    double h0[2] = {0, 0};
+    for (int j = 0; j < per; ++j) {
+      const auto& [a, b, c] = u.tri[t + size_t(j)];
+      const Vec3 n = cross(u.unit[b] - u.unit[a], u.unit[c] - u.unit[a]);
+      const double len = length(n);
+      n0[j] = len > 0 ? n / len : n;
+      h0[j] = dot(n0[j], u.unit[a]);
+      if (len > 0) f.inner = std::min(f.inner, std::abs(h0[j]));
+    }
+    for (int l = 0; l < meridians; ++l) {
+      const double cl = cos_phi[size_t(l)], sl = sin_phi[size_t(l)];
+      for (int j = 0; j < per; ++j, ++t) {
+        f.nx[t] = n0[j].x * cl - n0[j].y * sl;
+        f.ny[t] = n0[j].x * sl + n0[j].y * cl;
+        f.nz[t] = n0[j].z;
+        f.h[t] = h0[j];
+      }
+    }
   }
   return f;
 }
