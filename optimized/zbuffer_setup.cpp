@@ -66,30 +66,30 @@ constexpr int kMaxRings = 256;  // sphere_rings' upper end
 // handed to the sink.
 class FlatBatch {
  public:
-  void reserve(size_t n) {
-    at_.reserve(n);
-    for (auto& plane : in_) plane.reserve(n + 15);
-  }
+  void reserve(size_t n) { grow(n + 16); }
   // Triangle `at` of the chunk: a face of material m with unit normal n, lit at p.
   // (Kept as planes, the kernel's layout: no transposition later.)
   void add(size_t at, const Vec3& p, const Vec3& n, const Material& m) {
+    if (n_ + 1 > cap_) grow(2 * cap_ + 64);
     at_.push_back(at);
     const double v[kFlatInputs] = {
         p.x,  p.y,    p.z, n.x, n.y, n.z, m.kd * m.color.x, m.kd * m.color.y, m.kd * m.color.z,
         m.ks, m.shine};
-    for (int i = 0; i < kFlatInputs; ++i) in_[i].push_back(v[i]);
+    for (int i = 0; i < kFlatInputs; ++i) in_[i][n_] = v[i];
+    ++n_;
   }
   // The last n requests' triangles were numbered from 0: they start at first.
   void offset_last(size_t n, size_t first) {
     for (size_t i = at_.size() - n; i < at_.size(); ++i) at_[i] += first;
   }
   void light(const ShadeParams& p, TriSink& sink, size_t chunk) {
-    const size_t n = at_.size(), padded = (n + 15) / 16 * 16;
+    const size_t n = n_, padded = (n + 15) / 16 * 16;
     if (n == 0) return;
+    if (padded > cap_) grow(padded);
     const double* in[kFlatInputs];
     for (int k = 0; k < kFlatInputs; ++k) {
-      in_[k].resize(padded, 0.0);  // the kernel reads whole vectors
-      in[k] = in_[k].data();
+      std::fill(in_[k].begin() + ptrdiff_t(n), in_[k].begin() + ptrdiff_t(padded), 0.0);
+      in[k] = in_[k].data();  // (the kernel reads whole vectors)
     }
     rgb_.resize(3 * padded);
     float* out[3] = {rgb_.data(), rgb_.data() + padded, rgb_.data() + 2 * padded};
@@ -99,12 +99,19 @@ class FlatBatch {
       sink.set_flat(chunk, at_[i], c);
     }
     at_.clear();
-    for (auto& plane : in_) plane.clear();
+    n_ = 0;
   }
 
  private:
+  void grow(size_t cap) {
+    if (cap <= cap_) return;
+    for (auto& plane : in_) plane.resize(cap);
+    at_.reserve(cap);
+    cap_ = cap;
+  }
   std::vector<size_t> at_;
-  std::vector<double> in_[kFlatInputs];  // one plane per input
+  std::vector<double> in_[kFlatInputs];  // one plane per input, cap_ long, n_ in use
+  size_t n_ = 0, cap_ = 0;
   std::vector<float> rgb_;
 };
 
@@ -691,6 +698,16 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
       out.tris.reserve(expect);
     }
     ScreenTri local;
+    // A positions-only sink gets the triangles a run at a time (flushed before a
+    // polygon that goes through view_polygons, so that the order stays).
+    const bool positions = image && image->sink->positions_only();
+    std::vector<PosTri> pending;
+    auto flush = [&] {
+      if (pending.empty()) return;
+      const size_t at = image->sink->add_positions(sink_chunk, pending.data(), pending.size());
+      batch.offset_last(pending.size(), at);
+      pending.clear();
+    };
     for (uint32_t p = first; p < last; ++p) {
       const Material& m = scene.materials[scene.poly_material[p]];
       const Vec3 face = scene.poly_plane[p].n;
@@ -702,6 +719,7 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
       for (uint32_t t = t_first; t < t_last; ++t)
         for (const uint32_t vi : scene.tri_vertex[t]) inside = inside && pv[vi].inside;
       if (!inside) {
+        if (positions) flush();
         ScreenMesh part = frame;
         lockstep::view_polygons(scene, s, p, p + 1, part);
         if (image)
@@ -757,6 +775,13 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
         if (!flat_lit) light_flat();
         // Positive area: a front face's v[1] and v[2] swapped.
         const uint32_t order[3] = {tv[0], area < 0 ? tv[2] : tv[1], area < 0 ? tv[1] : tv[2]};
+        if (positions) {  // (flat shading: one lighting request each)
+          PosTri& pt = pending.emplace_back();
+          for (int i = 0; i < 3; ++i)
+            pt.x[i] = pv[order[i]].x, pt.y[i] = pv[order[i]].y, pt.d[i] = pvd[order[i]];
+          batch.add(pending.size() - 1, centroid, face, m);
+          continue;
+        }
         // Built in place (a ScreenTri is 300 bytes), or for the image in `local`
         // (every field it reads is written for each triangle).
         ScreenTri& st = image ? local : out.tris.emplace_back();
@@ -781,6 +806,7 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
         }
       }
     }
+    if (positions) flush();
     if (image) batch.light(image->light, *image->sink, sink_chunk);
   };
   arena.execute([&] { tbb::parallel_for(uint32_t(0), nchunks, run_chunk); });
