@@ -350,6 +350,23 @@ struct TileBuffers {
   }
 };
 
+// Whether a tile's triangles come back to front (the mean depth of its last 32
+// nearer than that of its first 32): then the tile is drawn in reverse
+// (TileJob::reverse), front to back.
+bool back_to_front(const std::vector<zsimd::TileList>& lists, bool reversed_depth) {
+  constexpr size_t kSample = 32;
+  double first = 0, last = 0;
+  size_t nf = 0, nl = 0;
+  for (size_t l = 0; l < lists.size() && nf < kSample; ++l)
+    for (size_t i = 0; i < lists[l].ids->size() && nf < kSample; ++i, ++nf)
+      first += lists[l].tris[(*lists[l].ids)[i]].q0;
+  for (size_t l = lists.size(); l-- > 0 && nl < kSample;)
+    for (size_t i = lists[l].ids->size(); i-- > 0 && nl < kSample; ++nl)
+      last += lists[l].tris[(*lists[l].ids)[i]].q0;
+  if (nf < kSample) return false;  // few triangles: either way
+  return reversed_depth ? last > first : last < first;
+}
+
 // forward: flat shading drawn forward (float depth only): buf.flat gets w and
 // the colour per sample (not reset: only samples with a triangle are read).
 template <class T>
@@ -370,6 +387,7 @@ void raster_one_tile(RasterParams p, const Binner& b, int x0, int y0, int x1, in
   job.x0 = x0, job.y0 = y0, job.x1 = x1, job.y1 = y1;
   job.lists = buf.lists.data();
   job.nlists = int(buf.lists.size());
+  job.reverse = back_to_front(buf.lists, p.depth == DepthFormat::kReversed);
   zsimd::raster_tile(p, job, buf.depth.get(), buf.tri.get(), counting ? buf.count.get() : nullptr);
 }
 

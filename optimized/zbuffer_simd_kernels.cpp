@@ -104,6 +104,18 @@ HWY_INLINE VT Stored(DT dt, VT q) {
   return q;
 }
 
+// The depth test: q nearer than the stored old (kReversed: larger). ties: a
+// tie wins too -- the triangles come in reverse mesh order (TileJob::reverse),
+// so that the earliest of equal depths still ends up on top.
+template <bool kReversed, class V>
+HWY_INLINE auto Closer(V q, V old, bool ties) {
+  if constexpr (kReversed) {
+    return ties ? hn::Ge(q, old) : hn::Gt(q, old);
+  } else {
+    return ties ? hn::Le(q, old) : hn::Lt(q, old);
+  }
+}
+
 // A mask of 16 lanes as its two halves.
 template <class D, class DH>
 HWY_INLINE void MaskHalves(D d, DH dh, hn::Mask<D> m, hn::Mask<DH>& lo, hn::Mask<DH>& hi) {
@@ -133,8 +145,8 @@ HWY_INLINE void PairRows(DT dt, const RasterParams& p, const int64_t e[3], const
                          const int64_t sy[3], double q_first, double qsx, double qsy,
                          double w_first, double wsx, double wsy, const hn::Vec<DT> flat[3],
                          int cols, int rows, size_t at0, int W,
-                         hn::Vec<hn::Rebind<int32_t, DT>> tri_id, hn::TFromD<DT>* depth,
-                         int32_t* tri) {
+                         hn::Vec<hn::Rebind<int32_t, DT>> tri_id, bool ties,
+                         hn::TFromD<DT>* depth, int32_t* tri) {
   using T = hn::TFromD<DT>;
   const hn::Rebind<int32_t, DT> di;
   const hn::Half<DT> dh;
@@ -162,12 +174,7 @@ HWY_INLINE void PairRows(DT dt, const RasterParams& p, const int64_t e[3], const
     const size_t a0 = at0 + size_t(r) * size_t(W), a1 = a0 + size_t(W);
     const VT q = Stored<kFixed24>(dt, hn::Add(hn::Set(dt, T(q_first + qsy * r)), q_lane));
     const VT old = hn::Combine(dt, hn::LoadU(dh, depth + a1), hn::LoadU(dh, depth + a0));
-    hn::Mask<DT> closer;
-    if constexpr (kReversed) {
-      closer = hn::Gt(q, old);
-    } else {
-      closer = hn::Lt(q, old);
-    }
+    const auto closer = Closer<kReversed>(q, old, ties);
     const auto pass = hn::And(hn::RebindMask(dt, cover), closer);
     hn::Mask<decltype(dh)> m0, m1;
     MaskHalves(dt, dh, pass, m0, m1);
@@ -205,19 +212,21 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
   const VI iota_i = hn::Iota(di, 0);
   const VT iota_t = hn::Iota(dt, 0);
   const VI minus1 = hn::Set(di, -1);
-  constexpr bool reversed = kReversed;
   constexpr int64_t kLimit = int64_t(1) << 30;
 
-  for (int l = 0; l < t.nlists; ++l) {
+  for (int ll = 0; ll < t.nlists; ++ll) {
+    const int l = t.reverse ? t.nlists - 1 - ll : ll;
     const std::vector<uint32_t>& list = *t.lists[l].ids;
     const TriSetup* const tris = t.lists[l].tris;
     const int32_t first = t.lists[l].first;
-    for (size_t li = 0; li < list.size(); ++li) {
+    const size_t n = list.size();
+    for (size_t k = 0; k < n; ++k) {
+      const size_t li = t.reverse ? n - 1 - k : k;
       const uint32_t id = list[li];
       // The triangle four ahead (its set-up's cache lines): the lists read the
       // set-up arrays out of order, and far beyond the caches on big meshes.
-      if (li + 4 < list.size()) {
-        const char* ahead = reinterpret_cast<const char*>(&tris[list[li + 4]]);
+      if (k + 4 < n) {
+        const char* ahead = reinterpret_cast<const char*>(&tris[list[t.reverse ? li - 4 : li + 4]]);
         for (size_t b = 0; b < sizeof(TriSetup); b += 64) __builtin_prefetch(ahead + b);
       }
       const TriSetup& s = tris[id];
@@ -282,7 +291,7 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
           if (pairs) {
             PairRows<kReversed, kFixed24, kForward>(
                 dt, p, e, sx, sy, q_first, qsx, qsy, w_first, wsx, wsy, flat, ri1 - ri0 + 1, rows,
-                (plane + size_t(r0)) * size_t(W) + size_t(c0), W, tri_id, depth, tri);
+                (plane + size_t(r0)) * size_t(W) + size_t(c0), W, tri_id, t.reverse, depth, tri);
             continue;
           }
         }
@@ -332,12 +341,7 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
                                    hn::Add(hn::Set(dt, T(q_row + qsx * double(b * N))), q_lane));
             }
             const VT old = hn::Load(dt, depth + at);
-            hn::Mask<DT> closer;
-            if constexpr (reversed) {
-              closer = hn::Gt(q, old);
-            } else {
-              closer = hn::Lt(q, old);
-            }
+            const auto closer = Closer<kReversed>(q, old, t.reverse);
             const auto pass = hn::And(CastMask(dt, di, cover), closer);
             // Masked stores (one instruction each on AVX-512; a blend elsewhere).
             hn::BlendedStore(q, pass, dt, depth + at);

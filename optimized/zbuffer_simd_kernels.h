@@ -149,11 +149,16 @@ struct TileList {
   const TriSetup* tris = nullptr;
   int32_t first = 0;
 };
-// A tile's work: lists[0..nlists) in order, each in mesh order.
+// A tile's work: lists[0..nlists) in order, each in mesh order; or, with
+// reverse, all of it backwards, a tie in depth then winning (the earliest of
+// equal depths is still the one kept): the same buffers either way, but a mesh
+// drawn back to front is then drawn front to back, and the hidden triangles'
+// samples fail the test and write nothing.
 struct TileJob {
   int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // pixels, half-open
   const TileList* lists = nullptr;
   int nlists = 0;
+  bool reverse = false;
 };
 
 // Tile-local buffers, plane s (sample s), row r, column c at [(s buf_h + r) buf_w + c].
