@@ -387,7 +387,9 @@ void raster_one_tile(RasterParams p, const Binner& b, int x0, int y0, int x1, in
   job.x0 = x0, job.y0 = y0, job.x1 = x1, job.y1 = y1;
   job.lists = buf.lists.data();
   job.nlists = int(buf.lists.size());
-  job.reverse = back_to_front(buf.lists, p.depth == DepthFormat::kReversed);
+  job.reverse = p.order == DrawOrder::kReverse ||
+                (p.order == DrawOrder::kAuto &&
+                 back_to_front(buf.lists, p.depth == DepthFormat::kReversed));
   zsimd::raster_tile(p, job, buf.depth.get(), buf.tri.get(), counting ? buf.count.get() : nullptr);
 }
 
@@ -397,6 +399,7 @@ RasterParams raster_params(const RasterSettings& s, const Binner& b,
   p.offsets = off.data();
   p.spp = int(off.size());
   p.depth = s.depth;
+  p.order = s.order;
   p.buf_w = b.tw, p.buf_h = b.th;
   return p;
 }

@@ -140,6 +140,7 @@ struct RasterParams {
   int spp = 1;
   DepthFormat depth = DepthFormat::kFloat;
   int buf_w = 64, buf_h = 64;  // tile buffers: spp planes of buf_h rows of buf_w (a multiple of 16)
+  DrawOrder order = DrawOrder::kAuto;  // TileJob::reverse per tile (the contract side decides)
 };
 
 // Triangles binned into one tile, a chunk of the mesh at a time: triangle

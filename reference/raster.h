@@ -72,6 +72,10 @@ enum class SampleGrid : uint8_t {
 };
 // What the z-buffer stores and compares (the value written is always derived
 // from the eye depth z; n = hither, f = the scene's far bound).
+// The order the simd z-buffer's tiles draw their triangles in (the same
+// buffers every way): kAuto, front to back where the mesh comes back to front.
+enum class DrawOrder : uint8_t { kAuto, kMesh, kReverse };
+
 enum class DepthFormat : uint8_t {
   kFloat,     // window depth d = (1/n - 1/z) / (1/n - 1/f) in [0, 1], as a float; nearer = smaller
   kReversed,  // reversed-Z: d = n / z as a float (infinite far plane); nearer = larger
@@ -92,10 +96,11 @@ struct RasterSettings {
   DepthFormat depth = DepthFormat::kFloat;
   bool perspective = true;     // perspective-correct interpolation (false: affine, for the tests)
   bool skip_hidden = true;     // opt::simd::zbuffer: leave out what nearer spheres hide (same image)
+  DrawOrder order = DrawOrder::kAuto;  // opt::simd's tiles: their triangles' order (same buffers)
 };
 
 // Reads a family's Params (shading, cull, silhouette, spp, grid, split,
-// tess_error, depth, interp, hidden). Throws InputError(source, 0, ...) naming the
+// tess_error, depth, interp, hidden, order). Throws InputError(source, 0, ...) naming the
 // setting and what it may be.
 RasterSettings raster_settings(const Params& params, const std::string& source);
 // The settings of one frame (raster_settings of opts.params), after the one

@@ -45,6 +45,7 @@ constexpr std::string_view kGrids = "regular|rotated";
 constexpr std::string_view kDepths = "float|reversed|fixed24|double";
 constexpr std::string_view kInterps = "perspective|affine";
 constexpr std::string_view kHidden = "skip|draw";
+constexpr std::string_view kOrders = "auto|mesh|reverse";
 
 }  // namespace
 
@@ -61,6 +62,9 @@ std::vector<ParamSpec> raster_params() {
       {"interp", kInterps, "perspective", "attribute interpolation across triangles"},
       {"hidden", kHidden, "skip",
        "simd z-buffer: leave out spheres and triangles provably behind nearer spheres (same image)"},
+      {"order", kOrders, "auto",
+       "simd z-buffer: tiles draw in mesh order or reversed, ties then winning (auto: front to back "
+       "where the mesh comes back to front; same image)"},
   };
 }
 
@@ -89,6 +93,8 @@ RasterSettings raster_settings(const Params& params, const std::string& source) 
       s.depth = DepthFormat(choose(source, name, value, kDepths));
     } else if (name == "interp") {
       s.perspective = choose(source, name, value, kInterps) == 0;
+    } else if (name == "order") {
+      s.order = DrawOrder(choose(source, name, value, kOrders));
     } else if (name == "hidden") {
       s.skip_hidden = choose(source, name, value, kHidden) == 0;
     } else {

@@ -11,6 +11,12 @@
 //       unless the two candidates' depths (the reference's own arithmetic) are
 //       within the format's tie band ("depth_tie"); where the triangle is the
 //       same, the stored depth is within the format's bound (kDepthBound).
+//   DrawOrder.zbuffer_visibility__simd
+//       opt::simd::zbuffer_visibility drawing every tile in reverse (order=
+//       reverse: ties win) against drawing it in mesh order (order=mesh), on the
+//       same soups (exact copies at equal depth among them): triangle, count and
+//       stored depth identical, bit for bit. Bound 0. Mutant reverse_strict
+//       (reverse order, ties lose: the last of equal depths kept) is caught here.
 //   Watertight.zbuffer_visibility__{reference,simd}
 //       closed meshes that cover the whole frame -- a jittered grid with random
 //       diagonals, or a fan around one vertex, with vertices at random
@@ -32,6 +38,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <random>
 #include <sstream>
@@ -325,6 +332,18 @@ void simd_1(const ScreenMesh& m, const RasterSettings& s, Visibility& v) {
   opt::simd::zbuffer_visibility(m, s, 1, v);
 }
 
+// A kernel that draws in reverse with a strict depth test (ties lose, so the
+// last of equal depths is kept): the mesh reversed, in mesh order, ids mapped back.
+void reverse_strict(const ScreenMesh& m, const RasterSettings& s, Visibility& v) {
+  ScreenMesh r = m;
+  std::reverse(r.tris.begin(), r.tris.end());
+  RasterSettings t = s;
+  t.order = DrawOrder::kMesh;
+  opt::simd::zbuffer_visibility(r, t, 1, v);
+  for (uint32_t& id : v.tri)
+    if (id != Visibility::kNone) id = uint32_t(m.tris.size()) - 1 - id;
+}
+
 // Deliberately broken rasterisers (the reference's loop with another ownership
 // rule for samples exactly on an edge).
 template <int kRule>  // 0: inclusive (every edge owns them), 1: bottom-right (the mirror of
@@ -415,6 +434,42 @@ double depth_bound(DepthFormat f) {
 std::string sample_text(int i, int j, int k) {
   return "sample " + std::to_string(k) + " of pixel (" + std::to_string(i) + ", " +
          std::to_string(j) + ")";
+}
+
+// subj drawing in reverse (order=reverse) against opt::simd in mesh order:
+// every buffer the same, bit for bit.
+Verdict draw_order(const Subject& subj, const VisCase& c) {
+  const ScreenMesh m = mesh_of(c);
+  RasterSettings s = settings_of(c);
+  Visibility want, got;
+  s.order = DrawOrder::kMesh;
+  opt::simd::zbuffer_visibility(m, s, 1, want);
+  s.order = DrawOrder::kReverse;
+  subj.fn(m, s, got);
+  const int spp = c.spp;
+  Verdict v;
+  for (int j = 0; j < c.height; ++j)
+    for (int i = 0; i < c.width; ++i)
+      for (int k = 0; k < spp; ++k) {
+        const size_t at = (size_t(j) * size_t(c.width) + size_t(i)) * size_t(spp) + size_t(k);
+        Outcome out;
+        const bool same = got.tri[at] == want.tri[at] && got.count[at] == want.count[at] &&
+                          std::memcmp(&got.depth[at], &want.depth[at], sizeof(double)) == 0;
+        if (!same) {
+          out.kind = Outcome::unexplained;
+          out.label = "order";
+          char buf[200];
+          std::snprintf(buf, sizeof buf,
+                        ": reverse order triangle %d depth %a count %d, mesh order triangle %d "
+                        "depth %a count %d",
+                        got.tri[at] == Visibility::kNone ? -1 : int(got.tri[at]), got.depth[at],
+                        int(got.count[at]), want.tri[at] == Visibility::kNone ? -1 : int(want.tri[at]),
+                        want.depth[at], int(want.count[at]));
+          out.detail = sample_text(i, j, k) + buf;
+        }
+        v.rays.push_back(std::move(out));
+      }
+  return v;
 }
 
 Verdict agreement(const Subject& subj, const VisCase& c) {
@@ -570,6 +625,10 @@ Property property(const std::string& check, const std::string& suite, const std:
 Property agreement_property(const Subject& s) {
   return property("coverage_agreement", "CoverageAgreement", "soup", agreement, soup, s, 3,
                   "stored depth (float formats: float ulps of |d| + 8 |dd/dx|; fixed24: codes)");
+}
+Property draw_order_property(const Subject& s) {
+  return property("draw_order", "DrawOrder", "soup", draw_order, soup, s, 0,
+                  "samples differing (triangle, count or stored depth bits)");
 }
 Property watertight_property(const Subject& s) {
   return property("watertight", "Watertight", "closed", watertight, closed, s, 0,
@@ -749,6 +808,12 @@ void visibility_part(const ImageFamily& family, FamilyProperties& out) {
   out.properties.push_back(agreement_property(simd));
   out.properties.push_back(watertight_property(reference));
   out.properties.push_back(watertight_property(simd));
+  out.properties.push_back(draw_order_property(simd));
+  out.mutants.push_back({"reverse_strict",
+                         "tiles drawn in reverse with a strict depth test (the last of equal "
+                         "depths kept)",
+                         "draw_order",
+                         {draw_order_property({"reverse_strict", reverse_strict})}});
   const Subject inclusive{"inclusive_edges", broken<0>};
   const Subject bottom_right{"bottom_right", broken<1>};
   out.mutants.push_back({"inclusive_edges",
