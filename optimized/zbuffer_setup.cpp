@@ -328,7 +328,11 @@ struct SphereScratch {
   std::vector<VertexDepth> depth;  // the image's, per vertex
   std::vector<uint32_t> cand;      // the triangles that get the face test
   std::vector<PosTri> pos;         // for a positions-only sink
-  std::vector<std::array<uint32_t, 3>> cand_tri;
+  std::vector<std::array<uint32_t, 3>> cand_tri;  // the world face test's triangles
+  std::vector<uint8_t> sure;                      // per candidate: a front face by a margin
+  std::vector<uint32_t> amb;                      // the candidates the world test decides
+  std::vector<double> amb_face;
+  std::vector<uint8_t> amb_flags;
 };
 
 // Sphere k as view_spheres emits it (unit: its unit sphere), appended to out
@@ -373,15 +377,22 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
   // unit faces' edges are >= ~1e-4 long, 256 rings), and the sphere must not be
   // so small beside its distance from the origin that its vertices round together.
   sc.cand.clear();
+  sc.sure.clear();
   const Vec3 e_rel = cam.eye - c;
   const double spread = (length(c) + r) / r;
+  // Unit-space normals turned to the drawn side (inside out: reversed).
+  const double sign = flip ? -1.0 : 1.0;
   if (s.cull == CullMode::kWorld && spread < 1e6) {
     const double margin = 1e-9 * (length(e_rel) + r) * std::max(1.0, spread);
-    const double sign = flip ? -1.0 : 1.0;
     for (uint32_t t = 0; t < nt; ++t) {
-      const double sd = unit_face.nx[t] * e_rel.x + unit_face.ny[t] * e_rel.y +
-                        unit_face.nz[t] * e_rel.z - r * unit_face.h[t];
-      if (sign * sd >= -margin) sc.cand.push_back(t);
+      const double sd = sign * (unit_face.nx[t] * e_rel.x + unit_face.ny[t] * e_rel.y +
+                                unit_face.nz[t] * e_rel.z - r * unit_face.h[t]);
+      if (sd < -margin) continue;
+      sc.cand.push_back(t);
+      // For the image, a face that is a front face by the same margin needs no
+      // world test either: its unit normal stands in for the world one (the
+      // same direction to ~1e-16, far below the image's float shading).
+      sc.sure.push_back(image != nullptr && sd > margin);
     }
     const uint64_t clear = nt - sc.cand.size();
     out.sphere_tris += clear;
@@ -389,14 +400,36 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
   } else {
     sc.cand.resize(nt);
     for (uint32_t t = 0; t < nt; ++t) sc.cand[t] = t;
+    sc.sure.assign(nt, 0);
   }
   const size_t nc = sc.cand.size();
-  sc.cand_tri.resize(nc);
-  for (size_t i = 0; i < nc; ++i) sc.cand_tri[i] = unit.tri[sc.cand[i]];
   sc.face.resize(3 * nc);
   sc.flags.resize(nc);
-  sphere_faces(sc.world.data(), sc.cand_tri.data(), nc, flip, cam.eye, sc.face.data(),
-               sc.flags.data());
+  // The world face test (the reference's operations) on the others.
+  sc.cand_tri.clear();
+  sc.amb.clear();
+  for (size_t i = 0; i < nc; ++i) {
+    const uint32_t t = sc.cand[i];
+    if (sc.sure[i]) {
+      sc.face[3 * i] = sign * unit_face.nx[t];
+      sc.face[3 * i + 1] = sign * unit_face.ny[t];
+      sc.face[3 * i + 2] = sign * unit_face.nz[t];
+      sc.flags[i] = kFront;
+    } else {
+      sc.amb.push_back(uint32_t(i));
+      sc.cand_tri.push_back(unit.tri[t]);
+    }
+  }
+  const size_t na = sc.amb.size();
+  sc.amb_face.resize(3 * na);
+  sc.amb_flags.resize(na);
+  sphere_faces(sc.world.data(), sc.cand_tri.data(), na, flip, cam.eye, sc.amb_face.data(),
+               sc.amb_flags.data());
+  for (size_t j = 0; j < na; ++j) {
+    const size_t i = sc.amb[j];
+    for (int k = 0; k < 3; ++k) sc.face[3 * i + size_t(k)] = sc.amb_face[3 * j + size_t(k)];
+    sc.flags[i] = sc.amb_flags[j];
+  }
   ScreenTri local;
   const bool positions = image && image->sink->positions_only();
   sc.pos.clear();

@@ -474,10 +474,14 @@ HWY_INLINE void Lighting(DF df, const float* light, int nlights, Shading shading
         cosine = dot3(nrm, Hv);
       }
       // ks max(0, cosine)^shine, as std::pow: 0^shine = 0 for shine > 0, x^0 = 1.
+      // (exp and log only where a lane has a highlight: lanes are neighbours,
+      // often all facing away together.)
       const auto pos_c = hn::Gt(cosine, zero);
-      const VF safe = hn::IfThenElse(pos_c, cosine, one);
-      VF pw = hn::CallExp(df, hn::Mul(shine, hn::CallLog(df, safe)));
-      pw = hn::IfThenElse(pos_c, pw, hn::IfThenElseZero(hn::Eq(shine, zero), one));
+      VF pw = hn::IfThenElseZero(hn::Eq(shine, zero), one);
+      if (!hn::AllFalse(df, hn::And(pos_c, lit))) {
+        const VF safe = hn::IfThenElse(pos_c, cosine, one);
+        pw = hn::IfThenElse(pos_c, hn::CallExp(df, hn::Mul(shine, hn::CallLog(df, safe))), pw);
+      }
       const VF spec = hn::IfThenElseZero(hn::Gt(ks, zero), hn::Mul(ks, pw));
       for (int c = 0; c < 3; ++c) term[c] = hn::MulAdd(ndl, kd[c], spec);
     }
