@@ -311,14 +311,6 @@ UnitFaces unit_faces(const UnitSphere& u) {
   return f;
 }
 
-// A vertex's w and stored depth, as the sink would work them out.
-VertexDepth vertex_depth(const DepthMap& depth, double z) {
-  VertexDepth d;
-  d.w = 1 / z;
-  d.q = depth(z, d.w);
-  return d;
-}
-
 // A sphere's vertices and faces, projected and tested (view_sphere's scratch).
 struct SphereScratch {
   std::vector<Vec3> world, color;
@@ -355,13 +347,12 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
   sc.world.resize(nv);
   sc.proj.resize(nv);
   for (size_t i = 0; i < nv; ++i) sc.world[i] = c + r * unit.unit[i];
-  project_vertices(projection, sc.world.data(), nv, sc.proj.data());
+  // For the image, w and the stored depth too, once per vertex (not per triangle).
+  if (image) sc.depth.resize(nv);
+  project_vertices(projection, sc.world.data(), nv, sc.proj.data(), image ? &depth_map : nullptr,
+                   image ? sc.depth.data() : nullptr);
   for (size_t i = 0; i < nv; ++i)
     if (!sc.proj[i].inside) return false;
-  if (image) {  // w and the stored depth once per vertex, not per triangle
-    sc.depth.resize(nv);
-    for (size_t i = 0; i < nv; ++i) sc.depth[i] = vertex_depth(depth_map, sc.proj[i].z);
-  }
   auto normal = [&](uint32_t i) { return signed_radius > 0 ? unit.unit[i] : -unit.unit[i]; };
   if (gouraud) {
     sc.color.resize(nv);
@@ -703,10 +694,8 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
   arena.execute([&] {
     tbb::parallel_for(
         tbb::blocked_range<size_t>(0, pv.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
-          project_vertices(proj, scene.vertex.data() + r.begin(), r.size(), pv.data() + r.begin());
-          if (image)
-            for (size_t i = r.begin(); i < r.end(); ++i)
-              if (pv[i].inside) pvd[i] = vertex_depth(depth_map, pv[i].z);
+          project_vertices(proj, scene.vertex.data() + r.begin(), r.size(), pv.data() + r.begin(),
+                           image ? &depth_map : nullptr, image ? pvd.data() + r.begin() : nullptr);
         });
   });
 

@@ -825,7 +825,8 @@ void SphereFaces(const Vec3* world, const std::array<uint32_t, 3>* tri, size_t n
 // (no fused multiply-add: the build has -ffp-contract=off), so the same bits;
 // llround as trunc plus a correction (exact: x - trunc(x) is exact). The tail
 // (fewer than N vertices) runs the same lanes on a padded copy.
-void ProjectVertices(const Projection& p, const Vec3* world, size_t n, ProjectedVertex* out) {
+void ProjectVertices(const Projection& p, const Vec3* world, size_t n, ProjectedVertex* out,
+                     const DepthMap* depth, VertexDepth* depth_out) {
   const hn::ScalableTag<double> d;
   using V = hn::Vec<decltype(d)>;
   const size_t N = hn::Lanes(d);
@@ -845,7 +846,10 @@ void ProjectVertices(const Projection& p, const Vec3* world, size_t n, Projected
     return hn::Sub(hn::Add(t, hn::IfThenElseZero(hn::Ge(f, half), one)),
                    hn::IfThenElseZero(hn::Le(f, hn::Neg(half)), one));
   };
-  HWY_ALIGN double zs[16], xs[16], ys[16], ins[16];
+  HWY_ALIGN double zs[16], xs[16], ys[16], ins[16], ws[16], qs[16];
+  const V dm_near = hn::Set(d, depth ? depth->near_z : 1.0);
+  const V dm_inv_near = hn::Set(d, depth ? depth->inv_near : 1.0);
+  const V dm_range = hn::Set(d, depth ? depth->range : 1.0);
   HWY_ALIGN double pad[3 * 16];
   for (size_t i = 0; i < n; i += N) {
     const size_t m = std::min(N, n - i);
@@ -871,6 +875,13 @@ void ProjectVertices(const Projection& p, const Vec3* world, size_t n, Projected
     hn::Store(round_half_away(hn::IfThenElseZero(inside, hn::Mul(sx, sub))), d, xs);
     hn::Store(round_half_away(hn::IfThenElseZero(inside, hn::Mul(sy, sub))), d, ys);
     hn::Store(hn::IfThenElseZero(inside, one), d, ins);
+    if (depth) {  // DepthMap: w = 1/z, then (1/n - w) / range or n / z
+      const V wv = hn::Div(one, ez);
+      hn::Store(wv, d, ws);
+      hn::Store(depth->reversed ? hn::Div(dm_near, ez) : hn::Div(hn::Sub(dm_inv_near, wv), dm_range),
+                d, qs);
+      for (size_t k = 0; k < m; ++k) depth_out[i + k] = {ws[k], qs[k]};
+    }
     for (size_t k = 0; k < m; ++k) {
       ProjectedVertex& o = out[i + k];
       o.z = zs[k];
@@ -910,8 +921,9 @@ void grow_bounds(const Vec3* points, size_t n, Vec3& lo, Vec3& hi) {
   HWY_DYNAMIC_DISPATCH(GrowBounds)(points, n, lo, hi);
 }
 
-void project_vertices(const Projection& p, const Vec3* world, size_t n, ProjectedVertex* out) {
-  HWY_DYNAMIC_DISPATCH(ProjectVertices)(p, world, n, out);
+void project_vertices(const Projection& p, const Vec3* world, size_t n, ProjectedVertex* out,
+                      const DepthMap* depth, VertexDepth* depth_out) {
+  HWY_DYNAMIC_DISPATCH(ProjectVertices)(p, world, n, out, depth, depth_out);
 }
 
 void shade_tile(const ShadeParams& p, const int32_t* tri, const int32_t* slot,

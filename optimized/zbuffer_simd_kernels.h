@@ -173,6 +173,26 @@ void raster_tile(const RasterParams& p, const TileJob& t, double* depth, int32_t
 
 const char* target_name();
 
+// The stored depth at a vertex of w = 1/z (see zbuffer_simd_kernels.cpp):
+// affine in w, so in screen space; stored_depth before its rounding, with
+// stored_depth's own operations (the constant denominator computed once, the
+// same bits): the depth plane's error stays that of the reference's formula.
+struct DepthMap {
+  bool reversed = false;
+  double near_z = 1, inv_near = 1, range = 1;
+  DepthMap() = default;
+  DepthMap(DepthFormat f, double n, double far)
+      : reversed(f == DepthFormat::kReversed), near_z(n), inv_near(1 / n), range(1 / n - 1 / far) {}
+  double operator()(double z, double w) const {
+    return reversed ? near_z / z : (inv_near - w) / range;
+  }
+};
+// A vertex's w = 1 / z and stored depth (DepthMap), worked out once per vertex
+// by a set-up that shares vertices between triangles.
+struct VertexDepth {
+  double w = 0, q = 0;
+};
+
 // The set-up's vertex step (zbuffer_setup.cpp): world -> eye space, the clip
 // test and the snapped screen position, as view_scene's eye_from_world,
 // inside_all and to_screen compute them, operation for operation in double (so
@@ -187,7 +207,10 @@ struct Projection {
   double near_z, g;              // hither, guard band slope
   double half_w, half_h, pitch;  // 0.5 width, 0.5 height, the camera's pitch
 };
-void project_vertices(const Projection& p, const Vec3* world, size_t n, ProjectedVertex* out);
+// With depth: also each vertex's VertexDepth in depth_out (the same operations
+// as DepthMap's, so the same bits; where not inside, whatever).
+void project_vertices(const Projection& p, const Vec3* world, size_t n, ProjectedVertex* out,
+                      const DepthMap* depth = nullptr, VertexDepth* depth_out = nullptr);
 // view_spheres' face test for the n triangles tri[i] = (a, b, c) of world
 // (b and c swapped when flip): the unit normal normalize(cross(w_b - w_a,
 // w_c - w_a)) in face[3 i .. 3 i + 2], and flags[i] = kNoFace when the cross
@@ -220,25 +243,6 @@ struct SampleGrid {
   }
 };
 
-// The stored depth at a vertex of w = 1/z (see zbuffer_simd_kernels.cpp):
-// affine in w, so in screen space; stored_depth before its rounding, with
-// stored_depth's own operations (the constant denominator computed once, the
-// same bits): the depth plane's error stays that of the reference's formula.
-struct DepthMap {
-  bool reversed = false;
-  double near_z = 1, inv_near = 1, range = 1;
-  DepthMap() = default;
-  DepthMap(DepthFormat f, double n, double far)
-      : reversed(f == DepthFormat::kReversed), near_z(n), inv_near(1 / n), range(1 / n - 1 / far) {}
-  double operator()(double z, double w) const {
-    return reversed ? near_z / z : (inv_near - w) / range;
-  }
-};
-// A vertex's w = 1 / z and stored depth (DepthMap), worked out once per vertex
-// by a set-up that shares vertices between triangles.
-struct VertexDepth {
-  double w = 0, q = 0;
-};
 
 // A triangle as a sink that needs only positions and depths takes it
 // (TriSink::add_positions): snapped vertices, their w and stored depth.
