@@ -322,6 +322,7 @@ struct SphereScratch {
   std::vector<PosTri> pos;         // for a positions-only sink
   std::vector<std::array<uint32_t, 3>> cand_tri;  // the world face test's triangles
   std::vector<uint8_t> sure;                      // per candidate: a front face by a margin
+  std::vector<uint8_t> code;                      // per face: back, either, front (by a margin)
   std::vector<uint32_t> amb;                      // the candidates the world test decides
   std::vector<double> amb_face;
   std::vector<uint8_t> amb_flags;
@@ -375,15 +376,25 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
   const double sign = flip ? -1.0 : 1.0;
   if (s.cull == CullMode::kWorld && spread < 1e6) {
     const double margin = 1e-9 * (length(e_rel) + r) * std::max(1.0, spread);
+    // 0: a back face by the margin, 1: either, 2: a front face by the margin
+    // (a loop the compiler vectorises, then the candidates picked out).
+    sc.code.resize(nt);
+    const double *nx = unit_face.nx.data(), *ny = unit_face.ny.data(), *nz = unit_face.nz.data(),
+                 *h = unit_face.h.data();
+    uint8_t* code = sc.code.data();
     for (uint32_t t = 0; t < nt; ++t) {
-      const double sd = sign * (unit_face.nx[t] * e_rel.x + unit_face.ny[t] * e_rel.y +
-                                unit_face.nz[t] * e_rel.z - r * unit_face.h[t]);
-      if (sd < -margin) continue;
+      const double sd = sign * (nx[t] * e_rel.x + ny[t] * e_rel.y + nz[t] * e_rel.z - r * h[t]);
+      code[t] = uint8_t((sd >= -margin) + (sd > margin));
+    }
+    sc.cand.reserve(nt);
+    sc.sure.reserve(nt);
+    for (uint32_t t = 0; t < nt; ++t) {
+      if (code[t] == 0) continue;
       sc.cand.push_back(t);
       // For the image, a face that is a front face by the same margin needs no
       // world test either: its unit normal stands in for the world one (the
       // same direction to ~1e-16, far below the image's float shading).
-      sc.sure.push_back(image != nullptr && sd > margin);
+      sc.sure.push_back(image != nullptr && code[t] == 2);
     }
     const uint64_t clear = nt - sc.cand.size();
     out.sphere_tris += clear;
