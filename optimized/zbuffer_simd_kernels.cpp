@@ -300,21 +300,28 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
           lane_off[k] = hn::Mul(iota_i, hn::Set(di, int32_t(narrow ? sx[k] : 0)));
         const VT q_lane = hn::Mul(iota_t, hn::Set(dt, T(qsx)));
         const VT w_lane = hn::Mul(iota_t, hn::Set(dt, T(wsx)));
+        // int32 lanes (narrow): the edges at the row's first block, stepped by
+        // sy a row and by N sx a block (each sum used is E' at a sample of the
+        // region; the step past the last row or block, unused, may wrap).
+        VI row_v[3], step_y[3], step_b[3];
+        for (int k = 0; k < 3; ++k) {
+          row_v[k] = hn::Add(hn::Set(di, int32_t(narrow ? e[k] : 0)), lane_off[k]);
+          step_y[k] = hn::Set(di, int32_t(narrow ? sy[k] : 0));
+          step_b[k] = hn::Set(di, int32_t(narrow ? sx[k] * N : 0));
+        }
         for (int r = 0; r < rows; ++r) {
-          int64_t er[3];
-          for (int k = 0; k < 3; ++k) er[k] = e[k] + sy[k] * r;
           const double q_row = q_first + qsy * r, w_row = w_first + wsy * r;
           const size_t row = (plane + size_t(r0 + r)) * size_t(W);
+          VI v[3] = {row_v[0], row_v[1], row_v[2]};
+          for (int k = 0; k < 3; ++k) row_v[k] = hn::Add(row_v[k], step_y[k]);
           for (int b = 0; b < nb; ++b) {
-            int64_t eb[3];
-            for (int k = 0; k < 3; ++k) eb[k] = er[k] + sx[k] * (int64_t(b) * N);
             hn::Mask<decltype(di)> cover;
             if (narrow) {
-              const VI v0 = hn::Add(hn::Set(di, int32_t(eb[0])), lane_off[0]);
-              const VI v1 = hn::Add(hn::Set(di, int32_t(eb[1])), lane_off[1]);
-              const VI v2 = hn::Add(hn::Set(di, int32_t(eb[2])), lane_off[2]);
-              cover = hn::Gt(hn::Or(hn::Or(v0, v1), v2), minus1);
+              cover = hn::Gt(hn::Or(hn::Or(v[0], v[1]), v[2]), minus1);
+              for (int k = 0; k < 3; ++k) v[k] = hn::Add(v[k], step_b[k]);
             } else {
+              int64_t eb[3];
+              for (int k = 0; k < 3; ++k) eb[k] = e[k] + sy[k] * r + sx[k] * (int64_t(b) * N);
               cover = CoverDouble(di, eb, sx);
             }
             if (hn::AllFalse(di, cover)) continue;
