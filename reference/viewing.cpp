@@ -152,6 +152,8 @@ UnitSphere unit_sphere(int rings) {
     if (k == rings) return 1;
     return uint32_t(2 + (k - 1) * meridians + (l % meridians));
   };
+  m.unit.reserve(size_t(2 + (rings - 1) * meridians));
+  m.tri.reserve(size_t(2 * (rings - 1) * meridians));
   m.unit.push_back({0, 0, 1});
   m.unit.push_back({0, 0, -1});
   // The sines and cosines of the meridians' longitudes once, not once per ring.
