@@ -20,9 +20,14 @@
 // view_polygons) on its own, in its chunk, so the result is always view_scene's.
 // The vertex projection, the scene bounds and the spheres' face tests run in
 // Highway kernels (zbuffer_simd_kernels.cpp) with the same double operations.
-// For the z-buffer's image (ImageOnly) the triangles go to a TriSink one at a
-// time instead, without those that have no sample in their box, and flat
+// For the z-buffer's image (ImageOnly) the triangles go to a TriSink instead
+// (one at a time, or as positions a sphere or a run of polygons at a time when
+// the sink needs no more), without those that have no sample in their box and
+// those hidden behind nearer spheres (OcclusionMap: the same image), and flat
 // colours are lit per chunk in SIMD (double lanes, within 1e-7 of view_scene's).
+// Spheres' clear back faces (world culling) are found from the unit sphere's
+// face normals and counted without the world face test; for the image, clear
+// front faces take the unit normal too (the world test runs near the silhouette).
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 

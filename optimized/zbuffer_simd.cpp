@@ -12,12 +12,16 @@
 //      tile is still in cache. Flat shading without silhouettes is drawn
 //      forward: the raster writes each passing sample's 1/z and colour, and
 //      shading has no per-triangle work left; the other shadings are deferred
-//      (the visible triangle per sample, then its planes).
+//      (the visible triangle per sample, then its planes). A tile whose
+//      triangles come back to front is drawn in reverse with ties winning
+//      (the same buffers; RasterSettings::order), so hidden samples write nothing.
 // The screen mesh is view_scene's (viewing, culling, clipping, sphere
 // tessellation, snapping), made by zsimd::view_scene_chunks (zbuffer_setup.cpp)
 // with the same coordinates bit for bit; for the image it hands each triangle
-// straight to the Binner (no ScreenTri is kept), leaves out triangles with no
-// sample in their box and lights flat colours in SIMD (double lanes).
+// straight to the Binner (no ScreenTri is kept; for forward flat shading only
+// positions and vertex depths, a sphere at a time), leaves out triangles with
+// no sample in their box and those hidden behind nearer spheres (same image:
+// see zbuffer_setup.cpp's occlusion map), and lights flat colours in SIMD.
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
