@@ -27,12 +27,6 @@ namespace lockstep::props::raster {
 
 namespace {
 
-std::string num(double x) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", x);
-  return buf;
-}
-
 rc::Gen<RasterCase> sphere_cluster() {
   return rc::gen::exec([] {
     RasterCase c;

@@ -53,12 +53,6 @@ namespace {
 
 using Uniform = std::function<double()>;  // uniform in [0, 1)
 
-std::string num(double x) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", x);
-  return buf;
-}
-
 std::string vec(double x, double y, double z) {
   return num(x) + " " + num(y) + " " + num(z) + "\n";
 }

@@ -15,13 +15,13 @@ namespace {
 
 constexpr const char* kHeader = "raster_case";
 
+}  // namespace
+
 std::string num(double x) {
   char buf[40];
   std::snprintf(buf, sizeof buf, "%.17g", x);
   return buf;
 }
-
-}  // namespace
 
 std::shared_ptr<const Scene> RasterCase::scene() const {
   return std::make_shared<const Scene>(parse_nff(nff, "<case>"));

@@ -25,6 +25,9 @@ struct RasterCase {
   FrameOptions options() const;               // width, height, params, one thread
 };
 
+// A double as scene text that reads back to the same bits (%.17g).
+std::string num(double x);
+
 std::string write_case(const RasterCase& c);
 RasterCase read_case(const std::string& text, const std::string& file);
 

@@ -24,12 +24,6 @@ namespace lockstep::props::raster {
 
 namespace {
 
-std::string num(double x) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", x);
-  return buf;
-}
-
 // Whether segment a-b meets the unit square of pixel (i, j) (closed).
 bool crosses(double ax, double ay, double bx, double by, int i, int j) {
   // Liang-Barsky clip of the segment against the square.
