@@ -93,6 +93,11 @@ HWY_INLINE hn::Mask<DI> CoverDouble(DI di, const int64_t e[3], const int64_t sx[
 // floor(x / 256) for any int64 (an arithmetic shift).
 HWY_INLINE int64_t FloorDiv256(int64_t x) { return x >> 8; }
 
+// max - min of three coordinates.
+HWY_INLINE int32_t Extent(const int32_t v[3]) {
+  return std::max({v[0], v[1], v[2]}) - std::min({v[0], v[1], v[2]});
+}
+
 // The stored value from the plane value q (kFixed24: its integer code, as stored_depth).
 template <bool kFixed24, class DT, class VT = hn::Vec<DT>>
 HWY_INLINE VT Stored(DT dt, VT q) {
@@ -146,7 +151,8 @@ HWY_INLINE void PairRows(DT dt, const RasterParams& p, const int64_t e[3], const
                          double w_first, double wsx, double wsy, const hn::Vec<DT> flat[3],
                          int cols, int rows, size_t at0, int W,
                          hn::Vec<hn::Rebind<int32_t, DT>> tri_id, bool ties,
-                         hn::TFromD<DT>* depth, int32_t* tri) {
+                         const ForwardFlat& fl, bool skip_empty, hn::TFromD<DT>* depth,
+                         int32_t* tri) {
   using T = hn::TFromD<DT>;
   const hn::Rebind<int32_t, DT> di;
   const hn::Half<DT> dh;
@@ -170,7 +176,7 @@ HWY_INLINE void PairRows(DT dt, const RasterParams& p, const int64_t e[3], const
     for (int k = 0; k < 3; ++k) v[k] = hn::Add(hn::Set(di, int32_t(e[k] + sy[k] * r)), lane_off[k]);
     auto cover = hn::And(hn::Gt(hn::Or(hn::Or(v[0], v[1]), v[2]), minus1), in_cols);
     if (r + 1 >= rows) cover = hn::And(cover, first_row);
-    if (hn::AllFalse(di, cover)) continue;
+    if (skip_empty && hn::AllFalse(di, cover)) continue;
     const size_t a0 = at0 + size_t(r) * size_t(W), a1 = a0 + size_t(W);
     const VT q = Stored<kFixed24>(dt, hn::Add(hn::Set(dt, T(q_first + qsy * r)), q_lane));
     const VT old = hn::Combine(dt, hn::LoadU(dh, depth + a1), hn::LoadU(dh, depth + a0));
@@ -180,17 +186,20 @@ HWY_INLINE void PairRows(DT dt, const RasterParams& p, const int64_t e[3], const
     MaskHalves(dt, dh, pass, m0, m1);
     hn::Mask<decltype(dhi)> i0, i1;
     MaskHalves(di, dhi, hn::RebindMask(di, pass), i0, i1);
-    hn::BlendedStore(hn::LowerHalf(dh, q), m0, dh, depth + a0);
-    hn::BlendedStore(hn::UpperHalf(dh, q), m1, dh, depth + a1);
+    // Depth blended and stored whole (the next triangle's load of these bytes
+    // is then forwarded from the store, not held up behind a masked one).
+    const VT nd = hn::IfThenElse(pass, q, old);
+    hn::StoreU(hn::LowerHalf(dh, nd), dh, depth + a0);
+    hn::StoreU(hn::UpperHalf(dh, nd), dh, depth + a1);
     hn::BlendedStore(hn::LowerHalf(dhi, tri_id), i0, dhi, tri + a0);
     hn::BlendedStore(hn::UpperHalf(dhi, tri_id), i1, dhi, tri + a1);
     if constexpr (kForward) {
       const VT w = hn::Add(hn::Set(dt, T(w_first + wsy * r)), w_lane);
-      hn::BlendedStore(hn::LowerHalf(dh, w), m0, dh, p.flat->w + a0);
-      hn::BlendedStore(hn::UpperHalf(dh, w), m1, dh, p.flat->w + a1);
+      hn::BlendedStore(hn::LowerHalf(dh, w), m0, dh, fl.w + a0);
+      hn::BlendedStore(hn::UpperHalf(dh, w), m1, dh, fl.w + a1);
       for (int c = 0; c < 3; ++c) {
-        hn::BlendedStore(hn::LowerHalf(dh, flat[c]), m0, dh, p.flat->rgb[c] + a0);
-        hn::BlendedStore(hn::UpperHalf(dh, flat[c]), m1, dh, p.flat->rgb[c] + a1);
+        hn::BlendedStore(hn::LowerHalf(dh, flat[c]), m0, dh, fl.rgb[c] + a0);
+        hn::BlendedStore(hn::UpperHalf(dh, flat[c]), m1, dh, fl.rgb[c] + a1);
       }
     }
   }
@@ -213,6 +222,10 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
   const VT iota_t = hn::Iota(dt, 0);
   const VI minus1 = hn::Set(di, -1);
   constexpr int64_t kLimit = int64_t(1) << 30;
+  // The forward planes' pointers, copied: held in registers, not reloaded
+  // through p after every store (which the compiler cannot prove leaves p alone).
+  ForwardFlat fl;
+  if constexpr (kForward) fl = *p.flat;
 
   for (int ll = 0; ll < t.nlists; ++ll) {
     const int l = t.reverse ? t.nlists - 1 - ll : ll;
@@ -239,9 +252,16 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
       // own first column) for a region at most 8 pixels wide, with 16 lanes,
       // when coverage is not counted: a small triangle takes half the blocks.
       bool pairs = kPairs && N == 16 && count == nullptr && ri1 - ri0 < 8;
+      // A small triangle (its vertices within 16 px of each other both ways):
+      // its edge values over any such region are below 2^19 in magnitude, so
+      // the pairs need no range tests (and take no branches on them).
+      const bool small = pairs && Extent(s.ax) < 16 * kSubpixel && Extent(s.ay) < 16 * kSubpixel;
       for (int smp = 0; smp < p.spp; ++smp) {
       retry:
-        const int c0 = pairs ? ri0 - t.x0 : ((ri0 - t.x0) / N) * N;  // tile-local first column
+        // tile-local first column (pairs: a multiple of 8 when the region fits in
+        // that group of 8: neighbours then read and write the same 32 bytes)
+        const int a8 = ((ri0 - t.x0) & ~7);
+        const int c0 = pairs ? (ri1 - t.x0 - a8 < 8 ? a8 : ri0 - t.x0) : ((ri0 - t.x0) / N) * N;
         const int nb = pairs ? 1 : (ri1 - t.x0 - c0) / N + 1;
         // The region's extent in pixels (pairs: 8 columns, and a row past the last).
         const int64_t wspan = pairs ? 7 : int64_t(nb * N - 1), hspan = pairs ? rows : rows - 1;
@@ -259,6 +279,7 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
                              s.bias[k]);
           sx[k] = s.ex[k];
           sy[k] = s.ey[k];
+          if (small) continue;
           const int64_t dx = sx[k] * wspan, dy = sy[k] * hspan;
           const int64_t lo = e[k] + std::min<int64_t>(0, dx) + std::min<int64_t>(0, dy);
           const int64_t hi = e[k] + std::max<int64_t>(0, dx) + std::max<int64_t>(0, dy);
@@ -290,8 +311,8 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
         if constexpr (kPairs) {
           if (pairs) {
             PairRows<kReversed, kFixed24, kForward>(
-                dt, p, e, sx, sy, q_first, qsx, qsy, w_first, wsx, wsy, flat, ri1 - ri0 + 1, rows,
-                (plane + size_t(r0)) * size_t(W) + size_t(c0), W, tri_id, t.reverse, depth, tri);
+                dt, p, e, sx, sy, q_first, qsx, qsy, w_first, wsx, wsy, flat, ri1 - t.x0 - c0 + 1, rows,
+                (plane + size_t(r0)) * size_t(W) + size_t(c0), W, tri_id, t.reverse, fl, !small, depth, tri);
             continue;
           }
         }
@@ -355,8 +376,8 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
             hn::BlendedStore(tri_id, CastMask(di, dt, pass), di, tri + at);
             if constexpr (kForward) {
               const VT w = hn::Add(hn::Set(dt, T(w_row + wsx * double(b * N))), w_lane);
-              hn::BlendedStore(w, pass, dt, p.flat->w + at);
-              for (int c = 0; c < 3; ++c) hn::BlendedStore(flat[c], pass, dt, p.flat->rgb[c] + at);
+              hn::BlendedStore(w, pass, dt, fl.w + at);
+              for (int c = 0; c < 3; ++c) hn::BlendedStore(flat[c], pass, dt, fl.rgb[c] + at);
             }
           }
         }
