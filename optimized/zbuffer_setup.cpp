@@ -33,6 +33,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <optional>
 
 #include "core/shading.h"
@@ -61,8 +62,6 @@ struct Chunk {
   uint64_t scene_tris = 0, culled = 0, degenerate = 0, clipped = 0;
 };
 
-int64_t floor_div(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
-int64_t ceil_div(int64_t a, int64_t b) { return -floor_div(-a, b); }
 
 constexpr int kMaxRings = 256;  // sphere_rings' upper end
 
@@ -80,7 +79,7 @@ class FlatBatch {
     const double v[kFlatInputs] = {
         p.x,  p.y,    p.z, n.x, n.y, n.z, m.kd * m.color.x, m.kd * m.color.y, m.kd * m.color.z,
         m.ks, m.shine};
-    for (int i = 0; i < kFlatInputs; ++i) in_[i][n_] = v[i];
+    for (int i = 0; i < kFlatInputs; ++i) in_[size_t(i) * cap_ + n_] = v[i];
     ++n_;
   }
   // The last n requests' triangles were numbered from 0: they start at first.
@@ -93,29 +92,32 @@ class FlatBatch {
     if (padded > cap_) grow(padded);
     const double* in[kFlatInputs];
     for (int k = 0; k < kFlatInputs; ++k) {
-      std::fill(in_[k].begin() + ptrdiff_t(n), in_[k].begin() + ptrdiff_t(padded), 0.0);
-      in[k] = in_[k].data();  // (the kernel reads whole vectors)
+      double* plane = in_.get() + size_t(k) * cap_;
+      std::fill(plane + n, plane + padded, 0.0);  // (the kernel reads whole vectors)
+      in[k] = plane;
     }
     rgb_.resize(3 * padded);
     float* out[3] = {rgb_.data(), rgb_.data() + padded, rgb_.data() + 2 * padded};
     flat_colors(p, n, in, out);
-    for (size_t i = 0; i < n; ++i) {
-      const float c[3] = {out[0][i], out[1][i], out[2][i]};
-      sink.set_flat(chunk, at_[i], c);
-    }
+    sink.set_flats(chunk, at_.data(), n, out);
     at_.clear();
     n_ = 0;
   }
 
  private:
+  // (Not value-initialised: only the n_ entries in use are read; a chunk's
+  // worth of zeroed planes was ~7% of a frame of many spheres.)
   void grow(size_t cap) {
     if (cap <= cap_) return;
-    for (auto& plane : in_) plane.resize(cap);
+    std::unique_ptr<double[]> in(new double[size_t(kFlatInputs) * cap]);
+    for (size_t k = 0; k < size_t(kFlatInputs); ++k)
+      std::copy_n(in_.get() + k * cap_, n_, in.get() + k * cap);
+    in_ = std::move(in);
     at_.reserve(cap);
     cap_ = cap;
   }
   std::vector<size_t> at_;
-  std::vector<double> in_[kFlatInputs];  // one plane per input, cap_ long, n_ in use
+  std::unique_ptr<double[]> in_;  // one plane per input, cap_ apart, n_ in use
   size_t n_ = 0, cap_ = 0;
   std::vector<float> rgb_;
 };
@@ -535,14 +537,6 @@ SampleGrid::SampleGrid(const std::vector<std::array<int32_t, 2>>& offsets, int w
   }
 }
 
-void SampleGrid::pixels(int64_t xmin, int64_t xmax, int64_t ymin, int64_t ymax, int32_t& i0,
-                        int32_t& i1, int32_t& j0, int32_t& j1) const {
-  // Pixels i with a sample 256 i + ox inside [xmin, xmax] for some offset ox.
-  i0 = int32_t(std::max<int64_t>(0, ceil_div(xmin - ox1, kSubpixel)));
-  i1 = int32_t(std::min<int64_t>(width - 1, floor_div(xmax - ox0, kSubpixel)));
-  j0 = int32_t(std::max<int64_t>(0, ceil_div(ymin - oy1, kSubpixel)));
-  j1 = int32_t(std::min<int64_t>(height - 1, floor_div(ymax - oy0, kSubpixel)));
-}
 
 namespace {
 

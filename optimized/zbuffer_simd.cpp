@@ -70,7 +70,7 @@ bool double_depth(DepthFormat f) { return f == DepthFormat::kDouble || f == Dept
 
 // A triangle's TriSetup from its snapped vertices (x[k], y[k]) and their w and
 // stored depth q (for the double raster: its corners, else the forward part;
-// the flat colour left to set_flat); inv_area: 1 / (twice its snapped area),
+// the flat colour left to set_flats); inv_area: 1 / (twice its snapped area),
 // for set_up_shading.
 void set_up(const int32_t x[3], const int32_t y[3], const double w[3], const double q[3],
             const zsimd::SampleGrid& grid, bool double_raster, TriSetup& t, double& inv_area) {
@@ -248,13 +248,17 @@ class Binner final : public zsimd::TriSink {
     BinChunk& ch = chunks[c];
     const size_t first = ch.setup.size();
     ch.setup.resize(first + n);
+    if (!double_raster_) {  // (the float raster drawn forward: in SIMD)
+      zsimd::set_up_forward(tris, n, grid_, ch.setup.data() + first);
+      for (size_t i = 0; i < n; ++i) bin(ch, ch.setup[first + i], first + i);
+      return first;
+    }
     for (size_t i = 0; i < n; ++i) {
       const zsimd::PosTri& p = tris[i];
       TriSetup& t = ch.setup[first + i];
       const double w[3] = {p.d[0].w, p.d[1].w, p.d[2].w}, q[3] = {p.d[0].q, p.d[1].q, p.d[2].q};
       double inv_area;
       set_up(p.x, p.y, w, q, grid_, double_raster_, t, inv_area);
-      if (!double_raster_) t.fwd.flat[0] = t.fwd.flat[1] = t.fwd.flat[2] = 0;  // (set_flat's)
       bin(ch, t, first + i);
     }
     return first;
@@ -270,9 +274,14 @@ class Binner final : public zsimd::TriSink {
         ch.bins[size_t(ty) * size_t(ntx) + size_t(tx)].push_back(uint32_t(at));
   }
 
-  void set_flat(size_t c, size_t i, const float rgb[3]) override {
-    if (scene_) std::copy_n(rgb, 3, chunks[c].shade[i].flat);
-    if (!double_raster_) std::copy_n(rgb, 3, chunks[c].setup[i].fwd.flat);
+  void set_flats(size_t c, const size_t* at, size_t n, const float* const rgb[3]) override {
+    BinChunk& ch = chunks[c];
+    if (scene_)
+      for (size_t i = 0; i < n; ++i)
+        for (int k = 0; k < 3; ++k) ch.shade[at[i]].flat[k] = rgb[k][i];
+    if (!double_raster_)
+      for (size_t i = 0; i < n; ++i)
+        for (int k = 0; k < 3; ++k) ch.setup[at[i]].fwd.flat[k] = rgb[k][i];
   }
 
   // After the last triangle: each chunk's first mesh id; the triangle count.

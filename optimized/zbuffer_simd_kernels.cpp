@@ -920,6 +920,82 @@ void ProjectVertices(const Projection& p, const Vec3* world, size_t n, Projected
   }
 }
 
+// set_up_forward: a vector of triangles at a time, gathered into lanes on the
+// stack and written back per triangle. The area is exact in double as in
+// int64 (snapped coordinates stay below 2^25 in magnitude inside the guard
+// band: products below 2^52).
+void SetUpForward(const PosTri* tris, size_t n, const SampleGrid& grid, TriSetup* out) {
+  const hn::CappedTag<double, 8> dd;
+  const hn::Rebind<int32_t, decltype(dd)> di;
+  using VD = hn::Vec<decltype(dd)>;
+  using VI = hn::Vec<decltype(di)>;
+  const size_t N = hn::Lanes(dd);
+  HWY_ALIGN int32_t x_in[3][8], y_in[3][8], box[4][8], ex[3][8], ey[3][8], bias[3][8];
+  HWY_ALIGN double w_in[3][8], q_in[3][8], qx[8], qy[8], wx[8], wy[8];
+  const VI zero_i = hn::Zero(di), one_i = hn::Set(di, 1), round = hn::Set(di, kSubpixel - 1);
+  const VI ox0 = hn::Set(di, grid.ox0), ox1 = hn::Set(di, grid.ox1);
+  const VI oy0 = hn::Set(di, grid.oy0), oy1 = hn::Set(di, grid.oy1);
+  const VI last_i = hn::Set(di, grid.width - 1), last_j = hn::Set(di, grid.height - 1);
+  const VD one = hn::Set(dd, 1.0);
+  static_assert(kSubpixel == 256);
+  for (size_t i = 0; i < n; i += N) {
+    const size_t m = std::min(N, n - i);
+    for (size_t j = 0; j < N; ++j) {
+      const PosTri& p = tris[i + (j < m ? j : 0)];  // (spare lanes: a copy of the first)
+      for (int k = 0; k < 3; ++k) {
+        x_in[k][j] = p.x[k], y_in[k][j] = p.y[k];
+        w_in[k][j] = p.d[k].w, q_in[k][j] = p.d[k].q;
+      }
+    }
+    VI x[3], y[3];
+    for (int k = 0; k < 3; ++k) x[k] = hn::Load(di, x_in[k]), y[k] = hn::Load(di, y_in[k]);
+    // SampleGrid::pixels of the box (floor and ceiling of / 256: shifts).
+    const VI xmin = hn::Min(hn::Min(x[0], x[1]), x[2]), xmax = hn::Max(hn::Max(x[0], x[1]), x[2]);
+    const VI ymin = hn::Min(hn::Min(y[0], y[1]), y[2]), ymax = hn::Max(hn::Max(y[0], y[1]), y[2]);
+    hn::Store(hn::Max(zero_i, hn::ShiftRight<8>(hn::Add(hn::Sub(xmin, ox1), round))), di, box[0]);
+    hn::Store(hn::Min(last_i, hn::ShiftRight<8>(hn::Sub(xmax, ox0))), di, box[1]);
+    hn::Store(hn::Max(zero_i, hn::ShiftRight<8>(hn::Add(hn::Sub(ymin, oy1), round))), di, box[2]);
+    hn::Store(hn::Min(last_j, hn::ShiftRight<8>(hn::Sub(ymax, oy0))), di, box[3]);
+    // Edge k from vertex a = k + 1 to b = k + 2: E_k = ex (X - x_a) + ey (Y - y_a).
+    VD exd[3], eyd[3];
+    for (int k = 0; k < 3; ++k) {
+      const int a = (k + 1) % 3, b = (k + 2) % 3;
+      const VI dx = hn::Sub(x[b], x[a]), dy = hn::Sub(y[b], y[a]);
+      hn::Store(hn::Neg(dy), di, ex[k]);
+      hn::Store(dx, di, ey[k]);
+      const auto top_left = hn::Or(hn::And(hn::Eq(dy, zero_i), hn::Gt(dx, zero_i)), hn::Lt(dy, zero_i));
+      hn::Store(hn::IfThenZeroElse(top_left, one_i), di, bias[k]);
+      exd[k] = hn::PromoteTo(dd, hn::Neg(dy));
+      eyd[k] = hn::PromoteTo(dd, dx);
+    }
+    // Twice the area, E_2 at vertex 2, and the planes of q and w.
+    const VD area = hn::Add(hn::Mul(exd[2], hn::PromoteTo(dd, hn::Sub(x[2], x[0]))),
+                            hn::Mul(eyd[2], hn::PromoteTo(dd, hn::Sub(y[2], y[0]))));
+    const VD inv_area = hn::Div(one, area);
+    auto gradient = [&](const double (*v)[8], const VD e[3]) {
+      const VD v0 = hn::Load(dd, v[0]);
+      return hn::Add(hn::Mul(hn::Sub(hn::Load(dd, v[1]), v0), e[1]),
+                     hn::Mul(hn::Sub(hn::Load(dd, v[2]), v0), e[2]));
+    };
+    hn::Store(hn::Div(gradient(q_in, exd), area), dd, qx);
+    hn::Store(hn::Div(gradient(q_in, eyd), area), dd, qy);
+    hn::Store(hn::Mul(gradient(w_in, exd), inv_area), dd, wx);
+    hn::Store(hn::Mul(gradient(w_in, eyd), inv_area), dd, wy);
+    for (size_t j = 0; j < m; ++j) {
+      TriSetup& t = out[i + j];
+      for (int k = 0; k < 3; ++k) {
+        const int a = (k + 1) % 3;
+        t.ax[k] = x_in[a][j], t.ay[k] = y_in[a][j];
+        t.ex[k] = ex[k][j], t.ey[k] = ey[k][j], t.bias[k] = bias[k][j];
+      }
+      t.i0 = box[0][j], t.i1 = box[1][j], t.j0 = box[2][j], t.j1 = box[3][j];
+      t.q0 = q_in[0][j], t.qx = qx[j], t.qy = qy[j];
+      t.fwd.w0 = w_in[0][j], t.fwd.wx = wx[j], t.fwd.wy = wy[j];
+      t.fwd.flat[0] = t.fwd.flat[1] = t.fwd.flat[2] = 0;
+    }
+  }
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace lockstep::opt::zsimd
 HWY_AFTER_NAMESPACE();
@@ -944,6 +1020,11 @@ void flat_colors(const ShadeParams& p, size_t n, const double* const* in, float*
   HWY_DYNAMIC_DISPATCH(FlatColors)(p, n, in, out);
 }
 HWY_EXPORT(GrowBounds);
+HWY_EXPORT(SetUpForward);
+
+void set_up_forward(const PosTri* tris, size_t n, const SampleGrid& grid, TriSetup* out) {
+  HWY_DYNAMIC_DISPATCH(SetUpForward)(tris, n, grid, out);
+}
 
 void grow_bounds(const Vec3* points, size_t n, Vec3& lo, Vec3& hi) {
   HWY_DYNAMIC_DISPATCH(GrowBounds)(points, n, lo, hi);

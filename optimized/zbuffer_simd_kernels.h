@@ -232,8 +232,16 @@ struct SampleGrid {
   SampleGrid(const std::vector<std::array<int32_t, 2>>& offsets, int w, int h);
   // The pixels [i0, i1] x [j0, j1] (inclusive; i0 > i1 or j0 > j1: none) that may
   // have a sample in the snapped box [xmin, xmax] x [ymin, ymax].
+  // (Pixels i with a sample 256 i + ox inside [xmin, xmax] for some offset ox:
+  // floor and ceiling of a division by 256 are arithmetic shifts.)
   void pixels(int64_t xmin, int64_t xmax, int64_t ymin, int64_t ymax, int32_t& i0, int32_t& i1,
-              int32_t& j0, int32_t& j1) const;
+              int32_t& j0, int32_t& j1) const {
+    static_assert(kSubpixel == 256);
+    i0 = int32_t(std::max<int64_t>(0, (xmin - ox1 + 255) >> 8));
+    i1 = int32_t(std::min<int64_t>(width - 1, (xmax - ox0) >> 8));
+    j0 = int32_t(std::max<int64_t>(0, (ymin - oy1 + 255) >> 8));
+    j1 = int32_t(std::min<int64_t>(height - 1, (ymax - oy0) >> 8));
+  }
   // Whether the triangle of snapped vertices (x[k], y[k]) has one in its box.
   bool any(const int32_t x[3], const int32_t y[3]) const {
     int32_t i0, i1, j0, j1;
@@ -250,6 +258,11 @@ struct PosTri {
   int32_t x[3], y[3];
   VertexDepth d[3];
 };
+// The binner's set-up of n such triangles for the float raster drawn forward
+// (opt::simd's set_up: box, edges, fill-rule biases, the depth and w planes;
+// the flat colour 0, for set_flats), a vector of triangles at a time: the same
+// double operations (no contraction), so the same bits.
+void set_up_forward(const PosTri* tris, size_t n, const SampleGrid& grid, TriSetup* out);
 
 // Where the image path's set-up puts its triangles one at a time, instead of
 // keeping them in ScreenTri chunks (opt::simd::zbuffer's binner). Triangles
@@ -271,8 +284,9 @@ class TriSink {
   // time, add_positions (chunk c's next n triangles; the index of the first).
   virtual bool positions_only() const { return false; }
   virtual size_t add_positions(size_t c, const PosTri* t, size_t n) = 0;
-  // The flat colour of triangle i of chunk c, when lit after add.
-  virtual void set_flat(size_t c, size_t i, const float rgb[3]) = 0;
+  // The flat colours of chunk c's triangles at[0], ..., at[n - 1], lit after
+  // add: triangle at[i]'s is (rgb[0][i], rgb[1][i], rgb[2][i]).
+  virtual void set_flats(size_t c, const size_t* at, size_t n, const float* const rgb[3]) = 0;
 };
 
 // What the z-buffer's image needs of the set-up, and no more: the triangles
