@@ -244,6 +244,8 @@ class Binner final : public zsimd::TriSink {
   }
 
   bool positions_only() const override { return scene_ == nullptr; }
+  bool double_raster() const { return double_raster_; }
+  const DepthMap& depth() const { return depth_; }
   size_t add_positions(size_t c, const zsimd::PosTri* tris, size_t n) override {
     BinChunk& ch = chunks[c];
     const size_t first = ch.setup.size();
@@ -326,6 +328,22 @@ void bin_mesh(const ScreenMesh& mesh, int threads, Binner& b) {
   auto chunk = [&](size_t c) {
     const size_t first = c * per_chunk, last = std::min(n, first + per_chunk);
     b.reserve(c, last - first);
+    if (b.positions_only() && !b.double_raster()) {
+      // The image path's set-up (set_up_forward) on the mesh's positions, so
+      // that the visibility properties check it too.
+      std::vector<zsimd::PosTri> pos(last - first);
+      for (size_t id = first; id < last; ++id) {
+        zsimd::PosTri& p = pos[id - first];
+        for (int k = 0; k < 3; ++k) {
+          const ScreenVertex& v = mesh.tris[id].v[size_t(k)];
+          p.x[k] = v.x, p.y[k] = v.y;
+          p.d[k].w = 1 / v.z;
+          p.d[k].q = b.depth()(v.z, p.d[k].w);
+        }
+      }
+      b.add_positions(c, pos.data(), pos.size());
+      return;
+    }
     for (size_t id = first; id < last; ++id) b.add(c, mesh.tris[id], nullptr);
   };
   if (nchunks <= 1) {

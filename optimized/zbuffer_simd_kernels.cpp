@@ -937,6 +937,7 @@ void SetUpForward(const PosTri* tris, size_t n, const SampleGrid& grid, TriSetup
   const VI oy0 = hn::Set(di, grid.oy0), oy1 = hn::Set(di, grid.oy1);
   const VI last_i = hn::Set(di, grid.width - 1), last_j = hn::Set(di, grid.height - 1);
   const VD one = hn::Set(dd, 1.0);
+  const bool one_sample = grid.ox0 == grid.ox1 && grid.oy0 == grid.oy1;
   static_assert(kSubpixel == 256);
   for (size_t i = 0; i < n; i += N) {
     const size_t m = std::min(N, n - i);
@@ -952,22 +953,56 @@ void SetUpForward(const PosTri* tris, size_t n, const SampleGrid& grid, TriSetup
     // SampleGrid::pixels of the box (floor and ceiling of / 256: shifts).
     const VI xmin = hn::Min(hn::Min(x[0], x[1]), x[2]), xmax = hn::Max(hn::Max(x[0], x[1]), x[2]);
     const VI ymin = hn::Min(hn::Min(y[0], y[1]), y[2]), ymax = hn::Max(hn::Max(y[0], y[1]), y[2]);
-    hn::Store(hn::Max(zero_i, hn::ShiftRight<8>(hn::Add(hn::Sub(xmin, ox1), round))), di, box[0]);
-    hn::Store(hn::Min(last_i, hn::ShiftRight<8>(hn::Sub(xmax, ox0))), di, box[1]);
-    hn::Store(hn::Max(zero_i, hn::ShiftRight<8>(hn::Add(hn::Sub(ymin, oy1), round))), di, box[2]);
-    hn::Store(hn::Min(last_j, hn::ShiftRight<8>(hn::Sub(ymax, oy0))), di, box[3]);
+    const VI i0 = hn::Max(zero_i, hn::ShiftRight<8>(hn::Add(hn::Sub(xmin, ox1), round)));
+    const VI i1 = hn::Min(last_i, hn::ShiftRight<8>(hn::Sub(xmax, ox0)));
+    const VI j0 = hn::Max(zero_i, hn::ShiftRight<8>(hn::Add(hn::Sub(ymin, oy1), round)));
+    const VI j1 = hn::Min(last_j, hn::ShiftRight<8>(hn::Sub(ymax, oy0)));
     // Edge k from vertex a = k + 1 to b = k + 2: E_k = ex (X - x_a) + ey (Y - y_a).
     VD exd[3], eyd[3];
+    VI exi[3], eyi[3], bi[3];
     for (int k = 0; k < 3; ++k) {
       const int a = (k + 1) % 3, b = (k + 2) % 3;
       const VI dx = hn::Sub(x[b], x[a]), dy = hn::Sub(y[b], y[a]);
-      hn::Store(hn::Neg(dy), di, ex[k]);
-      hn::Store(dx, di, ey[k]);
+      exi[k] = hn::Neg(dy), eyi[k] = dx;
+      hn::Store(exi[k], di, ex[k]);
+      hn::Store(eyi[k], di, ey[k]);
       const auto top_left = hn::Or(hn::And(hn::Eq(dy, zero_i), hn::Gt(dx, zero_i)), hn::Lt(dy, zero_i));
-      hn::Store(hn::IfThenZeroElse(top_left, one_i), di, bias[k]);
-      exd[k] = hn::PromoteTo(dd, hn::Neg(dy));
-      eyd[k] = hn::PromoteTo(dd, dx);
+      bi[k] = hn::IfThenZeroElse(top_left, one_i);
+      hn::Store(bi[k], di, bias[k]);
+      exd[k] = hn::PromoteTo(dd, exi[k]);
+      eyd[k] = hn::PromoteTo(dd, eyi[k]);
     }
+    // One sample per pixel: a small triangle (vertices within 16 px both ways)
+    // whose box holds at most 2 x 2 samples and that covers none of them
+    // (E_k >= bias_k for every edge: the raster's test) would draw nothing:
+    // its box is left empty, so it is never binned. (Its edge values there are
+    // below 2^24: int32.)
+    VI hi = i1;
+    if (one_sample) {
+      const VI limit = hn::Set(di, 16 * kSubpixel), two_i = hn::Set(di, 2);
+      const auto small = hn::And(
+          hn::And(hn::Lt(hn::Sub(xmax, xmin), limit), hn::Lt(hn::Sub(ymax, ymin), limit)),
+          hn::And(hn::Lt(hn::Sub(i1, i0), two_i), hn::Lt(hn::Sub(j1, j0), two_i)));
+      if (!hn::AllFalse(di, small)) {
+        auto covered = hn::Not(hn::Eq(zero_i, zero_i));
+        for (int s = 0; s < 4; ++s) {
+          const VI i = hn::Add(i0, hn::Set(di, s & 1)), j = hn::Add(j0, hn::Set(di, s >> 1));
+          const VI sx = hn::Add(hn::ShiftLeft<8>(i), ox0), sy = hn::Add(hn::ShiftLeft<8>(j), oy0);
+          auto in = hn::And(hn::Lt(i, hn::Add(i1, one_i)), hn::Lt(j, hn::Add(j1, one_i)));
+          for (int k = 0; k < 3; ++k) {
+            const int a = (k + 1) % 3;
+            const VI e = hn::Add(hn::Mul(exi[k], hn::Sub(sx, x[a])), hn::Mul(eyi[k], hn::Sub(sy, y[a])));
+            in = hn::And(in, hn::Gt(e, hn::Sub(bi[k], one_i)));  // e >= bias
+          }
+          covered = hn::Or(covered, in);
+        }
+        hi = hn::IfThenElse(hn::AndNot(covered, small), hn::Sub(i0, one_i), i1);
+      }
+    }
+    hn::Store(i0, di, box[0]);
+    hn::Store(hi, di, box[1]);
+    hn::Store(j0, di, box[2]);
+    hn::Store(j1, di, box[3]);
     // Twice the area, E_2 at vertex 2, and the planes of q and w.
     const VD area = hn::Add(hn::Mul(exd[2], hn::PromoteTo(dd, hn::Sub(x[2], x[0]))),
                             hn::Mul(eyd[2], hn::PromoteTo(dd, hn::Sub(y[2], y[0]))));
