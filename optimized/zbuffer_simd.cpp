@@ -79,14 +79,16 @@ void set_up(const int32_t x[3], const int32_t y[3], const double w[3], const dou
     xmin = std::min<int64_t>(xmin, x[k]), xmax = std::max<int64_t>(xmax, x[k]);
     ymin = std::min<int64_t>(ymin, y[k]), ymax = std::max<int64_t>(ymax, y[k]);
   }
-  grid.pixels(xmin, xmax, ymin, ymax, t.i0, t.i1, t.j0, t.j1);
+  int32_t i0, i1, j0, j1;
+  grid.pixels(xmin, xmax, ymin, ymax, i0, i1, j0, j1);
+  t.set_box(i0, i1, j0, j1);
   for (int k = 0; k < 3; ++k) {
     const int a = (k + 1) % 3, b = (k + 2) % 3;
     const int64_t dx = int64_t(x[b]) - x[a], dy = int64_t(y[b]) - y[a];
     t.ax[k] = x[a], t.ay[k] = y[a];
     t.ex[k] = int32_t(-dy), t.ey[k] = int32_t(dx);
     const bool top_left = (dy == 0 && dx > 0) || dy < 0;
-    t.bias[k] = top_left ? 0 : 1;
+    t.bias[k] = top_left ? 0 : 1;  // (uint8_t)
   }
   // Plane through the three vertices' values, from the barycentric gradients
   // b_k = E_k / A (A = E_2(v2), twice the area in snapped units).

@@ -243,8 +243,8 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
         for (size_t b = 0; b < sizeof(TriSetup); b += 64) __builtin_prefetch(ahead + b);
       }
       const TriSetup& s = tris[id];
-      const int ri0 = std::max(s.i0, t.x0), ri1 = std::min(s.i1, t.x1 - 1);
-      const int rj0 = std::max(s.j0, t.y0), rj1 = std::min(s.j1, t.y1 - 1);
+      const int ri0 = std::max(int(s.i0), t.x0), ri1 = std::min(int(s.i1), t.x1 - 1);
+      const int rj0 = std::max(int(s.j0), t.y0), rj1 = std::min(int(s.j1), t.y1 - 1);
       if (ri0 > ri1 || rj0 > rj1) continue;
       const int r0 = rj0 - t.y0, rows = rj1 - rj0 + 1;
       const VI tri_id = hn::Set(di, first + int32_t(id));
@@ -1021,9 +1021,9 @@ void SetUpForward(const PosTri* tris, size_t n, const SampleGrid& grid, TriSetup
       for (int k = 0; k < 3; ++k) {
         const int a = (k + 1) % 3;
         t.ax[k] = x_in[a][j], t.ay[k] = y_in[a][j];
-        t.ex[k] = ex[k][j], t.ey[k] = ey[k][j], t.bias[k] = bias[k][j];
+        t.ex[k] = ex[k][j], t.ey[k] = ey[k][j], t.bias[k] = uint8_t(bias[k][j]);
       }
-      t.i0 = box[0][j], t.i1 = box[1][j], t.j0 = box[2][j], t.j1 = box[3][j];
+      t.set_box(box[0][j], box[1][j], box[2][j], box[3][j]);
       t.q0 = q_in[0][j], t.qx = qx[j], t.qy = qy[j];
       t.fwd.w0 = w_in[0][j], t.fwd.wx = wx[j], t.fwd.wy = wy[j];
       t.fwd.flat[0] = t.fwd.flat[1] = t.fwd.flat[2] = 0;

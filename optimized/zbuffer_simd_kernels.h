@@ -26,13 +26,16 @@ namespace lockstep::opt::zsimd {
 // they fit int32; the products do not). A sample is inside when
 // E_k(P) - bias[k] >= 0 for all k: bias 0 for top and left edges, 1 for the
 // others (E integer, so E - 1 >= 0 is E > 0: the top-left rule).
-// Kept small (144 bytes): a big mesh's set-ups are read back from memory, tile
-// by tile, by the raster.
+// Kept small (128 bytes, two cache lines in the binner's page-aligned arrays):
+// a big mesh's set-ups are written to memory and read back, tile by tile, by
+// the raster.
 struct TriSetup {
   int32_t ax[3], ay[3];
   int32_t ex[3], ey[3];
-  int32_t bias[3];
-  int32_t i0, i1, j0, j1;  // pixels that may hold a covered sample (inclusive; i0 > i1: none)
+  // Pixels that may hold a covered sample (inclusive; i0 > i1 or j0 > j1: none),
+  // clamped to [-1, size] (set_box).
+  int16_t i0, i1, j0, j1;
+  uint8_t bias[3];
   // Depth plane q(P) = q0 + qx (P.x - x0()) + qy (P.y - y0()), P in 1/256 px:
   // the stored depth (kFixed24: the window depth before rounding).
   double q0, qx, qy;
@@ -56,9 +59,15 @@ struct TriSetup {
   // Vertex 0, the planes' origin (edge 2 starts there).
   int32_t x0() const { return ax[2]; }
   int32_t y0() const { return ay[2]; }
+  // The box from SampleGrid::pixels' (i0 in [0, inf), i1 in (-inf, width - 1]:
+  // clamped, still empty where it was).
+  void set_box(int32_t a0, int32_t a1, int32_t b0, int32_t b1) {
+    i0 = int16_t(std::min(a0, 1 << 14)), i1 = int16_t(std::max(a1, -1));
+    j0 = int16_t(std::min(b0, 1 << 14)), j1 = int16_t(std::max(b1, -1));
+  }
   // (No initialisers: the set-up writes every field; arrays of them are not zeroed first.)
 };
-static_assert(sizeof(TriSetup) == 144);
+static_assert(sizeof(TriSetup) == 128);
 
 // What shading needs of one triangle. Its attribute planes (kept apart, in
 // double, as many rows as the shading needs) are a(P) = a0 + ax (P.x - x0) +
