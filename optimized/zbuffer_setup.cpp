@@ -333,6 +333,12 @@ struct SphereScratch {
   std::vector<uint32_t> amb;                      // the candidates the world test decides
   std::vector<double> amb_face;
   std::vector<uint8_t> amb_flags;
+  // The positions path's triangle step (triangle_step): vertices, candidate,
+  // status, box, nearest depth per triangle past world culling.
+  std::vector<uint32_t> va, vb, vc, vcand;
+  std::vector<uint8_t> status;
+  std::vector<int32_t> box[4];
+  std::vector<double> zmin;
 };
 
 // Sphere k as view_spheres emits it (unit: its unit sphere), appended to out
@@ -442,6 +448,63 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
   ScreenTri local;
   const bool positions = image && image->sink->positions_only();
   sc.pos.clear();
+  if (positions) {
+    // The same steps, the area's and the box's in SIMD (triangle_step): the
+    // triangles past world culling first, then the kernel, then per triangle
+    // what it found.
+    sc.va.clear(), sc.vb.clear(), sc.vc.clear(), sc.vcand.clear();
+    for (uint32_t i = 0; i < nc; ++i) {
+      if (sc.flags[i] & kNoFace) continue;
+      ++out.sphere_tris;
+      if (!(sc.flags[i] & kFront) && s.cull == CullMode::kWorld) {
+        ++out.culled;
+        continue;
+      }
+      const auto& [a, b0, c0] = unit.tri[sc.cand[i]];
+      sc.va.push_back(a), sc.vb.push_back(flip ? c0 : b0), sc.vc.push_back(flip ? b0 : c0);
+      sc.vcand.push_back(i);
+    }
+    const size_t n = sc.va.size(), padded = (n + 15) / 16 * 16;
+    if (n == 0) return true;
+    for (auto* v : {&sc.va, &sc.vb, &sc.vc}) v->resize(padded, sc.va[0]);
+    sc.status.resize(padded);
+    for (auto& b : sc.box) b.resize(padded);
+    sc.zmin.resize(padded);
+    int32_t* const box[4] = {sc.box[0].data(), sc.box[1].data(), sc.box[2].data(),
+                             sc.box[3].data()};
+    triangle_step(sc.proj.data(), sc.va.data(), sc.vb.data(), sc.vc.data(), n, image->grid,
+                  s.cull == CullMode::kProjection, sc.status.data(), box, sc.zmin.data());
+    for (size_t j = 0; j < n; ++j) {
+      if (sc.status[j] != kTriKeep) {
+        if (sc.status[j] == kTriDegenerate) ++out.degenerate;
+        if (sc.status[j] == kTriCulled) ++out.culled;
+        continue;  // (kTriNone: no sample in its box, not counted)
+      }
+      if (occlusion && occlusion->hidden(box[0][j], box[1][j], box[2][j], box[3][j], sc.zmin[j])) {
+        ++out.hidden;
+        continue;
+      }
+      const uint32_t order[3] = {sc.va[j], sc.vb[j], sc.vc[j]};
+      PosTri& pt = sc.pos.emplace_back();
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t vi = order[k];
+        pt.x[k] = sc.proj[vi].x, pt.y[k] = sc.proj[vi].y, pt.d[k] = sc.depth[vi];
+      }
+      // (Its index in the sphere for now: its chunk's once handed over.)
+      if (flat_shading) {
+        const size_t i = sc.vcand[j];
+        const Vec3 face{sc.face[3 * i], sc.face[3 * i + 1], sc.face[3 * i + 2]};
+        // (v1 and v2 may be swapped: their sum is the same.)
+        batch.add(sc.pos.size() - 1,
+                  (sc.world[order[0]] + sc.world[order[1]] + sc.world[order[2]]) / 3.0, face, m);
+      }
+    }
+    if (!sc.pos.empty()) {
+      const size_t first = image->sink->add_positions(chunk, sc.pos.data(), sc.pos.size());
+      if (flat_shading) batch.offset_last(sc.pos.size(), first);
+    }
+    return true;
+  }
   for (uint32_t i = 0; i < nc; ++i) {
     if (sc.flags[i] & kNoFace) continue;
     const uint32_t t = sc.cand[i];

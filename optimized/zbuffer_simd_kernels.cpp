@@ -36,6 +36,7 @@
 #include "optimized/zbuffer_simd_kernels.h"
 
 #include <algorithm>
+#include <cstddef>
 #include <cmath>
 #include <cstdlib>
 
@@ -920,6 +921,74 @@ void ProjectVertices(const Projection& p, const Vec3* world, size_t n, Projected
   }
 }
 
+// triangle_step: the vertices gathered (ProjectedVertex: z at double 0, x and
+// y at int32 2 and 3 of its 24 bytes); the area exact in double as in int64.
+void TriangleStep(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uint32_t* c, size_t n,
+                  const SampleGrid& grid, bool cull_projection, uint8_t* status,
+                  int32_t* const box[4], double* zmin) {
+  static_assert(sizeof(ProjectedVertex) == 24 && offsetof(ProjectedVertex, x) == 8 &&
+                offsetof(ProjectedVertex, y) == 12 && offsetof(ProjectedVertex, z) == 0);
+  const hn::CappedTag<double, 8> dd;
+  const hn::Rebind<int32_t, decltype(dd)> di;
+  const hn::Rebind<uint32_t, decltype(dd)> du;
+  const hn::Rebind<int64_t, decltype(dd)> dl;
+  using VD = hn::Vec<decltype(dd)>;
+  using VI = hn::Vec<decltype(di)>;
+  const size_t N = hn::Lanes(dd);
+  const int32_t* words = reinterpret_cast<const int32_t*>(pv);
+  const double* zs = reinterpret_cast<const double*>(pv);
+  const VI six = hn::Set(di, 6), two = hn::Set(di, 2), three = hn::Set(di, 3);
+  const VI zero_i = hn::Zero(di), round = hn::Set(di, kSubpixel - 1);
+  const VI ox0 = hn::Set(di, grid.ox0), ox1 = hn::Set(di, grid.ox1);
+  const VI oy0 = hn::Set(di, grid.oy0), oy1 = hn::Set(di, grid.oy1);
+  const VI last_i = hn::Set(di, grid.width - 1), last_j = hn::Set(di, grid.height - 1);
+  const VD zero = hn::Zero(dd);
+  HWY_ALIGN int32_t st[8];
+  for (size_t i = 0; i < n; i += N) {
+    const VI ia = hn::BitCast(di, hn::LoadU(du, a + i));
+    const VI ib = hn::BitCast(di, hn::LoadU(du, b + i));
+    const VI ic = hn::BitCast(di, hn::LoadU(du, c + i));
+    VI x[3], y[3];
+    VD z[3];
+    const VI idx[3] = {ia, ib, ic};
+    for (int k = 0; k < 3; ++k) {
+      const VI w6 = hn::Mul(idx[k], six);
+      x[k] = hn::GatherIndex(di, words, hn::Add(w6, two));
+      y[k] = hn::GatherIndex(di, words, hn::Add(w6, three));
+      z[k] = hn::GatherIndex(dd, zs, hn::Mul(hn::PromoteTo(dl, idx[k]), hn::Set(dl, 3)));
+    }
+    // (p1.x - p0.x)(p2.y - p0.y) - (p1.y - p0.y)(p2.x - p0.x), exactly.
+    const VD area =
+        hn::Sub(hn::Mul(hn::PromoteTo(dd, hn::Sub(x[1], x[0])), hn::PromoteTo(dd, hn::Sub(y[2], y[0]))),
+                hn::Mul(hn::PromoteTo(dd, hn::Sub(y[1], y[0])), hn::PromoteTo(dd, hn::Sub(x[2], x[0]))));
+    const VI xmin = hn::Min(hn::Min(x[0], x[1]), x[2]), xmax = hn::Max(hn::Max(x[0], x[1]), x[2]);
+    const VI ymin = hn::Min(hn::Min(y[0], y[1]), y[2]), ymax = hn::Max(hn::Max(y[0], y[1]), y[2]);
+    const VI i0 = hn::Max(zero_i, hn::ShiftRight<8>(hn::Add(hn::Sub(xmin, ox1), round)));
+    const VI i1 = hn::Min(last_i, hn::ShiftRight<8>(hn::Sub(xmax, ox0)));
+    const VI j0 = hn::Max(zero_i, hn::ShiftRight<8>(hn::Add(hn::Sub(ymin, oy1), round)));
+    const VI j1 = hn::Min(last_j, hn::ShiftRight<8>(hn::Sub(ymax, oy0)));
+    hn::StoreU(i0, di, box[0] + i);
+    hn::StoreU(i1, di, box[1] + i);
+    hn::StoreU(j0, di, box[2] + i);
+    hn::StoreU(j1, di, box[3] + i);
+    hn::StoreU(hn::Min(hn::Min(z[0], z[1]), z[2]), dd, zmin + i);
+    // The area's sign in int32 lanes, then the status, most specific last.
+    const VI sign = hn::DemoteTo(
+        di, hn::IfThenElse(hn::Gt(area, zero), hn::Set(dd, 1.0),
+                           hn::IfThenElseZero(hn::Lt(area, zero), hn::Set(dd, -1.0))));
+    const auto none = hn::Or(hn::Gt(i0, i1), hn::Gt(j0, j1));
+    VI code = hn::IfThenElseZero(none, hn::Set(di, kTriNone));
+    if (cull_projection) code = hn::IfThenElse(hn::Gt(sign, zero_i), hn::Set(di, kTriCulled), code);
+    code = hn::IfThenElse(hn::Eq(sign, zero_i), hn::Set(di, kTriDegenerate), code);
+    hn::Store(code, di, st);
+    for (size_t j = 0; j < N; ++j) status[i + j] = uint8_t(st[j]);
+    // Negative area: b and c swapped.
+    const auto swap = hn::Lt(sign, zero_i);
+    hn::StoreU(hn::BitCast(du, hn::IfThenElse(swap, ic, ib)), du, b + i);
+    hn::StoreU(hn::BitCast(du, hn::IfThenElse(swap, ib, ic)), du, c + i);
+  }
+}
+
 // set_up_forward: a vector of triangles at a time, gathered into lanes on the
 // stack and written back per triangle. The area is exact in double as in
 // int64 (snapped coordinates stay below 2^25 in magnitude inside the guard
@@ -1056,6 +1125,13 @@ void flat_colors(const ShadeParams& p, size_t n, const double* const* in, float*
 }
 HWY_EXPORT(GrowBounds);
 HWY_EXPORT(SetUpForward);
+HWY_EXPORT(TriangleStep);
+
+void triangle_step(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uint32_t* c,
+                   size_t n, const SampleGrid& grid, bool cull_projection, uint8_t* status,
+                   int32_t* const box[4], double* zmin) {
+  HWY_DYNAMIC_DISPATCH(TriangleStep)(pv, a, b, c, n, grid, cull_projection, status, box, zmin);
+}
 
 void set_up_forward(const PosTri* tris, size_t n, const SampleGrid& grid, TriSetup* out) {
   HWY_DYNAMIC_DISPATCH(SetUpForward)(tris, n, grid, out);

@@ -267,6 +267,18 @@ struct PosTri {
   int32_t x[3], y[3];
   VertexDepth d[3];
 };
+// The image's triangle step (view_scene's Emitter::triangle after world
+// culling) for n triangles of vertices a[i], b[i], c[i] of pv, as the mesh
+// lists them: status[i] kTriKeep, kTriDegenerate (zero snapped area),
+// kTriCulled (positive area under projection culling) or kTriNone (no sample
+// of grid in its box); for kept ones b[i] and c[i] swapped where the area is
+// negative (view_scene's order), the box (SampleGrid::pixels) in box[0..3][i]
+// and the nearest vertex's eye depth in zmin[i]. The arrays hold n rounded up
+// to 16 (a, b, c: valid indices there too); a vector of triangles at a time.
+inline constexpr uint8_t kTriKeep = 0, kTriDegenerate = 1, kTriCulled = 2, kTriNone = 3;
+void triangle_step(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uint32_t* c,
+                   size_t n, const SampleGrid& grid, bool cull_projection, uint8_t* status,
+                   int32_t* const box[4], double* zmin);
 // The binner's set-up of n such triangles for the float raster drawn forward
 // (opt::simd's set_up: box, edges, fill-rule biases, the depth and w planes;
 // the flat colour 0, for set_flats), a vector of triangles at a time: the same
