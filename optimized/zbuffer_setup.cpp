@@ -762,8 +762,9 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
   }
 
   // Every vertex once: eye space, the clip test, the snapped screen position.
-  std::vector<ProjectedVertex> pv(scene.vertex.size());
-  std::vector<VertexDepth> pvd(image ? scene.vertex.size() : 0);  // the image's, per vertex
+  std::vector<ProjectedVertex, NoInitAllocator<ProjectedVertex>> pv(scene.vertex.size());
+  // The image's, per vertex.
+  std::vector<VertexDepth, NoInitAllocator<VertexDepth>> pvd(image ? scene.vertex.size() : 0);
   arena.execute([&] {
     tbb::parallel_for(
         tbb::blocked_range<size_t>(0, pv.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {

@@ -198,18 +198,21 @@ struct DepthMap {
 };
 // A vertex's w = 1 / z and stored depth (DepthMap), worked out once per vertex
 // by a set-up that shares vertices between triangles.
+// (No initialisers, as ProjectedVertex's.)
 struct VertexDepth {
-  double w = 0, q = 0;
+  double w, q;
 };
 
 // The set-up's vertex step (zbuffer_setup.cpp): world -> eye space, the clip
 // test and the snapped screen position, as view_scene's eye_from_world,
 // inside_all and to_screen compute them, operation for operation in double (so
 // the same bits), several vertices a vector.
+// (No initialisers: project_vertices writes every field, and a frame's arrays
+// of them, a vertex of the scene each, are not zeroed first.)
 struct ProjectedVertex {
-  double z = 0;          // eye depth
-  int32_t x = 0, y = 0;  // snapped (0 where not inside)
-  uint8_t inside = 0;    // within the hither plane and the guard band
+  double z;          // eye depth
+  int32_t x, y;      // snapped (0 where not inside)
+  uint8_t inside;    // within the hither plane and the guard band
 };
 struct Projection {
   double eye[3], right[3], up[3], forward[3];
