@@ -921,6 +921,21 @@ void ProjectVertices(const Projection& p, const Vec3* world, size_t n, Projected
   }
 }
 
+// SampleGrid::pixels for a vector of triangles of vertices (x[k], y[k]) (the
+// floor and ceiling of / 256 are shifts): triangle_step's and set_up_forward's.
+template <class DI, class VI = hn::Vec<DI>>
+HWY_INLINE void PixelBox(DI di, const SampleGrid& grid, const VI x[3], const VI y[3], VI& i0,
+                         VI& i1, VI& j0, VI& j1) {
+  static_assert(kSubpixel == 256);
+  const VI zero = hn::Zero(di), round = hn::Set(di, kSubpixel - 1);
+  const VI xmin = hn::Min(hn::Min(x[0], x[1]), x[2]), xmax = hn::Max(hn::Max(x[0], x[1]), x[2]);
+  const VI ymin = hn::Min(hn::Min(y[0], y[1]), y[2]), ymax = hn::Max(hn::Max(y[0], y[1]), y[2]);
+  i0 = hn::Max(zero, hn::ShiftRight<8>(hn::Add(hn::Sub(xmin, hn::Set(di, grid.ox1)), round)));
+  i1 = hn::Min(hn::Set(di, grid.width - 1), hn::ShiftRight<8>(hn::Sub(xmax, hn::Set(di, grid.ox0))));
+  j0 = hn::Max(zero, hn::ShiftRight<8>(hn::Add(hn::Sub(ymin, hn::Set(di, grid.oy1)), round)));
+  j1 = hn::Min(hn::Set(di, grid.height - 1), hn::ShiftRight<8>(hn::Sub(ymax, hn::Set(di, grid.oy0))));
+}
+
 // triangle_step: the vertices gathered (ProjectedVertex: z at double 0, x and
 // y at int32 2 and 3 of its 24 bytes); the area exact in double as in int64.
 void TriangleStep(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uint32_t* c, size_t n,
@@ -938,10 +953,7 @@ void TriangleStep(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uin
   const int32_t* words = reinterpret_cast<const int32_t*>(pv);
   const double* zs = reinterpret_cast<const double*>(pv);
   const VI six = hn::Set(di, 6), two = hn::Set(di, 2), three = hn::Set(di, 3);
-  const VI zero_i = hn::Zero(di), round = hn::Set(di, kSubpixel - 1);
-  const VI ox0 = hn::Set(di, grid.ox0), ox1 = hn::Set(di, grid.ox1);
-  const VI oy0 = hn::Set(di, grid.oy0), oy1 = hn::Set(di, grid.oy1);
-  const VI last_i = hn::Set(di, grid.width - 1), last_j = hn::Set(di, grid.height - 1);
+  const VI zero_i = hn::Zero(di);
   const VD zero = hn::Zero(dd);
   HWY_ALIGN int32_t st[8];
   for (size_t i = 0; i < n; i += N) {
@@ -961,12 +973,8 @@ void TriangleStep(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uin
     const VD area =
         hn::Sub(hn::Mul(hn::PromoteTo(dd, hn::Sub(x[1], x[0])), hn::PromoteTo(dd, hn::Sub(y[2], y[0]))),
                 hn::Mul(hn::PromoteTo(dd, hn::Sub(y[1], y[0])), hn::PromoteTo(dd, hn::Sub(x[2], x[0]))));
-    const VI xmin = hn::Min(hn::Min(x[0], x[1]), x[2]), xmax = hn::Max(hn::Max(x[0], x[1]), x[2]);
-    const VI ymin = hn::Min(hn::Min(y[0], y[1]), y[2]), ymax = hn::Max(hn::Max(y[0], y[1]), y[2]);
-    const VI i0 = hn::Max(zero_i, hn::ShiftRight<8>(hn::Add(hn::Sub(xmin, ox1), round)));
-    const VI i1 = hn::Min(last_i, hn::ShiftRight<8>(hn::Sub(xmax, ox0)));
-    const VI j0 = hn::Max(zero_i, hn::ShiftRight<8>(hn::Add(hn::Sub(ymin, oy1), round)));
-    const VI j1 = hn::Min(last_j, hn::ShiftRight<8>(hn::Sub(ymax, oy0)));
+    VI i0, i1, j0, j1;
+    PixelBox(di, grid, x, y, i0, i1, j0, j1);
     hn::StoreU(i0, di, box[0] + i);
     hn::StoreU(i1, di, box[1] + i);
     hn::StoreU(j0, di, box[2] + i);
@@ -1001,10 +1009,8 @@ void SetUpForward(const PosTri* tris, size_t n, const SampleGrid& grid, TriSetup
   const size_t N = hn::Lanes(dd);
   HWY_ALIGN int32_t x_in[3][8], y_in[3][8], box[4][8], ex[3][8], ey[3][8], bias[3][8];
   HWY_ALIGN double w_in[3][8], q_in[3][8], qx[8], qy[8], wx[8], wy[8];
-  const VI zero_i = hn::Zero(di), one_i = hn::Set(di, 1), round = hn::Set(di, kSubpixel - 1);
-  const VI ox0 = hn::Set(di, grid.ox0), ox1 = hn::Set(di, grid.ox1);
-  const VI oy0 = hn::Set(di, grid.oy0), oy1 = hn::Set(di, grid.oy1);
-  const VI last_i = hn::Set(di, grid.width - 1), last_j = hn::Set(di, grid.height - 1);
+  const VI zero_i = hn::Zero(di), one_i = hn::Set(di, 1);
+  const VI ox0 = hn::Set(di, grid.ox0), oy0 = hn::Set(di, grid.oy0);
   const VD one = hn::Set(dd, 1.0);
   const bool one_sample = grid.ox0 == grid.ox1 && grid.oy0 == grid.oy1;
   static_assert(kSubpixel == 256);
@@ -1019,13 +1025,10 @@ void SetUpForward(const PosTri* tris, size_t n, const SampleGrid& grid, TriSetup
     }
     VI x[3], y[3];
     for (int k = 0; k < 3; ++k) x[k] = hn::Load(di, x_in[k]), y[k] = hn::Load(di, y_in[k]);
-    // SampleGrid::pixels of the box (floor and ceiling of / 256: shifts).
+    VI i0, i1, j0, j1;
+    PixelBox(di, grid, x, y, i0, i1, j0, j1);
     const VI xmin = hn::Min(hn::Min(x[0], x[1]), x[2]), xmax = hn::Max(hn::Max(x[0], x[1]), x[2]);
     const VI ymin = hn::Min(hn::Min(y[0], y[1]), y[2]), ymax = hn::Max(hn::Max(y[0], y[1]), y[2]);
-    const VI i0 = hn::Max(zero_i, hn::ShiftRight<8>(hn::Add(hn::Sub(xmin, ox1), round)));
-    const VI i1 = hn::Min(last_i, hn::ShiftRight<8>(hn::Sub(xmax, ox0)));
-    const VI j0 = hn::Max(zero_i, hn::ShiftRight<8>(hn::Add(hn::Sub(ymin, oy1), round)));
-    const VI j1 = hn::Min(last_j, hn::ShiftRight<8>(hn::Sub(ymax, oy0)));
     // Edge k from vertex a = k + 1 to b = k + 2: E_k = ex (X - x_a) + ey (Y - y_a).
     VD exd[3], eyd[3];
     VI exi[3], eyi[3], bi[3];
