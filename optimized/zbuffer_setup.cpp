@@ -62,7 +62,6 @@ struct Chunk {
   uint64_t scene_tris = 0, culled = 0, degenerate = 0, clipped = 0;
 };
 
-
 constexpr int kMaxRings = 256;  // sphere_rings' upper end
 
 // The flat colours of a chunk's triangles, lit together (flat_colors; ImageOnly):
@@ -494,7 +493,8 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
       if (flat_shading) {
         const size_t i = sc.vcand[j];
         const Vec3 face{sc.face[3 * i], sc.face[3 * i + 1], sc.face[3 * i + 2]};
-        // (v1 and v2 may be swapped: their sum is the same.)
+        // (v1 and v2 may be swapped: the sum may differ from view_spheres'
+        // in its last bit, far below the SIMD lighting's 1e-7.)
         batch.add(sc.pos.size() - 1,
                   (sc.world[order[0]] + sc.world[order[1]] + sc.world[order[2]]) / 3.0, face, m);
       }
