@@ -499,8 +499,9 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
                   (sc.world[order[0]] + sc.world[order[1]] + sc.world[order[2]]) / 3.0, face, m);
       }
     }
-    if (!sc.pos.empty()) {
-      const size_t first = image->sink->add_positions(chunk, sc.pos.data(), sc.pos.size());
+    if (!sc.pos.empty()) {  // (triangle_step's kTriNone: tested already)
+      const size_t first =
+          image->sink->add_positions(chunk, sc.pos.data(), sc.pos.size(), true);
       if (flat_shading) batch.offset_last(sc.pos.size(), first);
     }
     return true;

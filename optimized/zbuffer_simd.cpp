@@ -248,12 +248,13 @@ class Binner final : public zsimd::TriSink {
   bool positions_only() const override { return scene_ == nullptr; }
   bool double_raster() const { return double_raster_; }
   const DepthMap& depth() const { return depth_; }
-  size_t add_positions(size_t c, const zsimd::PosTri* tris, size_t n) override {
+  size_t add_positions(size_t c, const zsimd::PosTri* tris, size_t n,
+                       bool tested = false) override {
     BinChunk& ch = chunks[c];
     const size_t first = ch.setup.size();
     ch.setup.resize(first + n);
     if (!double_raster_) {  // (the float raster drawn forward: in SIMD)
-      zsimd::set_up_forward(tris, n, grid_, ch.setup.data() + first);
+      zsimd::set_up_forward(tris, n, grid_, ch.setup.data() + first, tested);
       for (size_t i = 0; i < n; ++i) bin(ch, ch.setup[first + i], first + i);
       return first;
     }

@@ -936,6 +936,66 @@ HWY_INLINE void PixelBox(DI di, const SampleGrid& grid, const VI x[3], const VI 
   j1 = hn::Min(hn::Set(di, grid.height - 1), hn::ShiftRight<8>(hn::Sub(ymax, hn::Set(di, grid.oy0))));
 }
 
+// One sample per pixel (grid.ox0 == ox1, oy0 == oy1): the triangles of a
+// vector (vertices x[k], y[k] in the raster's order, box i0..j1 from PixelBox)
+// that are small (vertices within 16 px of each other both ways, a box of at
+// most 3 x 3 samples) and cover none of their box's samples: E_k >= bias_k
+// for no sample and every edge k, the raster's own test (set_up_forward's
+// edges). Such a triangle draws nothing. (Edge values there are below 2^25:
+// int32.) 3 x 3: on balls-3 (AVX2, callgrind) 2 x 2 catches too few, 4 x 4
+// costs more than the triangles it sorts out save.
+template <class DI, class VI = hn::Vec<DI>>
+HWY_INLINE hn::Mask<DI> CoversNothing(DI di, const SampleGrid& grid, const VI x[3], const VI y[3],
+                                      VI i0, VI i1, VI j0, VI j1) {
+  static_assert(kSubpixel == 256);
+  constexpr int kSide = 3;
+  const VI zero = hn::Zero(di), side = hn::Set(di, kSide);
+  const VI limit = hn::Set(di, 16 * kSubpixel);
+  const VI xmin = hn::Min(hn::Min(x[0], x[1]), x[2]), xmax = hn::Max(hn::Max(x[0], x[1]), x[2]);
+  const VI ymin = hn::Min(hn::Min(y[0], y[1]), y[2]), ymax = hn::Max(hn::Max(y[0], y[1]), y[2]);
+  const auto small =
+      hn::And(hn::And(hn::Lt(hn::Sub(xmax, xmin), limit), hn::Lt(hn::Sub(ymax, ymin), limit)),
+              hn::And(hn::Lt(hn::Sub(i1, i0), side), hn::Lt(hn::Sub(j1, j0), side)));
+  if (hn::AllFalse(di, small)) return small;
+  // Edge k from vertex a = k + 1 to b = k + 2: E_k = ex (X - x_a) + ey (Y - y_a),
+  // covered where E_k >= bias_k (0 on a top or left edge, else 1), i.e. E_k > bias_k - 1.
+  VI ex[3], ey[3], floor_e[3];
+  for (int k = 0; k < 3; ++k) {
+    const int a = (k + 1) % 3, b = (k + 2) % 3;
+    const VI dx = hn::Sub(x[b], x[a]), dy = hn::Sub(y[b], y[a]);
+    ex[k] = hn::Neg(dy), ey[k] = dx;
+    const auto top_left = hn::Or(hn::And(hn::Eq(dy, zero), hn::Gt(dx, zero)), hn::Lt(dy, zero));
+    floor_e[k] = hn::IfThenElse(top_left, hn::Set(di, -1), zero);  // bias - 1
+  }
+  // The edges at the box's first sample, then stepped: 256 ex a column, 256 ey a row.
+  const VI sx0 = hn::Add(hn::ShiftLeft<8>(i0), hn::Set(di, grid.ox0));
+  const VI sy0 = hn::Add(hn::ShiftLeft<8>(j0), hn::Set(di, grid.oy0));
+  VI row_e[3];
+  for (int k = 0; k < 3; ++k) {
+    const int a = (k + 1) % 3;
+    row_e[k] = hn::Add(hn::Mul(ex[k], hn::Sub(sx0, x[a])), hn::Mul(ey[k], hn::Sub(sy0, y[a])));
+    ex[k] = hn::ShiftLeft<8>(ex[k]), ey[k] = hn::ShiftLeft<8>(ey[k]);
+  }
+  // Columns and rows past the box's own: never covered.
+  const VI cols = hn::Sub(i1, i0), rows = hn::Sub(j1, j0);
+  auto covered = hn::Not(hn::Eq(zero, zero));
+  for (int r = 0; r < kSide; ++r) {
+    const auto row_in = hn::Gt(rows, hn::Set(di, r - 1));
+    VI e[3] = {row_e[0], row_e[1], row_e[2]};
+    for (int c = 0; c < kSide; ++c) {
+      auto in = hn::And(row_in, hn::Gt(cols, hn::Set(di, c - 1)));
+      for (int k = 0; k < 3; ++k) {
+        in = hn::And(in, hn::Gt(e[k], floor_e[k]));
+        e[k] = hn::Add(e[k], ex[k]);
+      }
+      covered = hn::Or(covered, in);
+    }
+    if (hn::AllTrue(di, hn::Or(covered, hn::Not(small)))) break;
+    for (int k = 0; k < 3; ++k) row_e[k] = hn::Add(row_e[k], ey[k]);
+  }
+  return hn::AndNot(covered, small);
+}
+
 // triangle_step: the vertices gathered (ProjectedVertex: z at double 0, x and
 // y at int32 2 and 3 of its 24 bytes); the area exact in double as in int64.
 void TriangleStep(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uint32_t* c, size_t n,
@@ -956,6 +1016,7 @@ void TriangleStep(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uin
   const VI zero_i = hn::Zero(di);
   const VD zero = hn::Zero(dd);
   HWY_ALIGN int32_t st[8];
+  const bool one_sample = grid.ox0 == grid.ox1 && grid.oy0 == grid.oy1;
   for (size_t i = 0; i < n; i += N) {
     const VI ia = hn::BitCast(di, hn::LoadU(du, a + i));
     const VI ib = hn::BitCast(di, hn::LoadU(du, b + i));
@@ -984,14 +1045,19 @@ void TriangleStep(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uin
     const VI sign = hn::DemoteTo(
         di, hn::IfThenElse(hn::Gt(area, zero), hn::Set(dd, 1.0),
                            hn::IfThenElseZero(hn::Lt(area, zero), hn::Set(dd, -1.0))));
-    const auto none = hn::Or(hn::Gt(i0, i1), hn::Gt(j0, j1));
+    // Negative area: b and c swapped (the raster's order).
+    const auto swap = hn::Lt(sign, zero_i);
+    auto none = hn::Or(hn::Gt(i0, i1), hn::Gt(j0, j1));
+    if (one_sample) {  // (or a small triangle that covers no sample in it)
+      const VI xs[3] = {x[0], hn::IfThenElse(swap, x[2], x[1]), hn::IfThenElse(swap, x[1], x[2])};
+      const VI ys[3] = {y[0], hn::IfThenElse(swap, y[2], y[1]), hn::IfThenElse(swap, y[1], y[2])};
+      none = hn::Or(none, CoversNothing(di, grid, xs, ys, i0, i1, j0, j1));
+    }
     VI code = hn::IfThenElseZero(none, hn::Set(di, kTriNone));
     if (cull_projection) code = hn::IfThenElse(hn::Gt(sign, zero_i), hn::Set(di, kTriCulled), code);
     code = hn::IfThenElse(hn::Eq(sign, zero_i), hn::Set(di, kTriDegenerate), code);
     hn::Store(code, di, st);
     for (size_t j = 0; j < N; ++j) status[i + j] = uint8_t(st[j]);
-    // Negative area: b and c swapped.
-    const auto swap = hn::Lt(sign, zero_i);
     hn::StoreU(hn::BitCast(du, hn::IfThenElse(swap, ic, ib)), du, b + i);
     hn::StoreU(hn::BitCast(du, hn::IfThenElse(swap, ib, ic)), du, c + i);
   }
@@ -1001,7 +1067,8 @@ void TriangleStep(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uin
 // stack and written back per triangle. The area is exact in double as in
 // int64 (snapped coordinates stay below 2^25 in magnitude inside the guard
 // band: products below 2^52).
-void SetUpForward(const PosTri* tris, size_t n, const SampleGrid& grid, TriSetup* out) {
+void SetUpForward(const PosTri* tris, size_t n, const SampleGrid& grid, TriSetup* out,
+                  bool tested) {
   const hn::CappedTag<double, 8> dd;
   const hn::Rebind<int32_t, decltype(dd)> di;
   using VD = hn::Vec<decltype(dd)>;
@@ -1010,9 +1077,8 @@ void SetUpForward(const PosTri* tris, size_t n, const SampleGrid& grid, TriSetup
   HWY_ALIGN int32_t x_in[3][8], y_in[3][8], box[4][8], ex[3][8], ey[3][8], bias[3][8];
   HWY_ALIGN double w_in[3][8], q_in[3][8], qx[8], qy[8], wx[8], wy[8];
   const VI zero_i = hn::Zero(di), one_i = hn::Set(di, 1);
-  const VI ox0 = hn::Set(di, grid.ox0), oy0 = hn::Set(di, grid.oy0);
   const VD one = hn::Set(dd, 1.0);
-  const bool one_sample = grid.ox0 == grid.ox1 && grid.oy0 == grid.oy1;
+  const bool test = !tested && grid.ox0 == grid.ox1 && grid.oy0 == grid.oy1;
   static_assert(kSubpixel == 256);
   for (size_t i = 0; i < n; i += N) {
     const size_t m = std::min(N, n - i);
@@ -1027,8 +1093,6 @@ void SetUpForward(const PosTri* tris, size_t n, const SampleGrid& grid, TriSetup
     for (int k = 0; k < 3; ++k) x[k] = hn::Load(di, x_in[k]), y[k] = hn::Load(di, y_in[k]);
     VI i0, i1, j0, j1;
     PixelBox(di, grid, x, y, i0, i1, j0, j1);
-    const VI xmin = hn::Min(hn::Min(x[0], x[1]), x[2]), xmax = hn::Max(hn::Max(x[0], x[1]), x[2]);
-    const VI ymin = hn::Min(hn::Min(y[0], y[1]), y[2]), ymax = hn::Max(hn::Max(y[0], y[1]), y[2]);
     // Edge k from vertex a = k + 1 to b = k + 2: E_k = ex (X - x_a) + ey (Y - y_a).
     VD exd[3], eyd[3];
     VI exi[3], eyi[3], bi[3];
@@ -1044,33 +1108,11 @@ void SetUpForward(const PosTri* tris, size_t n, const SampleGrid& grid, TriSetup
       exd[k] = hn::PromoteTo(dd, exi[k]);
       eyd[k] = hn::PromoteTo(dd, eyi[k]);
     }
-    // One sample per pixel: a small triangle (vertices within 16 px both ways)
-    // whose box holds at most 2 x 2 samples and that covers none of them
-    // (E_k >= bias_k for every edge: the raster's test) would draw nothing:
-    // its box is left empty, so it is never binned. (Its edge values there are
-    // below 2^24: int32.)
+    // One sample per pixel: a small triangle that covers none of its box's
+    // samples would draw nothing: its box is left empty, so it is never binned.
     VI hi = i1;
-    if (one_sample) {
-      const VI limit = hn::Set(di, 16 * kSubpixel), two_i = hn::Set(di, 2);
-      const auto small = hn::And(
-          hn::And(hn::Lt(hn::Sub(xmax, xmin), limit), hn::Lt(hn::Sub(ymax, ymin), limit)),
-          hn::And(hn::Lt(hn::Sub(i1, i0), two_i), hn::Lt(hn::Sub(j1, j0), two_i)));
-      if (!hn::AllFalse(di, small)) {
-        auto covered = hn::Not(hn::Eq(zero_i, zero_i));
-        for (int s = 0; s < 4; ++s) {
-          const VI i = hn::Add(i0, hn::Set(di, s & 1)), j = hn::Add(j0, hn::Set(di, s >> 1));
-          const VI sx = hn::Add(hn::ShiftLeft<8>(i), ox0), sy = hn::Add(hn::ShiftLeft<8>(j), oy0);
-          auto in = hn::And(hn::Lt(i, hn::Add(i1, one_i)), hn::Lt(j, hn::Add(j1, one_i)));
-          for (int k = 0; k < 3; ++k) {
-            const int a = (k + 1) % 3;
-            const VI e = hn::Add(hn::Mul(exi[k], hn::Sub(sx, x[a])), hn::Mul(eyi[k], hn::Sub(sy, y[a])));
-            in = hn::And(in, hn::Gt(e, hn::Sub(bi[k], one_i)));  // e >= bias
-          }
-          covered = hn::Or(covered, in);
-        }
-        hi = hn::IfThenElse(hn::AndNot(covered, small), hn::Sub(i0, one_i), i1);
-      }
-    }
+    if (test)
+      hi = hn::IfThenElse(CoversNothing(di, grid, x, y, i0, i1, j0, j1), hn::Sub(i0, one_i), i1);
     hn::Store(i0, di, box[0]);
     hn::Store(hi, di, box[1]);
     hn::Store(j0, di, box[2]);
@@ -1136,8 +1178,9 @@ void triangle_step(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, ui
   HWY_DYNAMIC_DISPATCH(TriangleStep)(pv, a, b, c, n, grid, cull_projection, status, box, zmin);
 }
 
-void set_up_forward(const PosTri* tris, size_t n, const SampleGrid& grid, TriSetup* out) {
-  HWY_DYNAMIC_DISPATCH(SetUpForward)(tris, n, grid, out);
+void set_up_forward(const PosTri* tris, size_t n, const SampleGrid& grid, TriSetup* out,
+                    bool tested) {
+  HWY_DYNAMIC_DISPATCH(SetUpForward)(tris, n, grid, out, tested);
 }
 
 void grow_bounds(const Vec3* points, size_t n, Vec3& lo, Vec3& hi) {

@@ -274,7 +274,8 @@ struct PosTri {
 // culling) for n triangles of vertices a[i], b[i], c[i] of pv, as the mesh
 // lists them: status[i] kTriKeep, kTriDegenerate (zero snapped area),
 // kTriCulled (positive area under projection culling) or kTriNone (no sample
-// of grid in its box); for kept ones b[i] and c[i] swapped where the area is
+// of grid in its box, or, one sample per pixel, a small triangle that covers
+// none of them: CoversNothing); for kept ones b[i] and c[i] swapped where the area is
 // negative (view_scene's order), the box (SampleGrid::pixels) in box[0..3][i]
 // and the nearest vertex's eye depth in zmin[i]. The arrays hold n rounded up
 // to 16 (a, b, c: valid indices there too); a vector of triangles at a time.
@@ -285,8 +286,11 @@ void triangle_step(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, ui
 // The binner's set-up of n such triangles for the float raster drawn forward
 // (opt::simd's set_up: box, edges, fill-rule biases, the depth and w planes;
 // the flat colour 0, for set_flats), a vector of triangles at a time: the same
-// double operations (no contraction), so the same bits.
-void set_up_forward(const PosTri* tris, size_t n, const SampleGrid& grid, TriSetup* out);
+// double operations (no contraction), so the same bits. One sample per pixel,
+// a small triangle that covers no sample gets an empty box (never binned)
+// unless tested: they were all sorted out before (triangle_step).
+void set_up_forward(const PosTri* tris, size_t n, const SampleGrid& grid, TriSetup* out,
+                    bool tested = false);
 
 // Where the image path's set-up puts its triangles one at a time, instead of
 // keeping them in ScreenTri chunks (opt::simd::zbuffer's binner). Triangles
@@ -305,9 +309,10 @@ class TriSink {
   virtual size_t add(size_t c, const ScreenTri& t, const VertexDepth* d) = 0;
   // Whether the sink reads nothing of a triangle but its positions and depths
   // (flat shading drawn forward): then the set-up may hand them over n at a
-  // time, add_positions (chunk c's next n triangles; the index of the first).
+  // time, add_positions (chunk c's next n triangles; the index of the first;
+  // tested: none is a small triangle that covers no sample, triangle_step).
   virtual bool positions_only() const { return false; }
-  virtual size_t add_positions(size_t c, const PosTri* t, size_t n) = 0;
+  virtual size_t add_positions(size_t c, const PosTri* t, size_t n, bool tested = false) = 0;
   // The flat colours of chunk c's triangles at[0], ..., at[n - 1], lit after
   // add: triangle at[i]'s is (rgb[0][i], rgb[1][i], rgb[2][i]).
   virtual void set_flats(size_t c, const size_t* at, size_t n, const float* const rgb[3]) = 0;
