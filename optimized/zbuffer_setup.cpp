@@ -69,21 +69,30 @@ constexpr int kMaxRings = 256;  // sphere_rings' upper end
 // handed to the sink.
 class FlatBatch {
  public:
+  // A material's inputs to the lighting (kd colour, ks, shine), worked out once
+  // per sphere or polygon, not once per triangle.
+  struct Surface {
+    explicit Surface(const Material& m)
+        : k{m.kd * m.color.x, m.kd * m.color.y, m.kd * m.color.z, m.ks, m.shine} {}
+    double k[5];
+  };
   void reserve(size_t n) { grow(n + 16); }
-  // Triangle `at` of the chunk: a face of material m with unit normal n, lit at p.
+  // Triangle `at` of the chunk: a face of surface s with unit normal n, lit at p.
   // (Kept as planes, the kernel's layout: no transposition later.)
-  void add(size_t at, const Vec3& p, const Vec3& n, const Material& m) {
-    if (n_ + 1 > cap_) grow(2 * cap_ + 64);
-    at_.push_back(at);
-    const double v[kFlatInputs] = {
-        p.x,  p.y,    p.z, n.x, n.y, n.z, m.kd * m.color.x, m.kd * m.color.y, m.kd * m.color.z,
-        m.ks, m.shine};
-    for (int i = 0; i < kFlatInputs; ++i) in_[size_t(i) * cap_ + n_] = v[i];
+  [[gnu::always_inline]] void add(size_t at, const Vec3& p, const Vec3& n, const Surface& s) {
+    if (n_ == cap_) [[unlikely]]
+      grow(2 * cap_ + 64);
+    at_[n_] = at;
+    double* x = in_.get() + n_;
+    const size_t c = cap_;
+    x[0] = p.x, x[c] = p.y, x[2 * c] = p.z;
+    x[3 * c] = n.x, x[4 * c] = n.y, x[5 * c] = n.z;
+    for (int i = 0; i < 5; ++i) x[size_t(6 + i) * c] = s.k[i];
     ++n_;
   }
   // The last n requests' triangles were numbered from 0: they start at first.
   void offset_last(size_t n, size_t first) {
-    for (size_t i = at_.size() - n; i < at_.size(); ++i) at_[i] += first;
+    for (size_t i = n_ - n; i < n_; ++i) at_[i] += first;
   }
   void light(const ShadeParams& p, TriSink& sink, size_t chunk) {
     const size_t n = n_, padded = (n + 15) / 16 * 16;
@@ -98,24 +107,26 @@ class FlatBatch {
     rgb_.resize(3 * padded);
     float* out[3] = {rgb_.data(), rgb_.data() + padded, rgb_.data() + 2 * padded};
     flat_colors(p, n, in, out);
-    sink.set_flats(chunk, at_.data(), n, out);
-    at_.clear();
+    sink.set_flats(chunk, at_.get(), n, out);
     n_ = 0;
   }
 
  private:
+  static_assert(kFlatInputs == 11);  // position, normal, Surface
   // (Not value-initialised: only the n_ entries in use are read; a chunk's
   // worth of zeroed planes was ~7% of a frame of many spheres.)
-  void grow(size_t cap) {
+  [[gnu::noinline]] void grow(size_t cap) {
     if (cap <= cap_) return;
     std::unique_ptr<double[]> in(new double[size_t(kFlatInputs) * cap]);
     for (size_t k = 0; k < size_t(kFlatInputs); ++k)
       std::copy_n(in_.get() + k * cap_, n_, in.get() + k * cap);
+    std::unique_ptr<size_t[]> at(new size_t[cap]);
+    std::copy_n(at_.get(), n_, at.get());
     in_ = std::move(in);
-    at_.reserve(cap);
+    at_ = std::move(at);
     cap_ = cap;
   }
-  std::vector<size_t> at_;
+  std::unique_ptr<size_t[]> at_;  // cap_ long, n_ in use
   std::unique_ptr<double[]> in_;  // one plane per input, cap_ apart, n_ in use
   size_t n_ = 0, cap_ = 0;
   std::vector<float> rgb_;
@@ -155,7 +166,7 @@ class FlatBatch {
 // vertex's (up to the plane's few ulps); a sphere's at least z - r.
 class OcclusionMap {
  public:
-  static constexpr int kCell = 8;
+  static constexpr int kCell = kOcclusionCell;
 
   OcclusionMap(const Camera& cam, int width, int height, double near_z, double far_z)
       : cam_(cam),
@@ -237,6 +248,9 @@ class OcclusionMap {
         beyond = std::max(beyond, z_[size_t(b) * size_t(nx_) + size_t(a)]);
     return z_min > beyond;
   }
+
+  // The map for triangle_step.
+  OcclusionCells cells() const { return {z_.data(), nx_}; }
 
   // After the last add: each cell's bound becomes the depth beyond which its
   // occluders hide (hidden_beyond, monotonic: the largest over cells decides).
@@ -355,6 +369,7 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
   const double signed_radius = scene.sphere_radius[k];
   const double r = std::abs(signed_radius);
   const Material& m = scene.materials[scene.sphere_material[k]];
+  const FlatBatch::Surface surface(m);
   const bool gouraud = s.shading == Shading::kGouraud, flat_shading = s.shading == Shading::kFlat;
   const size_t nv = unit.unit.size(), nt = unit.tri.size();
   sc.world.resize(nv);
@@ -471,15 +486,22 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
     sc.zmin.resize(padded);
     int32_t* const box[4] = {sc.box[0].data(), sc.box[1].data(), sc.box[2].data(),
                              sc.box[3].data()};
+    const OcclusionCells cells = occlusion ? occlusion->cells() : OcclusionCells{};
     triangle_step(sc.proj.data(), sc.va.data(), sc.vb.data(), sc.vc.data(), n, image->grid,
-                  s.cull == CullMode::kProjection, sc.status.data(), box, sc.zmin.data());
+                  s.cull == CullMode::kProjection, sc.status.data(), box, sc.zmin.data(),
+                  occlusion ? &cells : nullptr);
     for (size_t j = 0; j < n; ++j) {
       if (sc.status[j] != kTriKeep) {
         if (sc.status[j] == kTriDegenerate) ++out.degenerate;
         if (sc.status[j] == kTriCulled) ++out.culled;
+        if (sc.status[j] == kTriHidden) ++out.hidden;
         continue;  // (kTriNone: no sample in its box, not counted)
       }
-      if (occlusion && occlusion->hidden(box[0][j], box[1][j], box[2][j], box[3][j], sc.zmin[j])) {
+      // (A box over more than 2 x 2 cells: triangle_step left the test to this.)
+      constexpr int kC = kOcclusionCell;
+      const bool wide = box[1][j] / kC - box[0][j] / kC > 1 || box[3][j] / kC - box[2][j] / kC > 1;
+      if (occlusion && wide &&
+          occlusion->hidden(box[0][j], box[1][j], box[2][j], box[3][j], sc.zmin[j])) {
         ++out.hidden;
         continue;
       }
@@ -496,7 +518,8 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
         // (v1 and v2 may be swapped: the sum may differ from view_spheres'
         // in its last bit, far below the SIMD lighting's 1e-7.)
         batch.add(sc.pos.size() - 1,
-                  (sc.world[order[0]] + sc.world[order[1]] + sc.world[order[2]]) / 3.0, face, m);
+                  (sc.world[order[0]] + sc.world[order[1]] + sc.world[order[2]]) / 3.0, face,
+                  surface);
       }
     }
     if (!sc.pos.empty()) {  // (triangle_step's kTriNone: tested already)
@@ -555,7 +578,7 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
         pt.x[i] = sc.proj[vi].x, pt.y[i] = sc.proj[vi].y, pt.d[i] = sc.depth[vi];
       }
       // (Its index in the sphere for now: its chunk's once handed over.)
-      if (flat_shading) batch.add(sc.pos.size() - 1, (w0 + w1 + w2) / 3.0, face, m);
+      if (flat_shading) batch.add(sc.pos.size() - 1, (w0 + w1 + w2) / 3.0, face, surface);
       continue;
     }
     // Built in place (a ScreenTri is 300 bytes), or for the image in `local`
@@ -579,7 +602,7 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
     if (image) {
       const VertexDepth d[3] = {sc.depth[order[0]], sc.depth[order[1]], sc.depth[order[2]]};
       const size_t at = image->sink->add(chunk, st, d);
-      if (flat_shading) batch.add(at, (w0 + w1 + w2) / 3.0, face, m);
+      if (flat_shading) batch.add(at, (w0 + w1 + w2) / 3.0, face, surface);
     } else if (flat_shading) {
       st.flat_color = lit(scene, m, cam.eye, (w0 + w1 + w2) / 3.0, face);
     }
@@ -807,6 +830,7 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
     };
     for (uint32_t p = first; p < last; ++p) {
       const Material& m = scene.materials[scene.poly_material[p]];
+      const FlatBatch::Surface surface(m);
       const Vec3 face = scene.poly_plane[p].n;
       if (dot(face, face) == 0) continue;  // length(face) == 0, without the square root
       const uint32_t t_first = scene.poly_tri_first[p], t_last = scene.poly_tri_first[p + 1];
@@ -876,7 +900,7 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
           PosTri& pt = pending.emplace_back();
           for (int i = 0; i < 3; ++i)
             pt.x[i] = pv[order[i]].x, pt.y[i] = pv[order[i]].y, pt.d[i] = pvd[order[i]];
-          batch.add(pending.size() - 1, centroid, face, m);
+          batch.add(pending.size() - 1, centroid, face, surface);
           continue;
         }
         // Built in place (a ScreenTri is 300 bytes), or for the image in `local`
@@ -899,7 +923,7 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
         if (image) {
           const VertexDepth d[3] = {pvd[order[0]], pvd[order[1]], pvd[order[2]]};
           const size_t at = image->sink->add(sink_chunk, st, d);
-          if (s.shading == Shading::kFlat) batch.add(at, centroid, face, m);
+          if (s.shading == Shading::kFlat) batch.add(at, centroid, face, surface);
         }
       }
     }

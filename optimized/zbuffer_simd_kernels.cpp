@@ -1000,7 +1000,7 @@ HWY_INLINE hn::Mask<DI> CoversNothing(DI di, const SampleGrid& grid, const VI x[
 // y at int32 2 and 3 of its 24 bytes); the area exact in double as in int64.
 void TriangleStep(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uint32_t* c, size_t n,
                   const SampleGrid& grid, bool cull_projection, uint8_t* status,
-                  int32_t* const box[4], double* zmin) {
+                  int32_t* const box[4], double* zmin, const OcclusionCells* occ) {
   static_assert(sizeof(ProjectedVertex) == 24 && offsetof(ProjectedVertex, x) == 8 &&
                 offsetof(ProjectedVertex, y) == 12 && offsetof(ProjectedVertex, z) == 0);
   const hn::CappedTag<double, 8> dd;
@@ -1040,7 +1040,8 @@ void TriangleStep(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uin
     hn::StoreU(i1, di, box[1] + i);
     hn::StoreU(j0, di, box[2] + i);
     hn::StoreU(j1, di, box[3] + i);
-    hn::StoreU(hn::Min(hn::Min(z[0], z[1]), z[2]), dd, zmin + i);
+    const VD zlo = hn::Min(hn::Min(z[0], z[1]), z[2]);
+    hn::StoreU(zlo, dd, zmin + i);
     // The area's sign in int32 lanes, then the status, most specific last.
     const VI sign = hn::DemoteTo(
         di, hn::IfThenElse(hn::Gt(area, zero), hn::Set(dd, 1.0),
@@ -1056,6 +1057,30 @@ void TriangleStep(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uin
     VI code = hn::IfThenElseZero(none, hn::Set(di, kTriNone));
     if (cull_projection) code = hn::IfThenElse(hn::Gt(sign, zero_i), hn::Set(di, kTriCulled), code);
     code = hn::IfThenElse(hn::Eq(sign, zero_i), hn::Set(di, kTriDegenerate), code);
+    if (occ) {
+      // The cells of the box's corners (a box within 2 x 2 cells has no others).
+      static_assert(kOcclusionCell == 8);
+      const VI a0 = hn::ShiftRight<3>(i0), a1 = hn::ShiftRight<3>(i1);
+      const VI b0 = hn::ShiftRight<3>(j0), b1 = hn::ShiftRight<3>(j1);
+      const auto keep = hn::And(hn::Eq(code, zero_i),
+                                hn::And(hn::Lt(hn::Sub(a1, a0), two), hn::Lt(hn::Sub(b1, b0), two)));
+      if (!hn::AllFalse(di, keep)) {
+        const VI nx = hn::Set(di, occ->nx);
+        const VI row0 = hn::Mul(b0, nx), row1 = hn::Mul(b1, nx);
+        // (Lanes not kept read cell 0.)
+        const VI cells[4] = {hn::Add(row0, a0), hn::Add(row0, a1), hn::Add(row1, a0),
+                             hn::Add(row1, a1)};
+        VD beyond = hn::Set(dd, -HUGE_VAL);
+        for (const VI& cell : cells)
+          beyond = hn::Max(beyond, hn::GatherIndex(dd, occ->beyond,
+                                                   hn::PromoteTo(dl, hn::IfThenElseZero(keep, cell))));
+        // (The comparison's mask, double lanes to int32 ones as the area's sign.)
+        const VI beyond_all =
+            hn::DemoteTo(di, hn::IfThenElseZero(hn::Gt(zlo, beyond), hn::Set(dd, 1.0)));
+        const auto hidden = hn::And(keep, hn::Gt(beyond_all, zero_i));
+        code = hn::IfThenElse(hidden, hn::Set(di, kTriHidden), code);
+      }
+    }
     hn::Store(code, di, st);
     for (size_t j = 0; j < N; ++j) status[i + j] = uint8_t(st[j]);
     hn::StoreU(hn::BitCast(du, hn::IfThenElse(swap, ic, ib)), du, b + i);
@@ -1174,8 +1199,8 @@ HWY_EXPORT(TriangleStep);
 
 void triangle_step(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uint32_t* c,
                    size_t n, const SampleGrid& grid, bool cull_projection, uint8_t* status,
-                   int32_t* const box[4], double* zmin) {
-  HWY_DYNAMIC_DISPATCH(TriangleStep)(pv, a, b, c, n, grid, cull_projection, status, box, zmin);
+                   int32_t* const box[4], double* zmin, const OcclusionCells* occ) {
+  HWY_DYNAMIC_DISPATCH(TriangleStep)(pv, a, b, c, n, grid, cull_projection, status, box, zmin, occ);
 }
 
 void set_up_forward(const PosTri* tris, size_t n, const SampleGrid& grid, TriSetup* out,

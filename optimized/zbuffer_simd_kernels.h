@@ -279,10 +279,22 @@ struct PosTri {
 // negative (view_scene's order), the box (SampleGrid::pixels) in box[0..3][i]
 // and the nearest vertex's eye depth in zmin[i]. The arrays hold n rounded up
 // to 16 (a, b, c: valid indices there too); a vector of triangles at a time.
-inline constexpr uint8_t kTriKeep = 0, kTriDegenerate = 1, kTriCulled = 2, kTriNone = 3;
+// With occ, a triangle to keep whose box spans at most 2 x 2 cells and lies
+// beyond them all (zmin > every cell's bound) is kTriHidden instead; for wider
+// boxes that test is the caller's (OcclusionMap::hidden).
+inline constexpr uint8_t kTriKeep = 0, kTriDegenerate = 1, kTriCulled = 2, kTriNone = 3,
+                         kTriHidden = 4;
+// The hidden spheres' map as triangle_step reads it (zbuffer_setup's
+// OcclusionMap): per cell of kOcclusionCell^2 pixels, rows of nx cells, the
+// eye depth beyond which everything with its samples in the cell is hidden.
+inline constexpr int kOcclusionCell = 8;
+struct OcclusionCells {
+  const double* beyond;
+  int nx;
+};
 void triangle_step(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uint32_t* c,
                    size_t n, const SampleGrid& grid, bool cull_projection, uint8_t* status,
-                   int32_t* const box[4], double* zmin);
+                   int32_t* const box[4], double* zmin, const OcclusionCells* occ = nullptr);
 // The binner's set-up of n such triangles for the float raster drawn forward
 // (opt::simd's set_up: box, edges, fill-rule biases, the depth and w planes;
 // the flat colour 0, for set_flats), a vector of triangles at a time: the same
