@@ -774,6 +774,42 @@ void RasterTileDouble(const RasterParams& p, const TileJob& t, double* depth, in
 }
 const char* TargetName() { return hwy::TargetName(HWY_TARGET); }
 
+void BallEntries(const double ce[3], double rho2, bool inverted, double z_occ, double pitch,
+                 double half_w, double dy, int cell, int a0, int n, double* out) {
+  const hn::ScalableTag<double> d;
+  using V = hn::Vec<decltype(d)>;
+  const int N = int(hn::Lanes(d));
+  const V cx = hn::Set(d, ce[0]), zero = hn::Zero(d);
+  const double c2 = ce[0] * ce[0] + ce[1] * ce[1] + ce[2] * ce[2];
+  // dot(d, d) and dot(ce, d) without their x terms: the same along the row.
+  const V yz2 = hn::Set(d, dy * dy + 1.0), cyz = hn::Set(d, ce[1] * dy + ce[2]);
+  const V vc2 = hn::Set(d, c2), vrho2 = hn::Set(d, rho2), inf = hn::Set(d, HUGE_VAL);
+  const V lane = hn::Iota(d, 0.0);
+  for (int i = 0; i < n; i += N) {
+    // The ray through corner a = a0 + i + lane: its distance to the centre.
+    const V a = hn::Add(hn::Set(d, double(a0 + i)), lane);
+    const V dx = hn::Mul(hn::Sub(hn::Mul(a, hn::Set(d, double(cell))), hn::Set(d, half_w)),
+                         hn::Set(d, pitch));
+    const V len2 = hn::MulAdd(dx, dx, yz2), t = hn::MulAdd(cx, dx, cyz);
+    const V miss2 = hn::Sub(vc2, hn::Div(hn::Mul(t, t), len2));
+    const auto meets = hn::And(hn::Gt(t, zero), hn::Lt(miss2, vrho2));
+    // Entry at t / |d| - sqrt(rho^2 - miss^2) along the unit ray; eye depth that / |d|.
+    const V len = hn::Sqrt(len2);
+    const V entry =
+        inverted ? hn::Set(d, z_occ)
+                 : hn::Div(hn::Sub(hn::Div(t, len), hn::Sqrt(hn::Max(zero, hn::Sub(vrho2, miss2)))),
+                           len);
+    const V v = hn::IfThenElse(meets, entry, inf);
+    if (i + N <= n) {
+      hn::StoreU(v, d, out + i);
+    } else {
+      HWY_ALIGN double tmp[16];
+      hn::Store(v, d, tmp);
+      for (int k = 0; i + k < n; ++k) out[i + k] = tmp[k];
+    }
+  }
+}
+
 void GrowBounds(const Vec3* points, size_t n, Vec3& lo, Vec3& hi) {
   const hn::ScalableTag<double> d;
   const size_t N = hn::Lanes(d);
@@ -1058,15 +1094,22 @@ void TriangleStep(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uin
     if (cull_projection) code = hn::IfThenElse(hn::Gt(sign, zero_i), hn::Set(di, kTriCulled), code);
     code = hn::IfThenElse(hn::Eq(sign, zero_i), hn::Set(di, kTriDegenerate), code);
     if (occ) {
-      // The cells of the box's corners (a box within 2 x 2 cells has no others).
-      static_assert(kOcclusionCell == 8);
-      const VI a0 = hn::ShiftRight<3>(i0), a1 = hn::ShiftRight<3>(i1);
-      const VI b0 = hn::ShiftRight<3>(j0), b1 = hn::ShiftRight<3>(j1);
-      const auto keep = hn::And(hn::Eq(code, zero_i),
-                                hn::And(hn::Lt(hn::Sub(a1, a0), two), hn::Lt(hn::Sub(b1, b0), two)));
+      // The cells of the box's corners (a box within 2 x 2 cells has no others):
+      // fine ones, else coarse ones.
+      static_assert(kOcclusionCell == 4);
+      VI a0 = hn::ShiftRight<2>(i0), a1 = hn::ShiftRight<2>(i1);
+      VI b0 = hn::ShiftRight<2>(j0), b1 = hn::ShiftRight<2>(j1);
+      const auto fine = hn::And(hn::Lt(hn::Sub(a1, a0), two), hn::Lt(hn::Sub(b1, b0), two));
+      const VI ca0 = hn::ShiftRight<3>(i0), ca1 = hn::ShiftRight<3>(i1);
+      const VI cb0 = hn::ShiftRight<3>(j0), cb1 = hn::ShiftRight<3>(j1);
+      const auto coarse = hn::And(hn::Lt(hn::Sub(ca1, ca0), two), hn::Lt(hn::Sub(cb1, cb0), two));
+      const auto keep = hn::And(hn::Eq(code, zero_i), hn::Or(fine, coarse));
       if (!hn::AllFalse(di, keep)) {
-        const VI nx = hn::Set(di, occ->nx);
-        const VI row0 = hn::Mul(b0, nx), row1 = hn::Mul(b1, nx);
+        a0 = hn::IfThenElse(fine, a0, ca0), a1 = hn::IfThenElse(fine, a1, ca1);
+        b0 = hn::IfThenElse(fine, b0, cb0), b1 = hn::IfThenElse(fine, b1, cb1);
+        const VI nx = hn::IfThenElse(fine, hn::Set(di, occ->nx), hn::Set(di, occ->coarse_nx));
+        const VI at = hn::IfThenElseZero(hn::Not(fine), hn::Set(di, occ->coarse));
+        const VI row0 = hn::Add(at, hn::Mul(b0, nx)), row1 = hn::Add(at, hn::Mul(b1, nx));
         // (Lanes not kept read cell 0.)
         const VI cells[4] = {hn::Add(row0, a0), hn::Add(row0, a1), hn::Add(row1, a0),
                              hn::Add(row1, a1)};
@@ -1194,6 +1237,12 @@ void flat_colors(const ShadeParams& p, size_t n, const double* const* in, float*
   HWY_DYNAMIC_DISPATCH(FlatColors)(p, n, in, out);
 }
 HWY_EXPORT(GrowBounds);
+HWY_EXPORT(BallEntries);
+
+void ball_entries(const double ce[3], double rho2, bool inverted, double z_occ, double pitch,
+                  double half_w, double dy, int cell, int a0, int n, double* out) {
+  HWY_DYNAMIC_DISPATCH(BallEntries)(ce, rho2, inverted, z_occ, pitch, half_w, dy, cell, a0, n, out);
+}
 HWY_EXPORT(SetUpForward);
 HWY_EXPORT(TriangleStep);
 

@@ -234,6 +234,13 @@ void sphere_faces(const Vec3* world, const std::array<uint32_t, 3>* tri, size_t 
 // Grows [lo, hi] by the n points, as scene_bounds does (std::min and std::max:
 // a NaN coordinate is passed over), a vector of points at a time.
 void grow_bounds(const Vec3* points, size_t n, Vec3& lo, Vec3& hi);
+// The hidden spheres' occluders (zbuffer_setup's OcclusionMap::add): along a
+// row of n rays (eye-space directions ((a0 + i) cell - half_w) pitch, dy, 1),
+// where each enters the ball of centre ce (eye space) and radius^2 rho2, in eye
+// depth: out[i] = z_occ for an inside-out ball, +inf for a ray that misses it
+// (or meets it behind the eye). A vector of rays at a time.
+void ball_entries(const double ce[3], double rho2, bool inverted, double z_occ, double pitch,
+                  double half_w, double dy, int cell, int a0, int n, double* out);
 
 // Where a frame's samples are: the sample offsets' extent (1/256 pixel from
 // the pixel's corner) and the frame's size in pixels.
@@ -279,18 +286,22 @@ struct PosTri {
 // negative (view_scene's order), the box (SampleGrid::pixels) in box[0..3][i]
 // and the nearest vertex's eye depth in zmin[i]. The arrays hold n rounded up
 // to 16 (a, b, c: valid indices there too); a vector of triangles at a time.
-// With occ, a triangle to keep whose box spans at most 2 x 2 cells and lies
-// beyond them all (zmin > every cell's bound) is kTriHidden instead; for wider
-// boxes that test is the caller's (OcclusionMap::hidden).
+// With occ, a triangle to keep whose box spans at most 2 x 2 cells (fine or
+// coarse) and lies beyond them all (zmin > every cell's bound) is kTriHidden
+// instead; for wider boxes that test is the caller's (OcclusionMap::hidden).
 inline constexpr uint8_t kTriKeep = 0, kTriDegenerate = 1, kTriCulled = 2, kTriNone = 3,
                          kTriHidden = 4;
 // The hidden spheres' map as triangle_step reads it (zbuffer_setup's
 // OcclusionMap): per cell of kOcclusionCell^2 pixels, rows of nx cells, the
-// eye depth beyond which everything with its samples in the cell is hidden.
-inline constexpr int kOcclusionCell = 8;
+// eye depth beyond which everything with its samples in the cell is hidden;
+// then from beyond[coarse] the same for cells twice as wide and high (rows of
+// coarse_nx; each the largest of its four cells').
+inline constexpr int kOcclusionCell = 4;
 struct OcclusionCells {
   const double* beyond;
   int nx;
+  int coarse;
+  int coarse_nx;
 };
 void triangle_step(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uint32_t* c,
                    size_t n, const SampleGrid& grid, bool cull_projection, uint8_t* status,
