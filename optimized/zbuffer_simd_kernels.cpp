@@ -219,6 +219,7 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
   using VT = hn::Vec<DT>;
   const int N = int(hn::Lanes(dt));
   const int W = p.buf_w, H = p.buf_h;
+  HWY_DASSERT(W % N == 0);  // (tile_size: a power of two, at least 16)
   const VI iota_i = hn::Iota(di, 0);
   const VT iota_t = hn::Iota(dt, 0);
   const VI minus1 = hn::Set(di, -1);
@@ -262,8 +263,17 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
         // tile-local first column (pairs: a multiple of 8 when the region fits in
         // that group of 8: neighbours then read and write the same 32 bytes)
         const int a8 = ((ri0 - t.x0) & ~7);
-        const int c0 = pairs ? (ri1 - t.x0 - a8 < 8 ? a8 : ri0 - t.x0) : ((ri0 - t.x0) / N) * N;
-        const int nb = pairs ? 1 : (ri1 - t.x0 - c0) / N + 1;
+        int c0 = pairs ? (ri1 - t.x0 - a8 < 8 ? a8 : ri0 - t.x0) : ((ri0 - t.x0) / N) * N;
+        int nb = pairs ? 1 : (ri1 - t.x0 - c0) / N + 1;
+        // Blocks from the region's own first column where that takes fewer
+        // (a region 9 to 16 wide: one block a row, not two). They end within
+        // the row: they end before the aligned ones' last block does (one more
+        // block, from at most N - 1 columns further left), which ends at most
+        // at the row's end (W is a multiple of N).
+        if (!pairs) {
+          const int nb_own = (ri1 - ri0) / N + 1;
+          if (nb_own < nb) nb = nb_own, c0 = ri0 - t.x0;
+        }
         // The region's extent in pixels (pairs: 8 columns, and a row past the last).
         const int64_t wspan = pairs ? 7 : int64_t(nb * N - 1), hspan = pairs ? rows : rows - 1;
         const int64_t px = int64_t(t.x0 + c0) * kSubpixel + p.offsets[smp][0];
@@ -349,8 +359,8 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
             if (hn::AllFalse(di, cover)) continue;
             const size_t at = row + size_t(c0 + b * N);
             if (count)
-              hn::Store(hn::Sub(hn::Load(di, count + at), hn::VecFromMask(di, cover)), di,
-                        count + at);
+              hn::StoreU(hn::Sub(hn::LoadU(di, count + at), hn::VecFromMask(di, cover)), di,
+                         count + at);
             VT q;
             if constexpr (sizeof(T) == 8) {
               // Barycentrics: the exact edge functions (below 2^53) at the lanes.
@@ -369,7 +379,7 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
               q = Stored<kFixed24>(dt,
                                    hn::Add(hn::Set(dt, T(q_row + qsx * double(b * N))), q_lane));
             }
-            const VT old = hn::Load(dt, depth + at);
+            const VT old = hn::LoadU(dt, depth + at);
             const auto closer = Closer<kReversed>(q, old, t.reverse);
             const auto pass = hn::And(CastMask(dt, di, cover), closer);
             // Masked stores (one instruction each on AVX-512; a blend elsewhere).
