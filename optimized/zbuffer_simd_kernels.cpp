@@ -530,37 +530,66 @@ HWY_INLINE void Lighting(DF df, const float* light, int nlights, Shading shading
   }
 }
 
-// In double lanes: the flat colour is one value per triangle, so it may as well
-// be close to view_scene's double one (within about 1e-7: the lights are given
-// in float), not float lighting's 1e-6 (pow as exp(shine log x) in float).
-void FlatColors(const ShadeParams& p, size_t n, const double* const* in, float* const* out) {
-  const hn::ScalableTag<double> dd;
-  const hn::Rebind<float, decltype(dd)> df;
-  using VD = hn::Vec<decltype(dd)>;
-  const size_t N = hn::Lanes(dd);
-  const VD zero = hn::Zero(dd), one = hn::Set(dd, 1.0);
-  const VD eye[3] = {hn::Set(dd, p.eye[0]), hn::Set(dd, p.eye[1]), hn::Set(dd, p.eye[2])};
-  const auto all = hn::Eq(zero, zero);
-  auto dot3 = [](const VD a[3], const VD b[3]) {
+// Flat colours, in float lanes as shade_tile lights a pixel (16 a vector on
+// AVX-512): within 1e-5 or so of view_scene's double colour (3.6e-7 on balls-3
+// at shine 3.08, 1.1e-5 on balls-2 at shine 250, 1024^2 and 512^2). Where a triangle
+// of the vector has a high shine (above kFloatShine, with ks > 0) the vector is lit in
+// double lanes instead (each half; the lights are given in float, so within
+// about 1e-7): the specular term's slope there, shine x^(shine - 1), turns
+// float's 1e-7 in the cosine into up to shine 1e-7 in the colour (1e-2 at
+// shine 1e5: 5.6e-3 on corpus/scenes/shiny.nff), while up to kFloatShine it
+// stays far below the 1/255 the family allows.
+constexpr double kFloatShine = 256;
+
+template <class D, class V = hn::Vec<D>>
+HWY_INLINE void FlatLit(D d, const ShadeParams& p, const V pos_in[3], const V nrm_in[3],
+                        const V kd[3], V ks, V shine, V col[3]) {
+  const V zero = hn::Zero(d), one = hn::Set(d, hn::TFromD<D>(1));
+  auto dot3 = [](const V a[3], const V b[3]) {
     return hn::MulAdd(a[0], b[0], hn::MulAdd(a[1], b[1], hn::Mul(a[2], b[2])));
   };
+  V view[3], nrm[3];
+  for (int c = 0; c < 3; ++c) view[c] = hn::Sub(hn::Set(d, hn::TFromD<D>(p.eye[c])), pos_in[c]);
+  const V inv = hn::Div(one, hn::Sqrt(dot3(view, view)));
+  for (int c = 0; c < 3; ++c) view[c] = hn::Mul(view[c], inv);
+  // view_scene's lit(): the face turned towards the eye.
+  const auto away = hn::Lt(dot3(nrm_in, view), zero);
+  for (int c = 0; c < 3; ++c) nrm[c] = hn::IfThenElse(away, hn::Neg(nrm_in[c]), nrm_in[c]);
+  Lighting(d, p.light, p.nlights, Shading::kPhong, 1.0f, 1.0f, pos_in, nrm, view, kd, ks, shine,
+           hn::Eq(zero, zero), col);
+}
+
+void FlatColors(const ShadeParams& p, size_t n, const double* const* in, float* const* out) {
+  const hn::ScalableTag<float> df;
+  const hn::Repartition<double, decltype(df)> dd;  // half as many lanes
+  const hn::Rebind<float, decltype(dd)> dh;         // a half of df
+  using VD = hn::Vec<decltype(dd)>;
+  using VF = hn::Vec<decltype(df)>;
+  const size_t N = hn::Lanes(df), H = hn::Lanes(dd);
+  const VD high = hn::Set(dd, kFloatShine);
   for (size_t i = 0; i < n; i += N) {
-    VD pos[3], nrm[3], kd[3], view[3];
-    for (int c = 0; c < 3; ++c) {
-      pos[c] = hn::LoadU(dd, in[c] + i);
-      nrm[c] = hn::LoadU(dd, in[3 + c] + i);
-      kd[c] = hn::LoadU(dd, in[6 + c] + i);
-      view[c] = hn::Sub(eye[c], pos[c]);
+    // (The arrays hold n rounded up to 16: whole vectors.)
+    VD lo[kFlatInputs], hi[kFlatInputs];
+    for (int k = 0; k < kFlatInputs; ++k)
+      lo[k] = hn::LoadU(dd, in[k] + i), hi[k] = hn::LoadU(dd, in[k] + i + H);
+    const VD zero = hn::Zero(dd);
+    const auto high_lo = hn::And(hn::Gt(lo[10], high), hn::Gt(lo[9], zero));
+    const auto high_hi = hn::And(hn::Gt(hi[10], high), hn::Gt(hi[9], zero));
+    if (!hn::AllFalse(dd, hn::Or(high_lo, high_hi))) {
+      for (const VD* half : {lo, hi}) {
+        VD col[3];
+        FlatLit(dd, p, half, half + 3, half + 6, half[9], half[10], col);
+        const size_t at = i + (half == lo ? 0 : H);
+        for (int c = 0; c < 3; ++c) hn::StoreU(hn::DemoteTo(dh, col[c]), dh, out[c] + at);
+      }
+      continue;
     }
-    const VD inv = hn::Div(one, hn::Sqrt(dot3(view, view)));
-    for (int c = 0; c < 3; ++c) view[c] = hn::Mul(view[c], inv);
-    // view_scene's lit(): the face turned towards the eye.
-    const auto away = hn::Lt(dot3(nrm, view), zero);
-    for (int c = 0; c < 3; ++c) nrm[c] = hn::IfThenElse(away, hn::Neg(nrm[c]), nrm[c]);
-    VD col[3];
-    Lighting(dd, p.light, p.nlights, Shading::kPhong, 1.0f, 1.0f, pos, nrm, view, kd,
-             hn::LoadU(dd, in[9] + i), hn::LoadU(dd, in[10] + i), all, col);
-    for (int c = 0; c < 3; ++c) hn::StoreU(hn::DemoteTo(df, col[c]), df, out[c] + i);
+    VF v[kFlatInputs];
+    for (int k = 0; k < kFlatInputs; ++k)
+      v[k] = hn::Combine(df, hn::DemoteTo(dh, hi[k]), hn::DemoteTo(dh, lo[k]));
+    VF col[3];
+    FlatLit(df, p, v, v + 3, v + 6, v[9], v[10], col);
+    for (int c = 0; c < 3; ++c) hn::StoreU(col[c], df, out[c] + i);
   }
 }
 
