@@ -351,7 +351,7 @@ struct SphereScratch {
   std::vector<uint8_t> flags;
   std::vector<VertexDepth> depth;  // the image's, per vertex
   std::vector<uint32_t> cand;      // the triangles that get the face test
-  std::vector<PosTri> pos;         // for a positions-only sink
+  std::vector<PosTri, NoInitAllocator<PosTri>> pos;  // for a positions-only sink (not zeroed)
   std::vector<std::array<uint32_t, 3>> cand_tri;  // the world face test's triangles
   std::vector<uint8_t> sure;                      // per candidate: a front face by a margin
   std::vector<uint8_t> code;                      // per face: back, either, front (by a margin)
@@ -425,17 +425,24 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
       const double sd = sign * (nx[t] * e_rel.x + ny[t] * e_rel.y + nz[t] * e_rel.z - r * h[t]);
       code[t] = uint8_t((sd >= -margin) + (sd > margin));
     }
-    sc.cand.reserve(nt);
-    sc.sure.reserve(nt);
+    // (Written by index into arrays of the largest size, then cut: push_back's
+    // capacity tests were ~2% of a frame of many spheres.)
+    sc.cand.resize(nt);
+    sc.sure.resize(nt);
+    uint32_t* const cand = sc.cand.data();
+    uint8_t* const sure = sc.sure.data();
+    const uint8_t sure_code = image != nullptr ? 2 : 3;  // (3: never)
+    size_t m = 0;
     for (uint32_t t = 0; t < nt; ++t) {
-      if (code[t] == 0) continue;
-      sc.cand.push_back(t);
       // For the image, a face that is a front face by the same margin needs no
       // world test either: its unit normal stands in for the world one (the
       // same direction to ~1e-16, far below the image's float shading).
-      sc.sure.push_back(image != nullptr && code[t] == 2);
+      cand[m] = t, sure[m] = code[t] == sure_code;
+      m += code[t] != 0;
     }
-    const uint64_t clear = nt - sc.cand.size();
+    sc.cand.resize(m);
+    sc.sure.resize(m);
+    const uint64_t clear = nt - m;
     out.sphere_tris += clear;
     out.culled += clear;
   } else {
@@ -447,8 +454,9 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
   sc.face.resize(3 * nc);
   sc.flags.resize(nc);
   // The world face test (the reference's operations) on the others.
-  sc.cand_tri.clear();
-  sc.amb.clear();
+  sc.cand_tri.resize(nc);
+  sc.amb.resize(nc);
+  size_t na = 0;
   for (size_t i = 0; i < nc; ++i) {
     const uint32_t t = sc.cand[i];
     if (sc.sure[i]) {
@@ -457,11 +465,10 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
       sc.face[3 * i + 2] = sign * unit_face.nz[t];
       sc.flags[i] = kFront;
     } else {
-      sc.amb.push_back(uint32_t(i));
-      sc.cand_tri.push_back(unit.tri[t]);
+      sc.amb[na] = uint32_t(i);
+      sc.cand_tri[na++] = unit.tri[t];
     }
   }
-  const size_t na = sc.amb.size();
   sc.amb_face.resize(3 * na);
   sc.amb_flags.resize(na);
   sphere_faces(sc.world.data(), sc.cand_tri.data(), na, flip, cam.eye, sc.amb_face.data(),
@@ -478,7 +485,9 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
     // The same steps, the area's and the box's in SIMD (triangle_step): the
     // triangles past world culling first, then the kernel, then per triangle
     // what it found.
-    sc.va.clear(), sc.vb.clear(), sc.vc.clear(), sc.vcand.clear();
+    const size_t room = (nc + 15) / 16 * 16;
+    for (auto* v : {&sc.va, &sc.vb, &sc.vc, &sc.vcand}) v->resize(room);
+    size_t n = 0;
     for (uint32_t i = 0; i < nc; ++i) {
       if (sc.flags[i] & kNoFace) continue;
       ++out.sphere_tris;
@@ -487,12 +496,12 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
         continue;
       }
       const auto& [a, b0, c0] = unit.tri[sc.cand[i]];
-      sc.va.push_back(a), sc.vb.push_back(flip ? c0 : b0), sc.vc.push_back(flip ? b0 : c0);
-      sc.vcand.push_back(i);
+      sc.va[n] = a, sc.vb[n] = flip ? c0 : b0, sc.vc[n] = flip ? b0 : c0;
+      sc.vcand[n++] = i;
     }
-    const size_t n = sc.va.size(), padded = (n + 15) / 16 * 16;
+    const size_t padded = (n + 15) / 16 * 16;
     if (n == 0) return true;
-    for (auto* v : {&sc.va, &sc.vb, &sc.vc}) v->resize(padded, sc.va[0]);
+    for (auto* v : {&sc.va, &sc.vb, &sc.vc}) std::fill(v->begin() + n, v->begin() + padded, sc.va[0]);
     sc.status.resize(padded);
     for (auto& b : sc.box) b.resize(padded);
     sc.zmin.resize(padded);
@@ -502,6 +511,8 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
     triangle_step(sc.proj.data(), sc.va.data(), sc.vb.data(), sc.vc.data(), n, image->grid,
                   s.cull == CullMode::kProjection, sc.status.data(), box, sc.zmin.data(),
                   occlusion ? &cells : nullptr);
+    sc.pos.resize(n);
+    size_t kept = 0;
     for (size_t j = 0; j < n; ++j) {
       if (sc.status[j] != kTriKeep) {
         if (sc.status[j] == kTriDegenerate) ++out.degenerate;
@@ -518,7 +529,7 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
         continue;
       }
       const uint32_t order[3] = {sc.va[j], sc.vb[j], sc.vc[j]};
-      PosTri& pt = sc.pos.emplace_back();
+      PosTri& pt = sc.pos[kept++];
       for (int k = 0; k < 3; ++k) {
         const uint32_t vi = order[k];
         pt.x[k] = sc.proj[vi].x, pt.y[k] = sc.proj[vi].y, pt.d[k] = sc.depth[vi];
@@ -528,12 +539,13 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
         const size_t i = sc.vcand[j];
         const Vec3 face{sc.face[3 * i], sc.face[3 * i + 1], sc.face[3 * i + 2]};
         // (v1 and v2 may be swapped: the sum may differ from view_spheres'
-        // in its last bit, far below the SIMD lighting's 1e-7.)
-        batch.add(sc.pos.size() - 1,
+        // in its last bit, far below the SIMD lighting's float precision.)
+        batch.add(kept - 1,
                   (sc.world[order[0]] + sc.world[order[1]] + sc.world[order[2]]) / 3.0, face,
                   surface);
       }
     }
+    sc.pos.resize(kept);
     if (!sc.pos.empty()) {  // (triangle_step's kTriNone: tested already)
       const size_t first =
           image->sink->add_positions(chunk, sc.pos.data(), sc.pos.size(), true);
