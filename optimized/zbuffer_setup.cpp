@@ -735,7 +735,7 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
   // The image: the hidden spheres' occluders (every sphere's inner ball), before
   // any sphere is tessellated.
   std::optional<OcclusionMap> occlusion;
-  if (image && s.skip_hidden) {
+  if (image && s.skip_hidden && std::any_of(rings.begin(), rings.end(), [](int n) { return n != 0; })) {
     occlusion.emplace(cam, width, height, near_z, mesh.far_z);
     for (uint32_t k = 0; k < spheres; ++k)
       if (rings[k] != 0)
@@ -845,16 +845,20 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
     // A positions-only sink gets the triangles a run at a time (flushed before a
     // polygon that goes through view_polygons, so that the order stays).
     const bool positions = image && image->sink->positions_only();
-    std::vector<PosTri> pending;
+    std::vector<PosTri, NoInitAllocator<PosTri>> pending;  // (not zeroed: every field is written)
     auto flush = [&] {
       if (pending.empty()) return;
       const size_t at = image->sink->add_positions(sink_chunk, pending.data(), pending.size());
       batch.offset_last(pending.size(), at);
       pending.clear();
     };
+    // The lighting's inputs of the last material seen (meshes share one).
+    uint32_t surface_of = UINT32_MAX;
+    FlatBatch::Surface surface(scene.materials.empty() ? Material{} : scene.materials[0]);
     for (uint32_t p = first; p < last; ++p) {
       const Material& m = scene.materials[scene.poly_material[p]];
-      const FlatBatch::Surface surface(m);
+      if (scene.poly_material[p] != surface_of)
+        surface = FlatBatch::Surface(m), surface_of = scene.poly_material[p];
       const Vec3 face = scene.poly_plane[p].n;
       if (dot(face, face) == 0) continue;  // length(face) == 0, without the square root
       const uint32_t t_first = scene.poly_tri_first[p], t_last = scene.poly_tri_first[p + 1];
