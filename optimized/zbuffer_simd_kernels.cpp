@@ -1072,7 +1072,8 @@ HWY_INLINE hn::Mask<DI> CoversNothing(DI di, const SampleGrid& grid, const VI x[
 }
 
 // triangle_step: the vertices gathered (ProjectedVertex: z at double 0, x and
-// y at int32 2 and 3 of its 24 bytes); the area exact in double as in int64.
+// y at int32 2 and 3 of its 24 bytes: one 8-byte gather for both); the area
+// exact in double as in int64.
 void TriangleStep(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uint32_t* c, size_t n,
                   const SampleGrid& grid, bool cull_projection, uint8_t* status,
                   int32_t* const box[4], double* zmin, const OcclusionCells* occ) {
@@ -1085,9 +1086,10 @@ void TriangleStep(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uin
   using VD = hn::Vec<decltype(dd)>;
   using VI = hn::Vec<decltype(di)>;
   const size_t N = hn::Lanes(dd);
-  const int32_t* words = reinterpret_cast<const int32_t*>(pv);
+  const hn::Rebind<uint64_t, decltype(dd)> d64;
+  const int64_t* words64 = reinterpret_cast<const int64_t*>(pv);
   const double* zs = reinterpret_cast<const double*>(pv);
-  const VI six = hn::Set(di, 6), two = hn::Set(di, 2), three = hn::Set(di, 3);
+  const VI two = hn::Set(di, 2);
   const VI zero_i = hn::Zero(di);
   const VD zero = hn::Zero(dd);
   HWY_ALIGN int32_t st[8];
@@ -1100,10 +1102,12 @@ void TriangleStep(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uin
     VD z[3];
     const VI idx[3] = {ia, ib, ic};
     for (int k = 0; k < 3; ++k) {
-      const VI w6 = hn::Mul(idx[k], six);
-      x[k] = hn::GatherIndex(di, words, hn::Add(w6, two));
-      y[k] = hn::GatherIndex(di, words, hn::Add(w6, three));
-      z[k] = hn::GatherIndex(dd, zs, hn::Mul(hn::PromoteTo(dl, idx[k]), hn::Set(dl, 3)));
+      // Word 0 of the vertex's three 8-byte words: z; word 1: x (low half) and y.
+      const auto w3 = hn::Mul(hn::PromoteTo(dl, idx[k]), hn::Set(dl, 3));
+      const auto xy = hn::BitCast(d64, hn::GatherIndex(dl, words64, hn::Add(w3, hn::Set(dl, 1))));
+      x[k] = hn::BitCast(di, hn::TruncateTo(du, xy));
+      y[k] = hn::BitCast(di, hn::TruncateTo(du, hn::ShiftRight<32>(xy)));
+      z[k] = hn::GatherIndex(dd, zs, w3);
     }
     // (p1.x - p0.x)(p2.y - p0.y) - (p1.y - p0.y)(p2.x - p0.x), exactly.
     const VD area =
