@@ -301,7 +301,7 @@ class OcclusionMap {
 // n . (vertex a), planes (for a vector loop), and the smallest h (the inner
 // ball, OcclusionMap).
 struct UnitFaces {
-  std::vector<double> nx, ny, nz, h;
+  std::vector<double, NoInitAllocator<double>> nx, ny, nz, h;  // (every entry written)
   double inner = 1;
 };
 UnitFaces unit_faces(const UnitSphere& u) {
@@ -347,7 +347,7 @@ UnitFaces unit_faces(const UnitSphere& u) {
 struct SphereScratch {
   std::vector<Vec3> world, color;
   std::vector<ProjectedVertex> proj;
-  std::vector<double> face;  // 3 per triangle
+  std::vector<double, NoInitAllocator<double>> face;  // 3 per triangle (not zeroed)
   std::vector<uint8_t> flags;
   std::vector<VertexDepth> depth;  // the image's, per vertex
   std::vector<uint32_t> cand;      // the triangles that get the face test
@@ -356,7 +356,7 @@ struct SphereScratch {
   std::vector<uint8_t> sure;                      // per candidate: a front face by a margin
   std::vector<uint8_t> code;                      // per face: back, either, front (by a margin)
   std::vector<uint32_t> amb;                      // the candidates the world test decides
-  std::vector<double> amb_face;
+  std::vector<double, NoInitAllocator<double>> amb_face;
   std::vector<uint8_t> amb_flags;
   // The positions path's triangle step (triangle_step): vertices, candidate,
   // status, box, nearest depth per triangle past world culling.
@@ -521,9 +521,10 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
         continue;  // (kTriNone: no sample in its box, not counted)
       }
       // (A box over more than 2 x 2 cells: triangle_step left the test to this.)
-      constexpr int kC = 2 * kOcclusionCell;  // (the coarse cells)
-      const bool wide = box[1][j] / kC - box[0][j] / kC > 1 || box[3][j] / kC - box[2][j] / kC > 1;
-      if (occlusion && wide &&
+      // (A kept triangle's box is not empty: shifts for the coarse cells.)
+      static_assert(2 * kOcclusionCell == 8);
+      if (occlusion &&
+          ((box[1][j] >> 3) - (box[0][j] >> 3) > 1 || (box[3][j] >> 3) - (box[2][j] >> 3) > 1) &&
           occlusion->hidden(box[0][j], box[1][j], box[2][j], box[3][j], sc.zmin[j])) {
         ++out.hidden;
         continue;
