@@ -1187,17 +1187,30 @@ void SetUpForward(const PosTri* tris, size_t n, const SampleGrid& grid, TriSetup
   const size_t N = hn::Lanes(dd);
   HWY_ALIGN int32_t x_in[3][8], y_in[3][8], box[4][8], ex[3][8], ey[3][8], bias[3][8];
   HWY_ALIGN double w_in[3][8], q_in[3][8], qx[8], qy[8], wx[8], wy[8];
+  const hn::Rebind<int64_t, decltype(dd)> dl;
+  static_assert(sizeof(PosTri) == 72 && offsetof(PosTri, y) == 12 && offsetof(PosTri, d) == 24 &&
+                sizeof(VertexDepth) == 16 && offsetof(VertexDepth, q) == 8);
+  const int32_t* words = reinterpret_cast<const int32_t*>(tris);
+  const double* doubles = reinterpret_cast<const double*>(tris);
   const VI zero_i = hn::Zero(di), one_i = hn::Set(di, 1);
   const VD one = hn::Set(dd, 1.0);
   const bool test = !tested && grid.ox0 == grid.ox1 && grid.oy0 == grid.oy1;
   static_assert(kSubpixel == 256);
   for (size_t i = 0; i < n; i += N) {
     const size_t m = std::min(N, n - i);
-    for (size_t j = 0; j < N; ++j) {
-      const PosTri& p = tris[i + (j < m ? j : 0)];  // (spare lanes: a copy of the first)
+    // The triangles' fields gathered into lanes (not copied through the stack
+    // one by one: a vector load of fresh scalar stores waits for them all);
+    // spare lanes repeat the last triangle.
+    {
+      const VI tri = hn::Min(hn::Add(hn::Set(di, int32_t(i)), hn::Iota(di, 0)),
+                             hn::Set(di, int32_t(i + m - 1)));
+      const VI at32 = hn::Mul(tri, hn::Set(di, int32_t(sizeof(PosTri) / 4)));
+      const auto at64 = hn::Mul(hn::PromoteTo(dl, tri), hn::Set(dl, int64_t(sizeof(PosTri) / 8)));
       for (int k = 0; k < 3; ++k) {
-        x_in[k][j] = p.x[k], y_in[k][j] = p.y[k];
-        w_in[k][j] = p.d[k].w, q_in[k][j] = p.d[k].q;
+        hn::Store(hn::GatherIndex(di, words, hn::Add(at32, hn::Set(di, k))), di, x_in[k]);
+        hn::Store(hn::GatherIndex(di, words, hn::Add(at32, hn::Set(di, 3 + k))), di, y_in[k]);
+        hn::Store(hn::GatherIndex(dd, doubles, hn::Add(at64, hn::Set(dl, 3 + 2 * k))), dd, w_in[k]);
+        hn::Store(hn::GatherIndex(dd, doubles, hn::Add(at64, hn::Set(dl, 4 + 2 * k))), dd, q_in[k]);
       }
     }
     VI x[3], y[3];
