@@ -70,7 +70,7 @@ constexpr int kMaxRings = 256;  // sphere_rings' upper end
 class FlatBatch {
  public:
   // A material's inputs to the lighting (kd colour, ks, shine), worked out once
-  // per sphere or polygon, not once per triangle.
+  // per sphere or run of polygons of one material, not once per triangle.
   struct Surface {
     explicit Surface(const Material& m)
         : k{m.kd * m.color.x, m.kd * m.color.y, m.kd * m.color.z, m.ks, m.shine} {}
@@ -520,8 +520,8 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
         if (sc.status[j] == kTriHidden) ++out.hidden;
         continue;  // (kTriNone: no sample in its box, not counted)
       }
-      // (A box over more than 2 x 2 cells: triangle_step left the test to this.)
-      // (A kept triangle's box is not empty: shifts for the coarse cells.)
+      // (A box over more than 2 x 2 coarse cells: triangle_step left the test to
+      // this. A kept triangle's box is not empty: shifts for the coarse cells.)
       static_assert(2 * kOcclusionCell == 8);
       if (occlusion &&
           ((box[1][j] >> 3) - (box[0][j] >> 3) > 1 || (box[3][j] >> 3) - (box[2][j] >> 3) > 1) &&

@@ -128,8 +128,9 @@ void shade_tile(const ShadeParams& p, const int32_t* tri, const int32_t* slot,
                 size_t image_stride, float* depth, size_t depth_stride);
 
 // Flat colours with shade_tile's lighting (Phong specular, as view_scene's
-// flat colour), in float lanes (double ones for a high shine): for i < n, the colour at point (in[0..2])[i]
-// of a face with unit normal (in[3..5])[i], turned towards the eye here,
+// flat colour), in float lanes (double ones for a high shine): for i < n, the
+// colour at point (in[0..2])[i] of a face with unit normal (in[3..5])[i],
+// turned towards the eye here,
 // material kd * colour (in[6..8])[i], ks in[9][i], shine in[10][i]; out[0..2]:
 // red, green, blue. Every array has room for n rounded up to 16.
 inline constexpr int kFlatInputs = 11;
