@@ -1019,8 +1019,25 @@ HWY_INLINE void PixelBox(DI di, const SampleGrid& grid, const VI x[3], const VI 
 // edges). Such a triangle draws nothing. (Edge values there are below 2^25:
 // int32.) 3 x 3: on balls-3 (AVX2, callgrind) 2 x 2 catches too few, 4 x 4
 // costs more than the triangles it sorts out save.
+// The raster's edges of a vector of triangles (vertices x[k], y[k] in its
+// order): edge k from vertex a = k + 1 to b = k + 2, E_k = ex (X - x_a) +
+// ey (Y - y_a), a sample covered where E_k >= bias_k (0 on a top or left
+// edge, else 1): set_up_forward's and CoversNothing's.
+template <class DI, class VI = hn::Vec<DI>>
+HWY_INLINE void Edges(DI di, const VI x[3], const VI y[3], VI ex[3], VI ey[3], VI bias[3]) {
+  const VI zero = hn::Zero(di);
+  for (int k = 0; k < 3; ++k) {
+    const int a = (k + 1) % 3, b = (k + 2) % 3;
+    const VI dx = hn::Sub(x[b], x[a]), dy = hn::Sub(y[b], y[a]);
+    ex[k] = hn::Neg(dy), ey[k] = dx;
+    const auto top_left = hn::Or(hn::And(hn::Eq(dy, zero), hn::Gt(dx, zero)), hn::Lt(dy, zero));
+    bias[k] = hn::IfThenZeroElse(top_left, hn::Set(di, 1));
+  }
+}
+
 template <class DI, class VI = hn::Vec<DI>>
 HWY_INLINE hn::Mask<DI> CoversNothing(DI di, const SampleGrid& grid, const VI x[3], const VI y[3],
+                                      const VI edge_x[3], const VI edge_y[3], const VI bias[3],
                                       VI i0, VI i1, VI j0, VI j1) {
   static_assert(kSubpixel == 256);
   constexpr int kSide = 3;
@@ -1032,16 +1049,10 @@ HWY_INLINE hn::Mask<DI> CoversNothing(DI di, const SampleGrid& grid, const VI x[
       hn::And(hn::And(hn::Lt(hn::Sub(xmax, xmin), limit), hn::Lt(hn::Sub(ymax, ymin), limit)),
               hn::And(hn::Lt(hn::Sub(i1, i0), side), hn::Lt(hn::Sub(j1, j0), side)));
   if (hn::AllFalse(di, small)) return small;
-  // Edge k from vertex a = k + 1 to b = k + 2: E_k = ex (X - x_a) + ey (Y - y_a),
-  // covered where E_k >= bias_k (0 on a top or left edge, else 1), i.e. E_k > bias_k - 1.
+  // Covered where E_k >= bias_k, i.e. E_k > bias_k - 1.
   VI ex[3], ey[3], floor_e[3];
-  for (int k = 0; k < 3; ++k) {
-    const int a = (k + 1) % 3, b = (k + 2) % 3;
-    const VI dx = hn::Sub(x[b], x[a]), dy = hn::Sub(y[b], y[a]);
-    ex[k] = hn::Neg(dy), ey[k] = dx;
-    const auto top_left = hn::Or(hn::And(hn::Eq(dy, zero), hn::Gt(dx, zero)), hn::Lt(dy, zero));
-    floor_e[k] = hn::IfThenElse(top_left, hn::Set(di, -1), zero);  // bias - 1
-  }
+  for (int k = 0; k < 3; ++k)
+    ex[k] = edge_x[k], ey[k] = edge_y[k], floor_e[k] = hn::Sub(bias[k], hn::Set(di, 1));
   // The edges at the box's first sample, then stepped: 256 ex a column, 256 ey a row.
   const VI sx0 = hn::Add(hn::ShiftLeft<8>(i0), hn::Set(di, grid.ox0));
   const VI sy0 = hn::Add(hn::ShiftLeft<8>(j0), hn::Set(di, grid.oy0));
@@ -1131,7 +1142,9 @@ void TriangleStep(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uin
     if (one_sample) {  // (or a small triangle that covers no sample in it)
       const VI xs[3] = {x[0], hn::IfThenElse(swap, x[2], x[1]), hn::IfThenElse(swap, x[1], x[2])};
       const VI ys[3] = {y[0], hn::IfThenElse(swap, y[2], y[1]), hn::IfThenElse(swap, y[1], y[2])};
-      none = hn::Or(none, CoversNothing(di, grid, xs, ys, i0, i1, j0, j1));
+      VI ex[3], ey[3], bias[3];
+      Edges(di, xs, ys, ex, ey, bias);
+      none = hn::Or(none, CoversNothing(di, grid, xs, ys, ex, ey, bias, i0, i1, j0, j1));
     }
     VI code = hn::IfThenElseZero(none, hn::Set(di, kTriNone));
     if (cull_projection) code = hn::IfThenElse(hn::Gt(sign, zero_i), hn::Set(di, kTriCulled), code);
@@ -1192,7 +1205,7 @@ void SetUpForward(const PosTri* tris, size_t n, const SampleGrid& grid, TriSetup
                 sizeof(VertexDepth) == 16 && offsetof(VertexDepth, q) == 8);
   const int32_t* words = reinterpret_cast<const int32_t*>(tris);
   const double* doubles = reinterpret_cast<const double*>(tris);
-  const VI zero_i = hn::Zero(di), one_i = hn::Set(di, 1);
+  const VI one_i = hn::Set(di, 1);
   const VD one = hn::Set(dd, 1.0);
   const bool test = !tested && grid.ox0 == grid.ox1 && grid.oy0 == grid.oy1;
   static_assert(kSubpixel == 256);
@@ -1220,14 +1233,10 @@ void SetUpForward(const PosTri* tris, size_t n, const SampleGrid& grid, TriSetup
     // Edge k from vertex a = k + 1 to b = k + 2: E_k = ex (X - x_a) + ey (Y - y_a).
     VD exd[3], eyd[3];
     VI exi[3], eyi[3], bi[3];
+    Edges(di, x, y, exi, eyi, bi);
     for (int k = 0; k < 3; ++k) {
-      const int a = (k + 1) % 3, b = (k + 2) % 3;
-      const VI dx = hn::Sub(x[b], x[a]), dy = hn::Sub(y[b], y[a]);
-      exi[k] = hn::Neg(dy), eyi[k] = dx;
       hn::Store(exi[k], di, ex[k]);
       hn::Store(eyi[k], di, ey[k]);
-      const auto top_left = hn::Or(hn::And(hn::Eq(dy, zero_i), hn::Gt(dx, zero_i)), hn::Lt(dy, zero_i));
-      bi[k] = hn::IfThenZeroElse(top_left, one_i);
       hn::Store(bi[k], di, bias[k]);
       exd[k] = hn::PromoteTo(dd, exi[k]);
       eyd[k] = hn::PromoteTo(dd, eyi[k]);
@@ -1236,7 +1245,8 @@ void SetUpForward(const PosTri* tris, size_t n, const SampleGrid& grid, TriSetup
     // samples would draw nothing: its box is left empty, so it is never binned.
     VI hi = i1;
     if (test)
-      hi = hn::IfThenElse(CoversNothing(di, grid, x, y, i0, i1, j0, j1), hn::Sub(i0, one_i), i1);
+      hi = hn::IfThenElse(CoversNothing(di, grid, x, y, exi, eyi, bi, i0, i1, j0, j1),
+                          hn::Sub(i0, one_i), i1);
     hn::Store(i0, di, box[0]);
     hn::Store(hi, di, box[1]);
     hn::Store(j0, di, box[2]);
