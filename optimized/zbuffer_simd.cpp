@@ -370,7 +370,8 @@ struct TileBuffers {
   std::vector<zsimd::TileList> lists;
   // slack: depth values past the last sample the kernel may read (not use): a
   // row and a vector (raster_tile's two-row blocks).
-  void reset(size_t n, size_t slack, T far_value, bool counting) {
+  // ids: the raster writes triangle ids (not when drawing forward).
+  void reset(size_t n, size_t slack, T far_value, bool counting, bool ids = true) {
     if (n != size) {
       depth = hwy::AllocateAligned<T>(n + slack);
       tri = hwy::AllocateAligned<int32_t>(n);
@@ -379,7 +380,7 @@ struct TileBuffers {
       size = n;
     }
     std::fill_n(depth.get(), n, far_value);
-    std::fill_n(tri.get(), n, -1);
+    if (ids) std::fill_n(tri.get(), n, -1);
     if (counting) std::fill_n(count.get(), n, 0);
   }
 };
@@ -407,7 +408,7 @@ template <class T>
 void raster_one_tile(RasterParams p, const Binner& b, int x0, int y0, int x1, int y1, T far_value,
                      bool counting, bool forward, TileBuffers<T>& buf) {
   const size_t n = size_t(p.buf_w) * size_t(p.buf_h) * size_t(p.spp);
-  buf.reset(n, size_t(p.buf_w) + 16, far_value, counting);
+  buf.reset(n, size_t(p.buf_w) + 16, far_value, counting, !forward);
   if (forward) {
     if (!buf.forward) {
       buf.forward = hwy::AllocateAligned<float>(4 * n);
@@ -531,10 +532,12 @@ zsimd::ShadeParams shade_params(const Scene& scene, const ScreenMesh& mesh, cons
 // triangle per sample (a tile buffer: plane k, row r, column c at
 // [(k buf_h + r) buf_w + c], -1 for none), every one of them binned to the tile.
 // forward: the tile was drawn with flat shading forward (w and colours per
-// sample in *forward; no planes needed).
+// sample in *forward, drawn samples those of finite depth in forward_depth;
+// no planes needed, tile_tri unused).
 void shade_one_tile(const ScreenMesh& mesh, const Binner& b, const zsimd::ShadeParams& sp, int x0,
                     int y0, int x1, int y1, const int32_t* tile_tri, ShadeBuffers& sb, Image& img,
-                    const zsimd::ForwardFlat* forward = nullptr) {
+                    const zsimd::ForwardFlat* forward = nullptr,
+                    const float* forward_depth = nullptr) {
   if (!forward && sb.slot.size() != b.total) sb.slot.assign(b.total, 0);
   const size_t plane = size_t(b.tw) * size_t(b.th);
   if (sb.size != plane) {
@@ -569,6 +572,7 @@ void shade_one_tile(const ScreenMesh& mesh, const Binner& b, const zsimd::ShadeP
   if (forward) {
     tp.forward_w = forward->w;
     for (int c = 0; c < 3; ++c) tp.forward_rgb[c] = forward->rgb[c];
+    tp.forward_depth = forward_depth;
   }
   const Camera& cam = mesh.camera;
   const Vec3 d0 = cam.forward + ((x0 - 0.5 * mesh.width) * cam.pitch) * cam.right +
@@ -599,8 +603,10 @@ Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const Binner& b,
                    TileBuffers<T>& buf = buffers.local();
                    raster_one_tile(p, b, x0, y0, x1, y1, far_value<T>(s.depth), false, forward,
                                    buf);
+                   const float* forward_depth = nullptr;  // (forward: T is float)
+                   if constexpr (std::is_same_v<T, float>) forward_depth = buf.depth.get();
                    shade_one_tile(mesh, b, sp, x0, y0, x1, y1, buf.tri.get(), shade_buffers.local(),
-                                  img, forward ? &buf.flat : nullptr);
+                                  img, forward ? &buf.flat : nullptr, forward_depth);
                  });
   if (stats) {
     stats->items = mesh.scene_tris + mesh.sphere_tris;

@@ -192,9 +192,10 @@ HWY_INLINE void PairRows(DT dt, const RasterParams& p, const int64_t e[3], const
     const VT nd = hn::IfThenElse(pass, q, old);
     hn::StoreU(hn::LowerHalf(dh, nd), dh, depth + a0);
     hn::StoreU(hn::UpperHalf(dh, nd), dh, depth + a1);
-    hn::BlendedStore(hn::LowerHalf(dhi, tri_id), i0, dhi, tri + a0);
-    hn::BlendedStore(hn::UpperHalf(dhi, tri_id), i1, dhi, tri + a1);
-    if constexpr (kForward) {
+    if constexpr (!kForward) {  // (drawn forward, shading needs no triangle ids)
+      hn::BlendedStore(hn::LowerHalf(dhi, tri_id), i0, dhi, tri + a0);
+      hn::BlendedStore(hn::UpperHalf(dhi, tri_id), i1, dhi, tri + a1);
+    } else {
       const VT w = hn::Add(hn::Set(dt, T(w_first + wsy * r)), w_lane);
       hn::BlendedStore(hn::LowerHalf(dh, w), m0, dh, fl.w + a0);
       hn::BlendedStore(hn::UpperHalf(dh, w), m1, dh, fl.w + a1);
@@ -384,8 +385,9 @@ HWY_INLINE void RasterTileT(DT dt, const RasterParams& p, const TileJob& t, hn::
             const auto pass = hn::And(CastMask(dt, di, cover), closer);
             // Masked stores (one instruction each on AVX-512; a blend elsewhere).
             hn::BlendedStore(q, pass, dt, depth + at);
-            hn::BlendedStore(tri_id, CastMask(di, dt, pass), di, tri + at);
-            if constexpr (kForward) {
+            if constexpr (!kForward) {
+              hn::BlendedStore(tri_id, CastMask(di, dt, pass), di, tri + at);
+            } else {
               const VT w = hn::Add(hn::Set(dt, T(w_row + wsx * double(b * N))), w_lane);
               hn::BlendedStore(w, pass, dt, fl.w + at);
               for (int c = 0; c < 3; ++c) hn::BlendedStore(flat[c], pass, dt, fl.rgb[c] + at);
@@ -617,6 +619,7 @@ HWY_INLINE void ShadeTileT(const ShadeParams& p, const int32_t* tri, const int32
   const int spp = p.spp, nlights = p.nlights;
   const bool perspective = p.perspective, silhouette = !kFlat && p.silhouette;
   const bool forward = kFlat && p.forward_w != nullptr;
+  const float* const fwd_depth = p.forward_depth;
   const Shading shading = kFlat ? Shading::kFlat : p.shading;
   const float* const light = p.light;
   const bool flat = shading == Shading::kFlat, gouraud = shading == Shading::kGouraud;
@@ -651,13 +654,17 @@ HWY_INLINE void ShadeTileT(const ShadeParams& p, const int32_t* tri, const int32
       for (int c0 = 0; c0 < cols; c0 += N) {
         const size_t at = (size_t(smp) * H + size_t(r)) * W + size_t(c0);
         const size_t pix = size_t(r) * W + size_t(c0);
-        const VI ids = hn::Load(di, tri + at);
-        auto remaining = hn::Gt(ids, none);
+        // Drawn forward: a sample was drawn where its depth is finite (the
+        // buffer starts at an infinite far end, which no depth passes; the
+        // raster then writes no triangle ids).
+        const VI ids = forward ? none : hn::Load(di, tri + at);
+        auto remaining = forward ? hn::RebindMask(di, hn::Lt(hn::Abs(hn::Load(df, fwd_depth + at)), inf))
+                                 : hn::Gt(ids, none);
         VF col[3] = {bg[0], bg[1], bg[2]};
         VF z = inf;
         if (!hn::AllFalse(di, remaining)) {
           const auto valid = hn::RebindMask(df, remaining);
-          hn::Store(ids, di, idv);
+          if (!forward) hn::Store(ids, di, idv);
           const VF u = hn::Add(hn::Iota(df, float(c0)), hn::Set(df, ou));
           VF a[ShadeTri::kRows];
           a[0] = one;

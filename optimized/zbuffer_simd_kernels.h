@@ -111,9 +111,12 @@ struct ShadeParams {
   int spp = 1;
   int buf_w = 64, buf_h = 64;
   // Flat shading without silhouettes, drawn forward by raster_tile: w and the
-  // colours per sample come from these buffers (planes and slots unused).
+  // colours per sample come from these buffers, and whether a sample was drawn
+  // from its depth there (finite: the float raster's far end is infinite);
+  // tri, planes and slots are unused.
   const float* forward_w = nullptr;
   const float* forward_rgb[3] = {nullptr, nullptr, nullptr};
+  const float* forward_depth = nullptr;
 };
 
 // Shades the visible samples of a tile (tri: raster_tile's buffer) and
@@ -174,7 +177,8 @@ struct TileJob {
 
 // Tile-local buffers, plane s (sample s), row r, column c at [(s buf_h + r) buf_w + c].
 // Before raster_tile: depth = the format's far end, tri = -1, count = 0
-// (count may be null: coverage is then not counted).
+// (count may be null: coverage is then not counted). Drawn forward
+// (RasterParams::flat), tri is neither read nor written.
 // float depth for every format but kDouble; that one rasters in double.
 void raster_tile(const RasterParams& p, const TileJob& t, float* depth, int32_t* tri,
                  int32_t* count);
