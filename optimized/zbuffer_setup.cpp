@@ -351,7 +351,6 @@ struct SphereScratch {
   std::vector<uint8_t> flags;
   std::vector<VertexDepth> depth;  // the image's, per vertex
   std::vector<uint32_t> cand;      // the triangles that get the face test
-  std::vector<PosTri, NoInitAllocator<PosTri>> pos;  // for a positions-only sink (not zeroed)
   std::vector<std::array<uint32_t, 3>> cand_tri;  // the world face test's triangles
   std::vector<uint8_t> sure;                      // per candidate: a front face by a margin
   std::vector<uint8_t> code;                      // per face: back, either, front (by a margin)
@@ -480,7 +479,6 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
   }
   ScreenTri local;
   const bool positions = image && image->sink->positions_only();
-  sc.pos.clear();
   if (positions) {
     // The same steps, the area's and the box's in SIMD (triangle_step): the
     // triangles past world culling first, then the kernel, then per triangle
@@ -511,7 +509,6 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
     triangle_step(sc.proj.data(), sc.va.data(), sc.vb.data(), sc.vc.data(), n, image->grid,
                   s.cull == CullMode::kProjection, sc.status.data(), box, sc.zmin.data(),
                   occlusion ? &cells : nullptr);
-    sc.pos.resize(n);
     size_t kept = 0;
     for (size_t j = 0; j < n; ++j) {
       if (sc.status[j] != kTriKeep) {
@@ -529,12 +526,10 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
         ++out.hidden;
         continue;
       }
+      // The kept triangles' vertices moved to the front (kept <= j).
       const uint32_t order[3] = {sc.va[j], sc.vb[j], sc.vc[j]};
-      PosTri& pt = sc.pos[kept++];
-      for (int k = 0; k < 3; ++k) {
-        const uint32_t vi = order[k];
-        pt.x[k] = sc.proj[vi].x, pt.y[k] = sc.proj[vi].y, pt.d[k] = sc.depth[vi];
-      }
+      sc.va[kept] = order[0], sc.vb[kept] = order[1], sc.vc[kept] = order[2];
+      ++kept;
       // (Its index in the sphere for now: its chunk's once handed over.)
       if (flat_shading) {
         const size_t i = sc.vcand[j];
@@ -546,11 +541,12 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
                   surface);
       }
     }
-    sc.pos.resize(kept);
-    if (!sc.pos.empty()) {  // (triangle_step's kTriNone: tested already)
-      const size_t first =
-          image->sink->add_positions(chunk, sc.pos.data(), sc.pos.size(), true);
-      if (flat_shading) batch.offset_last(sc.pos.size(), first);
+    if (kept > 0) {  // (triangle_step's kTriNone: tested already)
+      // (va, vb, vc hold valid vertex indices up to n rounded up to 16.)
+      const size_t first = image->sink->add_positions(
+          chunk, {sc.proj.data(), sc.depth.data(), sc.va.data(), sc.vb.data(), sc.vc.data()},
+          kept, true);
+      if (flat_shading) batch.offset_last(kept, first);
     }
     return true;
   }
@@ -595,17 +591,6 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
       }
     }
     const uint32_t order[3] = {idx[0], area < 0 ? idx[2] : idx[1], area < 0 ? idx[1] : idx[2]};
-    // A sink that reads only positions gets them, the sphere's at once.
-    if (positions) {
-      PosTri& pt = sc.pos.emplace_back();
-      for (int i = 0; i < 3; ++i) {
-        const uint32_t vi = order[i];
-        pt.x[i] = sc.proj[vi].x, pt.y[i] = sc.proj[vi].y, pt.d[i] = sc.depth[vi];
-      }
-      // (Its index in the sphere for now: its chunk's once handed over.)
-      if (flat_shading) batch.add(sc.pos.size() - 1, (w0 + w1 + w2) / 3.0, face, surface);
-      continue;
-    }
     // Built in place (a ScreenTri is 300 bytes), or for the image in `local`
     // (every field it reads is written for each triangle).
     ScreenTri& st = image ? local : out.tris.emplace_back();
@@ -631,10 +616,6 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
     } else if (flat_shading) {
       st.flat_color = lit(scene, m, cam.eye, (w0 + w1 + w2) / 3.0, face);
     }
-  }
-  if (positions && !sc.pos.empty()) {
-    const size_t first = image->sink->add_positions(chunk, sc.pos.data(), sc.pos.size());
-    if (flat_shading) batch.offset_last(sc.pos.size(), first);
   }
   return true;
 }
@@ -846,12 +827,19 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
     // A positions-only sink gets the triangles a run at a time (flushed before a
     // polygon that goes through view_polygons, so that the order stays).
     const bool positions = image && image->sink->positions_only();
-    std::vector<PosTri, NoInitAllocator<PosTri>> pending;  // (not zeroed: every field is written)
+    // (The pending triangles' vertices in the raster's order, padded for the
+    // kernel with valid indices.)
+    std::vector<uint32_t> pending[3];
     auto flush = [&] {
-      if (pending.empty()) return;
-      const size_t at = image->sink->add_positions(sink_chunk, pending.data(), pending.size());
-      batch.offset_last(pending.size(), at);
-      pending.clear();
+      const size_t n = pending[0].size();
+      if (n == 0) return;
+      const uint32_t spare = pending[0][0];
+      for (auto& v : pending) v.resize((n + 15) / 16 * 16, spare);
+      const size_t at = image->sink->add_positions(
+          sink_chunk, {pv.data(), pvd.data(), pending[0].data(), pending[1].data(), pending[2].data()},
+          n);
+      batch.offset_last(n, at);
+      for (auto& v : pending) v.clear();
     };
     // The lighting's inputs of the last material seen (meshes share one).
     uint32_t surface_of = UINT32_MAX;
@@ -926,10 +914,8 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
         // Positive area: a front face's v[1] and v[2] swapped.
         const uint32_t order[3] = {tv[0], area < 0 ? tv[2] : tv[1], area < 0 ? tv[1] : tv[2]};
         if (positions) {  // (flat shading: one lighting request each)
-          PosTri& pt = pending.emplace_back();
-          for (int i = 0; i < 3; ++i)
-            pt.x[i] = pv[order[i]].x, pt.y[i] = pv[order[i]].y, pt.d[i] = pvd[order[i]];
-          batch.add(pending.size() - 1, centroid, face, surface);
+          for (int i = 0; i < 3; ++i) pending[i].push_back(order[i]);
+          batch.add(pending[0].size() - 1, centroid, face, surface);
           continue;
         }
         // Built in place (a ScreenTri is 300 bytes), or for the image in `local`

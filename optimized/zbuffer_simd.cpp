@@ -248,7 +248,7 @@ class Binner final : public zsimd::TriSink {
   bool positions_only() const override { return scene_ == nullptr; }
   bool double_raster() const { return double_raster_; }
   const DepthMap& depth() const { return depth_; }
-  size_t add_positions(size_t c, const zsimd::PosTri* tris, size_t n,
+  size_t add_positions(size_t c, const zsimd::IndexedTris& tris, size_t n,
                        bool tested = false) override {
     BinChunk& ch = chunks[c];
     const size_t first = ch.setup.size();
@@ -259,11 +259,16 @@ class Binner final : public zsimd::TriSink {
       return first;
     }
     for (size_t i = 0; i < n; ++i) {
-      const zsimd::PosTri& p = tris[i];
+      const uint32_t v[3] = {tris.a[i], tris.b[i], tris.c[i]};
+      int32_t x[3], y[3];
+      double w[3], q[3];
+      for (int k = 0; k < 3; ++k) {
+        x[k] = tris.pv[v[k]].x, y[k] = tris.pv[v[k]].y;
+        w[k] = tris.vd[v[k]].w, q[k] = tris.vd[v[k]].q;
+      }
       TriSetup& t = ch.setup[first + i];
-      const double w[3] = {p.d[0].w, p.d[1].w, p.d[2].w}, q[3] = {p.d[0].q, p.d[1].q, p.d[2].q};
       double inv_area;
-      set_up(p.x, p.y, w, q, grid_, double_raster_, t, inv_area);
+      set_up(x, y, w, q, grid_, double_raster_, t, inv_area);
       bin(ch, t, first + i);
     }
     return first;
@@ -333,18 +338,25 @@ void bin_mesh(const ScreenMesh& mesh, int threads, Binner& b) {
     b.reserve(c, last - first);
     if (b.positions_only() && !b.double_raster()) {
       // The image path's set-up (set_up_forward) on the mesh's positions, so
-      // that the visibility properties check it too.
-      std::vector<zsimd::PosTri> pos(last - first);
-      for (size_t id = first; id < last; ++id) {
-        zsimd::PosTri& p = pos[id - first];
+      // that the visibility properties check it too: three vertices a
+      // triangle, triangle i's 3i, 3i + 1, 3i + 2.
+      const size_t m = last - first, padded = (m + 15) / 16 * 16;
+      std::vector<zsimd::ProjectedVertex> pv(3 * m);
+      std::vector<zsimd::VertexDepth> vd(3 * m);
+      std::vector<uint32_t> index[3];
+      for (auto& ix : index) ix.assign(padded, 0);
+      for (size_t i = 0; i < m; ++i)
         for (int k = 0; k < 3; ++k) {
-          const ScreenVertex& v = mesh.tris[id].v[size_t(k)];
-          p.x[k] = v.x, p.y[k] = v.y;
-          p.d[k].w = 1 / v.z;
-          p.d[k].q = b.depth()(v.z, p.d[k].w);
+          const ScreenVertex& v = mesh.tris[first + i].v[size_t(k)];
+          zsimd::ProjectedVertex& p = pv[3 * i + size_t(k)];
+          p.z = v.z, p.x = v.x, p.y = v.y, p.inside = 1;
+          zsimd::VertexDepth& d = vd[3 * i + size_t(k)];
+          d.w = 1 / v.z;
+          d.q = b.depth()(v.z, d.w);
+          index[k][i] = uint32_t(3 * i + size_t(k));
         }
-      }
-      b.add_positions(c, pos.data(), pos.size());
+      b.add_positions(c, {pv.data(), vd.data(), index[0].data(), index[1].data(), index[2].data()},
+                      m);
       return;
     }
     for (size_t id = first; id < last; ++id) b.add(c, mesh.tris[id], nullptr);

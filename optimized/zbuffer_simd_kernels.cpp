@@ -1198,7 +1198,7 @@ void TriangleStep(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uin
 // stack and written back per triangle. The area is exact in double as in
 // int64 (snapped coordinates stay below 2^25 in magnitude inside the guard
 // band: products below 2^52).
-void SetUpForward(const PosTri* tris, size_t n, const SampleGrid& grid, TriSetup* out,
+void SetUpForward(const IndexedTris& tris, size_t n, const SampleGrid& grid, TriSetup* out,
                   bool tested) {
   const hn::CappedTag<double, 8> dd;
   const hn::Rebind<int32_t, decltype(dd)> di;
@@ -1208,30 +1208,32 @@ void SetUpForward(const PosTri* tris, size_t n, const SampleGrid& grid, TriSetup
   HWY_ALIGN int32_t x_in[3][8], y_in[3][8], box[4][8], ex[3][8], ey[3][8], bias[3][8];
   HWY_ALIGN double w_in[3][8], q_in[3][8], qx[8], qy[8], wx[8], wy[8];
   const hn::Rebind<int64_t, decltype(dd)> dl;
-  static_assert(sizeof(PosTri) == 72 && offsetof(PosTri, y) == 12 && offsetof(PosTri, d) == 24 &&
-                sizeof(VertexDepth) == 16 && offsetof(VertexDepth, q) == 8);
-  const int32_t* words = reinterpret_cast<const int32_t*>(tris);
-  const double* doubles = reinterpret_cast<const double*>(tris);
+  const hn::Rebind<uint32_t, decltype(dd)> du;
+  const hn::Rebind<uint64_t, decltype(dd)> d64;
+  static_assert(sizeof(ProjectedVertex) == 24 && offsetof(ProjectedVertex, x) == 8 &&
+                offsetof(ProjectedVertex, y) == 12 && sizeof(VertexDepth) == 16 &&
+                offsetof(VertexDepth, q) == 8);
+  const int64_t* words64 = reinterpret_cast<const int64_t*>(tris.pv);
+  const double* vd = reinterpret_cast<const double*>(tris.vd);
+  const uint32_t* const index[3] = {tris.a, tris.b, tris.c};
   const VI one_i = hn::Set(di, 1);
   const VD one = hn::Set(dd, 1.0);
   const bool test = !tested && grid.ox0 == grid.ox1 && grid.oy0 == grid.oy1;
   static_assert(kSubpixel == 256);
   for (size_t i = 0; i < n; i += N) {
     const size_t m = std::min(N, n - i);
-    // The triangles' fields gathered into lanes (not copied through the stack
-    // one by one: a vector load of fresh scalar stores waits for them all);
-    // spare lanes repeat the last triangle.
-    {
-      const VI tri = hn::Min(hn::Add(hn::Set(di, int32_t(i)), hn::Iota(di, 0)),
-                             hn::Set(di, int32_t(i + m - 1)));
-      const VI at32 = hn::Mul(tri, hn::Set(di, int32_t(sizeof(PosTri) / 4)));
-      const auto at64 = hn::Mul(hn::PromoteTo(dl, tri), hn::Set(dl, int64_t(sizeof(PosTri) / 8)));
-      for (int k = 0; k < 3; ++k) {
-        hn::Store(hn::GatherIndex(di, words, hn::Add(at32, hn::Set(di, k))), di, x_in[k]);
-        hn::Store(hn::GatherIndex(di, words, hn::Add(at32, hn::Set(di, 3 + k))), di, y_in[k]);
-        hn::Store(hn::GatherIndex(dd, doubles, hn::Add(at64, hn::Set(dl, 3 + 2 * k))), dd, w_in[k]);
-        hn::Store(hn::GatherIndex(dd, doubles, hn::Add(at64, hn::Set(dl, 4 + 2 * k))), dd, q_in[k]);
-      }
+    // The vertices' fields gathered into lanes from their arrays (no copy of
+    // the triangles first): x and y in one 8-byte word (the vertex's second),
+    // w and the stored depth. (Spare lanes: valid indices, not written out.)
+    for (int k = 0; k < 3; ++k) {
+      const auto v = hn::PromoteTo(dl, hn::BitCast(di, hn::LoadU(du, index[k] + i)));
+      const auto xy = hn::BitCast(
+          d64, hn::GatherIndex(dl, words64, hn::Add(hn::Mul(v, hn::Set(dl, 3)), hn::Set(dl, 1))));
+      hn::Store(hn::BitCast(di, hn::TruncateTo(du, xy)), di, x_in[k]);
+      hn::Store(hn::BitCast(di, hn::TruncateTo(du, hn::ShiftRight<32>(xy))), di, y_in[k]);
+      const auto v2 = hn::Add(v, v);
+      hn::Store(hn::GatherIndex(dd, vd, v2), dd, w_in[k]);
+      hn::Store(hn::GatherIndex(dd, vd, hn::Add(v2, hn::Set(dl, 1))), dd, q_in[k]);
     }
     VI x[3], y[3];
     for (int k = 0; k < 3; ++k) x[k] = hn::Load(di, x_in[k]), y[k] = hn::Load(di, y_in[k]);
@@ -1325,7 +1327,7 @@ void triangle_step(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, ui
   HWY_DYNAMIC_DISPATCH(TriangleStep)(pv, a, b, c, n, grid, cull_projection, status, box, zmin, occ);
 }
 
-void set_up_forward(const PosTri* tris, size_t n, const SampleGrid& grid, TriSetup* out,
+void set_up_forward(const IndexedTris& tris, size_t n, const SampleGrid& grid, TriSetup* out,
                     bool tested) {
   HWY_DYNAMIC_DISPATCH(SetUpForward)(tris, n, grid, out, tested);
 }

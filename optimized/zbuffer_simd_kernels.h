@@ -276,11 +276,14 @@ struct SampleGrid {
 };
 
 
-// A triangle as a sink that needs only positions and depths takes it
-// (TriSink::add_positions): snapped vertices, their w and stored depth.
-struct PosTri {
-  int32_t x[3], y[3];
-  VertexDepth d[3];
+// Triangles as a sink that needs only positions and depths takes them
+// (TriSink::add_positions): triangle i has vertices a[i], b[i], c[i] (in the
+// raster's order) of pv (snapped x and y) and vd (w and stored depth). a, b
+// and c are readable to n rounded up to 16, valid vertex indices there too.
+struct IndexedTris {
+  const ProjectedVertex* pv = nullptr;
+  const VertexDepth* vd = nullptr;
+  const uint32_t *a = nullptr, *b = nullptr, *c = nullptr;
 };
 // The image's triangle step (view_scene's Emitter::triangle after world
 // culling) for n triangles of vertices a[i], b[i], c[i] of pv, as the mesh
@@ -317,7 +320,8 @@ void triangle_step(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, ui
 // double operations (no contraction), so the same bits. One sample per pixel,
 // a small triangle that covers no sample gets an empty box (never binned)
 // unless tested: they were all sorted out before (triangle_step).
-void set_up_forward(const PosTri* tris, size_t n, const SampleGrid& grid, TriSetup* out,
+// (The triangles' vertices gathered from their arrays: no copy of them first.)
+void set_up_forward(const IndexedTris& tris, size_t n, const SampleGrid& grid, TriSetup* out,
                     bool tested = false);
 
 // Where the image path's set-up puts its triangles one at a time, instead of
@@ -340,7 +344,7 @@ class TriSink {
   // time, add_positions (chunk c's next n triangles; the index of the first;
   // tested: none is a small triangle that covers no sample, triangle_step).
   virtual bool positions_only() const { return false; }
-  virtual size_t add_positions(size_t c, const PosTri* t, size_t n, bool tested = false) = 0;
+  virtual size_t add_positions(size_t c, const IndexedTris& t, size_t n, bool tested = false) = 0;
   // The flat colours of chunk c's triangles at[0], ..., at[n - 1], lit after
   // add: triangle at[i]'s is (rgb[0][i], rgb[1][i], rgb[2][i]).
   virtual void set_flats(size_t c, const size_t* at, size_t n, const float* const rgb[3]) = 0;
