@@ -29,7 +29,8 @@
 //   SimdTargets.zbuffer__simd: the same agreement on fixed soups, and corpus
 //       frames against the reference, on every Highway target compiled (flat
 //       shading among them: the image path's own set-up, view_sphere's
-//       triangle_step and set_up_forward, which no visibility soup reaches).
+//       triangle_step, the polygons' polygon_step (corpus/scenes/clip-tris.nff,
+//       every culling mode) and set_up_forward, which no visibility soup reaches).
 //   Mutants: inclusive_edges (every edge owns its samples: caught by Watertight)
 //       and bottom_right (the mirror rule, watertight but not the contract:
 //       caught by CoverageAgreement).
@@ -780,10 +781,22 @@ void every_target(const ImageFamily& family) {
       EXPECT_TRUE(v.passed()) << "Highway target " << hwy::TargetName(t) << ", soup " << i << ": "
                               << v.first_failure();
     }
-    for (const char* name : {"gears-2", "teapot-2", "balls-2", "spotlights"})
+    // (clip-tris: single-triangle polygons through the hither plane and the
+    // guard band, two-sided back faces: the image path's polygon_step under
+    // every culling mode.)
+    const std::vector<std::pair<const char*, std::vector<const char*>>> frames = {
+        {"gears-2", {}}, {"teapot-2", {}}, {"balls-2", {}}, {"spotlights", {}},
+        {"clip-tris",
+         {"shading=flat", "shading=flat cull=projection", "shading=flat cull=none",
+          "shading=phong"}}};
+    int nframes = 0;
+    for (const auto& [name, own] : frames)
       for (const char* params :
-           {"shading=flat", "shading=phong", "shading=gouraud spp=4",
-            "shading=toon silhouette=1 spp=9"}) {
+           own.empty() ? std::vector<const char*>{"shading=flat", "shading=phong",
+                                                  "shading=gouraud spp=4",
+                                                  "shading=toon silhouette=1 spp=9"}
+                       : own) {
+        ++nframes;
         const std::string path = std::string(LOCKSTEP_CORPUS_DIR) + "/scenes/" + name + ".nff";
         const Input in = family.load(path);
         FrameOptions o;
@@ -797,8 +810,8 @@ void every_target(const ImageFamily& family) {
         EXPECT_TRUE(e.pass) << name << " " << params << " on Highway target " << hwy::TargetName(t)
                             << ": " << describe(e);
       }
-    std::printf("[ lockstep ] zbuffer simd on %-7s: %zu soups, 16 corpus frames checked\n",
-                hwy::TargetName(t), cases.size());
+    std::printf("[ lockstep ] zbuffer simd on %-7s: %zu soups, %d corpus frames checked\n",
+                hwy::TargetName(t), cases.size(), nframes);
   }
 }
 
