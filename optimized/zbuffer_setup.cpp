@@ -811,16 +811,6 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
   frame.height = height;
   frame.near_z = mesh.near_z;
   frame.far_z = mesh.far_z;
-  // The polygons as polygon_step reads them.
-  std::vector<int32_t> two_sided(scene.materials.size());
-  for (size_t i = 0; i < two_sided.size(); ++i) two_sided[i] = scene.materials[i].two_sided();
-  PolygonMesh poly_mesh;
-  poly_mesh.vertex = scene.vertex.data();
-  poly_mesh.tri_vertex = scene.tri_vertex.data();
-  poly_mesh.poly_tri_first = scene.poly_tri_first.data();
-  poly_mesh.poly_plane = scene.poly_plane.data();
-  poly_mesh.poly_material = scene.poly_material.data();
-  poly_mesh.two_sided = two_sided.data();
   auto run_chunk = [&](uint32_t c) {
     Chunk& out = chunks[c];
     const size_t sink_chunk = sphere_chunks.size() + c;
@@ -840,93 +830,20 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
     // (The pending triangles' vertices in the raster's order, padded for the
     // kernel with valid indices.)
     std::vector<uint32_t> pending[3];
-    // (tested: none is a small triangle that covers no sample, triangle_step.)
-    auto flush = [&](bool tested = false) {
+    auto flush = [&] {
       const size_t n = pending[0].size();
       if (n == 0) return;
       const uint32_t spare = pending[0][0];
       for (auto& v : pending) v.resize((n + 15) / 16 * 16, spare);
       const size_t at = image->sink->add_positions(
           sink_chunk, {pv.data(), pvd.data(), pending[0].data(), pending[1].data(), pending[2].data()},
-          n, tested);
+          n);
       batch.offset_last(n, at);
       for (auto& v : pending) v.clear();
-    };
-    // A polygon with a vertex outside the hither plane or the guard band: a
-    // triangle may need clipping, so view_scene's own polygon step, on it alone.
-    auto clip_polygon = [&](uint32_t p) {
-      if (positions) flush();
-      ScreenMesh part = frame;
-      lockstep::view_polygons(scene, s, p, p + 1, part);
-      if (image)
-        to_sink(*image, sink_chunk, part.tris, 0);
-      else
-        out.tris.insert(out.tris.end(), part.tris.begin(), part.tris.end());
-      out.scene_tris += part.scene_tris;
-      out.culled += part.culled;
-      out.degenerate += part.degenerate;
-      out.clipped += part.clipped;
     };
     // The lighting's inputs of the last material seen (meshes share one).
     uint32_t surface_of = UINT32_MAX;
     FlatBatch::Surface surface(scene.materials.empty() ? Material{} : scene.materials[0]);
-    // Polygons of one triangle each (the SPD height fields, tessellated
-    // meshes), for a positions-only sink: the steps in SIMD, polygon_step
-    // (face, clipping, world culling) and triangle_step (area, order, box,
-    // covering no sample), then per polygon what they found, in order.
-    bool single = positions;
-    for (uint32_t p = first; p < last && single; ++p)
-      single = scene.poly_tri_first[p + 1] - scene.poly_tri_first[p] == 1;
-    if (single) {
-      const size_t n = last - first, room = (n + 15) / 16 * 16;
-      std::vector<uint8_t> pre(room), status(room);
-      std::vector<uint32_t> va(room), vb(room), vc(room);
-      std::vector<int32_t> box_[4];
-      for (auto& b : box_) b.resize(room);
-      std::vector<double> zmin(room);
-      int32_t* const box[4] = {box_[0].data(), box_[1].data(), box_[2].data(), box_[3].data()};
-      polygon_step(poly_mesh, pv.data(), first, n, cam.eye, s.cull == CullMode::kWorld,
-                   pre.data(), va.data(), vb.data(), vc.data());
-      // (Projection culling below: two-sided polygons are not culled.)
-      triangle_step(pv.data(), va.data(), vb.data(), vc.data(), n, image->grid, false,
-                    status.data(), box, zmin.data());
-      for (size_t j = 0; j < n; ++j) {
-        const uint32_t p = first + uint32_t(j);
-        if (pre[j] == kPolyNoFace) continue;  // (not counted)
-        if (pre[j] == kPolyClip) {
-          clip_polygon(p);
-          continue;
-        }
-        ++out.scene_tris;
-        if (pre[j] == kTriCulled) {
-          ++out.culled;
-          continue;
-        }
-        if (status[j] == kTriDegenerate) {
-          ++out.degenerate;
-          continue;
-        }
-        const uint32_t mi = scene.poly_material[p];
-        const Material& m = scene.materials[mi];
-        // Positive area (b and c as listed): a back face under projection culling.
-        if (s.cull == CullMode::kProjection && !m.two_sided() &&
-            vb[j] == scene.tri_vertex[scene.poly_tri_first[p]][1]) {
-          ++out.culled;
-          continue;
-        }
-        if (status[j] != kTriKeep) continue;  // (kTriNone: no sample covered, not counted)
-        if (mi != surface_of) surface = FlatBatch::Surface(m), surface_of = mi;
-        // view_polygons' centroid: the same sum in the same order.
-        Vec3 centroid;
-        for (const Vec3& x : scene.polygon_vertices(p)) centroid += x;
-        centroid = centroid / double(scene.polygon_vertices(p).size());
-        pending[0].push_back(va[j]), pending[1].push_back(vb[j]), pending[2].push_back(vc[j]);
-        batch.add(pending[0].size() - 1, centroid, scene.poly_plane[p].n, surface);
-      }
-      flush(true);
-      batch.light(image->light, *image->sink, sink_chunk);
-      return;
-    }
     for (uint32_t p = first; p < last; ++p) {
       const Material& m = scene.materials[scene.poly_material[p]];
       if (scene.poly_material[p] != surface_of)
@@ -940,7 +857,17 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
       for (uint32_t t = t_first; t < t_last; ++t)
         for (const uint32_t vi : scene.tri_vertex[t]) inside = inside && pv[vi].inside;
       if (!inside) {
-        clip_polygon(p);
+        if (positions) flush();
+        ScreenMesh part = frame;
+        lockstep::view_polygons(scene, s, p, p + 1, part);
+        if (image)
+          to_sink(*image, sink_chunk, part.tris, 0);
+        else
+          out.tris.insert(out.tris.end(), part.tris.begin(), part.tris.end());
+        out.scene_tris += part.scene_tris;
+        out.culled += part.culled;
+        out.degenerate += part.degenerate;
+        out.clipped += part.clipped;
         continue;
       }
       // The flat colour, lit when the first triangle is kept (the same bits as

@@ -1194,69 +1194,6 @@ void TriangleStep(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uin
   }
 }
 
-// polygon_step: the polygons' fields gathered into lanes, the same double
-// operations as the scalar loop (no contraction), so the same decisions.
-void PolygonStep(const PolygonMesh& mesh, const ProjectedVertex* pv, uint32_t first, size_t n,
-                 const Vec3& eye, bool cull_world, uint8_t* pre, uint32_t* a, uint32_t* b,
-                 uint32_t* c) {
-  const hn::CappedTag<double, 8> dd;
-  const hn::Rebind<int32_t, decltype(dd)> di;
-  const hn::Rebind<int64_t, decltype(dd)> dl;
-  using VD = hn::Vec<decltype(dd)>;
-  using VI = hn::Vec<decltype(di)>;
-  const size_t N = hn::Lanes(dd);
-  static_assert(sizeof(Plane) == 32 && sizeof(Vec3) == 24 && sizeof(ProjectedVertex) == 24 &&
-                offsetof(ProjectedVertex, inside) == 16);
-  const int32_t* tri = reinterpret_cast<const int32_t*>(mesh.tri_vertex);
-  const double* plane = reinterpret_cast<const double*>(mesh.poly_plane);
-  const double* vertex = reinterpret_cast<const double*>(mesh.vertex);
-  const int32_t* pv_words = reinterpret_cast<const int32_t*>(pv);
-  const int32_t* tri_first = reinterpret_cast<const int32_t*>(mesh.poly_tri_first);
-  const int32_t* material = reinterpret_cast<const int32_t*>(mesh.poly_material);
-  const VD zero = hn::Zero(dd);
-  const VI zero_i = hn::Zero(di), byte = hn::Set(di, 0xff);
-  const VD e[3] = {hn::Set(dd, eye.x), hn::Set(dd, eye.y), hn::Set(dd, eye.z)};
-  HWY_ALIGN int32_t code[8];
-  for (size_t i = 0; i < n; i += N) {
-    // Spare lanes repeat the last polygon.
-    const VI poly = hn::Min(hn::Add(hn::Set(di, int32_t(first + i)), hn::Iota(di, 0)),
-                            hn::Set(di, int32_t(first + n - 1)));
-    const VI t3 = hn::Mul(hn::GatherIndex(di, tri_first, poly), hn::Set(di, 3));
-    VI v[3];
-    for (int k = 0; k < 3; ++k) v[k] = hn::GatherIndex(di, tri, hn::Add(t3, hn::Set(di, k)));
-    hn::StoreU(v[0], di, reinterpret_cast<int32_t*>(a + i));
-    hn::StoreU(v[1], di, reinterpret_cast<int32_t*>(b + i));
-    hn::StoreU(v[2], di, reinterpret_cast<int32_t*>(c + i));
-    // The face normal; dot(face, face) == 0: no face.
-    const auto p4 = hn::ShiftLeft<2>(hn::PromoteTo(dl, poly));
-    VD f[3];
-    for (int k = 0; k < 3; ++k) f[k] = hn::GatherIndex(dd, plane, hn::Add(p4, hn::Set(dl, k)));
-    const VD ff = hn::Add(hn::Add(hn::Mul(f[0], f[0]), hn::Mul(f[1], f[1])), hn::Mul(f[2], f[2]));
-    const auto no_face = CastMask(di, dd, hn::Eq(ff, zero));
-    // Every vertex inside (ProjectedVertex::inside, byte 16: word 4 of 6).
-    auto clip = hn::Lt(zero_i, zero_i);  // (none yet)
-    for (int k = 0; k < 3; ++k) {
-      const VI w = hn::GatherIndex(di, pv_words, hn::Add(hn::Mul(v[k], hn::Set(di, 6)), hn::Set(di, 4)));
-      clip = hn::Or(clip, hn::Eq(hn::And(w, byte), zero_i));
-    }
-    // World culling: dot(face, eye - v0) > 0 is a front face.
-    const auto v3 = hn::Mul(hn::PromoteTo(dl, v[0]), hn::Set(dl, 3));
-    VD d[3];
-    for (int k = 0; k < 3; ++k)
-      d[k] = hn::Sub(e[k], hn::GatherIndex(dd, vertex, hn::Add(v3, hn::Set(dl, k))));
-    const VD facing = hn::Add(hn::Add(hn::Mul(f[0], d[0]), hn::Mul(f[1], d[1])), hn::Mul(f[2], d[2]));
-    const VI two = hn::GatherIndex(di, mesh.two_sided, hn::GatherIndex(di, material, poly));
-    auto culled = hn::And(CastMask(di, dd, hn::Not(hn::Gt(facing, zero))), hn::Eq(two, zero_i));
-    if (!cull_world) culled = hn::Lt(zero_i, zero_i);
-    // Most specific first: no face, then clipping, then culling.
-    VI out = hn::IfThenElseZero(culled, hn::Set(di, kTriCulled));
-    out = hn::IfThenElse(clip, hn::Set(di, kPolyClip), out);
-    out = hn::IfThenElse(no_face, hn::Set(di, kPolyNoFace), out);
-    hn::Store(out, di, code);
-    for (size_t j = 0; j < N; ++j) pre[i + j] = uint8_t(code[j]);
-  }
-}
-
 // set_up_forward: a vector of triangles at a time, gathered into lanes on the
 // stack and written back per triangle. The area is exact in double as in
 // int64 (snapped coordinates stay below 2^25 in magnitude inside the guard
@@ -1382,13 +1319,6 @@ void ball_entries(const double ce[3], double rho2, bool inverted, double z_occ, 
   HWY_DYNAMIC_DISPATCH(BallEntries)(ce, rho2, inverted, z_occ, pitch, half_w, dy, cell, a0, n, out);
 }
 HWY_EXPORT(SetUpForward);
-HWY_EXPORT(PolygonStep);
-
-void polygon_step(const PolygonMesh& mesh, const ProjectedVertex* pv, uint32_t first, size_t n,
-                  const Vec3& eye, bool cull_world, uint8_t* pre, uint32_t* a, uint32_t* b,
-                  uint32_t* c) {
-  HWY_DYNAMIC_DISPATCH(PolygonStep)(mesh, pv, first, n, eye, cull_world, pre, a, b, c);
-}
 HWY_EXPORT(TriangleStep);
 
 void triangle_step(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uint32_t* c,

@@ -314,27 +314,6 @@ struct OcclusionCells {
 void triangle_step(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uint32_t* c,
                    size_t n, const SampleGrid& grid, bool cull_projection, uint8_t* status,
                    int32_t* const box[4], double* zmin, const OcclusionCells* occ = nullptr);
-// The polygons' step before triangle_step, for polygons of one triangle each
-// (view_scene_chunks' polygon loop, a vector of polygons at a time): for
-// polygon first + i (i < n) of the mesh, its triangle's vertices (as listed) in
-// a[i], b[i], c[i], and pre[i]: kPolyNoFace (its face normal is 0: passed over,
-// not counted), kPolyClip (a vertex outside the hither plane or the guard
-// band: view_scene's own polygon step), kTriCulled (a back face under world
-// culling: dot(face, eye - v0) <= 0, not two-sided; the reference's
-// operations) or kTriKeep (on to triangle_step). a, b, c and pre hold n
-// rounded up to 16 (valid vertex indices there too).
-inline constexpr uint8_t kPolyNoFace = 5, kPolyClip = 6;
-struct PolygonMesh {
-  const Vec3* vertex = nullptr;
-  const std::array<uint32_t, 3>* tri_vertex = nullptr;
-  const uint32_t* poly_tri_first = nullptr;
-  const Plane* poly_plane = nullptr;
-  const uint32_t* poly_material = nullptr;
-  const int32_t* two_sided = nullptr;  // per material: 1 when two-sided
-};
-void polygon_step(const PolygonMesh& mesh, const ProjectedVertex* pv, uint32_t first, size_t n,
-                  const Vec3& eye, bool cull_world, uint8_t* pre, uint32_t* a, uint32_t* b,
-                  uint32_t* c);
 // The binner's set-up of n such triangles for the float raster drawn forward
 // (opt::simd's set_up: box, edges, fill-rule biases, the depth and w planes;
 // the flat colour 0, for set_flats), a vector of triangles at a time: the same

@@ -29,8 +29,9 @@
 //   SimdTargets.zbuffer__simd: the same agreement on fixed soups, and corpus
 //       frames against the reference, on every Highway target compiled (flat
 //       shading among them: the image path's own set-up, view_sphere's
-//       triangle_step, the polygons' polygon_step (corpus/scenes/clip-tris.nff,
-//       every culling mode) and set_up_forward, which no visibility soup reaches).
+//       triangle_step, the polygons' clipping test and culling
+//       (corpus/scenes/clip-tris.nff, every culling mode) and set_up_forward,
+//       which no visibility soup reaches).
 //   Mutants: inclusive_edges (every edge owns its samples: caught by Watertight)
 //       and bottom_right (the mirror rule, watertight but not the contract:
 //       caught by CoverageAgreement).
@@ -782,7 +783,7 @@ void every_target(const ImageFamily& family) {
                               << v.first_failure();
     }
     // (clip-tris: single-triangle polygons through the hither plane and the
-    // guard band, two-sided back faces: the image path's polygon_step under
+    // guard band, two-sided back faces: the image path's polygon loop under
     // every culling mode.)
     const std::vector<std::pair<const char*, std::vector<const char*>>> frames = {
         {"gears-2", {}}, {"teapot-2", {}}, {"balls-2", {}}, {"spotlights", {}},
