@@ -658,8 +658,9 @@ HWY_INLINE void ShadeTileT(const ShadeParams& p, const int32_t* tri, const int32
         // buffer starts at an infinite far end, which no depth passes; the
         // raster then writes no triangle ids).
         const VI ids = forward ? none : hn::Load(di, tri + at);
-        auto remaining = forward ? hn::RebindMask(di, hn::Lt(hn::Abs(hn::Load(df, fwd_depth + at)), inf))
-                                 : hn::Gt(ids, none);
+        auto remaining =
+            forward ? hn::RebindMask(di, hn::Lt(hn::Abs(hn::Load(df, fwd_depth + at)), inf))
+                    : hn::Gt(ids, none);
         VF col[3] = {bg[0], bg[1], bg[2]};
         VF z = inf;
         if (!hn::AllFalse(di, remaining)) {
