@@ -64,6 +64,54 @@ struct Chunk {
 
 constexpr int kMaxRings = 256;  // sphere_rings' upper end
 
+// Triangles for a positions-only sink, n of them, as arrays of their vertices'
+// fields (TriVertices), with a vector's slack past the last.
+struct PackedTris {
+  std::vector<int32_t> x[3], y[3];
+  std::vector<double> w[3], q[3];
+  size_t n = 0;
+  // Room for m more (and 16 entries of slack past them: the set-up reads
+  // whole vectors, polygon_run's compressed stores may write one).
+  void room(size_t m) {
+    const size_t need = n + m + 16;
+    if (need <= x[0].size()) return;
+    const size_t cap = std::max(need, 2 * x[0].size());
+    for (int k = 0; k < 3; ++k) x[k].resize(cap), y[k].resize(cap), w[k].resize(cap), q[k].resize(cap);
+  }
+  // The triangle of vertices v[0], v[1], v[2] (in the raster's order).
+  void push(const ProjectedVertex* pv, const VertexDepth* vd, const uint32_t v[3]) {
+    room(1);
+    for (int k = 0; k < 3; ++k) {
+      x[k][n] = pv[v[k]].x, y[k][n] = pv[v[k]].y;
+      w[k][n] = vd[v[k]].w, q[k][n] = vd[v[k]].q;
+    }
+    ++n;
+  }
+  TriVertices view() const {
+    TriVertices t;
+    for (int k = 0; k < 3; ++k)
+      t.x[k] = x[k].data(), t.y[k] = y[k].data(), t.w[k] = w[k].data(), t.q[k] = q[k].data();
+    return t;
+  }
+};
+
+// The end of the run of polygons from p (before last) that are one triangle
+// each with their own three vertices in order (add_polygon's layout for a
+// triangle), of p's material: polygon_run's input.
+uint32_t triangle_run(const Scene& scene, uint32_t p, uint32_t last) {
+  const uint32_t material = scene.poly_material[p];
+  uint32_t q = p;
+  for (; q < last; ++q) {
+    const uint32_t f = scene.poly_first[q], t = scene.poly_tri_first[q];
+    if (scene.poly_first[q + 1] != f + 3 || scene.poly_tri_first[q + 1] != t + 1 ||
+        scene.poly_material[q] != material)
+      break;
+    const auto& v = scene.tri_vertex[t];
+    if (v[0] != f || v[1] != f + 1 || v[2] != f + 2) break;
+  }
+  return q;
+}
+
 // The flat colours of a chunk's triangles, lit together (flat_colors; ImageOnly):
 // one request per triangle kept, lit by flat_colors at the chunk's end and
 // handed to the sink.
@@ -89,6 +137,20 @@ class FlatBatch {
     x[3 * c] = n.x, x[4 * c] = n.y, x[5 * c] = n.z;
     for (int i = 0; i < 5; ++i) x[size_t(6 + i) * c] = s.k[i];
     ++n_;
+  }
+  // Room for m more requests, written through plane(k) (polygon_run's
+  // compressed stores, which may write a vector past the last).
+  void room(size_t m) {
+    if (n_ + m + 16 > cap_) grow(std::max(2 * cap_, n_ + m + 16));
+  }
+  // Input k's plane from the next free request on.
+  double* plane(int k) { return in_.get() + size_t(k) * cap_ + n_; }
+  // The next n requests, their positions and normals written through plane():
+  // triangles first, first + 1, ... of surface s.
+  void added(size_t n, size_t first, const Surface& s) {
+    for (size_t i = 0; i < n; ++i) at_[n_ + i] = first + i;
+    for (int k = 0; k < 5; ++k) std::fill_n(in_.get() + size_t(6 + k) * cap_ + n_, n, s.k[k]);
+    n_ += n;
   }
   // The last n requests' triangles were numbered from 0: they start at first.
   void offset_last(size_t n, size_t first) {
@@ -827,29 +889,24 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
     // A positions-only sink gets the triangles a run at a time (flushed before a
     // polygon that goes through view_polygons, so that the order stays).
     const bool positions = image && image->sink->positions_only();
-    // (The pending triangles' vertices in the raster's order, padded for the
-    // kernel with valid indices.)
-    std::vector<uint32_t> pending[3];
+    // (The pending triangles' vertices in the raster's order.)
+    PackedTris pending;
     auto flush = [&] {
-      const size_t n = pending[0].size();
+      const size_t n = pending.n;
       if (n == 0) return;
-      const uint32_t spare = pending[0][0];
-      for (auto& v : pending) v.resize((n + 15) / 16 * 16, spare);
-      const size_t at = image->sink->add_positions(
-          sink_chunk, {pv.data(), pvd.data(), pending[0].data(), pending[1].data(), pending[2].data()},
-          n);
+      const size_t at = image->sink->add_positions(sink_chunk, pending.view(), n);
       batch.offset_last(n, at);
-      for (auto& v : pending) v.clear();
+      pending.n = 0;
     };
     // The lighting's inputs of the last material seen (meshes share one).
     uint32_t surface_of = UINT32_MAX;
     FlatBatch::Surface surface(scene.materials.empty() ? Material{} : scene.materials[0]);
-    for (uint32_t p = first; p < last; ++p) {
+    auto polygon = [&](uint32_t p) {
       const Material& m = scene.materials[scene.poly_material[p]];
       if (scene.poly_material[p] != surface_of)
         surface = FlatBatch::Surface(m), surface_of = scene.poly_material[p];
       const Vec3 face = scene.poly_plane[p].n;
-      if (dot(face, face) == 0) continue;  // length(face) == 0, without the square root
+      if (dot(face, face) == 0) return;  // length(face) == 0, without the square root
       const uint32_t t_first = scene.poly_tri_first[p], t_last = scene.poly_tri_first[p + 1];
       // A vertex outside the hither plane or the guard band: a triangle may
       // need clipping, so view_scene's own polygon step, on this polygon.
@@ -868,7 +925,7 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
         out.culled += part.culled;
         out.degenerate += part.degenerate;
         out.clipped += part.clipped;
-        continue;
+        return;
       }
       // The flat colour, lit when the first triangle is kept (the same bits as
       // view_polygons' up-front evaluation); for the image, each kept triangle
@@ -914,8 +971,8 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
         // Positive area: a front face's v[1] and v[2] swapped.
         const uint32_t order[3] = {tv[0], area < 0 ? tv[2] : tv[1], area < 0 ? tv[1] : tv[2]};
         if (positions) {  // (flat shading: one lighting request each)
-          for (int i = 0; i < 3; ++i) pending[i].push_back(order[i]);
-          batch.add(pending[0].size() - 1, centroid, face, surface);
+          pending.push(pv.data(), pvd.data(), order);
+          batch.add(pending.n - 1, centroid, face, surface);
           continue;
         }
         // Built in place (a ScreenTri is 300 bytes), or for the image in `local`
@@ -941,6 +998,48 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
           if (s.shading == Shading::kFlat) batch.add(at, centroid, face, surface);
         }
       }
+    };
+    // Runs of single-triangle polygons (positions only): polygon_run, a vector
+    // of polygons at a time, then polygon by polygon past what it did (the
+    // run's tail, or the vector holding a polygon that may need clipping).
+    uint32_t run_end = first;
+    for (uint32_t p = first; p < last;) {
+      if (positions && p >= run_end) run_end = triangle_run(scene, p, last);
+      if (!positions || p >= run_end) {
+        polygon(p++);
+        continue;
+      }
+      const uint32_t material = scene.poly_material[p];
+      if (material != surface_of)
+        surface = FlatBatch::Surface(scene.materials[material]), surface_of = material;
+      const bool two_sided = scene.materials[material].two_sided();
+      static_assert(sizeof(Plane) == 4 * sizeof(double) && offsetof(Plane, n) == 0);
+      PolygonRun run;
+      run.plane = &scene.poly_plane[p].n.x;
+      const uint32_t v0 = scene.poly_first[p];
+      run.world = scene.vertex.data() + v0;
+      run.pv = pv.data() + v0;
+      run.vd = pvd.data() + v0;
+      run.n = run_end - p;
+      for (int c = 0; c < 3; ++c) run.eye[c] = cam.eye[c];
+      run.cull_world = !two_sided && s.cull == CullMode::kWorld;
+      run.cull_projection = !two_sided && s.cull == CullMode::kProjection;
+      pending.room(run.n);
+      batch.room(run.n);
+      PolygonRunOut got;
+      for (int k = 0; k < 3; ++k) {
+        got.x[k] = pending.x[k].data() + pending.n, got.y[k] = pending.y[k].data() + pending.n;
+        got.w[k] = pending.w[k].data() + pending.n, got.q[k] = pending.q[k].data() + pending.n;
+        got.centroid[k] = batch.plane(k), got.face[k] = batch.plane(3 + k);
+      }
+      const size_t done = polygon_run(run, image->grid, got);
+      batch.added(got.kept, pending.n, surface);
+      pending.n += got.kept;
+      out.scene_tris += got.scene_tris;
+      out.culled += got.culled;
+      out.degenerate += got.degenerate;
+      p += uint32_t(done);
+      for (const uint32_t stop = std::min(run_end, p + 16); p < stop;) polygon(p++);
     }
     if (positions) flush();
     if (image) batch.light(image->light, *image->sink, sink_chunk);

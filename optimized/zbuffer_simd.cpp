@@ -274,6 +274,29 @@ class Binner final : public zsimd::TriSink {
     return first;
   }
 
+  size_t add_positions(size_t c, const zsimd::TriVertices& tris, size_t n,
+                       bool tested = false) override {
+    BinChunk& ch = chunks[c];
+    const size_t first = ch.setup.size();
+    ch.setup.resize(first + n);
+    if (!double_raster_) {  // (the float raster drawn forward: in SIMD)
+      zsimd::set_up_forward(tris, n, grid_, ch.setup.data() + first, tested);
+      for (size_t i = 0; i < n; ++i) bin(ch, ch.setup[first + i], first + i);
+      return first;
+    }
+    for (size_t i = 0; i < n; ++i) {
+      const int32_t x[3] = {tris.x[0][i], tris.x[1][i], tris.x[2][i]};
+      const int32_t y[3] = {tris.y[0][i], tris.y[1][i], tris.y[2][i]};
+      const double w[3] = {tris.w[0][i], tris.w[1][i], tris.w[2][i]};
+      const double q[3] = {tris.q[0][i], tris.q[1][i], tris.q[2][i]};
+      TriSetup& t = ch.setup[first + i];
+      double inv_area;
+      set_up(x, y, w, q, grid_, double_raster_, t, inv_area);
+      bin(ch, t, first + i);
+    }
+    return first;
+  }
+
   // Triangle at of chunk ch into the bins of the tiles its box meets (none:
   // no sample in its box).
   void bin(BinChunk& ch, const TriSetup& t, size_t at) {

@@ -1195,12 +1195,14 @@ void TriangleStep(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uin
   }
 }
 
-// set_up_forward: a vector of triangles at a time, gathered into lanes on the
-// stack and written back per triangle. The area is exact in double as in
-// int64 (snapped coordinates stay below 2^25 in magnitude inside the guard
-// band: products below 2^52).
-void SetUpForward(const IndexedTris& tris, size_t n, const SampleGrid& grid, TriSetup* out,
-                  bool tested) {
+// set_up_forward: a vector of triangles at a time, their vertices' fields
+// fetched into lanes on the stack (Fetch: fetch(i, x, y, w, q) fills vertex
+// k's x[k][0 .. N), ... for triangles i ..) and written back per triangle. The
+// area is exact in double as in int64 (snapped coordinates stay below 2^25 in
+// magnitude inside the guard band: products below 2^52).
+template <class Fetch>
+HWY_INLINE void SetUpForwardT(const Fetch& fetch, size_t n, const SampleGrid& grid, TriSetup* out,
+                              bool tested) {
   const hn::CappedTag<double, 8> dd;
   const hn::Rebind<int32_t, decltype(dd)> di;
   using VD = hn::Vec<decltype(dd)>;
@@ -1208,34 +1210,13 @@ void SetUpForward(const IndexedTris& tris, size_t n, const SampleGrid& grid, Tri
   const size_t N = hn::Lanes(dd);
   HWY_ALIGN int32_t x_in[3][8], y_in[3][8], box[4][8], ex[3][8], ey[3][8], bias[3][8];
   HWY_ALIGN double w_in[3][8], q_in[3][8], qx[8], qy[8], wx[8], wy[8];
-  const hn::Rebind<int64_t, decltype(dd)> dl;
-  const hn::Rebind<uint32_t, decltype(dd)> du;
-  const hn::Rebind<uint64_t, decltype(dd)> d64;
-  static_assert(sizeof(ProjectedVertex) == 24 && offsetof(ProjectedVertex, x) == 8 &&
-                offsetof(ProjectedVertex, y) == 12 && sizeof(VertexDepth) == 16 &&
-                offsetof(VertexDepth, q) == 8);
-  const int64_t* words64 = reinterpret_cast<const int64_t*>(tris.pv);
-  const double* vd = reinterpret_cast<const double*>(tris.vd);
-  const uint32_t* const index[3] = {tris.a, tris.b, tris.c};
   const VI one_i = hn::Set(di, 1);
   const VD one = hn::Set(dd, 1.0);
   const bool test = !tested && grid.ox0 == grid.ox1 && grid.oy0 == grid.oy1;
   static_assert(kSubpixel == 256);
   for (size_t i = 0; i < n; i += N) {
     const size_t m = std::min(N, n - i);
-    // The vertices' fields gathered into lanes from their arrays (no copy of
-    // the triangles first): x and y in one 8-byte word (the vertex's second),
-    // w and the stored depth. (Spare lanes: valid indices, not written out.)
-    for (int k = 0; k < 3; ++k) {
-      const auto v = hn::PromoteTo(dl, hn::BitCast(di, hn::LoadU(du, index[k] + i)));
-      const auto xy = hn::BitCast(
-          d64, hn::GatherIndex(dl, words64, hn::Add(hn::Mul(v, hn::Set(dl, 3)), hn::Set(dl, 1))));
-      hn::Store(hn::BitCast(di, hn::TruncateTo(du, xy)), di, x_in[k]);
-      hn::Store(hn::BitCast(di, hn::TruncateTo(du, hn::ShiftRight<32>(xy))), di, y_in[k]);
-      const auto v2 = hn::Add(v, v);
-      hn::Store(hn::GatherIndex(dd, vd, v2), dd, w_in[k]);
-      hn::Store(hn::GatherIndex(dd, vd, hn::Add(v2, hn::Set(dl, 1))), dd, q_in[k]);
-    }
+    fetch(i, x_in, y_in, w_in, q_in);
     VI x[3], y[3];
     for (int k = 0; k < 3; ++k) x[k] = hn::Load(di, x_in[k]), y[k] = hn::Load(di, y_in[k]);
     VI i0, i1, j0, j1;
@@ -1289,6 +1270,188 @@ void SetUpForward(const IndexedTris& tris, size_t n, const SampleGrid& grid, Tri
   }
 }
 
+// From IndexedTris: the vertices' fields gathered from their arrays (no copy
+// of the triangles first): x and y in one 8-byte word (the vertex's second),
+// w and the stored depth. (Spare lanes: valid indices, not written out.)
+void SetUpForward(const IndexedTris& tris, size_t n, const SampleGrid& grid, TriSetup* out,
+                  bool tested) {
+  const hn::CappedTag<double, 8> dd;
+  const hn::Rebind<int32_t, decltype(dd)> di;
+  const hn::Rebind<int64_t, decltype(dd)> dl;
+  const hn::Rebind<uint32_t, decltype(dd)> du;
+  const hn::Rebind<uint64_t, decltype(dd)> d64;
+  static_assert(sizeof(ProjectedVertex) == 24 && offsetof(ProjectedVertex, x) == 8 &&
+                offsetof(ProjectedVertex, y) == 12 && sizeof(VertexDepth) == 16 &&
+                offsetof(VertexDepth, q) == 8);
+  const int64_t* words64 = reinterpret_cast<const int64_t*>(tris.pv);
+  const double* vd = reinterpret_cast<const double*>(tris.vd);
+  const uint32_t* const index[3] = {tris.a, tris.b, tris.c};
+  auto gather = [&](size_t i, int32_t (*x)[8], int32_t (*y)[8], double (*w)[8], double (*q)[8]) {
+    for (int k = 0; k < 3; ++k) {
+      const auto v = hn::PromoteTo(dl, hn::BitCast(di, hn::LoadU(du, index[k] + i)));
+      const auto xy = hn::BitCast(
+          d64, hn::GatherIndex(dl, words64, hn::Add(hn::Mul(v, hn::Set(dl, 3)), hn::Set(dl, 1))));
+      hn::Store(hn::BitCast(di, hn::TruncateTo(du, xy)), di, x[k]);
+      hn::Store(hn::BitCast(di, hn::TruncateTo(du, hn::ShiftRight<32>(xy))), di, y[k]);
+      const auto v2 = hn::Add(v, v);
+      hn::Store(hn::GatherIndex(dd, vd, v2), dd, w[k]);
+      hn::Store(hn::GatherIndex(dd, vd, hn::Add(v2, hn::Set(dl, 1))), dd, q[k]);
+    }
+  };
+  SetUpForwardT(gather, n, grid, out, tested);
+}
+
+// From TriVertices: loads.
+void SetUpForwardArrays(const TriVertices& tris, size_t n, const SampleGrid& grid, TriSetup* out,
+                        bool tested) {
+  const hn::CappedTag<double, 8> dd;
+  const hn::Rebind<int32_t, decltype(dd)> di;
+  auto load = [&](size_t i, int32_t (*x)[8], int32_t (*y)[8], double (*w)[8], double (*q)[8]) {
+    for (int k = 0; k < 3; ++k) {
+      hn::Store(hn::LoadU(di, tris.x[k] + i), di, x[k]);
+      hn::Store(hn::LoadU(di, tris.y[k] + i), di, y[k]);
+      hn::Store(hn::LoadU(dd, tris.w[k] + i), dd, w[k]);
+      hn::Store(hn::LoadU(dd, tris.q[k] + i), dd, q[k]);
+    }
+  };
+  SetUpForwardT(load, n, grid, out, tested);
+}
+
+// ---------------------------------------------------------------- polygon_run
+//
+// Vertex k of each of a vector's N triangles, from one field of its 3N
+// vertices (in order: v[0] holds vertices 0 .. N-1, v[1] the next N, v[2] the
+// last): every third value, from the third starting at k.
+template <class D, class V = hn::Vec<D>>
+HWY_INLINE void PerTriangle(D d, const V v[3], V out[3]) {
+  HWY_ALIGN hn::TFromD<D> buf[3 * hn::MaxLanes(D())];
+  const size_t N = hn::Lanes(d);
+  for (size_t j = 0; j < 3; ++j) hn::Store(v[j], d, buf + j * N);
+  hn::LoadInterleaved3(d, buf, out[0], out[1], out[2]);
+}
+
+// The scalar loop's steps (view_scene_chunks) on N polygons at a time: the
+// vertices' fields read a vector of vertices at a time (LoadInterleaved over
+// their records), then regrouped per triangle (PerTriangle); the kept
+// triangles compressed into out.
+size_t PolygonRunStep(const PolygonRun& r, const SampleGrid& grid, PolygonRunOut& out) {
+  const hn::CappedTag<double, 8> dd;
+  const hn::Rebind<int32_t, decltype(dd)> di;
+  const hn::Rebind<uint32_t, decltype(dd)> du;
+  const hn::Rebind<uint64_t, decltype(dd)> d64;
+  using VD = hn::Vec<decltype(dd)>;
+  using VI = hn::Vec<decltype(di)>;
+  using V64 = hn::Vec<decltype(d64)>;
+  const size_t N = hn::Lanes(dd);
+  static_assert(sizeof(ProjectedVertex) == 24 && offsetof(ProjectedVertex, x) == 8 &&
+                offsetof(ProjectedVertex, y) == 12 && offsetof(ProjectedVertex, inside) == 16 &&
+                sizeof(VertexDepth) == 16 && sizeof(Vec3) == 24);
+  const double* world = &r.world[0].x;
+  const uint64_t* pv = reinterpret_cast<const uint64_t*>(r.pv);
+  const double* vd = reinterpret_cast<const double*>(r.vd);
+  const VD zero = hn::Zero(dd), three = hn::Set(dd, 3.0);
+  const VD eye[3] = {hn::Set(dd, r.eye[0]), hn::Set(dd, r.eye[1]), hn::Set(dd, r.eye[2])};
+  const VD one = hn::Set(dd, 1.0);
+  const VI zero_i = hn::Zero(di);
+  const V64 zero64 = hn::Zero(d64), low_byte = hn::Set(d64, uint64_t{0xFF});
+  auto dot3 = [](VD ax, VD ay, VD az, VD bx, VD by, VD bz) {  // as Vec3's dot
+    return hn::Add(hn::Add(hn::Mul(ax, bx), hn::Mul(ay, by)), hn::Mul(az, bz));
+  };
+  size_t i = 0;
+  for (; i + N <= r.n; i += N) {
+    VD face[4];  // (n.x, n.y, n.z, d)
+    hn::LoadInterleaved4(dd, r.plane + 4 * i, face[0], face[1], face[2], face[3]);
+    // A zero face normal: passed over, uncounted.
+    auto alive =
+        hn::Not(hn::Eq(dot3(face[0], face[1], face[2], face[0], face[1], face[2]), zero));
+    // The snapped positions (x and y: a record's second word) and the clip test
+    // (the third word's low byte).
+    V64 xy_v[3], in_v[3], xy[3], in[3];
+    for (size_t j = 0; j < 3; ++j) {
+      V64 z;
+      hn::LoadInterleaved3(d64, pv + 3 * (3 * i + j * N), z, xy_v[j], in_v[j]);
+    }
+    PerTriangle(d64, xy_v, xy);
+    PerTriangle(d64, in_v, in);
+    const auto inside =
+        hn::Ne(hn::And(hn::And(hn::And(in[0], in[1]), in[2]), low_byte), zero64);
+    // A polygon that may need clipping: the caller's (view_polygons).
+    if (!hn::AllTrue(dd, hn::Or(hn::RebindMask(dd, inside), hn::Not(alive)))) break;
+    out.scene_tris += hn::CountTrue(dd, alive);
+    // The world-space vertices, wv[coordinate][vertex].
+    VD wv[3][3];
+    {
+      VD c[3][3];
+      for (size_t j = 0; j < 3; ++j)
+        hn::LoadInterleaved3(dd, world + 3 * (3 * i + j * N), c[0][j], c[1][j], c[2][j]);
+      for (int k = 0; k < 3; ++k) PerTriangle(dd, c[k], wv[k]);
+    }
+    // World-space culling: dot(face, eye - w0) > 0 for a front face.
+    if (r.cull_world) {
+      const VD facing = dot3(face[0], face[1], face[2], hn::Sub(eye[0], wv[0][0]),
+                             hn::Sub(eye[1], wv[1][0]), hn::Sub(eye[2], wv[2][0]));
+      const auto culled = hn::AndNot(hn::Gt(facing, zero), alive);
+      out.culled += hn::CountTrue(dd, culled);
+      alive = hn::AndNot(culled, alive);
+    }
+    // The snapped area, exact in double as in int64: degenerate at 0, culled in
+    // projection space when positive (a front face is counter-clockwise as
+    // seen, y down), and b and c swapped when negative (the raster's order).
+    VI x[3], y[3];
+    for (int k = 0; k < 3; ++k) {
+      x[k] = hn::BitCast(di, hn::TruncateTo(du, xy[k]));
+      y[k] = hn::BitCast(di, hn::TruncateTo(du, hn::ShiftRight<32>(xy[k])));
+    }
+    const VD area = hn::Sub(
+        hn::Mul(hn::PromoteTo(dd, hn::Sub(x[1], x[0])), hn::PromoteTo(dd, hn::Sub(y[2], y[0]))),
+        hn::Mul(hn::PromoteTo(dd, hn::Sub(y[1], y[0])), hn::PromoteTo(dd, hn::Sub(x[2], x[0]))));
+    const auto degenerate = hn::And(hn::Eq(area, zero), alive);
+    out.degenerate += hn::CountTrue(dd, degenerate);
+    alive = hn::AndNot(degenerate, alive);
+    if (r.cull_projection) {
+      const auto culled = hn::And(hn::Gt(area, zero), alive);
+      out.culled += hn::CountTrue(dd, culled);
+      alive = hn::AndNot(culled, alive);
+    }
+    // No sample of the grid in the box: left out.
+    VI i0, i1, j0, j1;
+    PixelBox(di, grid, x, y, i0, i1, j0, j1);
+    const auto none = CastMask(dd, di, hn::Or(hn::Gt(i0, i1), hn::Gt(j0, j1)));
+    const auto kept = hn::AndNot(none, alive);
+    if (hn::AllFalse(dd, kept)) continue;
+    const auto kept_i = CastMask(di, dd, kept);
+    const auto swap = hn::Lt(area, zero);
+    const auto swap_i =
+        hn::Gt(hn::DemoteTo(di, hn::IfThenElseZero(swap, one)), zero_i);
+    // The kept triangles' vertices in the raster's order, w and the stored depth.
+    VD w[3], q[3];
+    {
+      VD wj[3], qj[3];
+      for (size_t j = 0; j < 3; ++j) hn::LoadInterleaved2(dd, vd + 2 * (3 * i + j * N), wj[j], qj[j]);
+      PerTriangle(dd, wj, w);
+      PerTriangle(dd, qj, q);
+    }
+    const size_t at = out.kept;
+    for (int k = 0; k < 3; ++k) {
+      const int from = k == 0 ? 0 : k == 1 ? 2 : 1;  // where swapped
+      hn::CompressStore(hn::IfThenElse(swap_i, x[from], x[k]), kept_i, di, out.x[k] + at);
+      hn::CompressStore(hn::IfThenElse(swap_i, y[from], y[k]), kept_i, di, out.y[k] + at);
+      hn::CompressStore(hn::IfThenElse(swap, w[from], w[k]), kept, dd, out.w[k] + at);
+      hn::CompressStore(hn::IfThenElse(swap, q[from], q[k]), kept, dd, out.q[k] + at);
+    }
+    // The flat colour's inputs: the centroid ((0 + v0 + v1 + v2) / 3, as the
+    // scalar loop sums it) and the face normal.
+    for (int c = 0; c < 3; ++c) {
+      const VD centroid =
+          hn::Div(hn::Add(hn::Add(hn::Add(zero, wv[c][0]), wv[c][1]), wv[c][2]), three);
+      hn::CompressStore(centroid, kept, dd, out.centroid[c] + at);
+      hn::CompressStore(face[c], kept, dd, out.face[c] + at);
+    }
+    out.kept += hn::CountTrue(dd, kept);
+  }
+  return i;
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace lockstep::opt::zsimd
 HWY_AFTER_NAMESPACE();
@@ -1331,6 +1494,15 @@ void triangle_step(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, ui
 void set_up_forward(const IndexedTris& tris, size_t n, const SampleGrid& grid, TriSetup* out,
                     bool tested) {
   HWY_DYNAMIC_DISPATCH(SetUpForward)(tris, n, grid, out, tested);
+}
+HWY_EXPORT(SetUpForwardArrays);
+void set_up_forward(const TriVertices& tris, size_t n, const SampleGrid& grid, TriSetup* out,
+                    bool tested) {
+  HWY_DYNAMIC_DISPATCH(SetUpForwardArrays)(tris, n, grid, out, tested);
+}
+HWY_EXPORT(PolygonRunStep);
+size_t polygon_run(const PolygonRun& run, const SampleGrid& grid, PolygonRunOut& out) {
+  return HWY_DYNAMIC_DISPATCH(PolygonRunStep)(run, grid, out);
 }
 
 void grow_bounds(const Vec3* points, size_t n, Vec3& lo, Vec3& hi) {

@@ -285,6 +285,13 @@ struct IndexedTris {
   const VertexDepth* vd = nullptr;
   const uint32_t *a = nullptr, *b = nullptr, *c = nullptr;
 };
+// Or as arrays of their vertices' fields: vertex k (in the raster's order) of
+// triangle i at x[k][i], y[k][i] (snapped), w[k][i], q[k][i] (its VertexDepth);
+// readable to n rounded up to 16 (whatever is there past n).
+struct TriVertices {
+  const int32_t *x[3] = {}, *y[3] = {};
+  const double *w[3] = {}, *q[3] = {};
+};
 // The image's triangle step (view_scene's Emitter::triangle after world
 // culling) for n triangles of vertices a[i], b[i], c[i] of pv, as the mesh
 // lists them: status[i] kTriKeep, kTriDegenerate (zero snapped area),
@@ -323,6 +330,42 @@ void triangle_step(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, ui
 // (The triangles' vertices gathered from their arrays: no copy of them first.)
 void set_up_forward(const IndexedTris& tris, size_t n, const SampleGrid& grid, TriSetup* out,
                     bool tested = false);
+void set_up_forward(const TriVertices& tris, size_t n, const SampleGrid& grid, TriSetup* out,
+                    bool tested = false);
+
+// The image's polygon step (view_scene_chunks, positions only: flat shading
+// drawn forward) for a run of polygons that are one triangle each, with their
+// own three vertices (add_polygon's layout): polygon i's plane at plane[i], its
+// triangle's vertices (in the mesh's order) 3i, 3i + 1, 3i + 2 of world, pv and
+// vd. Per polygon, as view_scene_chunks' scalar loop: a zero face normal is
+// passed over uncounted; then a triangle is counted, culled in world space
+// (cull_world) or, by the sign of its snapped area, in projection space
+// (cull_projection) or left out as degenerate (zero area) or without a sample
+// of grid in its box; the others are kept: appended to out (at out.kept) in
+// the raster's order with their flat colour's inputs (the centroid, the face
+// normal). Whole vectors of polygons only, and none with a vertex outside the
+// hither plane or the guard band (those need clipping: view_polygons): returns
+// how many polygons were done, a multiple of the lanes, stopping before the
+// first vector that has such a polygon. out's arrays need room for
+// out.kept + n + 16 entries. The same double operations as the scalar loop,
+// so the same bits; the vertices read in order (loads, not gathers).
+struct PolygonRun {
+  const double* plane = nullptr;  // (n, d): 4 doubles a polygon, Plane's layout
+  const Vec3* world = nullptr;
+  const ProjectedVertex* pv = nullptr;
+  const VertexDepth* vd = nullptr;
+  size_t n = 0;
+  double eye[3] = {};
+  bool cull_world = false, cull_projection = false;  // (false for two-sided faces)
+};
+struct PolygonRunOut {
+  int32_t *x[3] = {}, *y[3] = {};
+  double *w[3] = {}, *q[3] = {};
+  double *centroid[3] = {}, *face[3] = {};
+  size_t kept = 0;
+  uint64_t scene_tris = 0, culled = 0, degenerate = 0;
+};
+size_t polygon_run(const PolygonRun& run, const SampleGrid& grid, PolygonRunOut& out);
 
 // Where the image path's set-up puts its triangles one at a time, instead of
 // keeping them in ScreenTri chunks (opt::simd::zbuffer's binner). Triangles
@@ -345,6 +388,7 @@ class TriSink {
   // tested: none is a small triangle that covers no sample, triangle_step).
   virtual bool positions_only() const { return false; }
   virtual size_t add_positions(size_t c, const IndexedTris& t, size_t n, bool tested = false) = 0;
+  virtual size_t add_positions(size_t c, const TriVertices& t, size_t n, bool tested = false) = 0;
   // The flat colours of chunk c's triangles at[0], ..., at[n - 1], lit after
   // add: triangle at[i]'s is (rgb[0][i], rgb[1][i], rgb[2][i]).
   virtual void set_flats(size_t c, const size_t* at, size_t n, const float* const rgb[3]) = 0;

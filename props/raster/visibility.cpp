@@ -805,11 +805,16 @@ void every_target(const ImageFamily& family) {
         std::istringstream ps(params);
         for (std::string kv; ps >> kv;)
           o.params.set(kv.substr(0, kv.find('=')), kv.substr(kv.find('=') + 1));
-        const Image want = family.reference().render(in, o, nullptr);
-        const Image got = simd->render(in, o, nullptr);
+        FrameStats want_stats, got_stats;
+        const Image want = family.reference().render(in, o, &want_stats);
+        const Image got = simd->render(in, o, &got_stats);
         const ImageError e = compare_images(got, want, cmp);
         EXPECT_TRUE(e.pass) << name << " " << params << " on Highway target " << hwy::TargetName(t)
                             << ": " << describe(e);
+        // The triangle count the stats line reports (the set-up's own count,
+        // whatever it leaves out): the reference's.
+        EXPECT_EQ(got_stats.items, want_stats.items)
+            << name << " " << params << " on Highway target " << hwy::TargetName(t);
       }
     std::printf("[ lockstep ] zbuffer simd on %-7s: %zu soups, %d corpus frames checked\n",
                 hwy::TargetName(t), cases.size(), nframes);
