@@ -792,9 +792,11 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
   const uint32_t spheres_per_chunk =
       std::max({1u, std::min<uint32_t>(16, (spheres + 7) / 8), (spheres + 63) / 64});
   std::vector<ScreenMesh> sphere_chunks((spheres + spheres_per_chunk - 1) / spheres_per_chunk);
-  // Polygons: chunks of 512 (after the spheres' chunks, for the sink).
+  // Polygons: 16 chunks or more (after the spheres' chunks, for the sink), of
+  // 512 to 4096 polygons (each chunk has its own buffers and its own bins per
+  // tile: 2048 rather than 512 for sombrero-3's 32k, 5% faster frames).
   const uint32_t polys = scene.polygon_count();
-  const uint32_t per_chunk = 512;
+  const uint32_t per_chunk = std::clamp<uint32_t>((polys + 15) / 16, 512, 4096);
   const uint32_t nchunks = (polys + per_chunk - 1) / per_chunk;
   if (image) image->sink->begin(mesh, sphere_chunks.size() + nchunks);
   arena.execute([&] {
