@@ -855,16 +855,40 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
     if (!part.tris.empty()) out_chunks.push_back(std::move(part.tris));
   }
 
-  // Every vertex once: eye space, the clip test, the snapped screen position.
+  // Every polygon vertex once: eye space, the clip test, the snapped screen
+  // position (and for the image w and the stored depth), a chunk of polygons
+  // at a time; for a positions-only sink, not those of the chunk's runs of 16
+  // or more single-triangle polygons (triangle_run): polygon_run projects them
+  // itself, from the world coordinates it reads anyway (the same operations).
+  // (A polygon's vertices are its own: vertex[poly_first[p] .. poly_first[p + 1]).)
   std::vector<ProjectedVertex, NoInitAllocator<ProjectedVertex>> pv(scene.vertex.size());
   // The image's, per vertex.
   std::vector<VertexDepth, NoInitAllocator<VertexDepth>> pvd(image ? scene.vertex.size() : 0);
+  const bool positions = image && image->sink->positions_only();
+  // The vertices of polygons [p0, p1).
+  auto project = [&](uint32_t p0, uint32_t p1) {
+    const uint32_t v0 = scene.poly_first[p0], v1 = scene.poly_first[p1];
+    if (v1 > v0)
+      project_vertices(proj, scene.vertex.data() + v0, v1 - v0, pv.data() + v0,
+                       image ? &depth_map : nullptr, image ? pvd.data() + v0 : nullptr);
+  };
+  std::vector<std::vector<std::array<uint32_t, 2>>> runs(nchunks);  // per chunk: [begin, end)
   arena.execute([&] {
-    tbb::parallel_for(
-        tbb::blocked_range<size_t>(0, pv.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
-          project_vertices(proj, scene.vertex.data() + r.begin(), r.size(), pv.data() + r.begin(),
-                           image ? &depth_map : nullptr, image ? pvd.data() + r.begin() : nullptr);
-        });
+    tbb::parallel_for(uint32_t(0), nchunks, [&](uint32_t c) {
+      const uint32_t first = c * per_chunk, last = std::min(polys, first + per_chunk);
+      uint32_t projected = first;  // (up to)
+      for (uint32_t p = first; positions && p < last;) {
+        const uint32_t end = triangle_run(scene, p, last);
+        if (end - p < 16) {
+          p = std::max(end, p + 1);
+          continue;
+        }
+        project(projected, p);
+        runs[c].push_back({p, end});
+        projected = p = end;
+      }
+      project(projected, last);
+    });
   });
 
   std::vector<Chunk> chunks(nchunks);
@@ -890,7 +914,6 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
     ScreenTri local;
     // A positions-only sink gets the triangles a run at a time (flushed before a
     // polygon that goes through view_polygons, so that the order stays).
-    const bool positions = image && image->sink->positions_only();
     // (The pending triangles' vertices in the raster's order.)
     PackedTris pending;
     auto flush = [&] {
@@ -1001,47 +1024,50 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
         }
       }
     };
-    // Runs of single-triangle polygons (positions only): polygon_run, a vector
-    // of polygons at a time, then polygon by polygon past what it did (the
-    // run's tail, or the vector holding a polygon that may need clipping).
-    uint32_t run_end = first;
+    // The chunk's runs of single-triangle polygons (positions only):
+    // polygon_run, a vector of polygons at a time, then polygon by polygon past
+    // what it did (the run's tail, or the vector holding a polygon that may
+    // need clipping), their vertices projected first.
+    size_t next_run = 0;
     for (uint32_t p = first; p < last;) {
-      if (positions && p >= run_end) run_end = triangle_run(scene, p, last);
-      if (!positions || p >= run_end) {
+      if (next_run == runs[c].size() || p != runs[c][next_run][0]) {
         polygon(p++);
         continue;
       }
+      const uint32_t run_end = runs[c][next_run++][1];
       const uint32_t material = scene.poly_material[p];
       if (material != surface_of)
         surface = FlatBatch::Surface(scene.materials[material]), surface_of = material;
       const bool two_sided = scene.materials[material].two_sided();
-      static_assert(sizeof(Plane) == 4 * sizeof(double) && offsetof(Plane, n) == 0);
-      PolygonRun run;
-      run.plane = &scene.poly_plane[p].n.x;
-      const uint32_t v0 = scene.poly_first[p];
-      run.world = scene.vertex.data() + v0;
-      run.pv = pv.data() + v0;
-      run.vd = pvd.data() + v0;
-      run.n = run_end - p;
-      for (int c = 0; c < 3; ++c) run.eye[c] = cam.eye[c];
-      run.cull_world = !two_sided && s.cull == CullMode::kWorld;
-      run.cull_projection = !two_sided && s.cull == CullMode::kProjection;
-      pending.room(run.n);
-      batch.room(run.n);
-      PolygonRunOut got;
-      for (int k = 0; k < 3; ++k) {
-        got.x[k] = pending.x[k].data() + pending.n, got.y[k] = pending.y[k].data() + pending.n;
-        got.w[k] = pending.w[k].data() + pending.n, got.q[k] = pending.q[k].data() + pending.n;
-        got.centroid[k] = batch.plane(k), got.face[k] = batch.plane(3 + k);
+      while (p < run_end) {
+        static_assert(sizeof(Plane) == 4 * sizeof(double) && offsetof(Plane, n) == 0);
+        PolygonRun run;
+        run.plane = &scene.poly_plane[p].n.x;
+        run.world = scene.vertex.data() + scene.poly_first[p];
+        run.proj = &proj;
+        run.depth = &depth_map;
+        run.n = run_end - p;
+        run.cull_world = !two_sided && s.cull == CullMode::kWorld;
+        run.cull_projection = !two_sided && s.cull == CullMode::kProjection;
+        pending.room(run.n);
+        batch.room(run.n);
+        PolygonRunOut got;
+        for (int k = 0; k < 3; ++k) {
+          got.x[k] = pending.x[k].data() + pending.n, got.y[k] = pending.y[k].data() + pending.n;
+          got.w[k] = pending.w[k].data() + pending.n, got.q[k] = pending.q[k].data() + pending.n;
+          got.centroid[k] = batch.plane(k), got.face[k] = batch.plane(3 + k);
+        }
+        const size_t done = polygon_run(run, image->grid, got);
+        batch.added(got.kept, pending.n, surface);
+        pending.n += got.kept;
+        out.scene_tris += got.scene_tris;
+        out.culled += got.culled;
+        out.degenerate += got.degenerate;
+        p += uint32_t(done);
+        const uint32_t stop = std::min(run_end, p + 16);
+        project(p, stop);
+        while (p < stop) polygon(p++);
       }
-      const size_t done = polygon_run(run, image->grid, got);
-      batch.added(got.kept, pending.n, surface);
-      pending.n += got.kept;
-      out.scene_tris += got.scene_tris;
-      out.culled += got.culled;
-      out.degenerate += got.degenerate;
-      p += uint32_t(done);
-      for (const uint32_t stop = std::min(run_end, p + 16); p < stop;) polygon(p++);
     }
     if (positions) flush();
     if (image) batch.light(image->light, *image->sink, sink_chunk);

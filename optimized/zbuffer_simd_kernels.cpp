@@ -937,31 +937,68 @@ void SphereFaces(const Vec3* world, const std::array<uint32_t, 3>* tri, size_t n
 // (no fused multiply-add: the build has -ffp-contract=off), so the same bits;
 // llround as trunc plus a correction (exact: x - trunc(x) is exact). The tail
 // (fewer than N vertices) runs the same lanes on a padded copy.
+// One vector of vertices (world coordinates wx, wy, wz): eye depth ez, the
+// snapped x and y (0 where not inside), inside, and with depth w = 1/z and the
+// stored depth q.
+template <class D, class V = hn::Vec<D>>
+struct ProjectLanes {
+  D d;
+  V eye[3], rt[3], up[3], fw[3];
+  V near_z, g, zero, half_w, half_h, pitch, sub, half, one;
+  V dm_near, dm_inv_near, dm_range;
+  bool reversed = false;
+  ProjectLanes(D d_, const Projection& p, const DepthMap* depth) : d(d_) {
+    for (int c = 0; c < 3; ++c) {
+      eye[c] = hn::Set(d, p.eye[c]), rt[c] = hn::Set(d, p.right[c]);
+      up[c] = hn::Set(d, p.up[c]), fw[c] = hn::Set(d, p.forward[c]);
+    }
+    near_z = hn::Set(d, p.near_z), g = hn::Set(d, p.g), zero = hn::Zero(d);
+    half_w = hn::Set(d, p.half_w), half_h = hn::Set(d, p.half_h), pitch = hn::Set(d, p.pitch);
+    sub = hn::Set(d, double(kSubpixel)), half = hn::Set(d, 0.5), one = hn::Set(d, 1.0);
+    dm_near = hn::Set(d, depth ? depth->near_z : 1.0);
+    dm_inv_near = hn::Set(d, depth ? depth->inv_near : 1.0);
+    dm_range = hn::Set(d, depth ? depth->range : 1.0);
+    reversed = depth && depth->reversed;
+  }
+  static V dot(const V a[3], const V b[3]) {  // (a.x b.x + a.y b.y) + a.z b.z, as Vec3's dot
+    return hn::Add(hn::Add(hn::Mul(a[0], b[0]), hn::Mul(a[1], b[1])), hn::Mul(a[2], b[2]));
+  }
+  V round_half_away(V x) const {
+    const V t = hn::Trunc(x);
+    const V f = hn::Sub(x, t);
+    return hn::Sub(hn::Add(t, hn::IfThenElseZero(hn::Ge(f, half), one)),
+                   hn::IfThenElseZero(hn::Le(f, hn::Neg(half)), one));
+  }
+  // The eye depth, snapped position and clip test of the vertices w.
+  HWY_INLINE void position(const V w[3], V& ez, V& x, V& y, hn::Mask<D>& inside) const {
+    const V dv[3] = {hn::Sub(w[0], eye[0]), hn::Sub(w[1], eye[1]), hn::Sub(w[2], eye[2])};
+    const V ex = dot(dv, rt), ey = dot(dv, up);
+    ez = dot(dv, fw);
+    const V gz = hn::Mul(g, ez);
+    inside = hn::And(hn::And(hn::Ge(hn::Sub(ez, near_z), zero), hn::Ge(hn::Sub(gz, ex), zero)),
+                     hn::And(hn::And(hn::Ge(hn::Add(gz, ex), zero), hn::Ge(hn::Sub(gz, ey), zero)),
+                             hn::Ge(hn::Add(gz, ey), zero)));
+    const V den = hn::Mul(ez, pitch);
+    const V sx = hn::Add(half_w, hn::Div(ex, den));
+    const V sy = hn::Sub(half_h, hn::Div(ey, den));
+    x = round_half_away(hn::IfThenElseZero(inside, hn::Mul(sx, sub)));
+    y = round_half_away(hn::IfThenElseZero(inside, hn::Mul(sy, sub)));
+  }
+  // DepthMap: w = 1/z, then (1/n - w) / range or n / z.
+  HWY_INLINE void depth(V ez, V& w, V& q) const {
+    w = hn::Div(one, ez);
+    q = reversed ? hn::Div(dm_near, ez) : hn::Div(hn::Sub(dm_inv_near, w), dm_range);
+  }
+};
+
 void ProjectVertices(const Projection& p, const Vec3* world, size_t n, ProjectedVertex* out,
                      const DepthMap* depth, VertexDepth* depth_out) {
   const hn::ScalableTag<double> d;
   using V = hn::Vec<decltype(d)>;
   const size_t N = hn::Lanes(d);
-  const V eye[3] = {hn::Set(d, p.eye[0]), hn::Set(d, p.eye[1]), hn::Set(d, p.eye[2])};
-  const V rt[3] = {hn::Set(d, p.right[0]), hn::Set(d, p.right[1]), hn::Set(d, p.right[2])};
-  const V up[3] = {hn::Set(d, p.up[0]), hn::Set(d, p.up[1]), hn::Set(d, p.up[2])};
-  const V fw[3] = {hn::Set(d, p.forward[0]), hn::Set(d, p.forward[1]), hn::Set(d, p.forward[2])};
-  const V near_z = hn::Set(d, p.near_z), g = hn::Set(d, p.g), zero = hn::Zero(d);
-  const V half_w = hn::Set(d, p.half_w), half_h = hn::Set(d, p.half_h), pitch = hn::Set(d, p.pitch);
-  const V sub = hn::Set(d, double(kSubpixel)), half = hn::Set(d, 0.5), one = hn::Set(d, 1.0);
-  auto dot = [](const V a[3], const V b[3]) {  // (a.x b.x + a.y b.y) + a.z b.z, as Vec3's dot
-    return hn::Add(hn::Add(hn::Mul(a[0], b[0]), hn::Mul(a[1], b[1])), hn::Mul(a[2], b[2]));
-  };
-  auto round_half_away = [&](V x) {
-    const V t = hn::Trunc(x);
-    const V f = hn::Sub(x, t);
-    return hn::Sub(hn::Add(t, hn::IfThenElseZero(hn::Ge(f, half), one)),
-                   hn::IfThenElseZero(hn::Le(f, hn::Neg(half)), one));
-  };
+  const ProjectLanes<decltype(d)> proj(d, p, depth);
+  const V one = hn::Set(d, 1.0);
   HWY_ALIGN double zs[16], xs[16], ys[16], ins[16], ws[16], qs[16];
-  const V dm_near = hn::Set(d, depth ? depth->near_z : 1.0);
-  const V dm_inv_near = hn::Set(d, depth ? depth->inv_near : 1.0);
-  const V dm_range = hn::Set(d, depth ? depth->range : 1.0);
   HWY_ALIGN double pad[3 * 16];
   for (size_t i = 0; i < n; i += N) {
     const size_t m = std::min(N, n - i);
@@ -973,25 +1010,18 @@ void ProjectVertices(const Projection& p, const Vec3* world, size_t n, Projected
     }
     V w[3];
     hn::LoadInterleaved3(d, src, w[0], w[1], w[2]);
-    const V dv[3] = {hn::Sub(w[0], eye[0]), hn::Sub(w[1], eye[1]), hn::Sub(w[2], eye[2])};
-    const V ex = dot(dv, rt), ey = dot(dv, up), ez = dot(dv, fw);
-    const V gz = hn::Mul(g, ez);
-    const auto inside =
-        hn::And(hn::And(hn::Ge(hn::Sub(ez, near_z), zero), hn::Ge(hn::Sub(gz, ex), zero)),
-                hn::And(hn::And(hn::Ge(hn::Add(gz, ex), zero), hn::Ge(hn::Sub(gz, ey), zero)),
-                        hn::Ge(hn::Add(gz, ey), zero)));
-    const V den = hn::Mul(ez, pitch);
-    const V sx = hn::Add(half_w, hn::Div(ex, den));
-    const V sy = hn::Sub(half_h, hn::Div(ey, den));
+    V ez, x, y;
+    hn::Mask<decltype(d)> inside;
+    proj.position(w, ez, x, y, inside);
     hn::Store(ez, d, zs);
-    hn::Store(round_half_away(hn::IfThenElseZero(inside, hn::Mul(sx, sub))), d, xs);
-    hn::Store(round_half_away(hn::IfThenElseZero(inside, hn::Mul(sy, sub))), d, ys);
+    hn::Store(x, d, xs);
+    hn::Store(y, d, ys);
     hn::Store(hn::IfThenElseZero(inside, one), d, ins);
-    if (depth) {  // DepthMap: w = 1/z, then (1/n - w) / range or n / z
-      const V wv = hn::Div(one, ez);
+    if (depth) {
+      V wv, q;
+      proj.depth(ez, wv, q);
       hn::Store(wv, d, ws);
-      hn::Store(depth->reversed ? hn::Div(dm_near, ez) : hn::Div(hn::Sub(dm_inv_near, wv), dm_range),
-                d, qs);
+      hn::Store(q, d, qs);
       for (size_t k = 0; k < m; ++k) depth_out[i + k] = {ws[k], qs[k]};
     }
     for (size_t k = 0; k < m; ++k) {
@@ -1337,23 +1367,16 @@ HWY_INLINE void PerTriangle(D d, const V v[3], V out[3]) {
 size_t PolygonRunStep(const PolygonRun& r, const SampleGrid& grid, PolygonRunOut& out) {
   const hn::CappedTag<double, 8> dd;
   const hn::Rebind<int32_t, decltype(dd)> di;
-  const hn::Rebind<uint32_t, decltype(dd)> du;
-  const hn::Rebind<uint64_t, decltype(dd)> d64;
   using VD = hn::Vec<decltype(dd)>;
   using VI = hn::Vec<decltype(di)>;
-  using V64 = hn::Vec<decltype(d64)>;
   const size_t N = hn::Lanes(dd);
-  static_assert(sizeof(ProjectedVertex) == 24 && offsetof(ProjectedVertex, x) == 8 &&
-                offsetof(ProjectedVertex, y) == 12 && offsetof(ProjectedVertex, inside) == 16 &&
-                sizeof(VertexDepth) == 16 && sizeof(Vec3) == 24);
+  static_assert(sizeof(Vec3) == 24);
   const double* world = &r.world[0].x;
-  const uint64_t* pv = reinterpret_cast<const uint64_t*>(r.pv);
-  const double* vd = reinterpret_cast<const double*>(r.vd);
-  const VD zero = hn::Zero(dd), three = hn::Set(dd, 3.0);
-  const VD eye[3] = {hn::Set(dd, r.eye[0]), hn::Set(dd, r.eye[1]), hn::Set(dd, r.eye[2])};
-  const VD one = hn::Set(dd, 1.0);
+  const ProjectLanes<decltype(dd)> proj(dd, *r.proj, r.depth);
+  const VD zero = hn::Zero(dd), one = hn::Set(dd, 1.0), three = hn::Set(dd, 3.0);
+  const VD eye[3] = {hn::Set(dd, r.proj->eye[0]), hn::Set(dd, r.proj->eye[1]),
+                     hn::Set(dd, r.proj->eye[2])};
   const VI zero_i = hn::Zero(di);
-  const V64 zero64 = hn::Zero(d64), low_byte = hn::Set(d64, uint64_t{0xFF});
   auto dot3 = [](VD ax, VD ay, VD az, VD bx, VD by, VD bz) {  // as Vec3's dot
     return hn::Add(hn::Add(hn::Mul(ax, bx), hn::Mul(ay, by)), hn::Mul(az, bz));
   };
@@ -1364,28 +1387,25 @@ size_t PolygonRunStep(const PolygonRun& r, const SampleGrid& grid, PolygonRunOut
     // A zero face normal: passed over, uncounted.
     auto alive =
         hn::Not(hn::Eq(dot3(face[0], face[1], face[2], face[0], face[1], face[2]), zero));
-    // The snapped positions (x and y: a record's second word) and the clip test
-    // (the third word's low byte).
-    V64 xy_v[3], in_v[3], xy[3], in[3];
+    // The vertices, a vector of them at a time (c[coordinate][j]: vertices
+    // j N .. j N + N - 1), projected (project_vertices' operations), then
+    // regrouped per triangle (wv[coordinate][vertex k], ...).
+    VD c[3][3], ez_v[3], x_v[3], y_v[3], in_v[3];
     for (size_t j = 0; j < 3; ++j) {
-      V64 z;
-      hn::LoadInterleaved3(d64, pv + 3 * (3 * i + j * N), z, xy_v[j], in_v[j]);
+      hn::LoadInterleaved3(dd, world + 3 * (3 * i + j * N), c[0][j], c[1][j], c[2][j]);
+      const VD w[3] = {c[0][j], c[1][j], c[2][j]};
+      hn::Mask<decltype(dd)> inside;
+      proj.position(w, ez_v[j], x_v[j], y_v[j], inside);
+      in_v[j] = hn::IfThenElseZero(inside, one);
     }
-    PerTriangle(d64, xy_v, xy);
-    PerTriangle(d64, in_v, in);
-    const auto inside =
-        hn::Ne(hn::And(hn::And(hn::And(in[0], in[1]), in[2]), low_byte), zero64);
+    VD in[3];
+    PerTriangle(dd, in_v, in);
+    const auto inside = hn::Gt(hn::Min(hn::Min(in[0], in[1]), in[2]), zero);
     // A polygon that may need clipping: the caller's (view_polygons).
-    if (!hn::AllTrue(dd, hn::Or(hn::RebindMask(dd, inside), hn::Not(alive)))) break;
+    if (!hn::AllTrue(dd, hn::Or(inside, hn::Not(alive)))) break;
     out.scene_tris += hn::CountTrue(dd, alive);
-    // The world-space vertices, wv[coordinate][vertex].
     VD wv[3][3];
-    {
-      VD c[3][3];
-      for (size_t j = 0; j < 3; ++j)
-        hn::LoadInterleaved3(dd, world + 3 * (3 * i + j * N), c[0][j], c[1][j], c[2][j]);
-      for (int k = 0; k < 3; ++k) PerTriangle(dd, c[k], wv[k]);
-    }
+    for (int k = 0; k < 3; ++k) PerTriangle(dd, c[k], wv[k]);
     // World-space culling: dot(face, eye - w0) > 0 for a front face.
     if (r.cull_world) {
       const VD facing = dot3(face[0], face[1], face[2], hn::Sub(eye[0], wv[0][0]),
@@ -1394,14 +1414,15 @@ size_t PolygonRunStep(const PolygonRun& r, const SampleGrid& grid, PolygonRunOut
       out.culled += hn::CountTrue(dd, culled);
       alive = hn::AndNot(culled, alive);
     }
+    if (hn::AllFalse(dd, alive)) continue;
     // The snapped area, exact in double as in int64: degenerate at 0, culled in
     // projection space when positive (a front face is counter-clockwise as
     // seen, y down), and b and c swapped when negative (the raster's order).
+    VD xd[3], yd[3];
+    PerTriangle(dd, x_v, xd);
+    PerTriangle(dd, y_v, yd);
     VI x[3], y[3];
-    for (int k = 0; k < 3; ++k) {
-      x[k] = hn::BitCast(di, hn::TruncateTo(du, xy[k]));
-      y[k] = hn::BitCast(di, hn::TruncateTo(du, hn::ShiftRight<32>(xy[k])));
-    }
+    for (int k = 0; k < 3; ++k) x[k] = hn::DemoteTo(di, xd[k]), y[k] = hn::DemoteTo(di, yd[k]);
     const VD area = hn::Sub(
         hn::Mul(hn::PromoteTo(dd, hn::Sub(x[1], x[0])), hn::PromoteTo(dd, hn::Sub(y[2], y[0]))),
         hn::Mul(hn::PromoteTo(dd, hn::Sub(y[1], y[0])), hn::PromoteTo(dd, hn::Sub(x[2], x[0]))));
@@ -1421,15 +1442,14 @@ size_t PolygonRunStep(const PolygonRun& r, const SampleGrid& grid, PolygonRunOut
     if (hn::AllFalse(dd, kept)) continue;
     const auto kept_i = CastMask(di, dd, kept);
     const auto swap = hn::Lt(area, zero);
-    const auto swap_i =
-        hn::Gt(hn::DemoteTo(di, hn::IfThenElseZero(swap, one)), zero_i);
+    const auto swap_i = hn::Gt(hn::DemoteTo(di, hn::IfThenElseZero(swap, one)), zero_i);
     // The kept triangles' vertices in the raster's order, w and the stored depth.
     VD w[3], q[3];
     {
-      VD wj[3], qj[3];
-      for (size_t j = 0; j < 3; ++j) hn::LoadInterleaved2(dd, vd + 2 * (3 * i + j * N), wj[j], qj[j]);
-      PerTriangle(dd, wj, w);
-      PerTriangle(dd, qj, q);
+      VD w_v[3], q_v[3];
+      for (size_t j = 0; j < 3; ++j) proj.depth(ez_v[j], w_v[j], q_v[j]);
+      PerTriangle(dd, w_v, w);
+      PerTriangle(dd, q_v, q);
     }
     const size_t at = out.kept;
     for (int k = 0; k < 3; ++k) {
@@ -1441,11 +1461,11 @@ size_t PolygonRunStep(const PolygonRun& r, const SampleGrid& grid, PolygonRunOut
     }
     // The flat colour's inputs: the centroid ((0 + v0 + v1 + v2) / 3, as the
     // scalar loop sums it) and the face normal.
-    for (int c = 0; c < 3; ++c) {
+    for (int k = 0; k < 3; ++k) {
       const VD centroid =
-          hn::Div(hn::Add(hn::Add(hn::Add(zero, wv[c][0]), wv[c][1]), wv[c][2]), three);
-      hn::CompressStore(centroid, kept, dd, out.centroid[c] + at);
-      hn::CompressStore(face[c], kept, dd, out.face[c] + at);
+          hn::Div(hn::Add(hn::Add(hn::Add(zero, wv[k][0]), wv[k][1]), wv[k][2]), three);
+      hn::CompressStore(centroid, kept, dd, out.centroid[k] + at);
+      hn::CompressStore(face[k], kept, dd, out.face[k] + at);
     }
     out.kept += hn::CountTrue(dd, kept);
   }

@@ -336,8 +336,9 @@ void set_up_forward(const TriVertices& tris, size_t n, const SampleGrid& grid, T
 // The image's polygon step (view_scene_chunks, positions only: flat shading
 // drawn forward) for a run of polygons that are one triangle each, with their
 // own three vertices (add_polygon's layout): polygon i's plane at plane[i], its
-// triangle's vertices (in the mesh's order) 3i, 3i + 1, 3i + 2 of world, pv and
-// vd. Per polygon, as view_scene_chunks' scalar loop: a zero face normal is
+// triangle's vertices (in the mesh's order) 3i, 3i + 1, 3i + 2 of world,
+// projected here (project_vertices' operations, with depth: no ProjectedVertex
+// or VertexDepth is written). Per polygon, as view_scene_chunks' scalar loop: a zero face normal is
 // passed over uncounted; then a triangle is counted, culled in world space
 // (cull_world) or, by the sign of its snapped area, in projection space
 // (cull_projection) or left out as degenerate (zero area) or without a sample
@@ -352,10 +353,9 @@ void set_up_forward(const TriVertices& tris, size_t n, const SampleGrid& grid, T
 struct PolygonRun {
   const double* plane = nullptr;  // (n, d): 4 doubles a polygon, Plane's layout
   const Vec3* world = nullptr;
-  const ProjectedVertex* pv = nullptr;
-  const VertexDepth* vd = nullptr;
+  const Projection* proj = nullptr;
+  const DepthMap* depth = nullptr;
   size_t n = 0;
-  double eye[3] = {};
   bool cull_world = false, cull_projection = false;  // (false for two-sided faces)
 };
 struct PolygonRunOut {

@@ -30,8 +30,9 @@
 //       frames against the reference, on every Highway target compiled (flat
 //       shading among them: the image path's own set-up, view_sphere's
 //       triangle_step, the polygons' clipping test and culling
-//       (corpus/scenes/clip-tris.nff, every culling mode) and set_up_forward,
-//       which no visibility soup reaches).
+//       (corpus/scenes/clip-tris.nff, every culling mode), polygon_run
+//       (mount-3 in float and reversed depth) and set_up_forward, which no
+//       visibility soup reaches), with the stats' triangle count.
 //   Mutants: inclusive_edges (every edge owns its samples: caught by Watertight)
 //       and bottom_right (the mirror rule, watertight but not the contract:
 //       caught by CoverageAgreement).
@@ -784,12 +785,14 @@ void every_target(const ImageFamily& family) {
     }
     // (clip-tris: single-triangle polygons through the hither plane and the
     // guard band, two-sided back faces: the image path's polygon loop under
-    // every culling mode.)
+    // every culling mode. mount-3: a run of single-triangle polygons that hide
+    // one another, polygon_run's, in both float depth formats.)
     const std::vector<std::pair<const char*, std::vector<const char*>>> frames = {
         {"gears-2", {}}, {"teapot-2", {}}, {"balls-2", {}}, {"spotlights", {}},
+        {"mount-3", {"shading=flat", "shading=flat depth=reversed", "shading=flat cull=projection"}},
         {"clip-tris",
          {"shading=flat", "shading=flat cull=projection", "shading=flat cull=none",
-          "shading=phong"}}};
+          "shading=flat depth=reversed", "shading=phong"}}};
     int nframes = 0;
     for (const auto& [name, own] : frames)
       for (const char* params :
