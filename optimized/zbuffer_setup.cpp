@@ -412,10 +412,9 @@ struct SphereScratch {
   std::vector<double, NoInitAllocator<double>> face;  // 3 per triangle (not zeroed)
   std::vector<uint8_t> flags;
   std::vector<VertexDepth> depth;  // the image's, per vertex
-  std::vector<uint32_t> cand;      // the triangles that get the face test
+  // The triangles that get the face test (kSureFace set: a front face by a margin).
+  std::vector<uint32_t> cand;
   std::vector<std::array<uint32_t, 3>> cand_tri;  // the world face test's triangles
-  std::vector<uint8_t> sure;                      // per candidate: a front face by a margin
-  std::vector<uint8_t> code;                      // per face: back, either, front (by a margin)
   std::vector<uint32_t> amb;                      // the candidates the world test decides
   std::vector<double, NoInitAllocator<double>> amb_face;
   std::vector<uint8_t> amb_flags;
@@ -469,47 +468,31 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
   // unit faces' edges are >= ~1e-4 long, 256 rings), and the sphere must not be
   // so small beside its distance from the origin that its vertices round together.
   sc.cand.clear();
-  sc.sure.clear();
   const Vec3 e_rel = cam.eye - c;
   const double spread = (length(c) + r) / r;
   // Unit-space normals turned to the drawn side (inside out: reversed).
   const double sign = flip ? -1.0 : 1.0;
   if (s.cull == CullMode::kWorld && spread < 1e6) {
     const double margin = 1e-9 * (length(e_rel) + r) * std::max(1.0, spread);
-    // 0: a back face by the margin, 1: either, 2: a front face by the margin
-    // (a loop the compiler vectorises, then the candidates picked out).
-    sc.code.resize(nt);
-    const double *nx = unit_face.nx.data(), *ny = unit_face.ny.data(), *nz = unit_face.nz.data(),
-                 *h = unit_face.h.data();
-    uint8_t* code = sc.code.data();
-    for (uint32_t t = 0; t < nt; ++t) {
-      const double sd = sign * (nx[t] * e_rel.x + ny[t] * e_rel.y + nz[t] * e_rel.z - r * h[t]);
-      code[t] = uint8_t((sd >= -margin) + (sd > margin));
-    }
-    // (Written by index into arrays of the largest size, then cut: push_back's
-    // capacity tests were ~2% of a frame of many spheres.)
-    sc.cand.resize(nt);
-    sc.sure.resize(nt);
-    uint32_t* const cand = sc.cand.data();
-    uint8_t* const sure = sc.sure.data();
-    const uint8_t sure_code = image != nullptr ? 2 : 3;  // (3: never)
-    size_t m = 0;
-    for (uint32_t t = 0; t < nt; ++t) {
-      // For the image, a face that is a front face by the same margin needs no
-      // world test either: its unit normal stands in for the world one (the
-      // same direction to ~1e-16, far below the image's float shading).
-      cand[m] = t, sure[m] = code[t] == sure_code;
-      m += code[t] != 0;
-    }
+    // 0: a back face by the margin, 1: either, 2: a front face by the margin;
+    // the faces past 0 are the candidates, in order (a vector of faces at a
+    // time: sphere_face_codes), those at 2 marked sure for the image: a face
+    // that is a front face by the same margin needs no world test either: its
+    // unit normal stands in for the world one (the same direction to ~1e-16,
+    // far below the image's float shading).
+    sc.cand.resize(nt + 16);
+    const double e[3] = {e_rel.x, e_rel.y, e_rel.z};
+    const size_t m =
+        sphere_face_codes(unit_face.nx.data(), unit_face.ny.data(), unit_face.nz.data(),
+                          unit_face.h.data(), nt, e, r, sign, margin, image != nullptr,
+                          sc.cand.data());
     sc.cand.resize(m);
-    sc.sure.resize(m);
     const uint64_t clear = nt - m;
     out.sphere_tris += clear;
     out.culled += clear;
   } else {
     sc.cand.resize(nt);
     for (uint32_t t = 0; t < nt; ++t) sc.cand[t] = t;
-    sc.sure.assign(nt, 0);
   }
   const size_t nc = sc.cand.size();
   sc.face.resize(3 * nc);
@@ -519,8 +502,8 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
   sc.amb.resize(nc);
   size_t na = 0;
   for (size_t i = 0; i < nc; ++i) {
-    const uint32_t t = sc.cand[i];
-    if (sc.sure[i]) {
+    const uint32_t t = sc.cand[i] & ~kSureFace;
+    if (sc.cand[i] & kSureFace) {
       sc.face[3 * i] = sign * unit_face.nx[t];
       sc.face[3 * i + 1] = sign * unit_face.ny[t];
       sc.face[3 * i + 2] = sign * unit_face.nz[t];
@@ -555,7 +538,7 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
         ++out.culled;
         continue;
       }
-      const auto& [a, b0, c0] = unit.tri[sc.cand[i]];
+      const auto& [a, b0, c0] = unit.tri[sc.cand[i] & ~kSureFace];
       sc.va[n] = a, sc.vb[n] = flip ? c0 : b0, sc.vc[n] = flip ? b0 : c0;
       sc.vcand[n++] = i;
     }
@@ -588,20 +571,25 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
         ++out.hidden;
         continue;
       }
-      // The kept triangles' vertices moved to the front (kept <= j).
-      const uint32_t order[3] = {sc.va[j], sc.vb[j], sc.vc[j]};
-      sc.va[kept] = order[0], sc.vb[kept] = order[1], sc.vc[kept] = order[2];
-      ++kept;
-      // (Its index in the sphere for now: its chunk's once handed over.)
-      if (flat_shading) {
-        const size_t i = sc.vcand[j];
-        const Vec3 face{sc.face[3 * i], sc.face[3 * i + 1], sc.face[3 * i + 2]};
+      // The kept triangles' vertices (and candidate) moved to the front (kept <= j).
+      sc.va[kept] = sc.va[j], sc.vb[kept] = sc.vb[j], sc.vc[kept] = sc.vc[j];
+      sc.vcand[kept++] = sc.vcand[j];
+    }
+    // Their flat colours' inputs, written straight into the batch's planes
+    // (indices in the sphere for now: its chunk's once handed over).
+    if (flat_shading && kept > 0) {
+      batch.room(kept);
+      double* const in[6] = {batch.plane(0), batch.plane(1), batch.plane(2),
+                             batch.plane(3), batch.plane(4), batch.plane(5)};
+      for (size_t j = 0; j < kept; ++j) {
         // (v1 and v2 may be swapped: the sum may differ from view_spheres'
         // in its last bit, far below the SIMD lighting's float precision.)
-        batch.add(kept - 1,
-                  (sc.world[order[0]] + sc.world[order[1]] + sc.world[order[2]]) / 3.0, face,
-                  surface);
+        const Vec3 p = (sc.world[sc.va[j]] + sc.world[sc.vb[j]] + sc.world[sc.vc[j]]) / 3.0;
+        const double* face = sc.face.data() + 3 * size_t(sc.vcand[j]);
+        in[0][j] = p.x, in[1][j] = p.y, in[2][j] = p.z;
+        in[3][j] = face[0], in[4][j] = face[1], in[5][j] = face[2];
       }
+      batch.added(kept, 0, surface);
     }
     if (kept > 0) {  // (triangle_step's kTriNone: tested already)
       // (va, vb, vc hold valid vertex indices up to n rounded up to 16.)
@@ -614,7 +602,7 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
   }
   for (uint32_t i = 0; i < nc; ++i) {
     if (sc.flags[i] & kNoFace) continue;
-    const uint32_t t = sc.cand[i];
+    const uint32_t t = sc.cand[i] & ~kSureFace;
     const auto& [a, b0, c0] = unit.tri[t];
     const uint32_t idx[3] = {a, flip ? c0 : b0, flip ? b0 : c0};
     const Vec3& w0 = sc.world[idx[0]];

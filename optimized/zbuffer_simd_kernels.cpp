@@ -1347,6 +1347,37 @@ void SetUpForwardArrays(const TriVertices& tris, size_t n, const SampleGrid& gri
   SetUpForwardT(load, n, grid, out, tested);
 }
 
+// ---------------------------------------------------------------- sphere_face_codes
+size_t SphereFaceCodes(const double* nx, const double* ny, const double* nz, const double* h,
+                       size_t n, const double e[3], double r, double sign, double margin,
+                       bool mark_sure, uint32_t* cand) {
+  const hn::CappedTag<double, 8> dd;
+  const hn::Rebind<uint32_t, decltype(dd)> du;
+  using VD = hn::Vec<decltype(dd)>;
+  const size_t N = hn::Lanes(dd);
+  const VD ex = hn::Set(dd, e[0]), ey = hn::Set(dd, e[1]), ez = hn::Set(dd, e[2]);
+  const VD rv = hn::Set(dd, r), sg = hn::Set(dd, sign);
+  const VD lo = hn::Set(dd, -margin), hi = hn::Set(dd, margin);
+  const uint32_t sure_bit = mark_sure ? kSureFace : 0;
+  const auto iota = hn::Iota(du, 0);
+  size_t m = 0, t = 0;
+  for (; t + N <= n; t += N) {
+    const VD sd = hn::Mul(
+        sg, hn::Sub(hn::Add(hn::Add(hn::Mul(hn::LoadU(dd, nx + t), ex), hn::Mul(hn::LoadU(dd, ny + t), ey)),
+                            hn::Mul(hn::LoadU(dd, nz + t), ez)),
+                    hn::Mul(hn::LoadU(dd, h + t), rv)));
+    auto idx = hn::Add(iota, hn::Set(du, uint32_t(t)));
+    idx = hn::IfThenElse(CastMask(du, dd, hn::Gt(sd, hi)), hn::Or(idx, hn::Set(du, sure_bit)), idx);
+    m += hn::CompressStore(idx, CastMask(du, dd, hn::Ge(sd, lo)), du, cand + m);
+  }
+  for (; t < n; ++t) {  // (the same operations, one face)
+    const double sd = sign * (nx[t] * e[0] + ny[t] * e[1] + nz[t] * e[2] - r * h[t]);
+    cand[m] = uint32_t(t) | (sd > margin ? sure_bit : 0);
+    m += sd >= -margin;
+  }
+  return m;
+}
+
 // ---------------------------------------------------------------- polygon_run
 //
 // Vertex k of each of a vector's N triangles, from one field of its 3N
@@ -1519,6 +1550,13 @@ HWY_EXPORT(SetUpForwardArrays);
 void set_up_forward(const TriVertices& tris, size_t n, const SampleGrid& grid, TriSetup* out,
                     bool tested) {
   HWY_DYNAMIC_DISPATCH(SetUpForwardArrays)(tris, n, grid, out, tested);
+}
+HWY_EXPORT(SphereFaceCodes);
+size_t sphere_face_codes(const double* nx, const double* ny, const double* nz, const double* h,
+                         size_t n, const double e[3], double r, double sign, double margin,
+                         bool mark_sure, uint32_t* cand) {
+  return HWY_DYNAMIC_DISPATCH(SphereFaceCodes)(nx, ny, nz, h, n, e, r, sign, margin, mark_sure,
+                                               cand);
 }
 HWY_EXPORT(PolygonRunStep);
 size_t polygon_run(const PolygonRun& run, const SampleGrid& grid, PolygonRunOut& out) {

@@ -236,6 +236,18 @@ void project_vertices(const Projection& p, const Vec3* world, size_t n, Projecte
 inline constexpr uint8_t kNoFace = 1, kFront = 2;
 void sphere_faces(const Vec3* world, const std::array<uint32_t, 3>* tri, size_t n, bool flip,
                   const Vec3& eye, double* face, uint8_t* flags);
+// view_sphere's world culling by a unit sphere's faces (unit normals nx, ny,
+// nz, plane distances h; the sphere's radius r, the eye e relative to its
+// centre, sign -1 inside out): per face t < n, sd = sign ((nx e.x + ny e.y +
+// nz e.z) - r h) (that operation order, in double), a back face by the margin
+// when sd < -margin, a front face by it when sd > margin. Writes the faces
+// that are not back faces by the margin to cand, in order, with kSureFace set
+// on the front faces by the margin when mark_sure; returns their count. cand
+// needs room for n + 16. A vector of faces at a time.
+inline constexpr uint32_t kSureFace = 1u << 31;
+size_t sphere_face_codes(const double* nx, const double* ny, const double* nz, const double* h,
+                         size_t n, const double e[3], double r, double sign, double margin,
+                         bool mark_sure, uint32_t* cand);
 // Grows [lo, hi] by the n points, as scene_bounds does (std::min and std::max:
 // a NaN coordinate is passed over), a vector of points at a time.
 void grow_bounds(const Vec3* points, size_t n, Vec3& lo, Vec3& hi);
