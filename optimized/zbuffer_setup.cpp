@@ -406,24 +406,29 @@ UnitFaces unit_faces(const UnitSphere& u) {
 }
 
 // A sphere's vertices and faces, projected and tested (view_sphere's scratch).
+// (Not value-initialised: every entry read is written first, and the arrays
+// shrink and grow from one sphere to the next: zeroing the regrown part was
+// ~1% of a frame of many spheres.)
+template <class T>
+using Scratch = std::vector<T, NoInitAllocator<T>>;
 struct SphereScratch {
-  std::vector<Vec3> world, color;
-  std::vector<ProjectedVertex> proj;
-  std::vector<double, NoInitAllocator<double>> face;  // 3 per triangle (not zeroed)
-  std::vector<uint8_t> flags;
-  std::vector<VertexDepth> depth;  // the image's, per vertex
+  Scratch<Vec3> world, color;
+  Scratch<ProjectedVertex> proj;
+  Scratch<double> face;  // 3 per triangle
+  Scratch<uint8_t> flags;
+  Scratch<VertexDepth> depth;  // the image's, per vertex
   // The triangles that get the face test (kSureFace set: a front face by a margin).
-  std::vector<uint32_t> cand;
-  std::vector<std::array<uint32_t, 3>> cand_tri;  // the world face test's triangles
-  std::vector<uint32_t> amb;                      // the candidates the world test decides
-  std::vector<double, NoInitAllocator<double>> amb_face;
-  std::vector<uint8_t> amb_flags;
+  Scratch<uint32_t> cand;
+  Scratch<std::array<uint32_t, 3>> cand_tri;  // the world face test's triangles
+  Scratch<uint32_t> amb;                      // the candidates the world test decides
+  Scratch<double> amb_face;
+  Scratch<uint8_t> amb_flags;
   // The positions path's triangle step (triangle_step): vertices, candidate,
   // status, box, nearest depth per triangle past world culling.
-  std::vector<uint32_t> va, vb, vc, vcand;
-  std::vector<uint8_t> status;
-  std::vector<int32_t> box[4];
-  std::vector<double> zmin;
+  Scratch<uint32_t> va, vb, vc, vcand;
+  Scratch<uint8_t> status;
+  Scratch<int32_t> box[4];
+  Scratch<double> zmin;
 };
 
 // Sphere k as view_spheres emits it (unit: its unit sphere), appended to out
