@@ -28,6 +28,11 @@
 // Spheres' clear back faces (world culling) are found from the unit sphere's
 // face normals and counted without the world face test; for the image, clear
 // front faces take the unit normal too (the world test runs near the silhouette).
+// For the image drawn forward (positions only), runs of 16 or more polygons
+// that are one triangle each with their own vertices (the SPD meshes) skip the
+// scalar loop: polygon_run projects their vertices and takes the loop's steps
+// 8 polygons at a time, reading the vertices in order (no gathers), and hands
+// the kept triangles over as arrays of vertex fields (TriVertices).
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
