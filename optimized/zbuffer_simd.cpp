@@ -250,45 +250,36 @@ class Binner final : public zsimd::TriSink {
   const DepthMap& depth() const { return depth_; }
   size_t add_positions(size_t c, const zsimd::IndexedTris& tris, size_t n,
                        bool tested = false) override {
-    BinChunk& ch = chunks[c];
-    const size_t first = ch.setup.size();
-    ch.setup.resize(first + n);
-    if (!double_raster_) {  // (the float raster drawn forward: in SIMD)
-      zsimd::set_up_forward(tris, n, grid_, ch.setup.data() + first, tested);
-      for (size_t i = 0; i < n; ++i) bin(ch, ch.setup[first + i], first + i);
-      return first;
-    }
-    for (size_t i = 0; i < n; ++i) {
-      const uint32_t v[3] = {tris.a[i], tris.b[i], tris.c[i]};
-      int32_t x[3], y[3];
-      double w[3], q[3];
-      for (int k = 0; k < 3; ++k) {
-        x[k] = tris.pv[v[k]].x, y[k] = tris.pv[v[k]].y;
-        w[k] = tris.vd[v[k]].w, q[k] = tris.vd[v[k]].q;
-      }
-      TriSetup& t = ch.setup[first + i];
-      double inv_area;
-      set_up(x, y, w, q, grid_, double_raster_, t, inv_area);
-      bin(ch, t, first + i);
-    }
-    return first;
+    return add_positions_t(c, tris, n, tested, [&](size_t i, int k, int32_t& x, int32_t& y,
+                                                   double& w, double& q) {
+      const uint32_t v = (k == 0 ? tris.a : k == 1 ? tris.b : tris.c)[i];
+      x = tris.pv[v].x, y = tris.pv[v].y, w = tris.vd[v].w, q = tris.vd[v].q;
+    });
   }
-
   size_t add_positions(size_t c, const zsimd::TriVertices& tris, size_t n,
                        bool tested = false) override {
+    return add_positions_t(c, tris, n, tested, [&](size_t i, int k, int32_t& x, int32_t& y,
+                                                   double& w, double& q) {
+      x = tris.x[k][i], y = tris.y[k][i], w = tris.w[k][i], q = tris.q[k][i];
+    });
+  }
+
+  // Either form: the float raster drawn forward sets them up in SIMD, the
+  // double one one at a time (vertex(i, k, x, y, w, q): triangle i's vertex k).
+  template <class Tris, class Vertex>
+  size_t add_positions_t(size_t c, const Tris& tris, size_t n, bool tested, const Vertex& vertex) {
     BinChunk& ch = chunks[c];
     const size_t first = ch.setup.size();
     ch.setup.resize(first + n);
-    if (!double_raster_) {  // (the float raster drawn forward: in SIMD)
+    if (!double_raster_) {
       zsimd::set_up_forward(tris, n, grid_, ch.setup.data() + first, tested);
       for (size_t i = 0; i < n; ++i) bin(ch, ch.setup[first + i], first + i);
       return first;
     }
     for (size_t i = 0; i < n; ++i) {
-      const int32_t x[3] = {tris.x[0][i], tris.x[1][i], tris.x[2][i]};
-      const int32_t y[3] = {tris.y[0][i], tris.y[1][i], tris.y[2][i]};
-      const double w[3] = {tris.w[0][i], tris.w[1][i], tris.w[2][i]};
-      const double q[3] = {tris.q[0][i], tris.q[1][i], tris.q[2][i]};
+      int32_t x[3], y[3];
+      double w[3], q[3];
+      for (int k = 0; k < 3; ++k) vertex(i, k, x[k], y[k], w[k], q[k]);
       TriSetup& t = ch.setup[first + i];
       double inv_area;
       set_up(x, y, w, q, grid_, double_raster_, t, inv_area);
