@@ -505,15 +505,19 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
     for (uint32_t t = 0; t < nt; ++t) sc.cand[t] = t;
   }
   const size_t nc = sc.cand.size();
-  sc.face.resize(3 * nc);
-  sc.flags.resize(nc);
+  // (The image drawn forward reads the sure faces' normals from the unit
+  // faces and the others' from sphere_faces' results directly, below.)
+  const bool positions = image && image->sink->positions_only();
+  if (!positions) sc.face.resize(3 * nc), sc.flags.resize(nc);
   // The world face test (the reference's operations) on the others.
   sc.cand_tri.resize(nc);
   sc.amb.resize(nc);
   size_t na = 0;
   for (size_t i = 0; i < nc; ++i) {
     const uint32_t t = sc.cand[i] & ~kSureFace;
-    if (sc.cand[i] & kSureFace) {
+    if (positions) {
+      if (!(sc.cand[i] & kSureFace)) sc.cand_tri[na++] = unit.tri[t];
+    } else if (sc.cand[i] & kSureFace) {
       sc.face[3 * i] = sign * unit_face.nx[t];
       sc.face[3 * i + 1] = sign * unit_face.ny[t];
       sc.face[3 * i + 2] = sign * unit_face.nz[t];
@@ -527,30 +531,36 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
   sc.amb_flags.resize(na);
   sphere_faces(sc.world.data(), sc.cand_tri.data(), na, flip, cam.eye, sc.amb_face.data(),
                sc.amb_flags.data());
-  for (size_t j = 0; j < na; ++j) {
+  for (size_t j = 0; j < na && !positions; ++j) {
     const size_t i = sc.amb[j];
     for (int k = 0; k < 3; ++k) sc.face[3 * i + size_t(k)] = sc.amb_face[3 * j + size_t(k)];
     sc.flags[i] = sc.amb_flags[j];
   }
   ScreenTri local;
-  const bool positions = image && image->sink->positions_only();
   if (positions) {
     // The same steps, the area's and the box's in SIMD (triangle_step): the
     // triangles past world culling first, then the kernel, then per triangle
     // what it found.
     const size_t room = (nc + 15) / 16 * 16;
     for (auto* v : {&sc.va, &sc.vb, &sc.vc, &sc.vcand}) v->resize(room);
-    size_t n = 0;
+    // Per triangle kept here, where its face normal is (vcand): its unit
+    // face's index with kSureFace, else its place in sphere_faces' results.
+    size_t n = 0, j = 0;
     for (uint32_t i = 0; i < nc; ++i) {
-      if (sc.flags[i] & kNoFace) continue;
+      const uint32_t ci = sc.cand[i];
+      const bool sure = (ci & kSureFace) != 0;
+      const uint8_t flags = sure ? kFront : sc.amb_flags[j];
+      const uint32_t face_at = sure ? ci : uint32_t(j);
+      j += !sure;
+      if (flags & kNoFace) continue;
       ++out.sphere_tris;
-      if (!(sc.flags[i] & kFront) && s.cull == CullMode::kWorld) {
+      if (!(flags & kFront) && s.cull == CullMode::kWorld) {
         ++out.culled;
         continue;
       }
-      const auto& [a, b0, c0] = unit.tri[sc.cand[i] & ~kSureFace];
+      const auto& [a, b0, c0] = unit.tri[ci & ~kSureFace];
       sc.va[n] = a, sc.vb[n] = flip ? c0 : b0, sc.vc[n] = flip ? b0 : c0;
-      sc.vcand[n++] = i;
+      sc.vcand[n++] = face_at;
     }
     const size_t padded = (n + 15) / 16 * 16;
     if (n == 0) return true;
@@ -595,9 +605,16 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
         // (v1 and v2 may be swapped: the sum may differ from view_spheres'
         // in its last bit, far below the SIMD lighting's float precision.)
         const Vec3 p = (sc.world[sc.va[j]] + sc.world[sc.vb[j]] + sc.world[sc.vc[j]]) / 3.0;
-        const double* face = sc.face.data() + 3 * size_t(sc.vcand[j]);
         in[0][j] = p.x, in[1][j] = p.y, in[2][j] = p.z;
-        in[3][j] = face[0], in[4][j] = face[1], in[5][j] = face[2];
+        const uint32_t at = sc.vcand[j];
+        if (at & kSureFace) {
+          const uint32_t t = at & ~kSureFace;
+          in[3][j] = sign * unit_face.nx[t], in[4][j] = sign * unit_face.ny[t],
+          in[5][j] = sign * unit_face.nz[t];
+        } else {
+          const double* face = sc.amb_face.data() + 3 * size_t(at);
+          in[3][j] = face[0], in[4][j] = face[1], in[5][j] = face[2];
+        }
       }
       batch.added(kept, 0, surface);
     }
