@@ -413,7 +413,7 @@ UnitFaces unit_faces(const UnitSphere& u) {
 // A sphere's vertices and faces, projected and tested (view_sphere's scratch).
 // (Not value-initialised: every entry read is written first, and the arrays
 // shrink and grow from one sphere to the next: zeroing the regrown part was
-// ~1% of a frame of many spheres.)
+// about 2% of balls-3's frame.)
 template <class T>
 using Scratch = std::vector<T, NoInitAllocator<T>>;
 struct SphereScratch {
@@ -511,7 +511,7 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
   if (!positions) sc.face.resize(3 * nc), sc.flags.resize(nc);
   // The world face test (the reference's operations) on the others.
   sc.cand_tri.resize(nc);
-  sc.amb.resize(nc);
+  if (!positions) sc.amb.resize(nc);  // (positions: sphere_faces' results are read in order)
   size_t na = 0;
   for (size_t i = 0; i < nc; ++i) {
     const uint32_t t = sc.cand[i] & ~kSureFace;
