@@ -251,7 +251,9 @@ class OcclusionMap {
         near_(near_z),
         inv_near_(1 / near_z),
         range_(1 / near_z - 1 / far_z),
-        z_(size_t(nx_) * size_t(ny_) + size_t(cnx_) * size_t(cny_), kInfinity) {}
+        // (One more: triangle_step reads cells in pairs, the last one's
+        // neighbour too, and ignores it.)
+        z_(size_t(nx_) * size_t(ny_) + size_t(cnx_) * size_t(cny_) + 1, kInfinity) {}
 
   // The pixels [i0, i1] x [j0, j1] (clipped to the frame) that may hold a
   // sample of a mesh inscribed in the ball (eye-space centre ce, radius r):

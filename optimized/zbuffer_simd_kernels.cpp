@@ -1162,7 +1162,6 @@ void TriangleStep(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uin
   const hn::CappedTag<double, 8> dd;
   const hn::Rebind<int32_t, decltype(dd)> di;
   const hn::Rebind<uint32_t, decltype(dd)> du;
-  const hn::Rebind<int64_t, decltype(dd)> dl;
   using VD = hn::Vec<decltype(dd)>;
   using VI = hn::Vec<decltype(di)>;
   const size_t N = hn::Lanes(dd);
@@ -1233,13 +1232,19 @@ void TriangleStep(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uin
         const VI nx = hn::IfThenElse(fine, hn::Set(di, occ->nx), hn::Set(di, occ->coarse_nx));
         const VI at = hn::IfThenElseZero(hn::Not(fine), hn::Set(di, occ->coarse));
         const VI row0 = hn::Add(at, hn::Mul(b0, nx)), row1 = hn::Add(at, hn::Mul(b1, nx));
-        // (Lanes not kept read cell 0.)
-        const VI cells[4] = {hn::Add(row0, a0), hn::Add(row0, a1), hn::Add(row1, a0),
-                             hn::Add(row1, a1)};
+        // Cells a0 and a0 + 1 of both rows, two at a time (LoadPairs; a1 is
+        // a0 or a0 + 1: where it is a0, cell a0 + 1 is read and ignored: the
+        // map has a cell of slack at its end). (Lanes not kept read cell 0.)
+        HWY_ALIGN int32_t cell[2][8];
+        hn::Store(hn::IfThenElseZero(keep, hn::Add(row0, a0)), di, cell[0]);
+        hn::Store(hn::IfThenElseZero(keep, hn::Add(row1, a0)), di, cell[1]);
+        const auto one_column = CastMask(dd, di, hn::Eq(a1, a0));
         VD beyond = hn::Set(dd, -HUGE_VAL);
-        for (const VI& cell : cells)
-          beyond = hn::Max(beyond, hn::GatherIndex(dd, occ->beyond,
-                                                   hn::PromoteTo(dl, hn::IfThenElseZero(keep, cell))));
+        for (int r = 0; r < 2; ++r) {
+          VD left, right;
+          LoadPairs(dd, [&](int l) { return occ->beyond + cell[r][l]; }, left, right);
+          beyond = hn::Max(beyond, hn::Max(left, hn::IfThenElse(one_column, left, right)));
+        }
         // (The comparison's mask, double lanes to int32 ones as the area's sign.)
         const VI beyond_all =
             hn::DemoteTo(di, hn::IfThenElseZero(hn::Gt(zlo, beyond), hn::Set(dd, 1.0)));
