@@ -430,12 +430,9 @@ struct SphereScratch {
   Scratch<uint32_t> amb;                      // the candidates the world test decides
   Scratch<double> amb_face;
   Scratch<uint8_t> amb_flags;
-  // The positions path's triangle step (triangle_step): vertices, candidate,
-  // status, box, nearest depth per triangle past world culling.
+  // The positions path's triangle step (triangle_step): vertices and
+  // candidate per triangle past world culling, the kept ones then moved to the front.
   Scratch<uint32_t> va, vb, vc, vcand;
-  Scratch<uint8_t> status;
-  Scratch<int32_t> box[4];
-  Scratch<double> zmin;
 };
 
 // Sphere k as view_spheres emits it (unit: its unit sphere), appended to out
@@ -541,8 +538,8 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
   ScreenTri local;
   if (positions) {
     // The same steps, the area's and the box's in SIMD (triangle_step): the
-    // triangles past world culling first, then the kernel, then per triangle
-    // what it found.
+    // triangles past world culling first, then the kernel, which moves the
+    // kept ones to the front and counts the others.
     const size_t room = (nc + 15) / 16 * 16;
     for (auto* v : {&sc.va, &sc.vb, &sc.vc, &sc.vcand}) v->resize(room);
     // Per triangle kept here, where its face normal is (vcand): its unit
@@ -567,36 +564,13 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
     const size_t padded = (n + 15) / 16 * 16;
     if (n == 0) return true;
     for (auto* v : {&sc.va, &sc.vb, &sc.vc}) std::fill(v->begin() + n, v->begin() + padded, sc.va[0]);
-    sc.status.resize(padded);
-    for (auto& b : sc.box) b.resize(padded);
-    sc.zmin.resize(padded);
-    int32_t* const box[4] = {sc.box[0].data(), sc.box[1].data(), sc.box[2].data(),
-                             sc.box[3].data()};
     const OcclusionCells cells = occlusion ? occlusion->cells() : OcclusionCells{};
-    triangle_step(sc.proj.data(), sc.va.data(), sc.vb.data(), sc.vc.data(), n, image->grid,
-                  s.cull == CullMode::kProjection, sc.status.data(), box, sc.zmin.data(),
-                  occlusion ? &cells : nullptr);
-    size_t kept = 0;
-    for (size_t j = 0; j < n; ++j) {
-      if (sc.status[j] != kTriKeep) {
-        if (sc.status[j] == kTriDegenerate) ++out.degenerate;
-        if (sc.status[j] == kTriCulled) ++out.culled;
-        if (sc.status[j] == kTriHidden) ++out.hidden;
-        continue;  // (kTriNone: no sample in its box, not counted)
-      }
-      // (A box over more than 2 x 2 coarse cells: triangle_step left the test to
-      // this. A kept triangle's box is not empty: shifts for the coarse cells.)
-      static_assert(2 * kOcclusionCell == 8);
-      if (occlusion &&
-          ((box[1][j] >> 3) - (box[0][j] >> 3) > 1 || (box[3][j] >> 3) - (box[2][j] >> 3) > 1) &&
-          occlusion->hidden(box[0][j], box[1][j], box[2][j], box[3][j], sc.zmin[j])) {
-        ++out.hidden;
-        continue;
-      }
-      // The kept triangles' vertices (and candidate) moved to the front (kept <= j).
-      sc.va[kept] = sc.va[j], sc.vb[kept] = sc.vb[j], sc.vc[kept] = sc.vc[j];
-      sc.vcand[kept++] = sc.vcand[j];
-    }
+    TriangleCounts counts;
+    const size_t kept = triangle_step(sc.proj.data(), sc.va.data(), sc.vb.data(), sc.vc.data(),
+                                      sc.vcand.data(), n, image->grid,
+                                      s.cull == CullMode::kProjection,
+                                      occlusion ? &cells : nullptr, counts);
+    out.degenerate += counts.degenerate, out.culled += counts.culled, out.hidden += counts.hidden;
     // Their flat colours' inputs, written straight into the batch's planes
     // (indices in the sphere for now: its chunk's once handed over).
     if (flat_shading && kept > 0) {
@@ -620,7 +594,7 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
       }
       batch.added(kept, 0, surface);
     }
-    if (kept > 0) {  // (triangle_step's kTriNone: tested already)
+    if (kept > 0) {  // (triangle_step's samples test: done already)
       // (va, vb, vc hold valid vertex indices up to n rounded up to 16.)
       const size_t first = image->sink->add_positions(
           chunk, {sc.proj.data(), sc.depth.data(), sc.va.data(), sc.vb.data(), sc.vc.data()},

@@ -1153,10 +1153,25 @@ HWY_INLINE hn::Mask<DI> CoversNothing(DI di, const SampleGrid& grid, const VI x[
 
 // triangle_step: the vertices' first 16 bytes a lane (ProjectedVertex: z at
 // double 0, x and y at int32 2 and 3 of its 24 bytes), LoadPairs, not gathers;
-// the area exact in double as in int64.
-void TriangleStep(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uint32_t* c, size_t n,
-                  const SampleGrid& grid, bool cull_projection, uint8_t* status,
-                  int32_t* const box[4], double* zmin, const OcclusionCells* occ) {
+// the area exact in double as in int64. The kept triangles are compressed to
+// the front of the arrays as they are found (at most as far as the vector
+// just read).
+// Whether everything at eye depth >= z_min with its samples in pixels
+// [i0, i1] x [j0, j1] loses to the occluders, from the coarse cells
+// (zbuffer_setup's OcclusionMap::hidden, the same test).
+bool CoarseHidden(const OcclusionCells& occ, int i0, int i1, int j0, int j1, double z_min) {
+  static_assert(kOcclusionCell == 4);
+  double beyond = -HUGE_VAL;
+  const double* coarse = occ.beyond + occ.coarse;
+  for (int b = j0 / 8; b <= j1 / 8; ++b)
+    for (int a = i0 / 8; a <= i1 / 8; ++a)
+      beyond = std::max(beyond, coarse[size_t(b) * size_t(occ.coarse_nx) + size_t(a)]);
+  return z_min > beyond;
+}
+
+size_t TriangleStep(const ProjectedVertex* pv, uint32_t* a, uint32_t* b, uint32_t* c,
+                    uint32_t* tag, size_t n, const SampleGrid& grid, bool cull_projection,
+                    const OcclusionCells* occ, TriangleCounts& counts) {
   static_assert(sizeof(ProjectedVertex) == 24 && offsetof(ProjectedVertex, x) == 8 &&
                 offsetof(ProjectedVertex, y) == 12 && offsetof(ProjectedVertex, z) == 0);
   const hn::CappedTag<double, 8> dd;
@@ -1169,12 +1184,12 @@ void TriangleStep(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uin
   const double* zs = reinterpret_cast<const double*>(pv);
   const VI two = hn::Set(di, 2);
   const VI zero_i = hn::Zero(di);
+  const VI lane = hn::Iota(di, 0);
   const VD zero = hn::Zero(dd);
-  HWY_ALIGN int32_t st[8];
   const bool one_sample = grid.ox0 == grid.ox1 && grid.oy0 == grid.oy1;
+  size_t kept = 0;
   for (size_t i = 0; i < n; i += N) {
-    const VI ib = hn::BitCast(di, hn::LoadU(du, b + i));
-    const VI ic = hn::BitCast(di, hn::LoadU(du, c + i));
+    const auto ib = hn::LoadU(du, b + i), ic = hn::LoadU(du, c + i);
     VI x[3], y[3];
     VD z[3];
     const uint32_t* const index[3] = {a + i, b + i, c + i};
@@ -1192,18 +1207,24 @@ void TriangleStep(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uin
                 hn::Mul(hn::PromoteTo(dd, hn::Sub(y[1], y[0])), hn::PromoteTo(dd, hn::Sub(x[2], x[0]))));
     VI i0, i1, j0, j1;
     PixelBox(di, grid, x, y, i0, i1, j0, j1);
-    hn::StoreU(i0, di, box[0] + i);
-    hn::StoreU(i1, di, box[1] + i);
-    hn::StoreU(j0, di, box[2] + i);
-    hn::StoreU(j1, di, box[3] + i);
     const VD zlo = hn::Min(hn::Min(z[0], z[1]), z[2]);
-    hn::StoreU(zlo, dd, zmin + i);
-    // The area's sign in int32 lanes, then the status, most specific last.
+    // The area's sign in int32 lanes.
     const VI sign = hn::DemoteTo(
         di, hn::IfThenElse(hn::Gt(area, zero), hn::Set(dd, 1.0),
                            hn::IfThenElseZero(hn::Lt(area, zero), hn::Set(dd, -1.0))));
     // Negative area: b and c swapped (the raster's order).
     const auto swap = hn::Lt(sign, zero_i);
+    // What drops a triangle, most specific first: degenerate (zero area),
+    // culled (positive area, projection culling), no sample (uncounted).
+    const auto in_range = hn::Lt(lane, hn::Set(di, int32_t(std::min(N, n - i))));
+    const auto degenerate = hn::And(in_range, hn::Eq(sign, zero_i));
+    auto left = hn::AndNot(degenerate, in_range);  // (not yet dropped)
+    if (cull_projection) {
+      const auto culled = hn::And(left, hn::Gt(sign, zero_i));
+      counts.culled += hn::CountTrue(di, culled);
+      left = hn::AndNot(culled, left);
+    }
+    counts.degenerate += hn::CountTrue(di, degenerate);
     auto none = hn::Or(hn::Gt(i0, i1), hn::Gt(j0, j1));
     if (one_sample) {  // (or a small triangle that covers no sample in it)
       const VI xs[3] = {x[0], hn::IfThenElse(swap, x[2], x[1]), hn::IfThenElse(swap, x[1], x[2])};
@@ -1212,10 +1233,8 @@ void TriangleStep(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uin
       Edges(di, xs, ys, ex, ey, bias);
       none = hn::Or(none, CoversNothing(di, grid, xs, ys, ex, ey, bias, i0, i1, j0, j1));
     }
-    VI code = hn::IfThenElseZero(none, hn::Set(di, kTriNone));
-    if (cull_projection) code = hn::IfThenElse(hn::Gt(sign, zero_i), hn::Set(di, kTriCulled), code);
-    code = hn::IfThenElse(hn::Eq(sign, zero_i), hn::Set(di, kTriDegenerate), code);
-    if (occ) {
+    auto keep = hn::AndNot(none, left);
+    if (occ && !hn::AllFalse(di, keep)) {
       // The cells of the box's corners (a box within 2 x 2 cells has no others):
       // fine ones, else coarse ones.
       static_assert(kOcclusionCell == 4);
@@ -1225,8 +1244,9 @@ void TriangleStep(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uin
       const VI ca0 = hn::ShiftRight<3>(i0), ca1 = hn::ShiftRight<3>(i1);
       const VI cb0 = hn::ShiftRight<3>(j0), cb1 = hn::ShiftRight<3>(j1);
       const auto coarse = hn::And(hn::Lt(hn::Sub(ca1, ca0), two), hn::Lt(hn::Sub(cb1, cb0), two));
-      const auto keep = hn::And(hn::Eq(code, zero_i), hn::Or(fine, coarse));
-      if (!hn::AllFalse(di, keep)) {
+      const auto near = hn::And(keep, hn::Or(fine, coarse));
+      auto hidden = hn::FirstN(di, 0);
+      if (!hn::AllFalse(di, near)) {
         a0 = hn::IfThenElse(fine, a0, ca0), a1 = hn::IfThenElse(fine, a1, ca1);
         b0 = hn::IfThenElse(fine, b0, cb0), b1 = hn::IfThenElse(fine, b1, cb1);
         const VI nx = hn::IfThenElse(fine, hn::Set(di, occ->nx), hn::Set(di, occ->coarse_nx));
@@ -1234,29 +1254,47 @@ void TriangleStep(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uin
         const VI row0 = hn::Add(at, hn::Mul(b0, nx)), row1 = hn::Add(at, hn::Mul(b1, nx));
         // Cells a0 and a0 + 1 of both rows, two at a time (LoadPairs; a1 is
         // a0 or a0 + 1: where it is a0, cell a0 + 1 is read and ignored: the
-        // map has a cell of slack at its end). (Lanes not kept read cell 0.)
+        // map has a cell of slack at its end). (Lanes not tested read cell 0.)
         HWY_ALIGN int32_t cell[2][8];
-        hn::Store(hn::IfThenElseZero(keep, hn::Add(row0, a0)), di, cell[0]);
-        hn::Store(hn::IfThenElseZero(keep, hn::Add(row1, a0)), di, cell[1]);
+        hn::Store(hn::IfThenElseZero(near, hn::Add(row0, a0)), di, cell[0]);
+        hn::Store(hn::IfThenElseZero(near, hn::Add(row1, a0)), di, cell[1]);
         const auto one_column = CastMask(dd, di, hn::Eq(a1, a0));
         VD beyond = hn::Set(dd, -HUGE_VAL);
         for (int r = 0; r < 2; ++r) {
-          VD left, right;
-          LoadPairs(dd, [&](int l) { return occ->beyond + cell[r][l]; }, left, right);
-          beyond = hn::Max(beyond, hn::Max(left, hn::IfThenElse(one_column, left, right)));
+          VD left_cell, right_cell;
+          LoadPairs(dd, [&](int l) { return occ->beyond + cell[r][l]; }, left_cell, right_cell);
+          beyond = hn::Max(beyond, hn::Max(left_cell, hn::IfThenElse(one_column, left_cell, right_cell)));
         }
-        // (The comparison's mask, double lanes to int32 ones as the area's sign.)
-        const VI beyond_all =
-            hn::DemoteTo(di, hn::IfThenElseZero(hn::Gt(zlo, beyond), hn::Set(dd, 1.0)));
-        const auto hidden = hn::And(keep, hn::Gt(beyond_all, zero_i));
-        code = hn::IfThenElse(hidden, hn::Set(di, kTriHidden), code);
+        hidden = hn::And(near, CastMask(di, dd, hn::Gt(zlo, beyond)));
       }
+      // Wider boxes: the coarse cells one triangle at a time (few: the large triangles).
+      const auto wide = hn::AndNot(hn::Or(fine, coarse), keep);
+      if (!hn::AllFalse(di, wide)) {
+        HWY_ALIGN int32_t bx[4][8];
+        HWY_ALIGN double zl[8];
+        hn::Store(i0, di, bx[0]), hn::Store(i1, di, bx[1]);
+        hn::Store(j0, di, bx[2]), hn::Store(j1, di, bx[3]);
+        hn::Store(zlo, dd, zl);
+        HWY_ALIGN int32_t wide_hidden[8];
+        hn::Store(hn::VecFromMask(di, wide), di, wide_hidden);
+        for (size_t l = 0; l < N; ++l)
+          if (wide_hidden[l])
+            wide_hidden[l] = CoarseHidden(*occ, bx[0][l], bx[1][l], bx[2][l], bx[3][l], zl[l]) ? -1 : 0;
+        hidden = hn::Or(hidden, hn::Gt(zero_i, hn::Load(di, wide_hidden)));
+      }
+      counts.hidden += hn::CountTrue(di, hidden);
+      keep = hn::AndNot(hidden, keep);
     }
-    hn::Store(code, di, st);
-    for (size_t j = 0; j < N; ++j) status[i + j] = uint8_t(st[j]);
-    hn::StoreU(hn::BitCast(du, hn::IfThenElse(swap, ic, ib)), du, b + i);
-    hn::StoreU(hn::BitCast(du, hn::IfThenElse(swap, ib, ic)), du, c + i);
+    // The kept ones to the front (kept <= i: everything from kept on that the
+    // stores may write has been read).
+    const auto keep_u = hn::RebindMask(du, keep);
+    const auto swap_u = hn::RebindMask(du, swap);
+    hn::CompressStore(hn::LoadU(du, a + i), keep_u, du, a + kept);
+    hn::CompressStore(hn::IfThenElse(swap_u, ic, ib), keep_u, du, b + kept);
+    hn::CompressStore(hn::IfThenElse(swap_u, ib, ic), keep_u, du, c + kept);
+    kept += hn::CompressStore(hn::LoadU(du, tag + i), keep_u, du, tag + kept);
   }
+  return kept;
 }
 
 // set_up_forward: a vector of triangles at a time, their vertices' fields
@@ -1571,10 +1609,10 @@ void ball_entries(const double ce[3], double rho2, bool inverted, double z_occ, 
 HWY_EXPORT(SetUpForward);
 HWY_EXPORT(TriangleStep);
 
-void triangle_step(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uint32_t* c,
-                   size_t n, const SampleGrid& grid, bool cull_projection, uint8_t* status,
-                   int32_t* const box[4], double* zmin, const OcclusionCells* occ) {
-  HWY_DYNAMIC_DISPATCH(TriangleStep)(pv, a, b, c, n, grid, cull_projection, status, box, zmin, occ);
+size_t triangle_step(const ProjectedVertex* pv, uint32_t* a, uint32_t* b, uint32_t* c,
+                     uint32_t* tag, size_t n, const SampleGrid& grid, bool cull_projection,
+                     const OcclusionCells* occ, TriangleCounts& counts) {
+  return HWY_DYNAMIC_DISPATCH(TriangleStep)(pv, a, b, c, tag, n, grid, cull_projection, occ, counts);
 }
 
 void set_up_forward(const IndexedTris& tris, size_t n, const SampleGrid& grid, TriSetup* out,

@@ -306,18 +306,18 @@ struct TriVertices {
 };
 // The image's triangle step (view_scene's Emitter::triangle after world
 // culling) for n triangles of vertices a[i], b[i], c[i] of pv, as the mesh
-// lists them: status[i] kTriKeep, kTriDegenerate (zero snapped area),
-// kTriCulled (positive area under projection culling) or kTriNone (no sample
-// of grid in its box, or, one sample per pixel, a small triangle that covers
-// none of them: CoversNothing); for kept ones b[i] and c[i] swapped where the area is
-// negative (view_scene's order), the box (SampleGrid::pixels) in box[0..3][i]
-// and the nearest vertex's eye depth in zmin[i]. The arrays hold n rounded up
-// to 16 (a, b, c: valid indices there too); a vector of triangles at a time.
-// With occ, a triangle to keep whose box spans at most 2 x 2 cells (fine or
-// coarse) and lies beyond them all (zmin > every cell's bound) is kTriHidden
-// instead; for wider boxes that test is the caller's (OcclusionMap::hidden).
-inline constexpr uint8_t kTriKeep = 0, kTriDegenerate = 1, kTriCulled = 2, kTriNone = 3,
-                         kTriHidden = 4;
+// lists them: dropped as degenerate (zero snapped area, counted), culled
+// (positive area under projection culling, counted), without a sample of grid
+// in its box or, one sample per pixel, small and covering none of its samples
+// (CoversNothing; not counted), or hidden (with occ: every cell its box spans
+// lies nearer than its nearest vertex, counted); the others are kept: moved to
+// the front of a, b, c, with b and c swapped where the area is negative
+// (view_scene's order), and tag[i] (the caller's) along with them, in order.
+// Returns how many were kept. The arrays hold n rounded up to 16 (a, b, c:
+// valid indices there too); a vector of triangles at a time.
+struct TriangleCounts {
+  uint64_t degenerate = 0, culled = 0, hidden = 0;
+};
 // The hidden spheres' map as triangle_step reads it (zbuffer_setup's
 // OcclusionMap): per cell of kOcclusionCell^2 pixels, rows of nx cells, the
 // eye depth beyond which everything with its samples in the cell is hidden;
@@ -330,9 +330,9 @@ struct OcclusionCells {
   int coarse;
   int coarse_nx;
 };
-void triangle_step(const ProjectedVertex* pv, const uint32_t* a, uint32_t* b, uint32_t* c,
-                   size_t n, const SampleGrid& grid, bool cull_projection, uint8_t* status,
-                   int32_t* const box[4], double* zmin, const OcclusionCells* occ = nullptr);
+size_t triangle_step(const ProjectedVertex* pv, uint32_t* a, uint32_t* b, uint32_t* c,
+                     uint32_t* tag, size_t n, const SampleGrid& grid, bool cull_projection,
+                     const OcclusionCells* occ, TriangleCounts& counts);
 // The binner's set-up of n such triangles for the float raster drawn forward
 // (opt::simd's set_up: box, edges, fill-rule biases, the depth and w planes;
 // the flat colour 0, for set_flats), a vector of triangles at a time: the same
