@@ -123,11 +123,11 @@ uint32_t triangle_run(const Scene& scene, uint32_t p, uint32_t last) {
 class FlatBatch {
  public:
   // A material's inputs to the lighting (kd colour, ks, shine), worked out once
-  // per sphere or run of polygons of one material, not once per triangle.
-  struct Surface {
+  // per sphere or run of polygons of one material, not once per triangle, and
+  // kept once per run of requests (a table the kernel reads), not per request.
+  struct Surface : FlatSurface {
     explicit Surface(const Material& m)
-        : k{m.kd * m.color.x, m.kd * m.color.y, m.kd * m.color.z, m.ks, m.shine} {}
-    double k[5];
+        : FlatSurface{{m.kd * m.color.x, m.kd * m.color.y, m.kd * m.color.z, m.ks, m.shine}} {}
   };
   void reserve(size_t n) { grow(n + 16); }
   // Triangle `at` of the chunk: a face of surface s with unit normal n, lit at p.
@@ -136,11 +136,11 @@ class FlatBatch {
     if (n_ == cap_) [[unlikely]]
       grow(2 * cap_ + 64);
     at_[n_] = at;
+    id_[n_] = surface_id(s);
     double* x = in_.get() + n_;
     const size_t c = cap_;
     x[0] = p.x, x[c] = p.y, x[2 * c] = p.z;
     x[3 * c] = n.x, x[4 * c] = n.y, x[5 * c] = n.z;
-    for (int i = 0; i < 5; ++i) x[size_t(6 + i) * c] = s.k[i];
     ++n_;
   }
   // Room for m more requests, written through plane(k) (polygon_run's
@@ -153,8 +153,8 @@ class FlatBatch {
   // The next n requests, their positions and normals written through plane():
   // triangles first, first + 1, ... of surface s.
   void added(size_t n, size_t first, const Surface& s) {
-    for (size_t i = 0; i < n; ++i) at_[n_ + i] = first + i;
-    for (int k = 0; k < 5; ++k) std::fill_n(in_.get() + size_t(6 + k) * cap_ + n_, n, s.k[k]);
+    const uint32_t id = surface_id(s);
+    for (size_t i = 0; i < n; ++i) at_[n_ + i] = first + i, id_[n_ + i] = id;
     n_ += n;
   }
   // The last n requests' triangles were numbered from 0: they start at first.
@@ -171,15 +171,23 @@ class FlatBatch {
       std::fill(plane + n, plane + padded, 0.0);  // (the kernel reads whole vectors)
       in[k] = plane;
     }
+    std::fill(id_.get() + n, id_.get() + padded, id_[n - 1]);
     rgb_.resize(3 * padded);
     float* out[3] = {rgb_.data(), rgb_.data() + padded, rgb_.data() + 2 * padded};
-    flat_colors(p, n, in, out);
+    flat_colors(p, n, in, id_.get(), surfaces_.data(), out);
     sink.set_flats(chunk, at_.get(), n, out);
     n_ = 0;
+    surfaces_.clear();
   }
 
  private:
-  static_assert(kFlatInputs == 11);  // position, normal, Surface
+  static_assert(kFlatInputs == 6);  // position, normal
+  // s's index in the table: the last one's when the same, else a new one.
+  uint32_t surface_id(const Surface& s) {
+    if (surfaces_.empty() || !std::equal(s.k, s.k + 5, surfaces_.back().k))
+      surfaces_.push_back(s);
+    return uint32_t(surfaces_.size() - 1);
+  }
   // (Not value-initialised: only the n_ entries in use are read; a chunk's
   // worth of zeroed planes was ~7% of a frame of many spheres.)
   [[gnu::noinline]] void grow(size_t cap) {
@@ -189,13 +197,18 @@ class FlatBatch {
       std::copy_n(in_.get() + k * cap_, n_, in.get() + k * cap);
     std::unique_ptr<size_t[]> at(new size_t[cap]);
     std::copy_n(at_.get(), n_, at.get());
+    std::unique_ptr<uint32_t[]> id(new uint32_t[cap]);
+    std::copy_n(id_.get(), n_, id.get());
     in_ = std::move(in);
     at_ = std::move(at);
+    id_ = std::move(id);
     cap_ = cap;
   }
-  std::unique_ptr<size_t[]> at_;  // cap_ long, n_ in use
-  std::unique_ptr<double[]> in_;  // one plane per input, cap_ apart, n_ in use
+  std::unique_ptr<size_t[]> at_;    // cap_ long, n_ in use
+  std::unique_ptr<uint32_t[]> id_;  // each request's surface (surfaces_), cap_ long
+  std::unique_ptr<double[]> in_;    // one plane per input, cap_ apart, n_ in use
   size_t n_ = 0, cap_ = 0;
+  std::vector<FlatSurface> surfaces_;
   std::vector<float> rgb_;
 };
 

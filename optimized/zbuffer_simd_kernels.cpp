@@ -592,7 +592,8 @@ HWY_INLINE void FlatLit(D d, const ShadeParams& p, const V pos_in[3], const V nr
            hn::Eq(zero, zero), col);
 }
 
-void FlatColors(const ShadeParams& p, size_t n, const double* const* in, float* const* out) {
+void FlatColors(const ShadeParams& p, size_t n, const double* const* in, const uint32_t* id,
+                const FlatSurface* surface, float* const* out) {
   const hn::ScalableTag<float> df;
   const hn::Repartition<double, decltype(df)> dd;  // half as many lanes
   const hn::Rebind<float, decltype(dd)> dh;         // a half of df
@@ -600,11 +601,23 @@ void FlatColors(const ShadeParams& p, size_t n, const double* const* in, float* 
   using VF = hn::Vec<decltype(df)>;
   const size_t N = hn::Lanes(df), H = hn::Lanes(dd);
   const VD high = hn::Set(dd, kFloatShine);
+  constexpr int kAll = kFlatInputs + 5;  // the planes, then the surface's five
+  HWY_ALIGN double lanes[5][hn::MaxLanes(df)];
   for (size_t i = 0; i < n; i += N) {
     // (The arrays hold n rounded up to 16: whole vectors.)
-    VD lo[kFlatInputs], hi[kFlatInputs];
+    VD lo[kAll], hi[kAll];
     for (int k = 0; k < kFlatInputs; ++k)
       lo[k] = hn::LoadU(dd, in[k] + i), hi[k] = hn::LoadU(dd, in[k] + i + H);
+    // One surface over the vector (ids do not decrease): broadcast; else per lane.
+    if (id[i] == id[i + N - 1]) {
+      const FlatSurface& f = surface[id[i]];
+      for (int k = 0; k < 5; ++k) lo[kFlatInputs + k] = hi[kFlatInputs + k] = hn::Set(dd, f.k[k]);
+    } else {
+      for (size_t l = 0; l < N; ++l)
+        for (int k = 0; k < 5; ++k) lanes[k][l] = surface[id[i + l]].k[k];
+      for (int k = 0; k < 5; ++k)
+        lo[kFlatInputs + k] = hn::Load(dd, lanes[k]), hi[kFlatInputs + k] = hn::Load(dd, lanes[k] + H);
+    }
     const VD zero = hn::Zero(dd);
     const auto high_lo = hn::And(hn::Gt(lo[10], high), hn::Gt(lo[9], zero));
     const auto high_hi = hn::And(hn::Gt(hi[10], high), hn::Gt(hi[9], zero));
@@ -617,8 +630,8 @@ void FlatColors(const ShadeParams& p, size_t n, const double* const* in, float* 
       }
       continue;
     }
-    VF v[kFlatInputs];
-    for (int k = 0; k < kFlatInputs; ++k)
+    VF v[kAll];
+    for (int k = 0; k < kAll; ++k)
       v[k] = hn::Combine(df, hn::DemoteTo(dh, hi[k]), hn::DemoteTo(dh, lo[k]));
     VF col[3];
     FlatLit(df, p, v, v + 3, v + 6, v[9], v[10], col);
@@ -1596,8 +1609,9 @@ void sphere_faces(const Vec3* world, const std::array<uint32_t, 3>* tri, size_t 
   HWY_DYNAMIC_DISPATCH(SphereFaces)(world, tri, n, flip, eye, face, flags);
 }
 
-void flat_colors(const ShadeParams& p, size_t n, const double* const* in, float* const* out) {
-  HWY_DYNAMIC_DISPATCH(FlatColors)(p, n, in, out);
+void flat_colors(const ShadeParams& p, size_t n, const double* const* in, const uint32_t* id,
+                 const FlatSurface* surface, float* const* out) {
+  HWY_DYNAMIC_DISPATCH(FlatColors)(p, n, in, id, surface, out);
 }
 HWY_EXPORT(GrowBounds);
 HWY_EXPORT(BallEntries);

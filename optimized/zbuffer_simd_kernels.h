@@ -133,11 +133,15 @@ void shade_tile(const ShadeParams& p, const int32_t* tri, const int32_t* slot,
 // Flat colours with shade_tile's lighting (Phong specular, as view_scene's
 // flat colour), in float lanes (double ones for a high shine): for i < n, the
 // colour at point (in[0..2])[i] of a face with unit normal (in[3..5])[i],
-// turned towards the eye here,
-// material kd * colour (in[6..8])[i], ks in[9][i], shine in[10][i]; out[0..2]:
-// red, green, blue. Every array has room for n rounded up to 16.
-inline constexpr int kFlatInputs = 11;
-void flat_colors(const ShadeParams& p, size_t n, const double* const* in, float* const* out);
+// turned towards the eye here, of surface surface[id[i]] (kd * colour, ks,
+// shine: FlatSurface); out[0..2]: red, green, blue. Every array has room for n
+// rounded up to 16; id does not decrease (a surface's requests are one run).
+inline constexpr int kFlatInputs = 6;
+struct FlatSurface {
+  double k[5];  // kd * colour (3), ks, shine
+};
+void flat_colors(const ShadeParams& p, size_t n, const double* const* in, const uint32_t* id,
+                 const FlatSurface* surface, float* const* out);
 
 // Flat shading drawn forward: per sample, alongside the triangle, its w = 1/z
 // and flat colour (tile buffers laid out as raster_tile's), so that shading

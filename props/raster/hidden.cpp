@@ -9,7 +9,8 @@
 //       image with hidden=draw bit for bit (colour and depth). Unit: pixels
 //       that differ; bound 0.
 //   HiddenSkipped.zbuffer__simd_corpus   The corpus' sphere scenes (balls,
-//       shells) at 256^2 and 512^2, every culling mode and depth format: the
+//       shells) at 256^2 and 512^2, every culling mode and depth format, and
+//       at 1024^2 with world culling and float depth: the
 //       same equality, and hidden triangles are actually skipped (a skip that
 //       never happens would pass the equality trivially).
 #include <gtest/gtest.h>
@@ -117,9 +118,14 @@ void corpus_cases() {
   uint64_t skipped_total = 0;
   for (const char* name : {"balls-3", "shells-1"}) {
     const Scene scene = read_nff(std::string(LOCKSTEP_CORPUS_DIR) + "/scenes/" + name + ".nff");
-    for (int size : {256, 512})
+    for (int size : {256, 512, 1024})
       for (const char* cull : {"world", "projection", "none"})
         for (const char* depth : {"float", "reversed", "fixed24", "double"}) {
+          // (1024^2, the benchmarks' size, where the most is hidden: world
+          // culling and float depth only. A pair of cells misread there
+          // changed 18 of balls-3's pixels and none at the smaller sizes.)
+          if (size == 1024 && (std::strcmp(cull, "world") != 0 || std::strcmp(depth, "float") != 0))
+            continue;
           FrameOptions o;
           o.width = o.height = size;
           o.threads = 2;
@@ -136,7 +142,7 @@ void corpus_cases() {
                                      << ": no hidden triangle skipped";
         }
   }
-  std::printf("HiddenSkipped corpus: %llu triangles skipped over 48 frames\n",
+  std::printf("HiddenSkipped corpus: %llu triangles skipped over 50 frames\n",
               (unsigned long long)skipped_total);
 }
 
