@@ -384,6 +384,7 @@ class OcclusionMap {
 // ball, OcclusionMap).
 struct UnitFaces {
   std::vector<double, NoInitAllocator<double>> nx, ny, nz, h;  // (every entry written)
+  std::vector<uint32_t, NoInitAllocator<uint32_t>> vertex[3];  // unit.tri's, as arrays
   double inner = 1;
 };
 UnitFaces unit_faces(const UnitSphere& u) {
@@ -393,6 +394,10 @@ UnitFaces unit_faces(const UnitSphere& u) {
   UnitFaces f;
   const size_t nt = u.tri.size();
   f.nx.resize(nt), f.ny.resize(nt), f.nz.resize(nt), f.h.resize(nt);
+  for (int k = 0; k < 3; ++k) {
+    f.vertex[k].resize(nt);
+    for (size_t t = 0; t < nt; ++t) f.vertex[k][t] = u.tri[t][size_t(k)];
+  }
   const int rings = u.rings, meridians = 2 * rings;
   std::vector<double> cos_phi(static_cast<size_t>(meridians)), sin_phi(static_cast<size_t>(meridians));
   for (int l = 0; l < meridians; ++l) {
@@ -489,7 +494,12 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
   // The margin dwarfs the rounding of c + r u and of the cross product (the
   // unit faces' edges are >= ~1e-4 long, 256 rings), and the sphere must not be
   // so small beside its distance from the origin that its vertices round together.
-  sc.cand.clear();
+  const bool positions = image && image->sink->positions_only();
+  // The candidates (sc.cand's first nc), and whether they are all front faces
+  // by the margin with their vertices in sc.va, vb, vc already (the image
+  // drawn forward, when nothing is left to the world face test).
+  size_t nc = 0;
+  bool all_sure = false;
   const Vec3 e_rel = cam.eye - c;
   const double spread = (length(c) + r) / r;
   // Unit-space normals turned to the drawn side (inside out: reversed).
@@ -504,28 +514,36 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
     // far below the image's float shading).
     sc.cand.resize(nt + 16);
     const double e[3] = {e_rel.x, e_rel.y, e_rel.z};
-    const size_t m =
-        sphere_face_codes(unit_face.nx.data(), unit_face.ny.data(), unit_face.nz.data(),
-                          unit_face.h.data(), nt, e, r, sign, margin, image != nullptr,
-                          sc.cand.data());
-    sc.cand.resize(m);
-    const uint64_t clear = nt - m;
+    // The image drawn forward: the candidates' vertices (in the raster's
+    // winding) written by the kernel too, for triangle_step.
+    FaceVertices verts;
+    if (positions) {
+      for (auto* v : {&sc.va, &sc.vb, &sc.vc}) v->resize(nt + 16);
+      const auto& vx = unit_face.vertex;
+      verts.in[0] = vx[0].data(), verts.in[1] = vx[flip ? 2 : 1].data();
+      verts.in[2] = vx[flip ? 1 : 2].data();
+      verts.out[0] = sc.va.data(), verts.out[1] = sc.vb.data(), verts.out[2] = sc.vc.data();
+    }
+    nc = sphere_face_codes(unit_face.nx.data(), unit_face.ny.data(), unit_face.nz.data(),
+                           unit_face.h.data(), nt, e, r, sign, margin, image != nullptr,
+                           sc.cand.data(), positions ? &verts : nullptr);
+    all_sure = positions && verts.unsure == 0;
+    const uint64_t clear = nt - nc;
     out.sphere_tris += clear;
     out.culled += clear;
   } else {
-    sc.cand.resize(nt);
+    sc.cand.resize(nt + 16);
     for (uint32_t t = 0; t < nt; ++t) sc.cand[t] = t;
+    nc = nt;
   }
-  const size_t nc = sc.cand.size();
   // (The image drawn forward reads the sure faces' normals from the unit
   // faces and the others' from sphere_faces' results directly, below.)
-  const bool positions = image && image->sink->positions_only();
   if (!positions) sc.face.resize(3 * nc), sc.flags.resize(nc);
   // The world face test (the reference's operations) on the others.
   sc.cand_tri.resize(nc);
   if (!positions) sc.amb.resize(nc);  // (positions: sphere_faces' results are read in order)
   size_t na = 0;
-  for (size_t i = 0; i < nc; ++i) {
+  for (size_t i = 0; i < nc && !all_sure; ++i) {
     const uint32_t t = sc.cand[i] & ~kSureFace;
     if (positions) {
       if (!(sc.cand[i] & kSureFace)) sc.cand_tri[na++] = unit.tri[t];
@@ -555,10 +573,13 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
     // kept ones to the front and counts the others.
     const size_t room = (nc + 15) / 16 * 16;
     for (auto* v : {&sc.va, &sc.vb, &sc.vc, &sc.vcand}) v->resize(room);
-    // Per triangle kept here, where its face normal is (vcand): its unit
+    // Per triangle kept here, where its face normal is (tag): its unit
     // face's index with kSureFace, else its place in sphere_faces' results.
-    size_t n = 0, j = 0;
-    for (uint32_t i = 0; i < nc; ++i) {
+    // (All sure: the candidates themselves, their vertices in place already.)
+    size_t n = all_sure ? nc : 0, j = 0;
+    uint32_t* const tag = all_sure ? sc.cand.data() : sc.vcand.data();
+    if (all_sure) out.sphere_tris += nc;
+    for (uint32_t i = 0; i < nc && !all_sure; ++i) {
       const uint32_t ci = sc.cand[i];
       const bool sure = (ci & kSureFace) != 0;
       const uint8_t flags = sure ? kFront : sc.amb_flags[j];
@@ -580,7 +601,7 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
     const OcclusionCells cells = occlusion ? occlusion->cells() : OcclusionCells{};
     TriangleCounts counts;
     const size_t kept = triangle_step(sc.proj.data(), sc.va.data(), sc.vb.data(), sc.vc.data(),
-                                      sc.vcand.data(), n, image->grid,
+                                      tag, n, image->grid,
                                       s.cull == CullMode::kProjection,
                                       occlusion ? &cells : nullptr, counts);
     out.degenerate += counts.degenerate, out.culled += counts.culled, out.hidden += counts.hidden;
@@ -595,7 +616,7 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
         // in its last bit, far below the SIMD lighting's float precision.)
         const Vec3 p = (sc.world[sc.va[j]] + sc.world[sc.vb[j]] + sc.world[sc.vc[j]]) / 3.0;
         in[0][j] = p.x, in[1][j] = p.y, in[2][j] = p.z;
-        const uint32_t at = sc.vcand[j];
+        const uint32_t at = tag[j];
         if (at & kSureFace) {
           const uint32_t t = at & ~kSureFace;
           in[3][j] = sign * unit_face.nx[t], in[4][j] = sign * unit_face.ny[t],

@@ -1509,7 +1509,7 @@ void SetUpForwardArrays(const TriVertices& tris, size_t n, const SampleGrid& gri
 // ---------------------------------------------------------------- sphere_face_codes
 size_t SphereFaceCodes(const double* nx, const double* ny, const double* nz, const double* h,
                        size_t n, const double e[3], double r, double sign, double margin,
-                       bool mark_sure, uint32_t* cand) {
+                       bool mark_sure, uint32_t* cand, FaceVertices* verts) {
   const hn::CappedTag<double, 8> dd;
   const hn::Rebind<uint32_t, decltype(dd)> du;
   using VD = hn::Vec<decltype(dd)>;
@@ -1526,12 +1526,22 @@ size_t SphereFaceCodes(const double* nx, const double* ny, const double* nz, con
                             hn::Mul(hn::LoadU(dd, nz + t), ez)),
                     hn::Mul(hn::LoadU(dd, h + t), rv)));
     auto idx = hn::Add(iota, hn::Set(du, uint32_t(t)));
-    idx = hn::IfThenElse(CastMask(du, dd, hn::Gt(sd, hi)), hn::Or(idx, hn::Set(du, sure_bit)), idx);
-    m += hn::CompressStore(idx, CastMask(du, dd, hn::Ge(sd, lo)), du, cand + m);
+    const auto sure = CastMask(du, dd, hn::Gt(sd, hi)), written = CastMask(du, dd, hn::Ge(sd, lo));
+    idx = hn::IfThenElse(sure, hn::Or(idx, hn::Set(du, sure_bit)), idx);
+    if (verts) {
+      for (int k = 0; k < 3; ++k)
+        hn::CompressStore(hn::LoadU(du, verts->in[k] + t), written, du, verts->out[k] + m);
+      verts->unsure += hn::CountTrue(du, hn::AndNot(sure, written));
+    }
+    m += hn::CompressStore(idx, written, du, cand + m);
   }
   for (; t < n; ++t) {  // (the same operations, one face)
     const double sd = sign * (nx[t] * e[0] + ny[t] * e[1] + nz[t] * e[2] - r * h[t]);
     cand[m] = uint32_t(t) | (sd > margin ? sure_bit : 0);
+    if (verts && sd >= -margin) {
+      for (int k = 0; k < 3; ++k) verts->out[k][m] = verts->in[k][t];
+      verts->unsure += !(sd > margin);
+    }
     m += sd >= -margin;
   }
   return m;
@@ -1714,9 +1724,9 @@ void set_up_forward(const TriVertices& tris, size_t n, const SampleGrid& grid, T
 HWY_EXPORT(SphereFaceCodes);
 size_t sphere_face_codes(const double* nx, const double* ny, const double* nz, const double* h,
                          size_t n, const double e[3], double r, double sign, double margin,
-                         bool mark_sure, uint32_t* cand) {
+                         bool mark_sure, uint32_t* cand, FaceVertices* verts) {
   return HWY_DYNAMIC_DISPATCH(SphereFaceCodes)(nx, ny, nz, h, n, e, r, sign, margin, mark_sure,
-                                               cand);
+                                               cand, verts);
 }
 HWY_EXPORT(PolygonRunStep);
 size_t polygon_run(const PolygonRun& run, const SampleGrid& grid, PolygonRunOut& out) {

@@ -247,11 +247,19 @@ void sphere_faces(const Vec3* world, const std::array<uint32_t, 3>* tri, size_t 
 // when sd < -margin, a front face by it when sd > margin. Writes the faces
 // that are not back faces by the margin to cand, in order, with kSureFace set
 // on the front faces by the margin when mark_sure; returns their count. cand
-// needs room for n + 16. A vector of faces at a time.
+// needs room for n + 16. A vector of faces at a time. With verts, each
+// written face's three vertex indices too (verts.in[k][t] to verts.out[k], in
+// the same order; room for n + 16 each), and in verts.unsure how many of the
+// written faces are not front faces by the margin.
 inline constexpr uint32_t kSureFace = 1u << 31;
+struct FaceVertices {
+  const uint32_t* in[3] = {};
+  uint32_t* out[3] = {};
+  size_t unsure = 0;
+};
 size_t sphere_face_codes(const double* nx, const double* ny, const double* nz, const double* h,
                          size_t n, const double e[3], double r, double sign, double margin,
-                         bool mark_sure, uint32_t* cand);
+                         bool mark_sure, uint32_t* cand, FaceVertices* verts = nullptr);
 // Grows [lo, hi] by the n points, as scene_bounds does (std::min and std::max:
 // a NaN coordinate is passed over), a vector of points at a time.
 void grow_bounds(const Vec3* points, size_t n, Vec3& lo, Vec3& hi);
