@@ -451,6 +451,7 @@ struct SphereScratch {
   // The positions path's triangle step (triangle_step): vertices and
   // candidate per triangle past world culling, the kept ones then moved to the front.
   Scratch<uint32_t> va, vb, vc, vcand;
+  Scratch<double> kept_face[3];  // (shaded: the kept triangles' face normals)
 };
 
 // Sphere k as view_spheres emits it (unit: its unit sphere), appended to out
@@ -494,7 +495,11 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
   // The margin dwarfs the rounding of c + r u and of the cross product (the
   // unit faces' edges are >= ~1e-4 long, 256 rings), and the sphere must not be
   // so small beside its distance from the origin that its vertices round together.
+  // The image's triangles in bulk: positions only (flat shading drawn
+  // forward), or with vertex normals for shading (Phong, Blinn-Phong, toon).
   const bool positions = image && image->sink->positions_only();
+  const bool shaded = image && !positions && image->sink->shaded_bulk();
+  const bool bulk = positions || shaded;
   // The candidates (sc.cand's first nc), and whether they are all front faces
   // by the margin with their vertices in sc.va, vb, vc already (the image
   // drawn forward, when nothing is left to the world face test).
@@ -517,7 +522,7 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
     // The image drawn forward: the candidates' vertices (in the raster's
     // winding) written by the kernel too, for triangle_step.
     FaceVertices verts;
-    if (positions) {
+    if (bulk) {
       for (auto* v : {&sc.va, &sc.vb, &sc.vc}) v->resize(nt + 16);
       const auto& vx = unit_face.vertex;
       verts.in[0] = vx[0].data(), verts.in[1] = vx[flip ? 2 : 1].data();
@@ -526,8 +531,8 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
     }
     nc = sphere_face_codes(unit_face.nx.data(), unit_face.ny.data(), unit_face.nz.data(),
                            unit_face.h.data(), nt, e, r, sign, margin, image != nullptr,
-                           sc.cand.data(), positions ? &verts : nullptr);
-    all_sure = positions && verts.unsure == 0;
+                           sc.cand.data(), bulk ? &verts : nullptr);
+    all_sure = bulk && verts.unsure == 0;
     const uint64_t clear = nt - nc;
     out.sphere_tris += clear;
     out.culled += clear;
@@ -538,14 +543,14 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
   }
   // (The image drawn forward reads the sure faces' normals from the unit
   // faces and the others' from sphere_faces' results directly, below.)
-  if (!positions) sc.face.resize(3 * nc), sc.flags.resize(nc);
+  if (!bulk) sc.face.resize(3 * nc), sc.flags.resize(nc);
   // The world face test (the reference's operations) on the others.
   sc.cand_tri.resize(nc);
-  if (!positions) sc.amb.resize(nc);  // (positions: sphere_faces' results are read in order)
+  if (!bulk) sc.amb.resize(nc);  // (bulk: sphere_faces' results are read in order)
   size_t na = 0;
   for (size_t i = 0; i < nc && !all_sure; ++i) {
     const uint32_t t = sc.cand[i] & ~kSureFace;
-    if (positions) {
+    if (bulk) {
       if (!(sc.cand[i] & kSureFace)) sc.cand_tri[na++] = unit.tri[t];
     } else if (sc.cand[i] & kSureFace) {
       sc.face[3 * i] = sign * unit_face.nx[t];
@@ -561,13 +566,13 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
   sc.amb_flags.resize(na);
   sphere_faces(sc.world.data(), sc.cand_tri.data(), na, flip, cam.eye, sc.amb_face.data(),
                sc.amb_flags.data());
-  for (size_t j = 0; j < na && !positions; ++j) {
+  for (size_t j = 0; j < na && !bulk; ++j) {
     const size_t i = sc.amb[j];
     for (int k = 0; k < 3; ++k) sc.face[3 * i + size_t(k)] = sc.amb_face[3 * j + size_t(k)];
     sc.flags[i] = sc.amb_flags[j];
   }
   ScreenTri local;
-  if (positions) {
+  if (bulk) {
     // The same steps, the area's and the box's in SIMD (triangle_step): the
     // triangles past world culling first, then the kernel, which moves the
     // kept ones to the front and counts the others.
@@ -628,12 +633,42 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
       }
       batch.added(kept, 0, surface);
     }
-    if (kept > 0) {  // (triangle_step's samples test: done already)
+    if (kept > 0 && positions) {  // (triangle_step's samples test: done already)
       // (va, vb, vc hold valid vertex indices up to n rounded up to 16.)
       const size_t first = image->sink->add_positions(
           chunk, {sc.proj.data(), sc.depth.data(), sc.va.data(), sc.vb.data(), sc.vc.data()},
           kept, true);
       if (flat_shading) batch.offset_last(kept, first);
+    }
+    if (kept > 0 && shaded) {
+      // Their face normals, of the side drawn (a kept face is a front face,
+      // unless culling is not in world space: then sphere_faces says).
+      for (auto& f : sc.kept_face) f.resize(kept);
+      for (size_t j = 0; j < kept; ++j) {
+        const uint32_t at = tag[j];
+        Vec3 f;
+        bool front = true;
+        if (at & kSureFace) {
+          const uint32_t t = at & ~kSureFace;
+          f = {sign * unit_face.nx[t], sign * unit_face.ny[t], sign * unit_face.nz[t]};
+        } else {
+          const double* face = sc.amb_face.data() + 3 * size_t(at);
+          f = {face[0], face[1], face[2]};
+          front = (sc.amb_flags[at] & kFront) != 0;
+        }
+        if (!front) f = -f;
+        sc.kept_face[0][j] = f.x, sc.kept_face[1][j] = f.y, sc.kept_face[2][j] = f.z;
+      }
+      ShadedTris sh;
+      sh.normal = unit.unit.data();
+      sh.negate = !(signed_radius > 0);
+      for (int k = 0; k < 3; ++k) sh.face[k] = sc.kept_face[k].data();
+      sh.base.k[0] = float(m.kd * m.color.x), sh.base.k[1] = float(m.kd * m.color.y);
+      sh.base.k[2] = float(m.kd * m.color.z);
+      sh.base.ks = float(m.ks), sh.base.shine = float(m.shine);
+      image->sink->add_shaded(
+          chunk, {sc.proj.data(), sc.depth.data(), sc.va.data(), sc.vb.data(), sc.vc.data()},
+          kept, sh);
     }
     return true;
   }

@@ -264,6 +264,29 @@ class Binner final : public zsimd::TriSink {
     });
   }
 
+  bool shaded_bulk() const override {
+    return scene_ != nullptr && !double_raster_ && rows == 4 && s_.shading != Shading::kFlat;
+  }
+  // The set-ups and the shading's planes in SIMD (set_up_shaded: the same bits
+  // as set_up's and set_up_shading's), then per triangle its ShadeTri.
+  size_t add_shaded(size_t c, const zsimd::IndexedTris& tris, size_t n,
+                    const zsimd::ShadedTris& sh) override {
+    BinChunk& ch = chunks[c];
+    const size_t first = ch.setup.size();
+    ch.setup.resize(first + n);
+    ch.shade.resize(first + n);
+    ch.planes.resize((first + n) * 4 * 3);
+    zsimd::set_up_shaded(tris, n, grid_, ch.setup.data() + first, sh.normal, sh.negate,
+                         s_.perspective, ch.planes.data() + first * 4 * 3);
+    for (size_t i = 0; i < n; ++i) {
+      zsimd::ShadeTri& st = ch.shade[first + i];
+      st = sh.base;
+      for (int k = 0; k < 3; ++k) st.face[k] = float(sh.face[k][i]);
+      bin(ch, ch.setup[first + i], first + i);
+    }
+    return first;
+  }
+
   // Either form: the float raster drawn forward sets them up in SIMD, the
   // double one one at a time (vertex(i, k, x, y, w, q): triangle i's vertex k).
   template <class Tris, class Vertex>

@@ -1382,9 +1382,15 @@ HWY_INLINE void WriteSetUps(const int32_t (*x)[8], const int32_t (*y)[8], const 
 // k's x[k][0 .. N), ... for triangles i ..) and written back per triangle. The
 // area is exact in double as in int64 (snapped coordinates stay below 2^25 in
 // magnitude inside the guard band: products below 2^52).
-template <class Fetch>
+// Extra: extra(i, m, exd, eyd, inv_area, w) after the planes, for the shading's
+// planes (SetUpShaded); a no-op for the forward set-up.
+struct NoExtra {
+  template <class... A>
+  void operator()(const A&...) const {}
+};
+template <class Fetch, class Extra = NoExtra>
 HWY_INLINE void SetUpForwardT(const Fetch& fetch, size_t n, const SampleGrid& grid, TriSetup* out,
-                              bool tested) {
+                              bool tested, const Extra& extra = Extra()) {
   const hn::CappedTag<double, 8> dd;
   const hn::Rebind<int32_t, decltype(dd)> di;
   using VD = hn::Vec<decltype(dd)>;
@@ -1437,6 +1443,7 @@ HWY_INLINE void SetUpForwardT(const Fetch& fetch, size_t n, const SampleGrid& gr
     hn::Store(hn::Div(gradient(q_in, eyd), area), dd, qy);
     hn::Store(hn::Mul(gradient(w_in, exd), inv_area), dd, wx);
     hn::Store(hn::Mul(gradient(w_in, eyd), inv_area), dd, wy);
+    extra(i, m, exd, eyd, inv_area, w_in);
 #if HWY_TARGET <= HWY_AVX3
     if constexpr (hn::MaxLanes(dd) == 8) {
       WriteSetUps(x_in, y_in, ex, ey, bias, box, q_in[0], qx, qy, w_in[0], wx, wy, m, out + i);
@@ -1488,6 +1495,65 @@ void SetUpForward(const IndexedTris& tris, size_t n, const SampleGrid& grid, Tri
     }
   };
   SetUpForwardT(gather, n, grid, out, tested);
+}
+
+// set_up_shaded: set_up_forward's set-ups from IndexedTris, and per triangle
+// the shading's four planes (w, then the normal times w under perspective, the
+// normal itself under affine interpolation) from the vertex normals, with
+// opt::simd's set_up_shading operations (no contraction): the same bits.
+void SetUpShaded(const IndexedTris& tris, size_t n, const SampleGrid& grid, TriSetup* out,
+                 const Vec3* normal, bool negate, bool perspective, double* planes) {
+  const hn::CappedTag<double, 8> dd;
+  const hn::Rebind<int32_t, decltype(dd)> di;
+  const hn::Rebind<uint32_t, decltype(dd)> du;
+  const hn::Rebind<uint64_t, decltype(dd)> d64;
+  using VD = hn::Vec<decltype(dd)>;
+  const double* pvd = reinterpret_cast<const double*>(tris.pv);
+  const double* vd = reinterpret_cast<const double*>(tris.vd);
+  const double* nd = &normal[0].x;
+  const uint32_t* const index[3] = {tris.a, tris.b, tris.c};
+  auto gather = [&](size_t i, int32_t (*x)[8], int32_t (*y)[8], double (*w)[8], double (*q)[8]) {
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t* const v = index[k] + i;
+      VD z, xyd, wk, qk;
+      LoadPairs(dd, [&](int l) { return pvd + 3 * size_t(v[l]); }, z, xyd);
+      const auto xy = hn::BitCast(d64, xyd);
+      hn::Store(hn::BitCast(di, hn::TruncateTo(du, xy)), di, x[k]);
+      hn::Store(hn::BitCast(di, hn::TruncateTo(du, hn::ShiftRight<32>(xy))), di, y[k]);
+      LoadPairs(dd, [&](int l) { return vd + 2 * size_t(v[l]); }, wk, qk);
+      hn::Store(wk, dd, w[k]);
+      hn::Store(qk, dd, q[k]);
+    }
+  };
+  HWY_ALIGN double c[4][3][8];
+  auto shading = [&](size_t i, size_t m, const VD exd[3], const VD eyd[3], VD inv_area,
+                     const double (*w)[8]) {
+    // The vertices' values per row: w; the normal (x, y | y, z a 16-byte load each).
+    VD a[4][3];
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t* const v = index[k] + i;
+      VD nx, ny, ny2, nz;
+      LoadPairs(dd, [&](int l) { return nd + 3 * size_t(v[l]); }, nx, ny);
+      LoadPairs(dd, [&](int l) { return nd + 3 * size_t(v[l]) + 1; }, ny2, nz);
+      const VD wk = hn::Load(dd, w[k]);
+      const VD value[3] = {negate ? hn::Neg(nx) : nx, negate ? hn::Neg(ny) : ny,
+                           negate ? hn::Neg(nz) : nz};
+      a[0][k] = wk;
+      for (int r = 1; r < 4; ++r) a[r][k] = perspective ? hn::Mul(value[r - 1], wk) : value[r - 1];
+    }
+    for (int r = 0; r < 4; ++r) {
+      const VD d1 = hn::Sub(a[r][1], a[r][0]), d2 = hn::Sub(a[r][2], a[r][0]);
+      hn::Store(a[r][0], dd, c[r][0]);
+      hn::Store(hn::Mul(hn::Add(hn::Mul(d1, exd[1]), hn::Mul(d2, exd[2])), inv_area), dd, c[r][1]);
+      hn::Store(hn::Mul(hn::Add(hn::Mul(d1, eyd[1]), hn::Mul(d2, eyd[2])), inv_area), dd, c[r][2]);
+    }
+    for (size_t j = 0; j < m; ++j) {
+      double* const p = planes + (i + j) * 12;
+      for (int r = 0; r < 4; ++r)
+        for (int k = 0; k < 3; ++k) p[3 * r + k] = c[r][k][j];
+    }
+  };
+  SetUpForwardT(gather, n, grid, out, true, shading);
 }
 
 // From TriVertices: loads.
@@ -1715,6 +1781,11 @@ size_t triangle_step(const ProjectedVertex* pv, uint32_t* a, uint32_t* b, uint32
 void set_up_forward(const IndexedTris& tris, size_t n, const SampleGrid& grid, TriSetup* out,
                     bool tested) {
   HWY_DYNAMIC_DISPATCH(SetUpForward)(tris, n, grid, out, tested);
+}
+HWY_EXPORT(SetUpShaded);
+void set_up_shaded(const IndexedTris& tris, size_t n, const SampleGrid& grid, TriSetup* out,
+                   const Vec3* normal, bool negate, bool perspective, double* planes) {
+  HWY_DYNAMIC_DISPATCH(SetUpShaded)(tris, n, grid, out, normal, negate, perspective, planes);
 }
 HWY_EXPORT(SetUpForwardArrays);
 void set_up_forward(const TriVertices& tris, size_t n, const SampleGrid& grid, TriSetup* out,

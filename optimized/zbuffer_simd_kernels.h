@@ -356,6 +356,13 @@ void set_up_forward(const IndexedTris& tris, size_t n, const SampleGrid& grid, T
                     bool tested = false);
 void set_up_forward(const TriVertices& tris, size_t n, const SampleGrid& grid, TriSetup* out,
                     bool tested = false);
+// The same set-ups (tested), and for shading from vertex normals (Phong and
+// the like) each triangle's four attribute planes (ShadeTri's rows 0-3: a0,
+// ax, ay each; 12 doubles a triangle at planes): w, then vertex v's normal
+// normal[v] (negated where negate) times w under perspective, else as it is.
+// opt::simd's set_up_shading's double operations, so the same bits.
+void set_up_shaded(const IndexedTris& tris, size_t n, const SampleGrid& grid, TriSetup* out,
+                   const Vec3* normal, bool negate, bool perspective, double* planes);
 
 // The image's polygon step (view_scene_chunks, positions only: flat shading
 // drawn forward) for a run of polygons that are one triangle each, with their
@@ -391,6 +398,17 @@ struct PolygonRunOut {
 };
 size_t polygon_run(const PolygonRun& run, const SampleGrid& grid, PolygonRunOut& out);
 
+// What add_shaded needs besides the positions: vertex v's shading normal is
+// normal[v] (negated where negate: an inside-out sphere), triangle i's face
+// normal (of its drawn side) face[0..2][i]; every triangle has the material
+// (and flat colour, face) of base, its face normal set per triangle.
+struct ShadedTris {
+  const Vec3* normal = nullptr;
+  bool negate = false;
+  const double* face[3] = {};
+  ShadeTri base{};
+};
+
 // Where the image path's set-up puts its triangles one at a time, instead of
 // keeping them in ScreenTri chunks (opt::simd::zbuffer's binner). Triangles
 // come chunk by chunk (each chunk's in mesh order, the chunks in mesh order),
@@ -413,6 +431,12 @@ class TriSink {
   virtual bool positions_only() const { return false; }
   virtual size_t add_positions(size_t c, const IndexedTris& t, size_t n, bool tested = false) = 0;
   virtual size_t add_positions(size_t c, const TriVertices& t, size_t n, bool tested = false) = 0;
+  // Whether the sink shades from vertex normals alone (Phong, Blinn-Phong,
+  // toon; the float raster): then a sphere's triangles may come n at a time,
+  // add_shaded (as add_positions, tested: chunk c's next n triangles; the
+  // index of the first), with what shading needs besides their positions.
+  virtual bool shaded_bulk() const { return false; }
+  virtual size_t add_shaded(size_t c, const IndexedTris& t, size_t n, const ShadedTris& s) = 0;
   // The flat colours of chunk c's triangles at[0], ..., at[n - 1], lit after
   // add: triangle at[i]'s is (rgb[0][i], rgb[1][i], rgb[2][i]).
   virtual void set_flats(size_t c, const size_t* at, size_t n, const float* const rgb[3]) = 0;
