@@ -535,26 +535,32 @@ HWY_INLINE void Lighting(DF df, const float* light, int nlights, Shading shading
           hn::Min(one, hn::Div(hn::Floor(hn::Mul(ndl, hn::Set(df, bands))), hn::Set(df, band_div)));
       for (int c = 0; c < 3; ++c) term[c] = hn::Mul(q, kd[c]);
     } else {
-      VF cosine;
-      if (shading == Shading::kPhong) {
-        VF R[3];  // L mirrored about N
-        for (int c = 0; c < 3; ++c) R[c] = hn::MulSub(hn::Mul(two, ndl), nrm[c], L[c]);
-        cosine = dot3(R, view);
-      } else {
-        VF Hv[3] = {hn::Add(L[0], view[0]), hn::Add(L[1], view[1]), hn::Add(L[2], view[2])};
-        normalize3(Hv);  // halfway vector (Blinn)
-        cosine = dot3(nrm, Hv);
+      // The specular term only where a lit lane has ks > 0 (elsewhere it is
+      // 0 whatever the power: a material without highlights pays nothing).
+      const auto shiny = hn::Gt(ks, zero);
+      VF spec = zero;
+      if (!hn::AllFalse(df, hn::And(shiny, lit))) {
+        VF cosine;
+        if (shading == Shading::kPhong) {
+          VF R[3];  // L mirrored about N
+          for (int c = 0; c < 3; ++c) R[c] = hn::MulSub(hn::Mul(two, ndl), nrm[c], L[c]);
+          cosine = dot3(R, view);
+        } else {
+          VF Hv[3] = {hn::Add(L[0], view[0]), hn::Add(L[1], view[1]), hn::Add(L[2], view[2])};
+          normalize3(Hv);  // halfway vector (Blinn)
+          cosine = dot3(nrm, Hv);
+        }
+        // ks max(0, cosine)^shine, as std::pow: 0^shine = 0 for shine > 0, x^0 = 1.
+        // (exp and log only where a lane has a highlight: lanes are neighbours,
+        // often all facing away together.)
+        const auto pos_c = hn::Gt(cosine, zero);
+        VF pw = hn::IfThenElseZero(hn::Eq(shine, zero), one);
+        if (!hn::AllFalse(df, hn::And(hn::And(pos_c, lit), shiny))) {
+          const VF safe = hn::IfThenElse(pos_c, cosine, one);
+          pw = hn::IfThenElse(pos_c, hn::CallExp(df, hn::Mul(shine, hn::CallLog(df, safe))), pw);
+        }
+        spec = hn::IfThenElseZero(shiny, hn::Mul(ks, pw));
       }
-      // ks max(0, cosine)^shine, as std::pow: 0^shine = 0 for shine > 0, x^0 = 1.
-      // (exp and log only where a lane has a highlight: lanes are neighbours,
-      // often all facing away together.)
-      const auto pos_c = hn::Gt(cosine, zero);
-      VF pw = hn::IfThenElseZero(hn::Eq(shine, zero), one);
-      if (!hn::AllFalse(df, hn::And(pos_c, lit))) {
-        const VF safe = hn::IfThenElse(pos_c, cosine, one);
-        pw = hn::IfThenElse(pos_c, hn::CallExp(df, hn::Mul(shine, hn::CallLog(df, safe))), pw);
-      }
-      const VF spec = hn::IfThenElseZero(hn::Gt(ks, zero), hn::Mul(ks, pw));
       for (int c = 0; c < 3; ++c) term[c] = hn::MulAdd(ndl, kd[c], spec);
     }
     for (int c = 0; c < 3; ++c)
