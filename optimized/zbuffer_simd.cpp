@@ -601,7 +601,18 @@ void shade_one_tile(const ScreenMesh& mesh, const Binner& b, const zsimd::ShadeP
   const int rows = b.rows;
   for (const BinChunk& c : b.chunks) {
     if (forward) break;
-    for (const uint32_t i : c.bins[tile]) {
+    const std::vector<uint32_t>& bin = c.bins[tile];
+    for (size_t k = 0; k < bin.size(); ++k) {
+      const uint32_t i = bin[k];
+      // The planes and set-up eight triangles ahead: written long before, by
+      // the set-up, and read here out of order (as the raster prefetches).
+      if (k + 8 < bin.size()) {
+        const size_t ahead = bin[k + 8];
+        __builtin_prefetch(c.planes.data() + ahead * size_t(rows) * 3);
+        __builtin_prefetch(c.planes.data() + ahead * size_t(rows) * 3 + 8);
+        __builtin_prefetch(&c.setup[ahead]);
+        __builtin_prefetch(&c.shade[ahead]);
+      }
       sb.slot[c.first + i] = int32_t(sb.planes.size());
       zsimd::LocalPlanes& L = sb.planes.emplace_back();
       const TriSetup& t = c.setup[i];
