@@ -1475,19 +1475,20 @@ HWY_INLINE void SetUpForwardT(const Fetch& fetch, size_t n, const SampleGrid& gr
 // the triangles first), 16 bytes at a time (LoadPairs): z and the 8-byte word
 // of x and y, then w and the stored depth. (Spare lanes: valid indices, not
 // written out.)
-void SetUpForward(const IndexedTris& tris, size_t n, const SampleGrid& grid, TriSetup* out,
-                  bool tested) {
-  const hn::CappedTag<double, 8> dd;
-  const hn::Rebind<int32_t, decltype(dd)> di;
-  const hn::Rebind<uint32_t, decltype(dd)> du;
-  const hn::Rebind<uint64_t, decltype(dd)> d64;
-  static_assert(sizeof(ProjectedVertex) == 24 && offsetof(ProjectedVertex, x) == 8 &&
-                offsetof(ProjectedVertex, y) == 12 && sizeof(VertexDepth) == 16 &&
-                offsetof(VertexDepth, q) == 8);
-  const double* pvd = reinterpret_cast<const double*>(tris.pv);
-  const double* vd = reinterpret_cast<const double*>(tris.vd);
-  const uint32_t* const index[3] = {tris.a, tris.b, tris.c};
-  auto gather = [&](size_t i, int32_t (*x)[8], int32_t (*y)[8], double (*w)[8], double (*q)[8]) {
+// IndexedTris' fetch for SetUpForwardT (set_up_forward, set_up_shaded).
+struct FetchIndexed {
+  const IndexedTris& tris;
+  void operator()(size_t i, int32_t (*x)[8], int32_t (*y)[8], double (*w)[8], double (*q)[8]) const {
+    const hn::CappedTag<double, 8> dd;
+    const hn::Rebind<int32_t, decltype(dd)> di;
+    const hn::Rebind<uint32_t, decltype(dd)> du;
+    const hn::Rebind<uint64_t, decltype(dd)> d64;
+    static_assert(sizeof(ProjectedVertex) == 24 && offsetof(ProjectedVertex, x) == 8 &&
+                  offsetof(ProjectedVertex, y) == 12 && sizeof(VertexDepth) == 16 &&
+                  offsetof(VertexDepth, q) == 8);
+    const double* pvd = reinterpret_cast<const double*>(tris.pv);
+    const double* vd = reinterpret_cast<const double*>(tris.vd);
+    const uint32_t* const index[3] = {tris.a, tris.b, tris.c};
     for (int k = 0; k < 3; ++k) {
       const uint32_t* const v = index[k] + i;
       hn::Vec<decltype(dd)> z, xyd, wk, qk;
@@ -1499,8 +1500,12 @@ void SetUpForward(const IndexedTris& tris, size_t n, const SampleGrid& grid, Tri
       hn::Store(wk, dd, w[k]);
       hn::Store(qk, dd, q[k]);
     }
-  };
-  SetUpForwardT(gather, n, grid, out, tested);
+  }
+};
+
+void SetUpForward(const IndexedTris& tris, size_t n, const SampleGrid& grid, TriSetup* out,
+                  bool tested) {
+  SetUpForwardT(FetchIndexed{tris}, n, grid, out, tested);
 }
 
 // set_up_shaded: set_up_forward's set-ups from IndexedTris, and per triangle
@@ -1510,27 +1515,9 @@ void SetUpForward(const IndexedTris& tris, size_t n, const SampleGrid& grid, Tri
 void SetUpShaded(const IndexedTris& tris, size_t n, const SampleGrid& grid, TriSetup* out,
                  const Vec3* normal, bool negate, bool perspective, double* planes) {
   const hn::CappedTag<double, 8> dd;
-  const hn::Rebind<int32_t, decltype(dd)> di;
-  const hn::Rebind<uint32_t, decltype(dd)> du;
-  const hn::Rebind<uint64_t, decltype(dd)> d64;
   using VD = hn::Vec<decltype(dd)>;
-  const double* pvd = reinterpret_cast<const double*>(tris.pv);
-  const double* vd = reinterpret_cast<const double*>(tris.vd);
   const double* nd = &normal[0].x;
   const uint32_t* const index[3] = {tris.a, tris.b, tris.c};
-  auto gather = [&](size_t i, int32_t (*x)[8], int32_t (*y)[8], double (*w)[8], double (*q)[8]) {
-    for (int k = 0; k < 3; ++k) {
-      const uint32_t* const v = index[k] + i;
-      VD z, xyd, wk, qk;
-      LoadPairs(dd, [&](int l) { return pvd + 3 * size_t(v[l]); }, z, xyd);
-      const auto xy = hn::BitCast(d64, xyd);
-      hn::Store(hn::BitCast(di, hn::TruncateTo(du, xy)), di, x[k]);
-      hn::Store(hn::BitCast(di, hn::TruncateTo(du, hn::ShiftRight<32>(xy))), di, y[k]);
-      LoadPairs(dd, [&](int l) { return vd + 2 * size_t(v[l]); }, wk, qk);
-      hn::Store(wk, dd, w[k]);
-      hn::Store(qk, dd, q[k]);
-    }
-  };
   HWY_ALIGN double c[4][3][8];
   auto shading = [&](size_t i, size_t m, const VD exd[3], const VD eyd[3], VD inv_area,
                      const double (*w)[8]) {
@@ -1559,7 +1546,7 @@ void SetUpShaded(const IndexedTris& tris, size_t n, const SampleGrid& grid, TriS
         for (int k = 0; k < 3; ++k) p[3 * r + k] = c[r][k][j];
     }
   };
-  SetUpForwardT(gather, n, grid, out, true, shading);
+  SetUpForwardT(FetchIndexed{tris}, n, grid, out, true, shading);
 }
 
 // From TriVertices: loads.
