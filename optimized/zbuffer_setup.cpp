@@ -501,8 +501,8 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
   const bool shaded = image && !positions && image->sink->shaded_bulk();
   const bool bulk = positions || shaded;
   // The candidates (sc.cand's first nc), and whether they are all front faces
-  // by the margin with their vertices in sc.va, vb, vc already (the image
-  // drawn forward, when nothing is left to the world face test).
+  // by the margin with their vertices in sc.va, vb, vc already (in bulk, when
+  // nothing is left to the world face test).
   size_t nc = 0;
   bool all_sure = false;
   const Vec3 e_rel = cam.eye - c;
@@ -519,8 +519,8 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
     // far below the image's float shading).
     sc.cand.resize(nt + 16);
     const double e[3] = {e_rel.x, e_rel.y, e_rel.z};
-    // The image drawn forward: the candidates' vertices (in the raster's
-    // winding) written by the kernel too, for triangle_step.
+    // In bulk: the candidates' vertices (in the raster's winding) written by
+    // the kernel too, for triangle_step.
     FaceVertices verts;
     if (bulk) {
       for (auto* v : {&sc.va, &sc.vb, &sc.vc}) v->resize(nt + 16);
@@ -541,8 +541,8 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
     for (uint32_t t = 0; t < nt; ++t) sc.cand[t] = t;
     nc = nt;
   }
-  // (The image drawn forward reads the sure faces' normals from the unit
-  // faces and the others' from sphere_faces' results directly, below.)
+  // (In bulk the sure faces' normals are read from the unit faces and the
+  // others' from sphere_faces' results directly, below.)
   if (!bulk) sc.face.resize(3 * nc), sc.flags.resize(nc);
   // The world face test (the reference's operations) on the others.
   sc.cand_tri.resize(nc);
