@@ -107,9 +107,11 @@ struct Scene {
   std::span<const Vec3> polygon_vertices(uint32_t p) const {
     return {vertex.data() + poly_first[p], poly_first[p + 1] - poly_first[p]};
   }
+  uint32_t material_id_of_prim(uint32_t prim) const {
+    return prim < sphere_count() ? sphere_material[prim] : poly_material[prim - sphere_count()];
+  }
   const Material& material_of_prim(uint32_t prim) const {
-    return prim < sphere_count() ? materials[sphere_material[prim]]
-                                 : materials[poly_material[prim - sphere_count()]];
+    return materials[material_id_of_prim(prim)];
   }
 };
 

@@ -663,9 +663,7 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
       sh.normal = unit.unit.data();
       sh.negate = !(signed_radius > 0);
       for (int k = 0; k < 3; ++k) sh.face[k] = sc.kept_face[k].data();
-      sh.base.k[0] = float(m.kd * m.color.x), sh.base.k[1] = float(m.kd * m.color.y);
-      sh.base.k[2] = float(m.kd * m.color.z);
-      sh.base.ks = float(m.ks), sh.base.shine = float(m.shine);
+      sh.material = scene.sphere_material[k];
       image->sink->add_shaded(
           chunk, {sc.proj.data(), sc.depth.data(), sc.va.data(), sc.vb.data(), sc.vc.data()},
           kept, sh);

@@ -135,11 +135,12 @@ int shade_rows(const RasterSettings& s) {
   return 1;
 }
 
-// The shading data of a triangle (see zsimd::ShadeTri): out, and its rows of
-// attribute planes at planes (a0, ax, ay per row).
+// The shading data of a triangle (see zsimd::ShadeTri): out, its flat colour
+// (kFlat only: else null), and its rows of attribute planes at planes (a0, ax,
+// ay per row).
 void set_up_shading(const Scene& scene, const RasterSettings& s, const ScreenTri& tri,
                     const TriSetup& t, const double w[3], double inv_area, zsimd::ShadeTri& out,
-                    double* planes) {
+                    std::array<float, 3>* flat, double* planes) {
   const auto& v = tri.v;
   const int rows = shade_rows(s);
   for (int row = 0; row < rows; ++row) {
@@ -175,20 +176,17 @@ void set_up_shading(const Scene& scene, const RasterSettings& s, const ScreenTri
     c[1] = ((a[1] - a[0]) * double(t.ex[1]) + (a[2] - a[0]) * double(t.ex[2])) * inv_area;
     c[2] = ((a[1] - a[0]) * double(t.ey[1]) + (a[2] - a[0]) * double(t.ey[2])) * inv_area;
   }
-  const Material& m = scene.material_of_prim(tri.prim);
-  out.k[0] = float(m.kd * m.color.x), out.k[1] = float(m.kd * m.color.y),
-  out.k[2] = float(m.kd * m.color.z);
-  out.ks = float(m.ks);
-  out.shine = float(m.shine);
-  out.flat[0] = float(tri.flat_color.x), out.flat[1] = float(tri.flat_color.y),
-  out.flat[2] = float(tri.flat_color.z);
+  out.material = scene.material_id_of_prim(tri.prim);
+  if (flat)
+    *flat = {float(tri.flat_color.x), float(tri.flat_color.y), float(tri.flat_color.z)};
   out.face[0] = float(tri.face_normal.x), out.face[1] = float(tri.face_normal.y),
   out.face[2] = float(tri.face_normal.z);
 }
 
 // One chunk of the binned mesh: per triangle its TriSetup, and for shading its
-// ShadeTri and `rows` attribute planes (a0, ax, ay per row); per tile the
-// chunk's triangles there (indices into the chunk), in mesh order.
+// ShadeTri, `rows` attribute planes (a0, ax, ay per row) and under flat
+// shading its colour; per tile the chunk's triangles there (indices into the
+// chunk), in mesh order.
 // (Not value-initialised: set_up and set_up_shading write every field.)
 template <class T>
 using Uninit = std::vector<T, NoInitAllocator<T>>;
@@ -196,6 +194,7 @@ struct BinChunk {
   Uninit<TriSetup> setup;
   Uninit<zsimd::ShadeTri> shade;
   Uninit<double> planes;
+  Uninit<std::array<float, 3>> flat;  // kFlat only
   std::vector<std::vector<uint32_t>> bins;
   uint32_t first = 0;  // the mesh id of the chunk's first triangle
 };
@@ -212,6 +211,7 @@ class Binner final : public zsimd::TriSink {
         off_(off),
         scene_(scene),
         double_raster_(double_depth(s.depth)),
+        flat_(scene != nullptr && s.shading == Shading::kFlat),
         rows(shade_rows(s)) {}
 
   void begin(const ScreenMesh& frame, size_t nchunks) override {
@@ -228,6 +228,7 @@ class Binner final : public zsimd::TriSink {
   void reserve(size_t c, size_t n) override {
     chunks[c].setup.reserve(n);
     if (scene_) chunks[c].shade.reserve(n), chunks[c].planes.reserve(n * size_t(rows) * 3);
+    if (flat_) chunks[c].flat.reserve(n);
   }
 
   size_t add(size_t c, const ScreenTri& tri, const zsimd::VertexDepth* vd) override {
@@ -238,7 +239,8 @@ class Binner final : public zsimd::TriSink {
     set_up(tri, vd, depth_, grid_, double_raster_, t, w, inv_area);
     if (scene_) {
       ch.planes.resize(ch.planes.size() + size_t(rows) * 3);
-      set_up_shading(*scene_, s_, tri, t, w, inv_area, ch.shade.emplace_back(),
+      std::array<float, 3>* flat = flat_ ? &ch.flat.emplace_back() : nullptr;
+      set_up_shading(*scene_, s_, tri, t, w, inv_area, ch.shade.emplace_back(), flat,
                      ch.planes.data() + ch.planes.size() - size_t(rows) * 3);
     }
     bin(ch, t, at);
@@ -280,8 +282,8 @@ class Binner final : public zsimd::TriSink {
                          s_.perspective, ch.planes.data() + first * 4 * 3);
     for (size_t i = 0; i < n; ++i) {
       zsimd::ShadeTri& st = ch.shade[first + i];
-      st = sh.base;
       for (int k = 0; k < 3; ++k) st.face[k] = float(sh.face[k][i]);
+      st.material = sh.material;
       bin(ch, ch.setup[first + i], first + i);
     }
     return first;
@@ -323,9 +325,9 @@ class Binner final : public zsimd::TriSink {
 
   void set_flats(size_t c, const size_t* at, size_t n, const float* const rgb[3]) override {
     BinChunk& ch = chunks[c];
-    if (scene_)
+    if (flat_)
       for (size_t i = 0; i < n; ++i)
-        for (int k = 0; k < 3; ++k) ch.shade[at[i]].flat[k] = rgb[k][i];
+        for (int k = 0; k < 3; ++k) ch.flat[at[i]][k] = rgb[k][i];
     if (!double_raster_)
       for (size_t i = 0; i < n; ++i)
         for (int k = 0; k < 3; ++k) ch.setup[at[i]].fwd.flat[k] = rgb[k][i];
@@ -346,6 +348,8 @@ class Binner final : public zsimd::TriSink {
       if (!c.bins[tile].empty()) out.push_back({&c.bins[tile], c.setup.data(), int32_t(c.first)});
   }
   size_t tile_of(int x0, int y0) const { return size_t(y0 / th) * size_t(ntx) + size_t(x0 / tw); }
+  // Whether the chunks hold flat colours (BinChunk::flat).
+  bool flat_shading() const { return flat_; }
 
   int tw = 64, th = 64, ntx = 0, nty = 0;
   int tw_log2 = 6, th_log2 = 6;
@@ -357,6 +361,7 @@ class Binner final : public zsimd::TriSink {
   std::vector<std::array<int32_t, 2>> off_;
   const Scene* scene_;
   bool double_raster_;
+  bool flat_;  // shading set up, flat: BinChunk::flat
   zsimd::SampleGrid grid_;
   DepthMap depth_;
 
@@ -555,12 +560,23 @@ zsimd::ShadeParams light_params(const Scene& scene, const Vec3& eye, std::vector
   return sp;
 }
 
-// The shading kernel's parameters for a frame: lights and camera in float.
-// lights holds the per-light floats sp.light points to.
+// The shading kernel's parameters for a frame: lights, materials and camera
+// in float. lights and materials hold what sp.light and sp.materials point to.
 zsimd::ShadeParams shade_params(const Scene& scene, const ScreenMesh& mesh, const RasterSettings& s,
                                 const std::vector<std::array<int32_t, 2>>& off, const Binner& b,
-                                std::vector<float>& lights) {
+                                std::vector<float>& lights,
+                                std::vector<zsimd::ShadeMaterial>& materials) {
   zsimd::ShadeParams sp = light_params(scene, mesh.camera.eye, lights);
+  // (As the reference's lighting reads them: kd * colour, ks, shine; one entry
+  // at least, so that a lane of no triangle may read entry 0.)
+  materials.clear();
+  for (const Material& m : scene.materials)
+    materials.push_back({{float(m.kd * m.color.x), float(m.kd * m.color.y),
+                          float(m.kd * m.color.z)},
+                         float(m.ks),
+                         float(m.shine)});
+  if (materials.empty()) materials.emplace_back();
+  sp.materials = materials.data();
   sp.shading = s.shading;
   sp.perspective = s.perspective;
   sp.silhouette = s.silhouette;
@@ -624,6 +640,7 @@ void shade_one_tile(const ScreenMesh& mesh, const Binner& b, const zsimd::ShadeP
         L.p[row][2] = float(a[2] * kSubpixel);
       }
       L.tri = c.shade[i];
+      if (b.flat_shading()) std::copy_n(c.flat[i].data(), 3, L.flat);
     }
   }
   // The view direction through the tile's top-left pixel corner (the reference's
@@ -649,7 +666,8 @@ Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const Binner& b,
                 const FrameOptions& opts, FrameStats* stats) {
   const RasterParams p = raster_params(s, b, off);
   std::vector<float> lights;
-  const zsimd::ShadeParams sp = shade_params(scene, mesh, s, off, b, lights);
+  std::vector<zsimd::ShadeMaterial> materials;
+  const zsimd::ShadeParams sp = shade_params(scene, mesh, s, off, b, lights, materials);
   // Flat shading without silhouettes is drawn forward: the raster writes each
   // sample's w and colour, and shading has no per-triangle work left.
   // (zbuffer() leaves the shading set-up out then.)
@@ -709,7 +727,8 @@ Image shade_visibility(const Scene& scene, const ScreenMesh& mesh, const RasterS
   Binner b(s, off, &scene);
   bin_mesh(mesh, opts.threads, b);
   std::vector<float> lights;
-  const zsimd::ShadeParams sp = shade_params(scene, mesh, s, off, b, lights);
+  std::vector<zsimd::ShadeMaterial> materials;
+  const zsimd::ShadeParams sp = shade_params(scene, mesh, s, off, b, lights, materials);
   Image img = Image::uninitialized(mesh.width, mesh.height);
   img.depth.resize(size_t(mesh.width) * size_t(mesh.height));
   struct IdBuffer {

@@ -720,8 +720,11 @@ HWY_INLINE void ShadeTileT(const ShadeParams& p, const int32_t* tri, const int32
           VF a[ShadeTri::kRows];
           a[0] = one;
           for (int k = 1; k < ShadeTri::kRows; ++k) a[k] = zero;
-          VF kd[3] = {zero, zero, zero}, ks = zero, shine = one, fl[3] = {zero, zero, zero},
-             face[3] = {zero, zero, zero};
+          VF kd[3] = {zero, zero, zero}, ks = zero, shine = one, fl[3] = {zero, zero, zero};
+          // Per lane its triangle's material; whether the block holds more than one.
+          VI mat = hn::Zero(di);
+          int32_t mat0 = -1;
+          bool mixed = false;
           if (forward) {
             // Drawn forward by the raster: w and the colour per sample.
             a[0] = hn::IfThenElse(valid, hn::Load(df, p.forward_w + at), one);
@@ -735,7 +738,6 @@ HWY_INLINE void ShadeTileT(const ShadeParams& p, const int32_t* tri, const int32
             remaining = hn::AndNot(mi, remaining);
             const auto m = hn::RebindMask(df, mi);
             const LocalPlanes& L = planes[slot[id]];
-            const ShadeTri& T = L.tri;
             auto eval = [&](int k) {
               a[k] = hn::IfThenElse(
                   m,
@@ -746,14 +748,28 @@ HWY_INLINE void ShadeTileT(const ShadeParams& p, const int32_t* tri, const int32
             eval(0);
             if (need_normal) eval(1), eval(2), eval(3);
             if (gouraud) eval(4), eval(5), eval(6);
-            for (int c = 0; c < 3; ++c) {
-              if (flat) fl[c] = hn::IfThenElse(m, hn::Set(df, T.flat[c]), fl[c]);
-              if (need_normal) face[c] = hn::IfThenElse(m, hn::Set(df, T.face[c]), face[c]);
-              if (lighting) kd[c] = hn::IfThenElse(m, hn::Set(df, T.k[c]), kd[c]);
-            }
+            if (flat)
+              for (int c = 0; c < 3; ++c) fl[c] = hn::IfThenElse(m, hn::Set(df, L.flat[c]), fl[c]);
             if (lighting) {
-              ks = hn::IfThenElse(m, hn::Set(df, T.ks), ks);
-              shine = hn::IfThenElse(m, hn::Set(df, T.shine), shine);
+              const int32_t material = int32_t(L.tri.material);
+              mat = hn::IfThenElse(mi, hn::Set(di, material), mat);
+              mixed |= mat0 >= 0 && material != mat0;
+              if (mat0 < 0) mat0 = material;
+            }
+          }
+          // The material: one broadcast for the block (a sphere's or a
+          // polygon's triangles share theirs), else gathered per lane.
+          if (lighting && mat0 >= 0) {
+            static_assert(sizeof(ShadeMaterial) == 5 * sizeof(float));
+            if (!mixed) {
+              const ShadeMaterial& M = p.materials[mat0];
+              for (int c = 0; c < 3; ++c) kd[c] = hn::Set(df, M.k[c]);
+              ks = hn::Set(df, M.ks), shine = hn::Set(df, M.shine);
+            } else {
+              const float* table = p.materials[0].k;
+              const VI at = hn::Mul(mat, hn::Set(di, 5));
+              for (int c = 0; c < 3; ++c) kd[c] = hn::GatherIndex(df, table + c, at);
+              ks = hn::GatherIndex(df, table + 3, at), shine = hn::GatherIndex(df, table + 4, at);
             }
           }
           // z = 1 / w; attributes are plane / w (perspective) or the plane (affine).
@@ -776,8 +792,18 @@ HWY_INLINE void ShadeTileT(const ShadeParams& p, const int32_t* tri, const int32
             const VF len2 = dot3(nrm, nrm);
             const auto degenerate = hn::Eq(len2, zero);
             const VF inv = hn::Div(one, hn::Sqrt(hn::IfThenElse(degenerate, one, len2)));
-            for (int c = 0; c < 3; ++c)
-              nrm[c] = hn::IfThenElse(degenerate, face[c], hn::Mul(nrm[c], inv));
+            for (int c = 0; c < 3; ++c) nrm[c] = hn::Mul(nrm[c], inv);
+            // (Rare: a drawn sample whose interpolated normal vanishes takes its
+            // triangle's face normal, looked up lane by lane.)
+            const auto vanished = hn::And(degenerate, valid);
+            if (!hn::AllFalse(df, vanished)) {
+              HWY_ALIGN float face[3][16] = {};
+              for (int l = 0; l < N; ++l)
+                if (idv[l] >= 0)
+                  for (int c = 0; c < 3; ++c) face[c][l] = planes[slot[idv[l]]].tri.face[c];
+              for (int c = 0; c < 3; ++c)
+                nrm[c] = hn::IfThenElse(vanished, hn::Load(df, face[c]), nrm[c]);
+            }
             const auto away = hn::Gt(dot3(nrm, dir), zero);
             for (int c = 0; c < 3; ++c) nrm[c] = hn::IfThenElse(away, hn::Neg(nrm[c]), nrm[c]);
           }

@@ -75,18 +75,27 @@ static_assert(sizeof(TriSetup) == 128);
 // w = 1/z; rows 1.. hold attribute / z under perspective (the attribute is
 // row / w) and the attributes themselves under affine interpolation.
 // Rows 1-3: shading normal; 4-6: Gouraud's lit colour.
+// (16 bytes: the set-up writes one per triangle and the shading reads it back;
+// the material, the same for a whole sphere or polygon, is an index into
+// ShadeParams::materials rather than a copy.)
 struct ShadeTri {
   static constexpr int kRows = 7;
-  float k[3], ks, shine;  // kd * colour, ks, shine of the material
-  float flat[3];          // kFlat: the polygon's colour
-  float face[3];          // the face normal of the drawn side (where the interpolated one is 0)
+  float face[3];      // the face normal of the drawn side (where the interpolated one is 0)
+  uint32_t material;  // ShadeParams::materials[material]
+};
+
+// A material as the lighting reads it (Scene::materials[i] in float).
+struct ShadeMaterial {
+  float k[3], ks, shine;  // kd * colour, ks, shine
 };
 
 // A triangle as one tile shades it: its ShadeTri's planes moved to the tile
 // (base at the tile's top-left pixel corner, gradients per pixel, in float)
-// and a copy of the ShadeTri, so that the kernel reads only the tile's own.
+// and a copy of the ShadeTri (and kFlat's colour), so that the kernel reads
+// only the tile's own.
 struct LocalPlanes {
   float p[ShadeTri::kRows][3];
+  float flat[3];  // kFlat: the polygon's colour
   ShadeTri tri;
 };
 
@@ -101,6 +110,8 @@ struct ShadeParams {
   // attenuation c1 c2 c3, spot (0 or 1), spot direction x y z, cos(cut-off), exponent.
   static constexpr int kLightFloats = 15;
   const float* light = nullptr;
+  // The scene's materials (ShadeTri::material indexes them; at least one entry).
+  const ShadeMaterial* materials = nullptr;
   float eye[3] = {0, 0, 0};
   // The view direction (forward component 1) through the tile's top-left
   // pixel corner, and its change per pixel right and down: the sample at eye
@@ -401,12 +412,12 @@ size_t polygon_run(const PolygonRun& run, const SampleGrid& grid, PolygonRunOut&
 // What add_shaded needs besides the positions: vertex v's shading normal is
 // normal[v] (negated where negate: an inside-out sphere), triangle i's face
 // normal (of its drawn side) face[0..2][i]; every triangle has the material
-// (and flat colour, face) of base, its face normal set per triangle.
+// (an index into Scene::materials and ShadeParams::materials) material.
 struct ShadedTris {
   const Vec3* normal = nullptr;
   bool negate = false;
   const double* face[3] = {};
-  ShadeTri base{};
+  uint32_t material = 0;
 };
 
 // Where the image path's set-up puts its triangles one at a time, instead of

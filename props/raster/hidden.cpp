@@ -137,9 +137,10 @@ void corpus_cases() {
           EXPECT_TRUE(v.passed()) << name << " " << size << "^2 cull=" << cull << " depth=" << depth << ": "
                                   << v.count(Outcome::unexplained) << " pixels differ; first: " << v.first_failure();
           skipped_total += p.skipped;
-          if (std::string(name) == "shells-1")
+          if (std::string(name) == "shells-1") {
             EXPECT_GT(p.skipped, 0u) << name << " " << size << "^2 cull=" << cull << " depth=" << depth
                                      << ": no hidden triangle skipped";
+          }
         }
   }
   std::printf("HiddenSkipped corpus: %llu triangles skipped over 50 frames\n",
