@@ -184,15 +184,17 @@ void set_up_shading(const Scene& scene, const RasterSettings& s, const ScreenTri
 }
 
 // One chunk of the binned mesh: per triangle its TriSetup, and for shading its
-// ShadeTri, `rows` attribute planes (a0, ax, ay per row) and under flat
-// shading its colour; per tile the chunk's triangles there (indices into the
-// chunk), in mesh order.
-// (Not value-initialised: set_up and set_up_shading write every field.)
+// TilePlanes (the ShadeTri; the planes too where ready: set_up_shaded's), its
+// `rows` attribute planes in double (a0, ax, ay per row) where they are not,
+// and under flat shading its colour; per tile the chunk's triangles there
+// (indices into the chunk), in mesh order.
+// (Not value-initialised: the set-ups write every field that is read.)
 template <class T>
 using Uninit = std::vector<T, NoInitAllocator<T>>;
 struct BinChunk {
   Uninit<TriSetup> setup;
-  Uninit<zsimd::ShadeTri> shade;
+  Uninit<zsimd::TilePlanes> local;
+  Uninit<uint8_t> ready;  // 1: local's planes are ready for the one tile the triangle meets
   Uninit<double> planes;
   Uninit<std::array<float, 3>> flat;  // kFlat only
   std::vector<std::vector<uint32_t>> bins;
@@ -227,7 +229,10 @@ class Binner final : public zsimd::TriSink {
 
   void reserve(size_t c, size_t n) override {
     chunks[c].setup.reserve(n);
-    if (scene_) chunks[c].shade.reserve(n), chunks[c].planes.reserve(n * size_t(rows) * 3);
+    if (scene_) {
+      chunks[c].local.reserve(n), chunks[c].ready.reserve(n);
+      chunks[c].planes.reserve(n * size_t(rows) * 3);
+    }
     if (flat_) chunks[c].flat.reserve(n);
   }
 
@@ -240,7 +245,8 @@ class Binner final : public zsimd::TriSink {
     if (scene_) {
       ch.planes.resize(ch.planes.size() + size_t(rows) * 3);
       std::array<float, 3>* flat = flat_ ? &ch.flat.emplace_back() : nullptr;
-      set_up_shading(*scene_, s_, tri, t, w, inv_area, ch.shade.emplace_back(), flat,
+      ch.ready.push_back(0);
+      set_up_shading(*scene_, s_, tri, t, w, inv_area, ch.local.emplace_back().tri, flat,
                      ch.planes.data() + ch.planes.size() - size_t(rows) * 3);
     }
     bin(ch, t, at);
@@ -270,21 +276,29 @@ class Binner final : public zsimd::TriSink {
     return scene_ != nullptr && !double_raster_ && rows == 4 && s_.shading != Shading::kFlat;
   }
   // The set-ups and the shading's planes in SIMD (set_up_shaded: the same bits
-  // as set_up's and set_up_shading's), then per triangle its ShadeTri.
+  // as set_up's and set_up_shading's, and for a triangle in one tile as
+  // shade_one_tile's for it), then per triangle its ShadeTri.
   size_t add_shaded(size_t c, const zsimd::IndexedTris& tris, size_t n,
                     const zsimd::ShadedTris& sh) override {
     BinChunk& ch = chunks[c];
     const size_t first = ch.setup.size();
     ch.setup.resize(first + n);
-    ch.shade.resize(first + n);
+    ch.local.resize(first + n);
+    ch.ready.resize(first + n);
     ch.planes.resize((first + n) * 4 * 3);
     zsimd::set_up_shaded(tris, n, grid_, ch.setup.data() + first, sh.normal, sh.negate,
-                         s_.perspective, ch.planes.data() + first * 4 * 3);
+                         s_.perspective,
+                         {ch.local.data() + first, ch.planes.data() + first * 4 * 3, tw_log2,
+                          th_log2});
     for (size_t i = 0; i < n; ++i) {
-      zsimd::ShadeTri& st = ch.shade[first + i];
+      const TriSetup& t = ch.setup[first + i];
+      zsimd::ShadeTri& st = ch.local[first + i].tri;
       for (int k = 0; k < 3; ++k) st.face[k] = float(sh.face[k][i]);
       st.material = sh.material;
-      bin(ch, ch.setup[first + i], first + i);
+      // (set_up_shaded's test: the box's corners in the same tile.)
+      ch.ready[first + i] =
+          (t.i0 >> tw_log2) == (t.i1 >> tw_log2) && (t.j0 >> th_log2) == (t.j1 >> th_log2);
+      bin(ch, t, first + i);
     }
     return first;
   }
@@ -532,9 +546,11 @@ void visibility_t(const ScreenMesh& mesh, const RasterSettings& s, int threads, 
 
 // One thread's shading buffers.
 struct ShadeBuffers {
-  std::vector<int32_t>
-      slot;  // per mesh triangle: its index in planes (valid for the tile's triangles)
-  Uninit<zsimd::LocalPlanes> planes;  // (only the rows the shading reads are written)
+  // Per mesh triangle: its planes for the tile (valid for the tile's triangles).
+  std::vector<const zsimd::TilePlanes*> where;
+  // The tile's triangles whose planes were not ready, moved to the tile here
+  // (only the rows the shading reads are written).
+  Uninit<zsimd::LocalPlanes> planes;
   hwy::AlignedFreeUniquePtr<float[]> rgb, z;
   size_t size = 0;
 };
@@ -603,44 +619,57 @@ void shade_one_tile(const ScreenMesh& mesh, const Binner& b, const zsimd::ShadeP
                     int y0, int x1, int y1, const int32_t* tile_tri, ShadeBuffers& sb, Image& img,
                     const zsimd::ForwardFlat* forward = nullptr,
                     const float* forward_depth = nullptr) {
-  if (!forward && sb.slot.size() != b.total) sb.slot.assign(b.total, 0);
+  if (!forward && sb.where.size() != b.total) sb.where.assign(b.total, nullptr);
   const size_t plane = size_t(b.tw) * size_t(b.th);
   if (sb.size != plane) {
     sb.rgb = hwy::AllocateAligned<float>(3 * plane);
     sb.z = hwy::AllocateAligned<float>(plane);
     sb.size = plane;
   }
-  // The tile's triangles' planes, moved to the tile's top-left corner, per pixel.
-  sb.planes.clear();
+  // The tile's triangles' planes, moved to the tile's top-left corner, per
+  // pixel: ready in their TilePlanes for a triangle that meets this tile only
+  // (set_up_shaded's), else moved here from the double ones.
   const size_t tile = b.tile_of(x0, y0);
   const int64_t cx = int64_t(x0) * kSubpixel, cy = int64_t(y0) * kSubpixel;
   const int rows = b.rows;
+  size_t binned = 0, moved = 0;
+  for (const BinChunk& c : b.chunks) binned += forward ? 0 : c.bins[tile].size();
+  sb.planes.resize(binned);  // (before any pointer into it is taken)
   for (const BinChunk& c : b.chunks) {
     if (forward) break;
     const std::vector<uint32_t>& bin = c.bins[tile];
     for (size_t k = 0; k < bin.size(); ++k) {
       const uint32_t i = bin[k];
-      // The planes and set-up eight triangles ahead: written long before, by
-      // the set-up, and read here out of order (as the raster prefetches).
+      const zsimd::TilePlanes& T = c.local[i];
+      // Ready: the kernel reads them there, soon (fetched now, not waited for).
+      if (c.ready[i]) {
+        __builtin_prefetch(&T);
+        sb.where[c.first + i] = &T;
+        continue;
+      }
+      // Else eight triangles ahead, written long before by the set-up and
+      // read here out of order (as the raster prefetches): the set-up and
+      // the double planes.
       if (k + 8 < bin.size()) {
         const size_t ahead = bin[k + 8];
+        __builtin_prefetch(&c.local[ahead]);
         __builtin_prefetch(c.planes.data() + ahead * size_t(rows) * 3);
         __builtin_prefetch(c.planes.data() + ahead * size_t(rows) * 3 + 8);
         __builtin_prefetch(&c.setup[ahead]);
-        __builtin_prefetch(&c.shade[ahead]);
       }
-      sb.slot[c.first + i] = int32_t(sb.planes.size());
-      zsimd::LocalPlanes& L = sb.planes.emplace_back();
+      zsimd::LocalPlanes& L = sb.planes[moved++];
       const TriSetup& t = c.setup[i];
       const double* plane_rows = c.planes.data() + size_t(i) * size_t(rows) * 3;
       for (int row = 0; row < rows; ++row) {
         const double* a = plane_rows + 3 * row;
-        L.p[row][0] = float(a[0] + a[1] * double(cx - t.x0()) + a[2] * double(cy - t.y0()));
-        L.p[row][1] = float(a[1] * kSubpixel);
-        L.p[row][2] = float(a[2] * kSubpixel);
+        float* p = row < 4 ? L.base.p[row] : L.more[row - 4];
+        p[0] = float(a[0] + a[1] * double(cx - t.x0()) + a[2] * double(cy - t.y0()));
+        p[1] = float(a[1] * kSubpixel);
+        p[2] = float(a[2] * kSubpixel);
       }
-      L.tri = c.shade[i];
+      L.base.tri = T.tri;
       if (b.flat_shading()) std::copy_n(c.flat[i].data(), 3, L.flat);
+      sb.where[c.first + i] = &L.base;
     }
   }
   // The view direction through the tile's top-left pixel corner (the reference's
@@ -655,7 +684,7 @@ void shade_one_tile(const ScreenMesh& mesh, const Binner& b, const zsimd::ShadeP
   const Vec3 d0 = cam.forward + ((x0 - 0.5 * mesh.width) * cam.pitch) * cam.right +
                   ((0.5 * mesh.height - y0) * cam.pitch) * cam.up;
   tp.dir0[0] = float(d0.x), tp.dir0[1] = float(d0.y), tp.dir0[2] = float(d0.z);
-  zsimd::shade_tile(tp, tile_tri, sb.slot.data(), sb.planes.data(), x1 - x0, y1 - y0, sb.rgb.get(),
+  zsimd::shade_tile(tp, tile_tri, sb.where.data(), x1 - x0, y1 - y0, sb.rgb.get(),
                     sb.z.get(), img.pixel(x0, y0), size_t(mesh.width) * 4,
                     img.depth.data() + size_t(y0) * mesh.width + size_t(x0), size_t(mesh.width));
 }

@@ -649,9 +649,9 @@ void FlatColors(const ShadeParams& p, size_t n, const double* const* in, const u
 // benchmarks' case: the compiler then keeps no normal, light or Gouraud state,
 // which at 16 lanes otherwise spills to the stack).
 template <bool kFlat>
-HWY_INLINE void ShadeTileT(const ShadeParams& p, const int32_t* tri, const int32_t* slot,
-                           const LocalPlanes* planes, int cols, int rows, float* rgb, float* zout,
-                           float* image, size_t image_stride, float* depth, size_t depth_stride) {
+HWY_INLINE void ShadeTileT(const ShadeParams& p, const int32_t* tri, const TilePlanes* const* where,
+                           int cols, int rows, float* rgb, float* zout, float* image,
+                           size_t image_stride, float* depth, size_t depth_stride) {
   const hn::CappedTag<float, 16> df;
   const hn::RebindToSigned<decltype(df)> di;
   using VF = hn::Vec<decltype(df)>;
@@ -737,19 +737,22 @@ HWY_INLINE void ShadeTileT(const ShadeParams& p, const int32_t* tri, const int32
             const auto mi = hn::And(hn::Eq(ids, hn::Set(di, id)), remaining);
             remaining = hn::AndNot(mi, remaining);
             const auto m = hn::RebindMask(df, mi);
-            const LocalPlanes& L = planes[slot[id]];
-            auto eval = [&](int k) {
+            const TilePlanes& L = *where[id];
+            // (Gouraud and flat read past TilePlanes: theirs are LocalPlanes.)
+            const auto* full = reinterpret_cast<const LocalPlanes*>(&L);
+            auto eval = [&](int k, const float* row) {
               a[k] = hn::IfThenElse(
                   m,
-                  hn::MulAdd(hn::Set(df, L.p[k][2]), v,
-                             hn::MulAdd(hn::Set(df, L.p[k][1]), u, hn::Set(df, L.p[k][0]))),
+                  hn::MulAdd(hn::Set(df, row[2]), v,
+                             hn::MulAdd(hn::Set(df, row[1]), u, hn::Set(df, row[0]))),
                   a[k]);
             };
-            eval(0);
-            if (need_normal) eval(1), eval(2), eval(3);
-            if (gouraud) eval(4), eval(5), eval(6);
+            eval(0, L.p[0]);
+            if (need_normal) eval(1, L.p[1]), eval(2, L.p[2]), eval(3, L.p[3]);
+            if (gouraud) eval(4, full->more[0]), eval(5, full->more[1]), eval(6, full->more[2]);
             if (flat)
-              for (int c = 0; c < 3; ++c) fl[c] = hn::IfThenElse(m, hn::Set(df, L.flat[c]), fl[c]);
+              for (int c = 0; c < 3; ++c)
+                fl[c] = hn::IfThenElse(m, hn::Set(df, full->flat[c]), fl[c]);
             if (lighting) {
               const int32_t material = int32_t(L.tri.material);
               mat = hn::IfThenElse(mi, hn::Set(di, material), mat);
@@ -800,7 +803,7 @@ HWY_INLINE void ShadeTileT(const ShadeParams& p, const int32_t* tri, const int32
               HWY_ALIGN float face[3][16] = {};
               for (int l = 0; l < N; ++l)
                 if (idv[l] >= 0)
-                  for (int c = 0; c < 3; ++c) face[c][l] = planes[slot[idv[l]]].tri.face[c];
+                  for (int c = 0; c < 3; ++c) face[c][l] = where[idv[l]]->tri.face[c];
               for (int c = 0; c < 3; ++c)
                 nrm[c] = hn::IfThenElse(vanished, hn::Load(df, face[c]), nrm[c]);
             }
@@ -858,14 +861,13 @@ HWY_INLINE void ShadeTileT(const ShadeParams& p, const int32_t* tri, const int32
   }
 }
 
-void ShadeTile(const ShadeParams& p, const int32_t* tri, const int32_t* slot,
-               const LocalPlanes* planes, int cols, int rows, float* rgb, float* zout, float* image,
-               size_t image_stride, float* depth, size_t depth_stride) {
+void ShadeTile(const ShadeParams& p, const int32_t* tri, const TilePlanes* const* where, int cols,
+               int rows, float* rgb, float* zout, float* image, size_t image_stride, float* depth,
+               size_t depth_stride) {
   if (p.shading == Shading::kFlat && !p.silhouette)
-    return ShadeTileT<true>(p, tri, slot, planes, cols, rows, rgb, zout, image, image_stride, depth,
+    return ShadeTileT<true>(p, tri, where, cols, rows, rgb, zout, image, image_stride, depth,
                             depth_stride);
-  ShadeTileT<false>(p, tri, slot, planes, cols, rows, rgb, zout, image, image_stride, depth,
-                    depth_stride);
+  ShadeTileT<false>(p, tri, where, cols, rows, rgb, zout, image, image_stride, depth, depth_stride);
 }
 
 void RasterTileFloat(const RasterParams& p, const TileJob& t, float* depth, int32_t* tri,
@@ -1414,8 +1416,9 @@ HWY_INLINE void WriteSetUps(const int32_t (*x)[8], const int32_t (*y)[8], const 
 // k's x[k][0 .. N), ... for triangles i ..) and written back per triangle. The
 // area is exact in double as in int64 (snapped coordinates stay below 2^25 in
 // magnitude inside the guard band: products below 2^52).
-// Extra: extra(i, m, exd, eyd, inv_area, w) after the planes, for the shading's
-// planes (SetUpShaded); a no-op for the forward set-up.
+// Extra: extra(i, m, exd, eyd, inv_area, w, x, y, box) after the planes, for
+// the shading's planes (SetUpShaded; box: i0, i1, j0, j1 as the TriSetup's);
+// a no-op for the forward set-up.
 struct NoExtra {
   template <class... A>
   void operator()(const A&...) const {}
@@ -1475,7 +1478,7 @@ HWY_INLINE void SetUpForwardT(const Fetch& fetch, size_t n, const SampleGrid& gr
     hn::Store(hn::Div(gradient(q_in, eyd), area), dd, qy);
     hn::Store(hn::Mul(gradient(w_in, exd), inv_area), dd, wx);
     hn::Store(hn::Mul(gradient(w_in, eyd), inv_area), dd, wy);
-    extra(i, m, exd, eyd, inv_area, w_in);
+    extra(i, m, exd, eyd, inv_area, w_in, x_in, y_in, box);
 #if HWY_TARGET <= HWY_AVX3
     if constexpr (hn::MaxLanes(dd) == 8) {
       WriteSetUps(x_in, y_in, ex, ey, bias, box, q_in[0], qx, qy, w_in[0], wx, wy, m, out + i);
@@ -1537,16 +1540,24 @@ void SetUpForward(const IndexedTris& tris, size_t n, const SampleGrid& grid, Tri
 // set_up_shaded: set_up_forward's set-ups from IndexedTris, and per triangle
 // the shading's four planes (w, then the normal times w under perspective, the
 // normal itself under affine interpolation) from the vertex normals, with
-// opt::simd's set_up_shading operations (no contraction): the same bits.
+// opt::simd's set_up_shading operations (no contraction): the same bits; moved
+// to the triangle's tile where it meets one only, with shade_one_tile's.
 void SetUpShaded(const IndexedTris& tris, size_t n, const SampleGrid& grid, TriSetup* out,
-                 const Vec3* normal, bool negate, bool perspective, double* planes) {
+                 const Vec3* normal, bool negate, bool perspective, const ShadedPlanes& to) {
   const hn::CappedTag<double, 8> dd;
+  const hn::Rebind<int32_t, decltype(dd)> di;
+  const hn::Rebind<float, decltype(dd)> df;
   using VD = hn::Vec<decltype(dd)>;
+  using VI = hn::Vec<decltype(di)>;
   const double* nd = &normal[0].x;
   const uint32_t* const index[3] = {tris.a, tris.b, tris.c};
+  const int tw_log2 = to.tw_log2, th_log2 = to.th_log2;
   HWY_ALIGN double c[4][3][8];
+  HWY_ALIGN float local[4][3][8];
+  HWY_ALIGN int32_t one_tile[8];
   auto shading = [&](size_t i, size_t m, const VD exd[3], const VD eyd[3], VD inv_area,
-                     const double (*w)[8]) {
+                     const double (*w)[8], const int32_t (*x)[8], const int32_t (*y)[8],
+                     const int32_t (*box)[8]) {
     // The vertices' values per row: w; the normal (x, y | y, z a 16-byte load each).
     VD a[4][3];
     for (int k = 0; k < 3; ++k) {
@@ -1560,16 +1571,44 @@ void SetUpShaded(const IndexedTris& tris, size_t n, const SampleGrid& grid, TriS
       a[0][k] = wk;
       for (int r = 1; r < 4; ++r) a[r][k] = perspective ? hn::Mul(value[r - 1], wk) : value[r - 1];
     }
+    // The tile of the box's top-left pixel, whether the box stays in it, and
+    // its top-left corner from vertex 0 in 1/256 px (shade_one_tile's cx - x0).
+    const VI i0 = hn::Load(di, box[0]), i1 = hn::Load(di, box[1]);
+    const VI j0 = hn::Load(di, box[2]), j1 = hn::Load(di, box[3]);
+    const VI tx = hn::ShiftRightSame(i0, tw_log2), ty = hn::ShiftRightSame(j0, th_log2);
+    const auto one = hn::And(hn::Eq(tx, hn::ShiftRightSame(i1, tw_log2)),
+                             hn::Eq(ty, hn::ShiftRightSame(j1, th_log2)));
+    hn::Store(hn::VecFromMask(di, one), di, one_tile);
+    const VD dx = hn::PromoteTo(dd, hn::Sub(hn::ShiftLeft<8>(hn::ShiftLeftSame(tx, tw_log2)),
+                                            hn::Load(di, x[0])));
+    const VD dy = hn::PromoteTo(dd, hn::Sub(hn::ShiftLeft<8>(hn::ShiftLeftSame(ty, th_log2)),
+                                            hn::Load(di, y[0])));
+    static_assert(kSubpixel == 256);
+    const VD subpixel = hn::Set(dd, double(kSubpixel));
     for (int r = 0; r < 4; ++r) {
       const VD d1 = hn::Sub(a[r][1], a[r][0]), d2 = hn::Sub(a[r][2], a[r][0]);
-      hn::Store(a[r][0], dd, c[r][0]);
-      hn::Store(hn::Mul(hn::Add(hn::Mul(d1, exd[1]), hn::Mul(d2, exd[2])), inv_area), dd, c[r][1]);
-      hn::Store(hn::Mul(hn::Add(hn::Mul(d1, eyd[1]), hn::Mul(d2, eyd[2])), inv_area), dd, c[r][2]);
+      const VD a0 = a[r][0];
+      const VD ax = hn::Mul(hn::Add(hn::Mul(d1, exd[1]), hn::Mul(d2, exd[2])), inv_area);
+      const VD ay = hn::Mul(hn::Add(hn::Mul(d1, eyd[1]), hn::Mul(d2, eyd[2])), inv_area);
+      hn::Store(a0, dd, c[r][0]);
+      hn::Store(ax, dd, c[r][1]);
+      hn::Store(ay, dd, c[r][2]);
+      hn::Store(hn::DemoteTo(df, hn::Add(hn::Add(a0, hn::Mul(ax, dx)), hn::Mul(ay, dy))), df,
+                local[r][0]);
+      hn::Store(hn::DemoteTo(df, hn::Mul(ax, subpixel)), df, local[r][1]);
+      hn::Store(hn::DemoteTo(df, hn::Mul(ay, subpixel)), df, local[r][2]);
     }
+    // (The moved planes for every triangle -- unread where not in one tile --
+    // the double ones for those only: rare, a branch that predicts well.)
     for (size_t j = 0; j < m; ++j) {
-      double* const p = planes + (i + j) * 12;
+      float* const p = &to.local[i + j].p[0][0];
       for (int r = 0; r < 4; ++r)
-        for (int k = 0; k < 3; ++k) p[3 * r + k] = c[r][k][j];
+        for (int k = 0; k < 3; ++k) p[3 * r + k] = local[r][k][j];
+      if (!one_tile[j]) {
+        double* const d = to.planes + (i + j) * 12;
+        for (int r = 0; r < 4; ++r)
+          for (int k = 0; k < 3; ++k) d[3 * r + k] = c[r][k][j];
+      }
     }
   };
   SetUpForwardT(FetchIndexed{tris}, n, grid, out, true, shading);
@@ -1803,8 +1842,8 @@ void set_up_forward(const IndexedTris& tris, size_t n, const SampleGrid& grid, T
 }
 HWY_EXPORT(SetUpShaded);
 void set_up_shaded(const IndexedTris& tris, size_t n, const SampleGrid& grid, TriSetup* out,
-                   const Vec3* normal, bool negate, bool perspective, double* planes) {
-  HWY_DYNAMIC_DISPATCH(SetUpShaded)(tris, n, grid, out, normal, negate, perspective, planes);
+                   const Vec3* normal, bool negate, bool perspective, const ShadedPlanes& to) {
+  HWY_DYNAMIC_DISPATCH(SetUpShaded)(tris, n, grid, out, normal, negate, perspective, to);
 }
 HWY_EXPORT(SetUpForwardArrays);
 void set_up_forward(const TriVertices& tris, size_t n, const SampleGrid& grid, TriSetup* out,
@@ -1832,11 +1871,11 @@ void project_vertices(const Projection& p, const Vec3* world, size_t n, Projecte
   HWY_DYNAMIC_DISPATCH(ProjectVertices)(p, world, n, out, depth, depth_out);
 }
 
-void shade_tile(const ShadeParams& p, const int32_t* tri, const int32_t* slot,
-                const LocalPlanes* planes, int cols, int rows, float* rgb, float* z, float* image,
-                size_t image_stride, float* depth, size_t depth_stride) {
+void shade_tile(const ShadeParams& p, const int32_t* tri, const TilePlanes* const* where,
+                int cols, int rows, float* rgb, float* z, float* image, size_t image_stride,
+                float* depth, size_t depth_stride) {
   HWY_DYNAMIC_DISPATCH(ShadeTile)
-  (p, tri, slot, planes, cols, rows, rgb, z, image, image_stride, depth, depth_stride);
+  (p, tri, where, cols, rows, rgb, z, image, image_stride, depth, depth_stride);
 }
 
 void raster_tile(const RasterParams& p, const TileJob& t, float* depth, int32_t* tri,

@@ -12,7 +12,9 @@
 
 #include <algorithm>
 #include <array>
+#include <cstddef>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include "reference/raster.h"
@@ -89,15 +91,27 @@ struct ShadeMaterial {
   float k[3], ks, shine;  // kd * colour, ks, shine
 };
 
-// A triangle as one tile shades it: its ShadeTri's planes moved to the tile
-// (base at the tile's top-left pixel corner, gradients per pixel, in float)
-// and a copy of the ShadeTri (and kFlat's colour), so that the kernel reads
-// only the tile's own.
-struct LocalPlanes {
-  float p[ShadeTri::kRows][3];
-  float flat[3];  // kFlat: the polygon's colour
+// A triangle as one tile shades it: its planes moved to the tile (base at the
+// tile's top-left pixel corner, gradients per pixel, in float), rows 0-3 (w
+// and the normal: what Phong, Blinn-Phong and toon read), and its ShadeTri.
+// One cache line: the set-up writes one per triangle, ready for the tile of a
+// triangle that meets one tile only (most of a fine mesh's), and the shading
+// reads it there.
+struct alignas(64) TilePlanes {
   ShadeTri tri;
+  float p[4][3];
 };
+static_assert(sizeof(TilePlanes) == 64);
+
+// All of a triangle's rows, for a tile (shade_one_tile's, from the double
+// planes): TilePlanes first (a pointer to base is one to the LocalPlanes),
+// then Gouraud's colour rows 4-6 and kFlat's colour.
+struct LocalPlanes {
+  TilePlanes base;
+  float more[ShadeTri::kRows - 4][3];
+  float flat[3];  // kFlat: the polygon's colour
+};
+static_assert(std::is_standard_layout_v<LocalPlanes> && offsetof(LocalPlanes, base) == 0);
 
 struct ShadeParams {
   Shading shading = Shading::kPhong;
@@ -135,11 +149,12 @@ struct ShadeParams {
 // image + r * image_stride + 4 col (RGBA, alpha 1; empty samples show the
 // background), its eye depth -- the nearest sample's, +inf for none -- at
 // depth + r * depth_stride + col. rgb (3 planes) and z (1 plane) of buf_w x
-// buf_h floats, aligned, hold the sums while spp > 1. slot[id] is the index
-// into planes of triangle id. cols x rows: the tile's size.
-void shade_tile(const ShadeParams& p, const int32_t* tri, const int32_t* slot,
-                const LocalPlanes* planes, int cols, int rows, float* rgb, float* z, float* image,
-                size_t image_stride, float* depth, size_t depth_stride);
+// buf_h floats, aligned, hold the sums while spp > 1. where[id]: triangle
+// id's planes for this tile (the base of a LocalPlanes where the shading reads
+// rows past 3 or the flat colour: Gouraud, flat). cols x rows: the tile's size.
+void shade_tile(const ShadeParams& p, const int32_t* tri, const TilePlanes* const* where,
+                int cols, int rows, float* rgb, float* z, float* image, size_t image_stride,
+                float* depth, size_t depth_stride);
 
 // Flat colours with shade_tile's lighting (Phong specular, as view_scene's
 // flat colour), in float lanes (double ones for a high shine): for i < n, the
@@ -369,11 +384,20 @@ void set_up_forward(const TriVertices& tris, size_t n, const SampleGrid& grid, T
                     bool tested = false);
 // The same set-ups (tested), and for shading from vertex normals (Phong and
 // the like) each triangle's four attribute planes (ShadeTri's rows 0-3: a0,
-// ax, ay each; 12 doubles a triangle at planes): w, then vertex v's normal
-// normal[v] (negated where negate) times w under perspective, else as it is.
-// opt::simd's set_up_shading's double operations, so the same bits.
+// ax, ay each): w, then vertex v's normal normal[v] (negated where negate)
+// times w under perspective, else as it is, with opt::simd's set_up_shading's
+// double operations (so the same bits). Where they go: a triangle whose box
+// lies in one tile (tiles of 2^tw_log2 x 2^th_log2 pixels) gets them moved to
+// that tile, local[i].p, as shade_one_tile moves them (the same bits); any
+// other gets them in double, 12 a triangle at planes + 12 i, for each of its
+// tiles to move. (local[i].tri is left to the caller.)
+struct ShadedPlanes {
+  TilePlanes* local = nullptr;
+  double* planes = nullptr;
+  int tw_log2 = 6, th_log2 = 6;
+};
 void set_up_shaded(const IndexedTris& tris, size_t n, const SampleGrid& grid, TriSetup* out,
-                   const Vec3* normal, bool negate, bool perspective, double* planes);
+                   const Vec3* normal, bool negate, bool perspective, const ShadedPlanes& to);
 
 // The image's polygon step (view_scene_chunks, positions only: flat shading
 // drawn forward) for a run of polygons that are one triangle each, with their

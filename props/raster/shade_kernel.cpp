@@ -23,7 +23,7 @@
 namespace lockstep::props::raster {
 namespace {
 
-using opt::zsimd::LocalPlanes;
+using opt::zsimd::TilePlanes;
 using opt::zsimd::ShadeMaterial;
 using opt::zsimd::ShadeParams;
 
@@ -56,8 +56,8 @@ struct Tile {
 
 // A triangle at eye depth 4 everywhere (w = 1/4, exact), its normal planes
 // (attribute / z under perspective) holding normal n: constant n w.
-LocalPlanes constant_triangle(const float n[3], const float face[3], uint32_t material) {
-  LocalPlanes L{};
+TilePlanes constant_triangle(const float n[3], const float face[3], uint32_t material) {
+  TilePlanes L{};
   L.p[0][0] = 0.25f;
   for (int c = 0; c < 3; ++c) L.p[1 + c][0] = n[c] * 0.25f;
   for (int c = 0; c < 3; ++c) L.tri.face[c] = face[c];
@@ -65,16 +65,18 @@ LocalPlanes constant_triangle(const float n[3], const float face[3], uint32_t ma
   return L;
 }
 
-// The tile's RGBA pixels (tri: the triangle id per sample, -1 none; slot: id -> planes).
+// The tile's RGBA pixels (tri: the triangle id per sample, -1 none; planes: per id).
 std::vector<float> shade(const ShadeParams& p, const std::array<int32_t, kCols>& tri,
-                         const std::vector<int32_t>& slot, const std::vector<LocalPlanes>& planes) {
+                         const std::vector<TilePlanes>& planes) {
+  std::vector<const TilePlanes*> where;
+  for (const TilePlanes& t : planes) where.push_back(&t);
   auto ids = hwy::AllocateAligned<int32_t>(kCols);
   std::copy(tri.begin(), tri.end(), ids.get());
   auto rgb = hwy::AllocateAligned<float>(3 * kCols);
   auto z = hwy::AllocateAligned<float>(kCols);
   auto image = hwy::AllocateAligned<float>(4 * kCols);
   auto depth = hwy::AllocateAligned<float>(kCols);
-  opt::zsimd::shade_tile(p, ids.get(), slot.data(), planes.data(), kCols, 1, rgb.get(), z.get(),
+  opt::zsimd::shade_tile(p, ids.get(), where.data(), kCols, 1, rgb.get(), z.get(),
                     image.get(), 4 * kCols, depth.get(), kCols);
   return std::vector<float>(image.get(), image.get() + 4 * kCols);
 }
@@ -94,13 +96,12 @@ TEST(ShadeKernel, VanishedNormalTakesFaceNormal) {
   std::array<int32_t, kCols> tri;
   tri.fill(0);
   tri[kCols - 1] = -1;  // one empty sample: background, not a face normal
-  const std::vector<int32_t> slot = {0};
-  const auto vanished = shade(p, tri, slot, {constant_triangle(zero, face, 0)});
-  const auto planar = shade(p, tri, slot, {constant_triangle(face, face, 0)});
+  const auto vanished = shade(p, tri, {constant_triangle(zero, face, 0)});
+  const auto planar = shade(p, tri, {constant_triangle(face, face, 0)});
   // And a triangle facing the other way round the light: were the vanished
   // normal left at 0 (ambient only) or taken from elsewhere, it would show.
   const float other[3] = {-0.6f, 0.0f, -0.8f};
-  const auto turned = shade(p, tri, slot, {constant_triangle(other, other, 0)});
+  const auto turned = shade(p, tri, {constant_triangle(other, other, 0)});
   for (int i = 0; i < 4 * (kCols - 1); ++i) {
     ASSERT_EQ(vanished[i], planar[i]) << "sample " << i / 4 << "\n  vanished:" << pixels(vanished)
                                       << "\n  planar:  " << pixels(planar);
@@ -113,14 +114,11 @@ TEST(ShadeKernel, MaterialPerLane) {
   const Tile tile;
   const ShadeParams p = tile.params();
   const float n[3] = {0.3f, 0.0f, -0.9539392f};
-  const std::vector<LocalPlanes> planes = {constant_triangle(n, n, 0),
-                                           constant_triangle(n, n, 1)};
-  const std::vector<int32_t> slot = {0, 1};
+  const std::vector<TilePlanes> planes = {constant_triangle(n, n, 0), constant_triangle(n, n, 1)};
   std::array<int32_t, kCols> all0, all1, mixed;
   all0.fill(0), all1.fill(1);
   for (int i = 0; i < kCols; ++i) mixed[i] = (i * 7 + 3) % 5 < 2 ? 1 : 0;
-  const auto a = shade(p, all0, slot, planes), b = shade(p, all1, slot, planes),
-             m = shade(p, mixed, slot, planes);
+  const auto a = shade(p, all0, planes), b = shade(p, all1, planes), m = shade(p, mixed, planes);
   for (int i = 0; i < kCols; ++i)
     for (int c = 0; c < 4; ++c) {
       const float want = (mixed[i] ? b : a)[4 * i + c];
