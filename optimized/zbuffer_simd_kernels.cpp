@@ -515,9 +515,15 @@ HWY_INLINE void Lighting(DF df, const float* light, int nlights, Shading shading
     if (hn::AllFalse(df, lit)) continue;
     // core/shading.cpp's light_at: attenuation min(1, 1/(c1 + c2 d + c3 d^2)),
     // then the spot's cone and falloff (Warn): 0 outside, cos^exponent inside.
-    VF ip = hn::Min(
-        one, hn::Div(one, hn::MulAdd(hn::Mul(hn::Set(df, li[8]), dist), dist,
-                                     hn::MulAdd(hn::Set(df, li[7]), dist, hn::Set(df, li[6])))));
+    // Without c2, c3 and a spot (NFF's lights) it is the same for every lane:
+    // its product with the light's colour once, in scalar (the same bits).
+    using T = hn::TFromD<DF>;
+    const bool uniform = li[7] == 0.0f && li[8] == 0.0f && li[9] == 0.0f;
+    VF ip = one;
+    if (!uniform)
+      ip = hn::Min(one, hn::Div(one, hn::MulAdd(hn::Mul(hn::Set(df, li[8]), dist), dist,
+                                                hn::MulAdd(hn::Set(df, li[7]), dist,
+                                                           hn::Set(df, li[6])))));
     if (li[9] != 0.0f) {
       const VF dir[3] = {hn::Set(df, li[10]), hn::Set(df, li[11]), hn::Set(df, li[12])};
       const VF cos_angle = hn::Neg(dot3(L, dir));
@@ -563,9 +569,12 @@ HWY_INLINE void Lighting(DF df, const float* light, int nlights, Shading shading
       }
       for (int c = 0; c < 3; ++c) term[c] = hn::MulAdd(ndl, kd[c], spec);
     }
-    for (int c = 0; c < 3; ++c)
-      col[c] = hn::IfThenElse(lit, hn::MulAdd(hn::Mul(ip, hn::Set(df, li[3 + c])), term[c], col[c]),
-                              col[c]);
+    const T ip_uniform = std::min(T(1), T(1) / T(li[6]));
+    for (int c = 0; c < 3; ++c) {
+      const VF scale = uniform ? hn::Set(df, ip_uniform * T(li[3 + c]))
+                               : hn::Mul(ip, hn::Set(df, li[3 + c]));
+      col[c] = hn::IfThenElse(lit, hn::MulAdd(scale, term[c], col[c]), col[c]);
+    }
   }
 }
 

@@ -7,6 +7,8 @@
 //       its triangle's face normal, as the reference's fragments are: the same
 //       colour as a triangle whose normal planes hold that face normal. Scenes
 //       never hit it on purpose (the zero must be exact), so it is tested here.
+//   ShadeKernel.ConstantAttenuation   A light with attenuation c1 alone (and
+//       no spot) scales every lane alike: c1 = 2 lights as half the intensity.
 //   ShadeKernel.MaterialPerLane   A 16-sample block holding triangles of two
 //       materials lights each sample with its own (the kernel broadcasts one
 //       material per block, and gathers per lane when a block holds several).
@@ -108,6 +110,26 @@ TEST(ShadeKernel, VanishedNormalTakesFaceNormal) {
   }
   EXPECT_NE(vanished[0], turned[0]) << pixels(vanished) << "\n" << pixels(turned);
   for (int c = 0; c < 3; ++c) EXPECT_EQ(vanished[4 * (kCols - 1) + c], 0.25f);
+}
+
+TEST(ShadeKernel, ConstantAttenuation) {
+  // f_att = min(1, 1 / c1) with c2 = c3 = 0, the same for every lane (the
+  // kernel takes it once per light): a light of intensity 1 at c1 = 2 lights
+  // as one of intensity 0.5 at c1 = 1, and unlike one of intensity 1.
+  const float n[3] = {0.3f, 0.0f, -0.9539392f};
+  std::array<int32_t, kCols> tri;
+  tri.fill(0);
+  auto lit = [&](float intensity, float c1) {
+    Tile tile;
+    for (int c = 0; c < 3; ++c) tile.lights[3 + c] = intensity;
+    tile.lights[6] = c1;
+    return shade(tile.params(), tri, {constant_triangle(n, n, 0)});
+  };
+  const auto halved = lit(1.0f, 2.0f), half = lit(0.5f, 1.0f), full = lit(1.0f, 1.0f);
+  for (size_t i = 0; i < halved.size(); ++i)
+    ASSERT_EQ(halved[i], half[i]) << "channel " << i << "\n  c1 = 2:" << pixels(halved)
+                                  << "\n  half: " << pixels(half);
+  EXPECT_NE(halved[0], full[0]) << pixels(halved) << "\n" << pixels(full);
 }
 
 TEST(ShadeKernel, MaterialPerLane) {
