@@ -36,6 +36,7 @@
 #include "optimized/zbuffer_simd_kernels.h"
 
 #include <algorithm>
+#include <bit>
 #include <cstddef>
 #include <cmath>
 #include <cstdlib>
@@ -696,6 +697,10 @@ HWY_INLINE void ShadeTileT(const ShadeParams& p, const int32_t* tri, const TileP
   const float bands = float(p.toon_bands),
               band_div = float(p.toon_bands - (p.toon_bands > 1 ? 1 : 0));
   HWY_ALIGN int32_t idv[16];
+  // Lane l - 1 for lane l (0 for 0): a block's ids shifted, to find its runs.
+  static constexpr int32_t kBefore[16] = {0, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14};
+  const auto lane_before = hn::SetTableIndices(di, kBefore);
+  const auto first_lane = hn::FirstN(di, 1);
 
   auto dot3 = [](const VF a[3], const VF b[3]) {
     return hn::MulAdd(a[0], b[0], hn::MulAdd(a[1], b[1], hn::Mul(a[2], b[2])));
@@ -740,11 +745,20 @@ HWY_INLINE void ShadeTileT(const ShadeParams& p, const int32_t* tri, const TileP
             for (int c = 0; c < 3; ++c) fl[c] = hn::Load(df, p.forward_rgb[c] + at);
             remaining = hn::Ne(ids, ids);  // none: no triangle loop
           }
-          // The block's distinct triangles, each broadcast onto its lanes.
-          while (!hn::AllFalse(di, remaining)) {
-            const int32_t id = idv[hn::FindFirstTrue(di, remaining)];
-            const auto mi = hn::And(hn::Eq(ids, hn::Set(di, id)), remaining);
-            remaining = hn::AndNot(mi, remaining);
+          // The block's triangles, each broadcast onto its lanes: one per run
+          // of equal ids along the lanes (a triangle's samples are neighbours;
+          // one seen in two runs is taken twice, to the same values). A bit
+          // loop over the runs' first lanes: no chain of dependent vector
+          // operations from one triangle to the next.
+          const auto starts =
+              hn::And(remaining, hn::Or(hn::Ne(ids, hn::TableLookupLanes(ids, lane_before)),
+                                        first_lane));
+          uint64_t runs = 0;
+          hn::StoreMaskBits(di, starts, reinterpret_cast<uint8_t*>(&runs));
+          while (runs != 0) {
+            const int32_t id = idv[std::countr_zero(runs)];
+            runs &= runs - 1;
+            const auto mi = hn::Eq(ids, hn::Set(di, id));  // (valid lanes only: id >= 0)
             const auto m = hn::RebindMask(df, mi);
             const TilePlanes& L = *where[id];
             // (Gouraud and flat read past TilePlanes: theirs are LocalPlanes.)
