@@ -1626,10 +1626,10 @@ void SetUpShaded(const IndexedTris& tris, size_t n, const SampleGrid& grid, TriS
     // are what this loop waits on where the arrays are out of the caches (each
     // line is fetched before it is written; the hardware's prefetch starts
     // late). (Not in the flat set-up: there it costs more than it saves.)
-    if (i + 4 * N < n) {
-      const char* ahead = reinterpret_cast<const char*>(out + i + 4 * N);
-      for (size_t b = 0; b < N * sizeof(TriSetup); b += 64) __builtin_prefetch(ahead + b, 1);
-      for (size_t b = 0; b < N; ++b) __builtin_prefetch(&to.local[i + 4 * N + b], 1);
+    for (size_t j = i + 4 * N; j < std::min(n, i + 5 * N); ++j) {
+      __builtin_prefetch(&out[j], 1);
+      __builtin_prefetch(reinterpret_cast<const char*>(&out[j]) + 64, 1);
+      __builtin_prefetch(&to.local[j], 1);
     }
     // (The moved planes for every triangle -- unread where not in one tile --
     // the double ones for those only: rare, a branch that predicts well.)
