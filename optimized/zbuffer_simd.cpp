@@ -288,16 +288,13 @@ class Binner final : public zsimd::TriSink {
     ch.planes.resize((first + n) * 4 * 3);
     zsimd::set_up_shaded(tris, n, grid_, ch.setup.data() + first, sh.normal, sh.negate,
                          s_.perspective,
-                         {ch.local.data() + first, ch.planes.data() + first * 4 * 3, tw_log2,
-                          th_log2});
+                         {ch.local.data() + first, ch.ready.data() + first,
+                          ch.planes.data() + first * 4 * 3, tw_log2, th_log2});
     for (size_t i = 0; i < n; ++i) {
       const TriSetup& t = ch.setup[first + i];
       zsimd::ShadeTri& st = ch.local[first + i].tri;
       for (int k = 0; k < 3; ++k) st.face[k] = float(sh.face[k][i]);
       st.material = sh.material;
-      // (set_up_shaded's test: the box's corners in the same tile.)
-      ch.ready[first + i] =
-          (t.i0 >> tw_log2) == (t.i1 >> tw_log2) && (t.j0 >> th_log2) == (t.j1 >> th_log2);
       bin(ch, t, first + i);
     }
     return first;

@@ -1637,6 +1637,7 @@ void SetUpShaded(const IndexedTris& tris, size_t n, const SampleGrid& grid, TriS
       float* const p = &to.local[i + j].p[0][0];
       for (int r = 0; r < 4; ++r)
         for (int k = 0; k < 3; ++k) p[3 * r + k] = local[r][k][j];
+      to.ready[i + j] = one_tile[j] != 0;
       if (!one_tile[j]) {
         double* const d = to.planes + (i + j) * 12;
         for (int r = 0; r < 4; ++r)

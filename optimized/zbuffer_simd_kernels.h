@@ -390,9 +390,11 @@ void set_up_forward(const TriVertices& tris, size_t n, const SampleGrid& grid, T
 // lies in one tile (tiles of 2^tw_log2 x 2^th_log2 pixels) gets them moved to
 // that tile, local[i].p, as shade_one_tile moves them (the same bits); any
 // other gets them in double, 12 a triangle at planes + 12 i, for each of its
-// tiles to move. (local[i].tri is left to the caller.)
+// tiles to move; ready[i] says which (1: in local). (local[i].tri is left to
+// the caller.)
 struct ShadedPlanes {
   TilePlanes* local = nullptr;
+  uint8_t* ready = nullptr;
   double* planes = nullptr;
   int tw_log2 = 6, th_log2 = 6;
 };
