@@ -12,8 +12,6 @@
 
 #include <unistd.h>
 
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <charconv>
 #include <chrono>
@@ -53,9 +51,9 @@ int composite_main(Args args);
 
 struct Run;
 // The one-line summary render and composite print on stderr (app/render.cpp).
-std::string run_summary(const std::string& who, const ImageFamily& f, const ImageImpl& impl, const Run& r);
+std::string run_summary(const std::string& who, const Family& f, const FamilyImpl& impl, const Run& r);
 // One run for render and composite: progress on stderr, errors propagate (app/render.cpp).
-Run run_for_cli(const std::string& who, const ImageFamily& family, const ImageImpl& impl, const Input& input,
+Run run_for_cli(const std::string& who, const Family& family, const FamilyImpl& impl, const Input& input,
                 FrameOptions opts);
 int diff_main(Args args);
 int verify_main(Args args);
@@ -131,24 +129,24 @@ inline void parse_size(std::string_view s, int& w, int& h) {
 
 // ---------------------------------------------------------------- families and implementations (the registry)
 
-inline const ImageFamily& find_family(std::string_view name) {
-  if (const ImageFamily* f = registry().find_image(name)) return *f;
-  throw UsageError("unknown family '" + std::string(name) + "' (known: " + registry().image_names() + ")");
+inline const Family& find_family(std::string_view name) {
+  if (const Family* f = registry().find(name)) return *f;
+  throw UsageError("unknown family '" + std::string(name) + "' (known: " + registry().names() + ")");
 }
 
 // The family whose files end in path's extension (".nff": ray_cast).
-inline const ImageFamily& family_for_path(const std::string& path) {
+inline const Family& family_for_path(const std::string& path) {
   const std::string ext = std::filesystem::path(path).extension().string();
-  for (const ImageFamily& f : registry().image)
+  for (const Family& f : registry().families)
     if (!f.extension.empty() && f.extension == ext) return f;
   std::string known;
-  for (const ImageFamily& f : registry().image)
+  for (const Family& f : registry().families)
     if (!f.extension.empty()) known += (known.empty() ? "" : ", ") + std::string(f.extension) + " (" + std::string(f.name) + ")";
   throw InputError(path, 0, "no family reads '" + ext + "' files (known: " + known + ")");
 }
 
 // The setting of f that option a ("--shading") names, or null.
-inline const ParamSpec* find_param(const ImageFamily& f, std::string_view a) {
+inline const ParamSpec* find_param(const Family& f, std::string_view a) {
   if (!a.starts_with("--")) return nullptr;
   for (const ParamSpec& p : f.params)
     if (a.substr(2) == p.name) return &p;
@@ -156,7 +154,7 @@ inline const ParamSpec* find_param(const ImageFamily& f, std::string_view a) {
 }
 
 // "reference, simd, embree, auto"
-inline std::string impl_names(const ImageFamily& f, std::string_view sep = ", ") {
+inline std::string impl_names(const Family& f, std::string_view sep = ", ") {
   std::string s;
   for (const auto& i : f.impls) {
     if (!s.empty()) s += sep;
@@ -165,7 +163,7 @@ inline std::string impl_names(const ImageFamily& f, std::string_view sep = ", ")
   return s;
 }
 
-inline const ImageImpl& find_impl(const ImageFamily& f, std::string_view name) {
+inline const FamilyImpl& find_impl(const Family& f, std::string_view name) {
   if (const auto* i = f.find(name)) return *i;
   throw UsageError("unknown implementation '" + std::string(name) + "' of " + std::string(f.name) +
                    " (known: " + impl_names(f) + ")");
@@ -174,7 +172,7 @@ inline const ImageImpl& find_impl(const ImageFamily& f, std::string_view name) {
 // Every family's implementations, "ray_cast: reference, simd, ...; composite: ...".
 inline std::string all_impl_names() {
   std::string s;
-  for (const ImageFamily& f : registry().image) {
+  for (const Family& f : registry().families) {
     if (!s.empty()) s += "; ";
     s += std::string(f.name) + ": " + impl_names(f);
   }
@@ -188,25 +186,6 @@ inline std::string rate(double per_second) {
   else if (per_second >= 1e3) std::snprintf(buf, sizeof buf, "%.1fk", per_second / 1e3);
   else std::snprintf(buf, sizeof buf, "%.0f", per_second);
   return buf;
-}
-
-// ---------------------------------------------------------------- files
-
-// Fails (InputError) before any work is done when path cannot become an image:
-// its folder does not exist or OpenImageIO knows no writer for its extension.
-inline void check_output_image(const std::string& path) {
-  namespace fs = std::filesystem;
-  const fs::path p(path);
-  const fs::path dir = p.parent_path().empty() ? fs::path(".") : p.parent_path();
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec)) throw InputError(path, 0, "cannot write image: folder " + dir.string() + " does not exist");
-  if (fs::is_directory(p, ec)) throw InputError(path, 0, "cannot write image: is a folder");
-  if (p.extension().empty()) throw InputError(path, 0, "cannot write image: no extension to pick the format (.png, .exr, .tif, ...)");
-  auto out = OIIO::ImageOutput::create(path);
-  if (!out) {
-    (void)OIIO::geterror();
-    throw InputError(path, 0, "cannot write image: unknown format '" + p.extension().string() + "'");
-  }
 }
 
 // ---------------------------------------------------------------- progress

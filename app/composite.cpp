@@ -15,7 +15,7 @@ namespace lockstep::cli {
 
 namespace {
 
-void print_help(const ImageFamily& f) {
+void print_help(const Family& f) {
   std::printf(
       "usage: lockstep composite LAYER... | --stack FILE  -o OUT\n"
       "                          [--alpha straight|premultiplied] [--order ftb|btf]\n"
@@ -46,7 +46,7 @@ void print_help(const ImageFamily& f) {
 }  // namespace
 
 int composite_main(Args args) {
-  const ImageFamily& family = find_family("composite");
+  const Family& family = find_family("composite");
   std::string stack_path, out_path, impl_name, value;
   std::vector<std::string> layers;
   std::optional<Alpha> alpha;
@@ -87,11 +87,11 @@ int composite_main(Args args) {
   if (!stack_path.empty() && !layers.empty()) throw UsageError("give LAYER... or --stack FILE, not both");
   if (stack_path.empty() && layers.empty()) throw UsageError("missing LAYER... or --stack FILE");
   if (out_path.empty()) throw UsageError("missing -o OUT");
-  const ImageImpl& impl = find_impl(family, impl_name.empty() ? family.default_impl : impl_name);
+  const FamilyImpl& impl = find_impl(family, impl_name.empty() ? family.default_impl : impl_name);
 
   // Everything that can be wrong with the input is found before compositing, so
   // an error never leaves an output behind.
-  check_output_image(out_path);
+  family.kind->check_path(out_path);
   const Stopwatch reading;
   LayerStack stack = stack_path.empty() ? read_layers(layers, alpha) : read_stack(stack_path, alpha);
   if (order) stack.order = *order;
@@ -110,7 +110,7 @@ int composite_main(Args args) {
   opts.threads = threads;
   const Run r = run_for_cli("lockstep composite", family, impl, input, opts);
   const Stopwatch writing;
-  write_image(r.image, out_path);
+  family.kind->write(r.out, out_path);
   std::fprintf(stderr,
                "lockstep composite: %s %dx%d, %zu layers (%s), %.3f s, %.1f Mpix/s (read %.3f s, write %.3f s) -> %s\n",
                std::string(impl.name).c_str(), w, h, n, mode.c_str(), r.seconds,

@@ -4,6 +4,7 @@
 
 #include "app/cli.h"
 #include "core/image.h"
+#include "core/output_image.h"
 #include "core/metrics.h"
 
 namespace lockstep::cli {
@@ -34,10 +35,10 @@ void print_help(const CompareOptions& d) {
 int diff_main(Args args) {
   CompareOptions opt;
   // Defaults from the registry's first family (ray_cast): a pixel within
-  // color_abs on pixel_fraction of the image.
-  const ImageTolerance& tol = registry().image.front().tol;
-  opt.fail_threshold = tol.color_abs;
-  opt.fail_percent = 100.0 * (1.0 - tol.pixel_fraction);
+  // abs on fraction of the image.
+  const Tolerance& tol = registry().families.front().tol;
+  opt.fail_threshold = tol.abs;
+  opt.fail_percent = 100.0 * (1.0 - tol.fraction);
   std::string a_path, b_path, heat_path, value;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string_view a = args[i];
@@ -65,7 +66,7 @@ int diff_main(Args args) {
     }
   }
   if (b_path.empty()) throw UsageError(a_path.empty() ? "missing images A and B" : "missing image B");
-  if (!heat_path.empty()) check_output_image(heat_path);
+  if (!heat_path.empty()) image_kind().check_path(heat_path);
   const Image a = read_image(a_path);
   const Image b = read_image(b_path);
 

@@ -56,9 +56,9 @@ void print_version() {
   else
     std::printf("  llvmpipe row: not built (no OSMesa at configure time; scripts/setup.sh installs libosmesa6-dev)\n");
   // Every family and implementation built into this binary; peers are production libraries.
-  for (const lockstep::ImageFamily& f : lockstep::registry().image) {
+  for (const lockstep::Family& f : lockstep::registry().families) {
     std::printf("  %-10s", std::string(f.name).c_str());
-    for (const lockstep::ImageImpl& i : f.impls)
+    for (const lockstep::FamilyImpl& i : f.impls)
       std::printf(" %s%s", std::string(i.name).c_str(), i.peer.empty() ? "" : (" [peer: " + std::string(i.peer) + "]").c_str());
     std::printf("\n");
   }

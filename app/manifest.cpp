@@ -43,10 +43,10 @@ std::vector<Case> read_manifest(const fs::path& dir) {
     Case c;
     c.line = line_no;
     // The optional family column: a line starting with a family's name.
-    c.family = registry().find_image(w[0]);
+    c.family = registry().find(w[0]);
     if (c.family) w.erase(w.begin());
-    else c.family = &registry().image.front();
-    const ImageFamily& fam = *c.family;
+    else c.family = &registry().families.front();
+    const Family& fam = *c.family;
     // The family's settings: name=value fields anywhere after the family (not ref=).
     for (auto it = w.begin(); it != w.end();) {
       const size_t eq = it->find('=');
@@ -75,9 +75,7 @@ std::vector<Case> read_manifest(const fs::path& dir) {
     for (const Case& other : cases)
       if (other.name == c.name) fail("case '" + c.name + "' given twice (first on line " + std::to_string(other.line) + ")");
     c.input_path = (dir / w[1]).string();
-    c.cmp.fail_threshold = fam.tol.color_abs;
-    c.cmp.fail_percent = 100.0 * (1.0 - fam.tol.pixel_fraction);
-    c.cmp.hard_fail = fam.tol.hard_abs;
+    c.tol = fam.tol;
     auto given = [&](size_t i) { return w.size() > i && w[i] != "-"; };
     try {
       if (given(2)) {
@@ -91,8 +89,8 @@ std::vector<Case> read_manifest(const fs::path& dir) {
           if (n == fam.reference().name) fail("impls: the reference is always run; list the others");
         }
       }
-      if (given(4)) c.cmp.fail_threshold = parse_number("fail", w[4], 0, 1e30);
-      if (given(5)) c.cmp.fail_percent = parse_number("failpercent", w[5], 0, 100);
+      if (given(4)) c.tol.abs = parse_number("fail", w[4], 0, 1e30);
+      if (given(5)) c.tol.fraction = 1.0 - parse_number("failpercent", w[5], 0, 100) / 100.0;
     } catch (const UsageError& e) {
       fail(e.what());
     }

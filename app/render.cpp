@@ -1,4 +1,5 @@
-// lockstep render: one input, one implementation, one image. The family is
+// lockstep render: one input, one implementation, one output (an image, for
+// every family so far; written by the family's output kind). The family is
 // the one whose files end in the input's extension (pairs/registry.h).
 #include <cstdio>
 #include <string>
@@ -6,7 +7,6 @@
 
 #include "app/cli.h"
 #include "app/run.h"
-#include "core/image.h"
 
 namespace lockstep::cli {
 
@@ -20,30 +20,30 @@ void print_help() {
       "image; the format follows OUT's extension (.exr and .tif keep float values, .png\n"
       "clamps to 8 bits).\n"
       "\n");
-  for (const ImageFamily& f : registry().image)
+  for (const Family& f : registry().families)
     std::printf("  %-10s %s from %s; --impl %s (default: %.*s)\n", std::string(f.name).c_str(),
                 std::string(f.what).c_str(), std::string(f.input).c_str(), impl_names(f, "|").c_str(),
                 int(f.default_impl.size()), f.default_impl.data());
   std::printf("\n  --algo NAME     which family draws an input of a shared extension (.nff:");
-  for (const ImageFamily& f : registry().image)
+  for (const Family& f : registry().families)
     if (!f.algo.empty()) std::printf(" %s", std::string(f.algo).c_str());
   std::printf("; default: the first)\n");
   // Families with the same settings (the raster families) are listed together.
-  std::vector<const ImageFamily*> done;
-  for (const ImageFamily& f : registry().image) {
+  std::vector<const Family*> done;
+  for (const Family& f : registry().families) {
     if (f.params.empty()) continue;
-    auto same = [&f](const ImageFamily& g) {
+    auto same = [&f](const Family& g) {
       if (g.params.size() != f.params.size()) return false;
       for (size_t k = 0; k < g.params.size(); ++k)
         if (g.params[k].name != f.params[k].name) return false;
       return true;
     };
     bool seen = false;
-    for (const ImageFamily* d : done) seen = seen || same(*d);
+    for (const Family* d : done) seen = seen || same(*d);
     if (seen) continue;
     done.push_back(&f);
     std::string names;
-    for (const ImageFamily& g : registry().image)
+    for (const Family& g : registry().families)
       if (same(g)) {
         if (!names.empty()) names += ", ";
         names += g.name;
@@ -77,11 +77,11 @@ void print_help() {
 
 // The summary line of render and composite: "lockstep render: simd 512x512 build
 // 0.000 s, trace 0.010 s, 26.21M rays/s, wall 0.010 s".
-std::string run_summary(const std::string& who, const ImageFamily& f, const ImageImpl& impl, const Run& r) {
+std::string run_summary(const std::string& who, const Family& f, const FamilyImpl& impl, const Run& r) {
   const double run_s = r.seconds - r.stats.build_seconds;
   char buf[200];
-  std::snprintf(buf, sizeof buf, " %dx%d build %.3f s, %.*s %.3f s, %s %.*s/s, wall %.3f s", r.image.width,
-                r.image.height, r.stats.build_seconds, int(f.verb.size()), f.verb.data(), run_s,
+  std::snprintf(buf, sizeof buf, " %s build %.3f s, %.*s %.3f s, %s %.*s/s, wall %.3f s",
+                f.kind->shape(r.out).c_str(), r.stats.build_seconds, int(f.verb.size()), f.verb.data(), run_s,
                 rate(double(r.stats.items) / (run_s > 0 ? run_s : 1e-9)).c_str(), int(f.unit.size()), f.unit.data(),
                 r.seconds);
   std::string line = who + ": " + std::string(impl.name) + buf;
@@ -91,7 +91,7 @@ std::string run_summary(const std::string& who, const ImageFamily& f, const Imag
   return line;
 }
 
-Run run_for_cli(const std::string& who, const ImageFamily& family, const ImageImpl& impl, const Input& input,
+Run run_for_cli(const std::string& who, const Family& family, const FamilyImpl& impl, const Input& input,
                 FrameOptions opts) {
   Progress progress(who + ": " + std::string(impl.name));
   opts.progress = [&progress](double f) { progress(f); };
@@ -109,11 +109,11 @@ Run run_for_cli(const std::string& who, const ImageFamily& family, const ImageIm
 
 // The family that draws in_path: the one of that extension whose algo is
 // `algo` ("raycast" is ray_cast), or the first of that extension.
-const ImageFamily& family_for(const std::string& in_path, const std::string& algo) {
-  const ImageFamily& first = family_for_path(in_path);
+const Family& family_for(const std::string& in_path, const std::string& algo) {
+  const Family& first = family_for_path(in_path);
   if (algo.empty()) return first;
   std::string known;
-  for (const ImageFamily& f : registry().image) {
+  for (const Family& f : registry().families) {
     if (f.extension != first.extension || f.algo.empty()) continue;
     if (f.algo == algo) return f;
     // Appended piece by piece: `"|" + std::string(...)` trips GCC 12's -Wrestrict (a false positive).
@@ -130,7 +130,7 @@ int render_main(Args args) {
   for (size_t i = 0; i < args.size(); ++i)
     if (take_option(args, i, "--algo", value)) algo = value;
     else if (!is_option(args[i]) && in_path.empty()) in_path = std::string(args[i]);
-  const ImageFamily* chosen = nullptr;
+  const Family* chosen = nullptr;
   if (!in_path.empty()) chosen = &family_for(in_path, algo);
   in_path.clear();
   Params params;
@@ -162,7 +162,7 @@ int render_main(Args args) {
   }
   if (in_path.empty()) throw UsageError("missing INPUT");
   if (out_path.empty()) throw UsageError("missing -o OUT");
-  const ImageFamily& family = *chosen;
+  const Family& family = *chosen;
   if (!params.items.empty()) {
     try {
       family.check_params(params);
@@ -170,12 +170,12 @@ int render_main(Args args) {
       throw UsageError(std::string(e.what()).substr(std::string("settings: ").size()));
     }
   }
-  const ImageImpl& impl = find_impl(family, impl_name.empty() ? family.default_impl : impl_name);
+  const FamilyImpl& impl = find_impl(family, impl_name.empty() ? family.default_impl : impl_name);
   if (!family.sized && width > 0) throw UsageError("--size does not apply to " + std::string(family.name));
 
   // Everything that can be wrong with the input is found before rendering, so
   // an error never leaves an output behind.
-  check_output_image(out_path);
+  family.kind->check_path(out_path);
   const Input input = family.load(in_path);
 
   FrameOptions opts;
@@ -184,7 +184,7 @@ int render_main(Args args) {
   opts.threads = threads;
   opts.params = params;
   const Run r = run_for_cli("lockstep render", family, impl, input, opts);
-  write_image(r.image, out_path);
+  family.kind->write(r.out, out_path);
   for (const std::string& note : r.stats.notes) std::fprintf(stderr, "lockstep render: %s\n", note.c_str());
   std::fprintf(stderr, "%s -> %s\n", run_summary("lockstep render", family, impl, r).c_str(), out_path.c_str());
   return kExitOk;

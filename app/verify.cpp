@@ -19,21 +19,21 @@ void print_help() {
       "                       [--filter SUBSTR] [--threads N] [--regolden]\n"
       "\n"
       "Runs every case of CORPUS_DIR/manifest.txt (default: %s), whatever its family:\n"
-      "  * renders it with the family's reference and checks that against golden/<case>.exr\n"
-      "    (every pixel within %g per channel);\n"
-      "  * renders it with every other implementation the case lists and compares each\n"
-      "    with the reference (default: the family's tolerance, below), and never a pixel\n"
+      "  * runs it with the family's reference and checks that against golden/<case>\n"
+      "    (an .exr for images; every sample within %g);\n"
+      "  * runs it with every other implementation the case lists and compares each\n"
+      "    with the reference (default: the family's tolerance, below), and never a sample\n"
       "    off by more than the family's hard limit or NaN;\n"
       "  * for cases with an analytic judge (ray_cast: 'disk', 'convex'), checks every\n"
       "    implementation, the reference included, against the closed-form answer: the\n"
       "    optimized ones must match it; the reference must do what the manifest expects.\n"
-      "Prints one row per case and implementation; writes PNGs, heat maps and report.md.\n"
+      "Prints one row per case and implementation; writes each output as people look at it\n"
+      "(PNGs for images), its difference from the reference (heat maps) and report.md.\n"
       "\n"
       "families (pairs/registry.h):\n",
       LOCKSTEP_CORPUS_DIR, kGoldenTolerance);
-  for (const ImageFamily& f : registry().image)
-    std::printf("  %-10s %.6g per channel on >= %.4g%% of the pixels, hard limit %.3g; impls: %s\n",
-                std::string(f.name).c_str(), f.tol.color_abs, 100.0 * f.tol.pixel_fraction, f.tol.hard_abs,
+  for (const Family& f : registry().families)
+    std::printf("  %-10s %s; impls: %s\n", std::string(f.name).c_str(), f.kind->describe_tolerance(f.tol).c_str(),
                 impl_names(f).c_str());
   std::printf(
       "\n"
@@ -51,7 +51,7 @@ void print_help() {
 
 // A name of an implementation of any family.
 void check_impl_name(const std::string& n) {
-  for (const ImageFamily& f : registry().image)
+  for (const Family& f : registry().families)
     if (f.find(n)) return;
   throw UsageError("unknown implementation '" + n + "' (known: " + all_impl_names() + ")");
 }

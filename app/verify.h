@@ -2,9 +2,10 @@
 //
 //   app/manifest.cpp      reads CORPUS/manifest.txt into Cases (a family column;
 //                         ray_cast is the default)
-//   app/verify_image.cpp  one case of any image family: the reference against its
-//                         golden, every implementation against the reference, the
-//                         analytic judge, heat maps and masks
+//   app/verify_case.cpp   one case of any family, through its output kind: the
+//                         reference against its golden, every implementation
+//                         against the reference, the analytic judge, the
+//                         report's views, differences and judge pictures
 //   app/report.cpp        the table on stdout and report.md
 //   app/verify.cpp        verify_main: options, the loop over cases
 #pragma once
@@ -15,28 +16,24 @@
 
 #include "app/cli.h"
 #include "core/family.h"
-#include "core/metrics.h"
 
 namespace lockstep::cli {
 
 // Reference against its own golden image: the same code on the same input must
 // give the same floats; 1e-4 leaves room for a different libm's pow/sqrt.
 inline constexpr double kGoldenTolerance = 1e-4;
-// Goldens are stored as OpenEXR pxr24: floats rounded to 24 bits (relative error
-// <= 2^-16, so within 1e-4 for values up to 6), a quarter of zip's size.
-inline constexpr const char* kGoldenCompression = "pxr24";
 
 enum class RefExpect { kAny, kRight, kWrong };
 
 struct Case {
-  const ImageFamily* family = nullptr;
+  const Family* family = nullptr;
   std::string name;
   std::string input_path;     // as resolved against the corpus folder
   int line = 0;               // in the manifest
   int width = 0, height = 0;  // 0: the input's own size
   std::vector<std::string> impls;  // to compare with the reference; empty: all of the family
-  CompareOptions cmp;
-  const ImageJudge* judge = nullptr;  // null: judged against the reference only
+  Tolerance tol;                   // the family's, or the manifest's fail / failpercent
+  const Judge* judge = nullptr;    // null: judged against the reference only
   RefExpect ref_expect = RefExpect::kAny;
   std::string ref_reason;  // why the reference is expected to be wrong
   Input input;             // loaded by the family
@@ -47,12 +44,12 @@ struct Case {
 
 struct Row {
   std::string case_name, family, impl;
-  bool ran = false;  // rendered without throwing
-  ImageError err;    // against the reference (the golden image for the reference row)
+  bool ran = false;  // ran without throwing
+  Agreement err;     // against the reference (the golden for the reference row); samples 0: not compared
   double seconds = 0, speedup = 0;
   bool pass = false;
   std::string note;
-  std::string image, heat, mask;  // report files, relative to the report folder
+  std::string view, difference, judged;  // report files (output, difference, judge picture), relative to the report folder
 };
 
 struct VerifyOptions {
@@ -68,7 +65,7 @@ std::vector<Case> read_manifest(const std::filesystem::path& corpus_dir);
 // Loads every case's input and checks its judge can judge it (InputError otherwise).
 void load_inputs(std::vector<Case>& cases);
 
-// app/verify_image.cpp: rows for one case (printed as they come); verdict
+// app/verify_case.cpp: rows for one case (printed as they come); verdict
 // lines of analytic judges are appended to verdicts.
 std::vector<Row> verify_case(const Case& c, const VerifyOptions& o, std::vector<std::string>& verdicts);
 

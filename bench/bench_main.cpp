@@ -1,12 +1,15 @@
 // lockstep benchmarks (Google Benchmark), registered from the registry
-// (pairs/registry.h) and the ray-casting kernel rows (pairs/ray_cast.h).
+// (pairs/registry.h) and nothing else: bench/ names no family.
 //
-//   kernel/<pair>/<impl>          one primitive against 4096 rays, single thread:
-//                                 items/s = ray-primitive tests per second
-//   throughput/<prims>/<impl>     trace() of 4096 rays against 256 primitives
-//   frame/<family>/<input>/<impl>/threads:N  every image family's bench inputs
-//                                 (pairs/<family>.cpp), rendered whole: items/s =
-//                                 output pixels (primary rays) per second;
+//   <stage>/<impl>                every family's stage benchmarks (Family::kernels),
+//                                 e.g. ray casting's kernel/ray_sphere/simd (one
+//                                 primitive against 4096 rays, single thread: items/s
+//                                 = ray-primitive tests per second) and
+//                                 throughput/spheres/embree (trace() of 4096 rays
+//                                 against 256 primitives): pairs/ray_cast.cpp
+//   frame/<family>/<input>/<impl>/threads:N  every family's bench inputs
+//                                 (pairs/<family>.cpp), run whole: items/s =
+//                                 output samples (pixels) per second;
 //                                 counters build_ms (Embree BVH) and the input's own
 //
 // Reproduce the tables in BENCHMARKS.md with scripts/bench.sh. The reference is
@@ -25,7 +28,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <optional>
-#include <random>
 #include <string>
 #include <thread>
 #include <vector>
@@ -34,136 +36,54 @@
 #include <tbb/task_arena.h>
 
 #include "core/error.h"
-#include "core/image.h"
-#include "core/nff.h"
+#include "core/output.h"
 #include "core/timer.h"
-#include "pairs/ray_cast.h"
 #include "pairs/registry.h"
 
 namespace lockstep {
 namespace {
 
-// ---------------------------------------------------------------- kernel inputs
-// Deterministic rays from a shell around the origin aimed near a unit-size
-// primitive at the origin: about half hit. The same seed for every implementation.
-std::vector<Ray> rays_around_origin(size_t n, double spread) {
-  std::mt19937_64 rng(12345);
-  std::uniform_real_distribution<double> u(-1, 1);
-  std::vector<Ray> rays(n);
-  for (auto& r : rays) {
-    Vec3 o;
-    do o = {u(rng), u(rng), u(rng)}; while (length(o) > 1 || length(o) < 0.1);
-    o = normalize(o) * 10.0;
-    const Vec3 target{spread * u(rng), spread * u(rng), spread * u(rng)};
-    r = Ray{o, normalize(target - o), 0.0, kInfinity};
-  }
-  return rays;
-}
-
-constexpr size_t kKernelRays = 4096;
-
-// Runs f with TBB limited to one thread (trace() of the optimized
-// implementations uses TBB's default arena).
+// Runs f with TBB limited to `threads` threads (the optimized implementations
+// use TBB's default arena).
 template <class F>
-void tbb_single_thread(F&& f) {
-  tbb::task_arena arena(1);
+void in_arena(int threads, F&& f) {
+  tbb::task_arena arena(threads);
   arena.execute(f);
 }
 
-template <class Fn, class Call>
-void register_kernel(const Pair<Fn>& pair, Call call) {
-  for (const auto& impl : pair.impls) {
-    const std::string name = "kernel/" + std::string(pair.name) + "/" + std::string(impl.name);
-    benchmark::RegisterBenchmark(name.c_str(), [fn = impl.fn, call](benchmark::State& st) {
-      const std::vector<Ray> rays = rays_around_origin(kKernelRays, 1.5);
-      std::vector<double> t(rays.size());
-      for (auto _ : st) {
-        call(fn, rays, t);
-        benchmark::DoNotOptimize(t.data());
-        benchmark::ClobberMemory();
-      }
-      st.SetItemsProcessed(int64_t(st.iterations()) * int64_t(rays.size()));
-      size_t hits = 0;
-      for (double x : t) hits += std::isfinite(x);
-      st.counters["hit_fraction"] = double(hits) / double(rays.size());
-    });
-  }
-}
-
-void register_kernels(const RayCastRows& table) {
-  const Sphere sphere{{0, 0, 0}, 1.0};
-  register_kernel(table.ray_sphere, [sphere](RaySphereFn fn, const std::vector<Ray>& r, std::vector<double>& t) {
-    fn(r, sphere, t);
-  });
-  const Plane plane{normalize(Vec3{0.3, 0.4, 1.0}), 0.0};
-  register_kernel(table.ray_plane, [plane](RayPlaneFn fn, const std::vector<Ray>& r, std::vector<double>& t) {
-    fn(r, plane, t);
-  });
-  // A single triangle: "ray-triangle tests per second".
-  auto tri = std::make_shared<Scene>();
-  const Vec3 v[3] = {{-1.5, -1, 0.2}, {1.5, -1, -0.2}, {0, 1.5, 0}};
-  add_polygon(*tri, v, {}, add_material(*tri, Material{}));
-  register_kernel(table.ray_polygon, [tri](RayPolygonFn fn, const std::vector<Ray>& r, std::vector<double>& t) {
-    fn(r, *tri, 0, t);
-  });
-}
-
-// ---------------------------------------------------------------- throughput
-// The single-primitive kernels above mostly measure per-call setup for SIMD
-// (8 rays against 1 primitive). Here every ray_cast implementation's trace()
-// resolves 4096 rays against 256 primitives (random unit spheres in a box, or a
-// 16x8 grid of quads = 256 triangles), single thread via a 1-thread arena:
-// items/s = ray-primitive pairs per second (brute force tests them all; Embree
-// does not, which is the point of a BVH).
-Scene throughput_scene(bool spheres) {
-  Scene s;
-  const uint32_t m = add_material(s, Material{});
-  std::mt19937_64 rng(7);
-  std::uniform_real_distribution<double> u(-4, 4);
-  if (spheres) {
-    for (int i = 0; i < 256; ++i) add_sphere(s, {u(rng), u(rng), u(rng)}, 0.3, m);
-  } else {
-    for (int i = 0; i < 16; ++i)
-      for (int j = 0; j < 8; ++j) {
-        const double x = -4 + i * 0.5, y = -4 + j * 1.0, z = 0.2 * std::sin(i + j);
-        const Vec3 q[4] = {{x, y, z}, {x + 0.5, y, z}, {x + 0.5, y + 1.0, z}, {x, y + 1.0, z}};
-        add_polygon(s, q, {}, m);
-      }
-  }
-  return s;
-}
-
-void register_throughput(const RayCastRows& table) {
-  for (bool spheres : {true, false}) {
-    auto scene = std::make_shared<Scene>(throughput_scene(spheres));
-    const double prims = double(scene->sphere_count() + scene->polygon_count() * (spheres ? 1 : 2));
-    for (const auto& impl : table.ray_cast.impls) {
-      const std::string name = std::string("throughput/") + (spheres ? "spheres/" : "triangles/") + std::string(impl.name);
-      benchmark::RegisterBenchmark(name.c_str(), [scene, prims, fn = impl.fn](benchmark::State& st) {
-        // Rays from one eye (as primary rays are), spread over the primitives.
-        std::vector<Ray> rays = rays_around_origin(kKernelRays, 4.0);
-        for (auto& r : rays) {
-          const Vec3 target = r.o + 10.0 * r.d;
-          r.o = Vec3{0.3, 0.2, 12.0};
-          r.d = normalize(target - r.o);
-        }
-        std::vector<Hit> hits(rays.size());
-        tbb_single_thread([&] {
-          for (auto _ : st) {
-            fn.trace(*scene, rays, hits, nullptr);
-            benchmark::DoNotOptimize(hits.data());
-          }
+// ---------------------------------------------------------------- stages (every family's kernel rows)
+// <name>/<impl>: the family's stage benchmarks (Family::kernels, e.g. ray
+// casting's kernel/ray_sphere/simd and throughput/spheres/embree), each built
+// by the family and timed here: items/s is what the stage says it processed.
+void register_kernels(const Registry& reg) {
+  for (const Family& fam : reg.families) {
+    if (!fam.kernels) continue;
+    for (const KernelBench& k : fam.kernels()) {
+      for (const KernelBench::Entry& e : k.impls) {
+        const std::string name = k.name + "/" + std::string(e.impl);
+        auto* b = benchmark::RegisterBenchmark(name.c_str(), [prepare = e.prepare, threads = k.threads](benchmark::State& st) {
+          const KernelBench::Run run = prepare();
+          int64_t items = 0;
+          in_arena(threads, [&] {
+            for (auto _ : st) {
+              items += run.once();
+              benchmark::ClobberMemory();
+            }
+          });
+          st.SetItemsProcessed(items);
+          if (run.counters)
+            for (const auto& [c, v] : run.counters()) st.counters[c] = v;
         });
-        st.SetItemsProcessed(int64_t(double(st.iterations()) * double(rays.size()) * prims));
-      })->Unit(benchmark::kMicrosecond);
+        if (k.microseconds) b->Unit(benchmark::kMicrosecond);
+      }
     }
   }
 }
 
-// ---------------------------------------------------------------- frames (every image family)
+// ---------------------------------------------------------------- frames (every family)
 // frame/<family>/<input>/<impl>/threads:N: the family's bench inputs
-// (ImageFamily::bench) rendered whole; items/s = output pixels per second
-// (primary rays for ray_cast). Inputs that say how many bytes a run must move
+// (Family::bench) run whole; items/s = output samples per second (the
+// output kind's count: pixels for images; primary rays for ray_cast). Inputs that say how many bytes a run must move
 // get frame/<family>/<input>/memcpy/threads:N beside them (unless the input
 // says yardstick = false): memcpy of the same bytes (half read, half written)
 // on the same number of threads, the bandwidth yardstick. Its buffers are
@@ -222,7 +142,7 @@ struct Holder {
 void register_frames(const Registry& reg) {
   const int all_threads = int(std::max(1u, std::thread::hardware_concurrency()));
   auto cache = std::make_shared<Cache>(nullptr, std::nullopt);
-  for (const ImageFamily& fam : reg.image) {
+  for (const Family& fam : reg.families) {
     if (!fam.bench) continue;
     for (const BenchInput& in : fam.bench()) {
       const std::string base = "frame/" + std::string(fam.name) + "/" + in.name;
@@ -230,7 +150,7 @@ void register_frames(const Registry& reg) {
       input->meta = in;
       input->cache = cache;
       for (int threads : {1, all_threads}) {
-        for (const ImageImpl& impl : fam.impls) {
+        for (const FamilyImpl& impl : fam.impls) {
           if (!impl.threaded && threads != 1) continue;  // the reference is single-threaded by design
           if (impl.unsupported && !impl.unsupported(in.params).empty()) continue;  // e.g. llvmpipe: no Phong
           // Brute force costs the same for every pixel: the reference runs heavy
@@ -238,7 +158,8 @@ void register_frames(const Registry& reg) {
           const int div = !impl.threaded && in.heavy_for_reference ? 4 : 1;
           const std::string bname = base + "/" + std::string(impl.name) + "/threads:" + std::to_string(threads);
           auto cold = std::make_shared<double>(-1);  // seconds of the cold run, once per benchmark
-          benchmark::RegisterBenchmark(bname.c_str(), [input, div, threads, cold, sized = fam.sized, fn = impl.render,
+          benchmark::RegisterBenchmark(bname.c_str(), [input, div, threads, cold, sized = fam.sized, fn = impl.run,
+                                                       kind = fam.kind,
                                                        unit = std::string(fam.unit), bname](benchmark::State& st) {
             const Input& in = input->get();
             FrameOptions opts;
@@ -250,26 +171,26 @@ void register_frames(const Registry& reg) {
               malloc_trim(0);
               FrameStats stats;
               const Stopwatch once;
-              Image img = fn(in, opts, &stats);
+              Output out = fn(in, opts, &stats);
               *cold = once.seconds();
-              benchmark::DoNotOptimize(img.rgba.data());
+              benchmark::DoNotOptimize(kind->data(out));
               // What the run says the user must hear (e.g. llvmpipe: its thread
               // count is fixed per process, so threads:N may not be what ran).
               for (const std::string& note : stats.notes) std::fprintf(stderr, "%s: %s\n", bname.c_str(), note.c_str());
             }
             double build = 0, items = 0;
-            uint64_t pixels = 0;
+            uint64_t samples = 0;
             for (auto _ : st) {
               FrameStats stats;
-              Image img = fn(in, opts, &stats);
-              benchmark::DoNotOptimize(img.rgba.data());
+              Output out = fn(in, opts, &stats);
+              benchmark::DoNotOptimize(kind->data(out));
               build += stats.build_seconds;
               items += double(stats.items);
-              pixels = uint64_t(img.width) * uint64_t(img.height);
+              samples = kind->count(out);
             }
             // What the family counts (rays, pixels, triangles), per second of real time.
             st.counters[unit + "_per_s"] = benchmark::Counter(items, benchmark::Counter::kIsRate);
-            st.SetItemsProcessed(int64_t(st.iterations() * pixels));
+            st.SetItemsProcessed(int64_t(st.iterations() * samples));
             if (input->meta.bytes > 0) st.SetBytesProcessed(int64_t(double(st.iterations()) * input->meta.bytes));
             st.counters["build_ms"] = 1e3 * build / double(st.iterations());
             st.counters["size"] = sized ? opts.width : input->meta.width;
@@ -296,8 +217,7 @@ int main(int argc, char** argv) {
   mallopt(M_MMAP_MAX, 0);
   mallopt(M_TRIM_THRESHOLD, std::numeric_limits<int>::max());
   try {
-    lockstep::register_kernels(lockstep::ray_cast_rows());
-    lockstep::register_throughput(lockstep::ray_cast_rows());
+    lockstep::register_kernels(lockstep::registry());
     lockstep::register_frames(lockstep::registry());
   } catch (const lockstep::InputError& e) {
     std::fprintf(stderr, "lockstep_bench: %s\n", e.what());

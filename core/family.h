@@ -1,16 +1,21 @@
 // lockstep core: the registry's row types (types only; the rows live in pairs/).
 //
 // A *family* is one algorithm with one input type and one output kind, e.g.
-// ray_cast (NFF scene -> image) or composite (layer stack -> image). Each
-// family is a value of one iterable type per output kind (ImageFamily now;
-// mesh families come with marching cubes), listed by pairs/registry.h. Its
-// first implementation is always the reference. props/, bench/, the corpus
-// (`lockstep verify`) and the CLI (`render --impl`, `verify --impl/--filter`)
-// iterate over the registry and never name a family's functions.
+// ray_cast (NFF scene -> image), composite (layer stack -> image), later
+// marching cubes (volume -> mesh). Every family is a value of one type,
+// Family, listed by pairs/registry.h; its first implementation is always the
+// reference. What depends on the output (files, comparison, diagnostics,
+// counts) lives in the family's output kind (core/output.h), so props/,
+// bench/, the corpus (`lockstep verify`) and the CLI (`render --impl`, `verify
+// --impl/--filter`) iterate over the registry, call the kind, and never name a
+// family's functions or its output type.
 //
-// Typed entry points become rows through image_family<In>(): every
-// implementation of a family takes the same `const In&`, checked by the
-// compiler; the row stores them behind a type-erased Input.
+// Typed entry points become rows through erase<In, Out>(): every
+// implementation of a family takes the same `const In&` and returns the same
+// Out, checked by the compiler; the row stores them behind a type-erased Input
+// and Output. Stages of a family (one primitive against many rays, marching
+// cubes' cell kernel) are typed KernelRow<Fn>s; the family hands them to the
+// benchmarks as KernelBench hooks.
 #pragma once
 
 #include <any>
@@ -20,9 +25,11 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 #include "core/image.h"
+#include "core/output.h"
 
 namespace lockstep {
 
@@ -30,7 +37,7 @@ namespace lockstep {
 
 // A family's own settings for one frame, as name=value strings (e.g. the
 // raster families' shading=phong, spp=4). The family lists the names it knows
-// (ImageFamily::params); the CLI turns `--NAME VALUE` into one, the corpus a
+// (Family::params); the CLI turns `--NAME VALUE` into one, the corpus a
 // `name=value` field. A flag without a value is "1".
 struct Params {
   std::vector<std::pair<std::string, std::string>> items;
@@ -65,7 +72,7 @@ struct FrameOptions {
   int height = 256;
   int threads = 0;
   std::function<void(double)> progress;  // fraction done, may be empty; called from one thread at a time
-  Params params;                          // the family's own settings (checked by ImageFamily::check_params)
+  Params params;                          // the family's own settings (checked by Family::check_params)
 };
 
 // What an implementation reports about its own run. The harness times the run
@@ -81,7 +88,7 @@ struct FrameStats {
   std::vector<std::string> notes;
 };
 
-// ---------------------------------------------------------------- tolerances
+// ---------------------------------------------------------------- known failures
 
 // An implementation's documented failure that we report but do not fix here
 // (a third-party library's, or a textbook method's). The properties classify
@@ -93,32 +100,66 @@ struct KnownFailure {
   std::string_view per;    // the class the rate divides by, e.g. "shared-vertex ray"
 };
 
-// Agreement of two images of a family: a pixel fails when its largest channel
-// differs by more than color_abs; at most 1 - pixel_fraction of the pixels may
-// fail, and no pixel may ever differ by more than hard_abs (or be NaN), whatever
-// the budget says. depth_abs < 0: depth planes are not compared.
-struct ImageTolerance {
-  double color_abs = 1.0 / 255;
-  double pixel_fraction = 0.999;
-  double hard_abs = 0.5;
-  double depth_abs = -1;
-};
+// ---------------------------------------------------------------- kernel rows
 
-// One implementation of a typed entry point Fn (kernel rows, and the typed rows
-// an image family is built from).
+// One implementation of a typed entry point Fn: a stage of a family (one
+// primitive against many rays, a cell kernel), or the typed rows a family is
+// built from.
 template <class Fn>
 struct Impl {
   std::string_view name;
   Fn fn;
   double accuracy;   // bound against the oracle on well-conditioned input, in the family's unit
-  double agree = 0;  // agreement with the reference when the family's default does not fit (0: the default)
+  double agree = 0;  // agreement with the reference when the row's default does not fit (0: the default)
   KnownFailure known = {};
   // Unit roundoff of the arithmetic that decides (hit/miss, which primitive) when
   // the result is then refined in a wider type (0: inferred from accuracy).
   double decide_eps = 0;
 };
 
-// ---------------------------------------------------------------- image families
+// Agreement tolerances of a kernel row against its reference.
+struct KernelTolerance {
+  double t_rel = 0;           // relative error of the row's result (ray casting: t)
+  double color_abs = 0;       // per-channel absolute colour error of a pixel (rows that draw)
+  double pixel_fraction = 1;  // share of pixels that must be within color_abs
+};
+
+// A typed row: every implementation of one stage, the reference first. The
+// family's properties (props/<family>/) read these rows; its benchmarks reach
+// them through Family::kernels.
+template <class Fn>
+struct KernelRow {
+  std::string_view name;       // "ray_sphere"
+  std::string_view generator;  // props/gen name of the input generator
+  KernelTolerance tol;
+  std::span<const Impl<Fn>> impls;
+  const Impl<Fn>* find(std::string_view n) const {
+    for (const auto& i : impls)
+      if (i.name == n) return &i;
+    return nullptr;
+  }
+};
+
+// A stage benchmark (bench/ registers one benchmark per implementation, named
+// "<name>/<impl>"): prepare() builds the input once and returns the timed call,
+// which returns how many items it processed.
+struct KernelBench {
+  std::string name;  // "kernel/ray_sphere", "throughput/spheres"
+  int threads = 1;   // the TBB threads the timed call may use
+  bool microseconds = false;  // report in us (default ns)
+  struct Run {
+    std::function<int64_t()> once;  // one timed call: items processed
+    // Counters shown beside the rate, read after the timed loop (may be empty).
+    std::function<std::vector<std::pair<std::string, double>>()> counters;
+  };
+  struct Entry {
+    std::string_view impl;
+    std::function<Run()> prepare;
+  };
+  std::vector<Entry> impls;
+};
+
+// ---------------------------------------------------------------- families
 
 // A family's input, loaded from a file by the family's loader. value holds a
 // std::shared_ptr<const In> of the family's input type.
@@ -134,9 +175,9 @@ const In& input_as(const Input& in) {
   return *std::any_cast<const std::shared_ptr<const In>&>(in.value);
 }
 
-struct ImageImpl {
+struct FamilyImpl {
   std::string_view name;
-  std::function<Image(const Input&, const FrameOptions&, FrameStats*)> render;
+  std::function<Output(const Input&, const FrameOptions&, FrameStats*)> run;
   double accuracy = 0;   // bound against the oracle, in the family's unit (stated in its row)
   KnownFailure known;
   std::string_view peer; // non-empty: a production library's implementation (e.g. "OpenImageIO 2.4")
@@ -146,18 +187,12 @@ struct ImageImpl {
   // family allows. `verify` and the benchmarks skip such cases, saying why; a
   // direct render throws InputError with the same reason.
   std::string (*unsupported)(const Params&) = nullptr;
-};
 
-// An analytic judge: for every pixel, whether it must be covered, computed from
-// the input in closed form (never through an implementation). Cases name it in
-// corpus/manifest.txt.
-enum class Cover : uint8_t { kMiss, kHit, kSkip };
-struct ImageJudge {
-  std::string_view name;
-  std::string_view what;
-  // Throws InputError when the input is not what the judge needs.
-  std::function<void(const Input&)> check;
-  std::function<std::vector<Cover>(const Input&, int width, int height)> coverage;
+  // The run's output as the family's own type (family-specific code: props/).
+  template <class Out>
+  Out run_as(const Input& in, const FrameOptions& o, FrameStats* s) const {
+    return take_output<Out>(run(in, o, s));
+  }
 };
 
 // An input for benchmarks: built by the family (deterministic), timed by bench/.
@@ -173,7 +208,7 @@ struct BenchInput {
   Params params;                     // the family's settings for this input (e.g. shading=flat)
 };
 
-struct ImageFamily {
+struct Family {
   std::string_view name;     // "ray_cast"
   std::string_view what;     // one line for --help
   std::string_view input;    // what load() reads, e.g. "an NFF scene (.nff)"
@@ -183,42 +218,52 @@ struct ImageFamily {
   std::string_view default_impl;  // `lockstep render` without --impl
   std::string_view algo;          // `lockstep render --algo NAME` picks this family among those of one extension
   bool sized = true;         // --size applies (false: the size is the input's)
-  ImageTolerance tol;        // agreement with the reference, per frame
+  const OutputKind* kind = nullptr;  // what a run produces (core/output.h); never null in a row
+  Tolerance tol;             // agreement with the reference, per frame
   std::function<Input(const std::string& path)> load;  // throws InputError
-  std::vector<ImageImpl> impls;  // impls.front() is the reference
-  std::vector<ImageJudge> judges;
-  std::function<std::vector<BenchInput>()> bench;  // may be empty
+  std::vector<FamilyImpl> impls;  // impls.front() is the reference
+  std::vector<Judge> judges;
+  std::function<std::vector<BenchInput>()> bench;  // frames to time; may be empty
+  std::function<std::vector<KernelBench>()> kernels;  // stages to time; may be empty
+  // The parts of the family's property provider (props/<family>/) that apply
+  // to it, by name; the provider rejects a name it does not know.
+  std::vector<std::string_view> properties;
   std::vector<ParamSpec> params;  // settings the family understands (FrameOptions::params)
   // Throws InputError(source, 0, ...) naming the bad setting; may be empty when params is.
   std::function<void(const Params&)> check_params;
 
-  const ImageImpl& reference() const { return impls.front(); }
-  const ImageImpl* find(std::string_view n) const {
+  const FamilyImpl& reference() const { return impls.front(); }
+  const FamilyImpl* find(std::string_view n) const {
     for (const auto& i : impls)
       if (i.name == n) return &i;
     return nullptr;
   }
-  const ImageJudge* find_judge(std::string_view n) const {
+  const Judge* find_judge(std::string_view n) const {
     for (const auto& j : judges)
       if (j.name == n) return &j;
     return nullptr;
+  }
+  bool has_property(std::string_view part) const {
+    for (const auto& p : properties)
+      if (p == part) return true;
+    return false;
   }
 };
 
 // ---------------------------------------------------------------- typed adapter
 
-template <class In>
-using RenderOf = Image (*)(const In&, const FrameOptions&, FrameStats*);
+template <class In, class Out = Image>
+using RenderOf = Out (*)(const In&, const FrameOptions&, FrameStats*);
 
-template <class In>
+template <class In, class Out = Image>
 struct TypedImpl {
   std::string_view name;
-  RenderOf<In> render;
+  RenderOf<In, Out> render;
   double accuracy = 0;
   KnownFailure known = {};
   std::string_view peer = {};
   bool threaded = true;
-  std::string (*unsupported)(const Params&) = nullptr;  // see ImageImpl::unsupported
+  std::string (*unsupported)(const Params&) = nullptr;  // see FamilyImpl::unsupported
 };
 
 template <class In>
@@ -232,11 +277,13 @@ Input make_input(In value, std::string source, int width, int height, Vec3 backg
   return in;
 }
 
-template <class In>
-ImageImpl erase(const TypedImpl<In>& t) {
-  ImageImpl i;
+template <class In, class Out>
+FamilyImpl erase(const TypedImpl<In, Out>& t) {
+  FamilyImpl i;
   i.name = t.name;
-  i.render = [fn = t.render](const Input& in, const FrameOptions& o, FrameStats* s) { return fn(input_as<In>(in), o, s); };
+  i.run = [fn = t.render](const Input& in, const FrameOptions& o, FrameStats* s) {
+    return make_output<Out>(fn(input_as<In>(in), o, s));
+  };
   i.accuracy = t.accuracy;
   i.known = t.known;
   i.peer = t.peer;
@@ -246,9 +293,9 @@ ImageImpl erase(const TypedImpl<In>& t) {
 }
 
 // Every implementation of one family takes the same input type In.
-template <class In>
-std::vector<ImageImpl> erase_all(std::span<const TypedImpl<In>> impls) {
-  std::vector<ImageImpl> out;
+template <class In, class Out = Image>
+std::vector<FamilyImpl> erase_all(std::span<const std::type_identity_t<TypedImpl<In, Out>>> impls) {
+  std::vector<FamilyImpl> out;
   for (const auto& t : impls) out.push_back(erase(t));
   return out;
 }

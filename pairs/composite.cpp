@@ -5,6 +5,7 @@
 #include <span>
 
 #include "core/layers.h"
+#include "core/output_image.h"
 #include "optimized/composite.h"
 #include "reference/composite.h"
 #include "reference/synthetic_stack.h"
@@ -76,8 +77,8 @@ std::vector<BenchInput> bench_stacks() {
 
 }  // namespace
 
-ImageFamily composite_family() {
-  ImageFamily f;
+Family composite_family() {
+  Family f;
   f.name = "composite";
   f.what = "alpha compositing of layer stacks (over: straight/premultiplied, front-to-back/back-to-front)";
   f.input = "a layer stack (.stack)";
@@ -86,10 +87,11 @@ ImageFamily composite_family() {
   f.extension = ".stack";
   f.default_impl = "simd";
   f.sized = false;
+  f.kind = &image_kind();
   // Agreement with the reference: within one 8-bit level on every pixel (the
   // float cases in corpus/manifest.txt set their own, tighter threshold).
-  f.tol.color_abs = 1.0 / 255 + 1e-6;
-  f.tol.pixel_fraction = 1.0;
+  f.tol.abs = 1.0 / 255 + 1e-6;
+  f.tol.fraction = 1.0;
   f.load = load_stack;
   f.impls = erase_all<LayerStack>(kImpls);
   f.bench = bench_stacks;

@@ -6,6 +6,6 @@
 namespace lockstep {
 
 // reference, simd, oiio (OpenImageIO's ImageBufAlgo::over, a production peer).
-ImageFamily composite_family();
+Family composite_family();
 
 }  // namespace lockstep

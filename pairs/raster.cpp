@@ -1,44 +1,31 @@
 // lockstep pairs: the raster families' rows (see pairs/raster.h).
 #include "pairs/raster.h"
 
-#include <cstdlib>
-#include <filesystem>
 #include <string>
 
-#include "core/nff.h"
+#include "core/output_image.h"
 #include "optimized/painter.h"
 #include "optimized/raster.h"
 #include "reference/painter.h"
 #include "reference/raster.h"
 #include "reference/scanline.h"
 #include "optimized/scanline.h"
+#include "pairs/loaders.h"
 
 namespace lockstep {
 
 namespace {
-
-Input load_scene(const std::string& path) {
-  Scene s = read_nff(path);
-  const int w = s.view.xres, h = s.view.yres;
-  const Vec3 bg = s.background;
-  return make_input<Scene>(std::move(s), path, w, h, bg);
-}
-
-std::string spd_dir() {
-  if (const char* e = std::getenv("LOCKSTEP_SPD_DIR")) return e;
-  return LOCKSTEP_SPD_DIR;
-}
 
 // The SPD scenes of issue #7 that are present, at 1024 x 1024: flat shading
 // (what the llvmpipe peer draws too) for every scene, and per-sample Phong for two.
 std::vector<BenchInput> spd_frames() {
   std::vector<BenchInput> out;
   auto add = [&](const char* name, const char* shading) {
-    const std::string path = spd_dir() + "/" + name + ".nff";
-    if (!std::filesystem::exists(path)) return;
+    std::optional<Input> in = load_spd(name);
+    if (!in) return;
     BenchInput b;
     b.name = std::string(name) + "/" + shading;
-    b.input = load_scene(path);
+    b.input = std::move(*in);
     b.params.set("shading", shading);
     const Scene& s = input_as<Scene>(b.input);
     b.width = b.height = 1024;
@@ -54,8 +41,8 @@ std::vector<BenchInput> spd_frames() {
 }
 
 // A raster family over NFF scenes: the shared loader, settings and checks.
-ImageFamily raster_family(std::string_view name, std::string_view what, std::string_view algo) {
-  ImageFamily f;
+Family raster_family(std::string_view name, std::string_view what, std::string_view algo) {
+  Family f;
   f.name = name;
   f.what = what;
   f.algo = algo;
@@ -65,7 +52,8 @@ ImageFamily raster_family(std::string_view name, std::string_view what, std::str
   f.extension = ".nff";
   f.default_impl = "simd";
   f.sized = true;
-  f.load = load_scene;
+  f.kind = &image_kind();
+  f.load = load_nff;
   f.params = raster_params();
   f.check_params = [](const Params& p) { raster_settings(p, "settings"); };
   f.bench = spd_frames;
@@ -74,14 +62,14 @@ ImageFamily raster_family(std::string_view name, std::string_view what, std::str
 
 }  // namespace
 
-ImageFamily zbuffer_family() {
-  ImageFamily f = raster_family("zbuffer", "z-buffer rasterization (Catmull) with flat/Gouraud/Phong/toon shading",
+Family zbuffer_family() {
+  Family f = raster_family("zbuffer", "z-buffer rasterization (Catmull) with flat/Gouraud/Phong/toon shading",
                                 "zbuffer");
   // Colour within 1/255 on 99.9% of the pixels, as ray casting: pixels differ
   // where two surfaces are within the depth format's resolution (the optimized
   // z-buffers compute depth in float) and on silhouettes of supersampled pixels.
-  f.tol.color_abs = 1.0 / 255;
-  f.tol.pixel_fraction = 0.999;
+  f.tol.abs = 1.0 / 255;
+  f.tol.fraction = 0.999;
   std::vector<TypedImpl<Scene>> impls = {
       {"reference", ref::zbuffer, 0, {}, {}, false},
       // Coverage bit-identical to the reference (same snapped mesh, same exact
@@ -125,11 +113,14 @@ ImageFamily zbuffer_family() {
     impls.push_back({"llvmpipe", opt::llvmpipe::zbuffer, 0, {"coverage", 1e-4, "pixel"}, "Mesa llvmpipe (OSMesa)",
                      true, opt::llvmpipe::unsupported});
   f.impls = erase_all<Scene>(impls);
+  // props/raster: the parts that test the z-buffer (the other raster families
+  // are checked against it).
+  f.properties = {"cross_check", "culling", "supersampling", "visibility", "llvmpipe", "hidden"};
   return f;
 }
 
-ImageFamily scanline_family() {
-  ImageFamily f = raster_family("scanline",
+Family scanline_family() {
+  Family f = raster_family("scanline",
                                 "scanline z-buffer (Watkins; edge table, active edges, incremental spans), "
                                 "flat/Gouraud/Phong/toon shading",
                                 "scanline");
@@ -137,8 +128,8 @@ ImageFamily scanline_family() {
   // sample, props/raster/scanline.cpp); depth and attributes are incremental,
   // so colours differ from the z-buffer's by the drift, and the visible surface
   // only where two surfaces are within the drift of each other.
-  f.tol.color_abs = 1.0 / 255;
-  f.tol.pixel_fraction = 0.999;
+  f.tol.abs = 1.0 / 255;
+  f.tol.fraction = 0.999;
   const TypedImpl<Scene> impls[] = {
       {"reference", ref::scanline, 0, {}, {}, false},
       // Visibility by the same scanlines (coverage identical to the reference's),
@@ -146,24 +137,26 @@ ImageFamily scanline_family() {
       {"simd", opt::simd::scanline, 1.0 / 255},
   };
   f.impls = erase_all<Scene>(impls);
+  f.properties = {"cross_check", "supersampling", "scanline", "interpolation"};
   return f;
 }
 
-ImageFamily painter_family() {
-  ImageFamily f = raster_family("painter",
+Family painter_family() {
+  Family f = raster_family("painter",
                                 "painter's algorithm (depth sort, Newell-Newell-Sancha tests, cycles and "
                                 "interpenetrations reported; --split resolves them)",
                                 "painter");
   // Judged against the z-buffer's tolerance: where the order is right the
   // painter draws the z-buffer's fragments, bit for bit; simd paints the same
   // plan and agrees with the reference bit for bit (props/raster/painter.cpp).
-  f.tol.color_abs = 1.0 / 255;
-  f.tol.pixel_fraction = 0.999;
+  f.tol.abs = 1.0 / 255;
+  f.tol.fraction = 0.999;
   const TypedImpl<Scene> impls[] = {
       {"reference", ref::painter, 0, {}, {}, false},
       {"simd", opt::simd::painter, 0},
   };
   f.impls = erase_all<Scene>(impls);
+  f.properties = {"painter"};
   f.default_impl = "simd";
   return f;
 }

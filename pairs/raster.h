@@ -12,8 +12,8 @@
 
 namespace lockstep {
 
-ImageFamily zbuffer_family();
-ImageFamily scanline_family();
-ImageFamily painter_family();
+Family zbuffer_family();
+Family scanline_family();
+Family painter_family();
 
 }  // namespace lockstep

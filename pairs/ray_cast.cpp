@@ -2,12 +2,14 @@
 #include "pairs/ray_cast.h"
 
 #include <algorithm>
-#include <cstdlib>
-#include <filesystem>
+#include <cmath>
+#include <memory>
+#include <random>
 #include <string>
 
-#include "core/nff.h"
+#include "core/output_image.h"
 #include "optimized/ray_cast.h"
+#include "pairs/loaders.h"
 #include "pairs/ray_cast_judges.h"
 #include "reference/ray_cast.h"
 
@@ -71,27 +73,12 @@ const RayCastRows kRows{
 
 // ---------------------------------------------------------------- the family's typed pieces
 
-Input load_scene(const std::string& path) {
-  Scene s = read_nff(path);
-  const int w = s.view.xres, h = s.view.yres;
-  const Vec3 bg = s.background;
-  return make_input<Scene>(std::move(s), path, w, h, bg);
-}
-
-ImageJudge judge(ray_cast_judges::JudgeKind kind, std::string_view name, std::string_view what) {
-  ImageJudge j;
-  j.name = name;
-  j.what = what;
-  j.check = [kind](const Input& in) { ray_cast_judges::check_judgeable(input_as<Scene>(in), kind); };
-  j.coverage = [kind](const Input& in, int w, int h) {
-    return ray_cast_judges::analytic_coverage(input_as<Scene>(in), kind, w, h);
-  };
-  return j;
-}
-
-std::string spd_dir() {
-  if (const char* e = std::getenv("LOCKSTEP_SPD_DIR")) return e;
-  return LOCKSTEP_SPD_DIR;
+Judge judge(ray_cast_judges::JudgeKind kind, std::string_view name, std::string_view what) {
+  return image_judge(
+      name, what, [kind](const Input& in) { ray_cast_judges::check_judgeable(input_as<Scene>(in), kind); },
+      [kind](const Input& in, int w, int h) {
+        return ray_cast_judges::analytic_coverage(input_as<Scene>(in), kind, w, h);
+      });
 }
 
 // The SPD scenes of BENCHMARKS.md, those that are present, at 512 x 512.
@@ -99,11 +86,11 @@ std::vector<BenchInput> spd_frames() {
   std::vector<BenchInput> out;
   for (const char* name : {"balls-1", "balls-2", "balls-3", "balls-4", "balls-5", "tetra-3", "mount-3", "gears-2",
                            "teapot-2", "sombrero-2"}) {
-    const std::string path = spd_dir() + "/" + name + ".nff";
-    if (!std::filesystem::exists(path)) continue;
+    std::optional<Input> in = load_spd(name);
+    if (!in) continue;
     BenchInput b;
     b.name = name;
-    b.input = load_scene(path);
+    b.input = std::move(*in);
     const Scene& s = input_as<Scene>(b.input);
     b.width = b.height = 512;
     const double prims = double(s.sphere_count() + s.triangle_count());
@@ -115,13 +102,129 @@ std::vector<BenchInput> spd_frames() {
   return out;
 }
 
+// ---------------------------------------------------------------- stage benchmarks
+
+// Deterministic rays from a shell around the origin aimed near a unit-size
+// primitive at the origin: about half hit. The same seed for every implementation.
+std::vector<Ray> rays_around_origin(size_t n, double spread) {
+  std::mt19937_64 rng(12345);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<Ray> rays(n);
+  for (auto& r : rays) {
+    Vec3 o;
+    do o = {u(rng), u(rng), u(rng)}; while (length(o) > 1 || length(o) < 0.1);
+    o = normalize(o) * 10.0;
+    const Vec3 target{spread * u(rng), spread * u(rng), spread * u(rng)};
+    r = Ray{o, normalize(target - o), 0.0, kInfinity};
+  }
+  return rays;
+}
+
+constexpr size_t kKernelRays = 4096;
+
+// kernel/<row>/<impl>: one primitive against 4096 rays, single thread; items =
+// ray-primitive tests; counter hit_fraction.
+template <class Fn, class Call>
+KernelBench kernel_bench(const KernelRow<Fn>& row, Call call) {
+  KernelBench k;
+  k.name = "kernel/" + std::string(row.name);
+  for (const auto& impl : row.impls)
+    k.impls.push_back({impl.name, [fn = impl.fn, call] {
+                         auto rays = std::make_shared<const std::vector<Ray>>(rays_around_origin(kKernelRays, 1.5));
+                         auto t = std::make_shared<std::vector<double>>(rays->size());
+                         KernelBench::Run r;
+                         r.once = [fn, call, rays, t] {
+                           call(fn, *rays, *t);
+                           return int64_t(rays->size());
+                         };
+                         r.counters = [t]() -> std::vector<std::pair<std::string, double>> {
+                           size_t hits = 0;
+                           for (double x : *t) hits += std::isfinite(x);
+                           return {{"hit_fraction", double(hits) / double(t->size())}};
+                         };
+                         return r;
+                       }});
+  return k;
+}
+
+// throughput/<prims>/<impl>: the single-primitive kernels above mostly measure
+// per-call setup for SIMD (8 rays against 1 primitive). Here every ray_cast
+// implementation's trace() resolves 4096 rays against 256 primitives (random
+// unit spheres in a box, or a 16x8 grid of quads = 256 triangles), single
+// thread: items = ray-primitive pairs (brute force tests them all; Embree does
+// not, which is the point of a BVH).
+Scene throughput_scene(bool spheres) {
+  Scene s;
+  const uint32_t m = add_material(s, Material{});
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-4, 4);
+  if (spheres) {
+    for (int i = 0; i < 256; ++i) add_sphere(s, {u(rng), u(rng), u(rng)}, 0.3, m);
+  } else {
+    for (int i = 0; i < 16; ++i)
+      for (int j = 0; j < 8; ++j) {
+        const double x = -4 + i * 0.5, y = -4 + j * 1.0, z = 0.2 * std::sin(i + j);
+        const Vec3 q[4] = {{x, y, z}, {x + 0.5, y, z}, {x + 0.5, y + 1.0, z}, {x, y + 1.0, z}};
+        add_polygon(s, q, {}, m);
+      }
+  }
+  return s;
+}
+
+KernelBench throughput_bench(bool spheres) {
+  KernelBench k;
+  k.name = std::string("throughput/") + (spheres ? "spheres" : "triangles");
+  k.microseconds = true;
+  for (const auto& impl : kRows.ray_cast.impls)
+    k.impls.push_back({impl.name, [fn = impl.fn, spheres] {
+                         auto scene = std::make_shared<const Scene>(throughput_scene(spheres));
+                         const double prims =
+                             double(scene->sphere_count() + scene->polygon_count() * (spheres ? 1 : 2));
+                         // Rays from one eye (as primary rays are), spread over the primitives.
+                         std::vector<Ray> rays = rays_around_origin(kKernelRays, 4.0);
+                         for (auto& r : rays) {
+                           const Vec3 target = r.o + 10.0 * r.d;
+                           r.o = Vec3{0.3, 0.2, 12.0};
+                           r.d = normalize(target - r.o);
+                         }
+                         auto shared = std::make_shared<const std::vector<Ray>>(std::move(rays));
+                         auto hits = std::make_shared<std::vector<Hit>>(shared->size());
+                         KernelBench::Run r;
+                         r.once = [fn, scene, shared, hits, prims] {
+                           fn.trace(*scene, *shared, *hits, nullptr);
+                           return int64_t(double(shared->size()) * prims);
+                         };
+                         return r;
+                       }});
+  return k;
+}
+
+std::vector<KernelBench> stage_benches() {
+  std::vector<KernelBench> out;
+  const Sphere sphere{{0, 0, 0}, 1.0};
+  out.push_back(kernel_bench(kRows.ray_sphere, [sphere](RaySphereFn fn, const std::vector<Ray>& r,
+                                                        std::vector<double>& t) { fn(r, sphere, t); }));
+  const Plane plane{normalize(Vec3{0.3, 0.4, 1.0}), 0.0};
+  out.push_back(kernel_bench(kRows.ray_plane, [plane](RayPlaneFn fn, const std::vector<Ray>& r,
+                                                      std::vector<double>& t) { fn(r, plane, t); }));
+  // A single triangle: "ray-triangle tests per second".
+  auto tri = std::make_shared<Scene>();
+  const Vec3 v[3] = {{-1.5, -1, 0.2}, {1.5, -1, -0.2}, {0, 1.5, 0}};
+  add_polygon(*tri, v, {}, add_material(*tri, Material{}));
+  out.push_back(kernel_bench(kRows.ray_polygon, [tri](RayPolygonFn fn, const std::vector<Ray>& r,
+                                                      std::vector<double>& t) { fn(r, *tri, 0, t); }));
+  out.push_back(throughput_bench(true));
+  out.push_back(throughput_bench(false));
+  return out;
+}
+
 }  // namespace
 
 const RayCastRows& ray_cast_rows() { return kRows; }
 
-ImageFamily ray_cast_family() {
-  const Pair<CasterFns>& rows = kRows.ray_cast;
-  ImageFamily f;
+Family ray_cast_family() {
+  const KernelRow<CasterFns>& rows = kRows.ray_cast;
+  Family f;
   f.name = rows.name;
   f.what = "ray casting of spheres, polygons and patches (NFF, Eric Haines' SPD)";
   f.input = "an NFF scene (.nff)";
@@ -131,9 +234,10 @@ ImageFamily ray_cast_family() {
   f.default_impl = "auto";
   f.algo = "raycast";
   f.sized = true;
-  f.tol.color_abs = rows.tol.color_abs;
-  f.tol.pixel_fraction = rows.tol.pixel_fraction;
-  f.load = load_scene;
+  f.kind = &image_kind();
+  f.tol.abs = rows.tol.color_abs;
+  f.tol.fraction = rows.tol.pixel_fraction;
+  f.load = load_nff;
   for (const auto& i : rows.impls) {
     TypedImpl<Scene> t{i.name, i.fn.render, i.accuracy, i.known};
     t.threaded = i.name != "reference";
@@ -143,6 +247,7 @@ ImageFamily ray_cast_family() {
   f.judges = {judge(ray_cast_judges::JudgeKind::kDisk, "disk", "one sphere seen from outside: its exact disk"),
               judge(ray_cast_judges::JudgeKind::kConvex, "convex", "a closed convex solid: slab clipping")};
   f.bench = spd_frames;
+  f.kernels = stage_benches;
   return f;
 }
 

@@ -21,41 +21,23 @@
 
 namespace lockstep {
 
-// Agreement tolerances against the reference.
-struct Tolerance {
-  double t_rel = 0;          // relative error of t
-  double color_abs = 0;      // per-channel absolute colour error of a pixel
-  double pixel_fraction = 1; // share of pixels that must be within color_abs
-};
-
-template <class Fn>
-struct Pair {
-  std::string_view name;
-  std::string_view generator;  // props/gen name of the input generator
-  Tolerance tol;
-  std::span<const Impl<Fn>> impls;
-  const Impl<Fn>* find(std::string_view n) const {
-    for (const auto& i : impls)
-      if (i.name == n) return &i;
-    return nullptr;
-  }
-};
-
 struct CasterFns {
   TraceFn trace;
   RenderFn render;
 };
 
+// The family's kernel rows (core/family.h: KernelRow), the reference first.
 struct RayCastRows {
-  Pair<RaySphereFn> ray_sphere;
-  Pair<RayPlaneFn> ray_plane;
-  Pair<RayPolygonFn> ray_polygon;
-  Pair<CasterFns> ray_cast;
+  KernelRow<RaySphereFn> ray_sphere;
+  KernelRow<RayPlaneFn> ray_plane;
+  KernelRow<RayPolygonFn> ray_polygon;
+  KernelRow<CasterFns> ray_cast;
 };
 
 const RayCastRows& ray_cast_rows();
 
-// The family as the registry sees it (built from ray_cast_rows().ray_cast).
-ImageFamily ray_cast_family();
+// The family as the registry sees it (built from ray_cast_rows().ray_cast; its
+// kernel rows are its benchmark hooks: kernel/<row>/<impl>, throughput/...).
+Family ray_cast_family();
 
 }  // namespace lockstep

@@ -30,6 +30,7 @@
 #include "core/camera.h"
 #include "core/error.h"
 #include "core/family.h"
+#include "core/output_image.h"
 #include "core/scene.h"
 
 namespace lockstep::ray_cast_judges {

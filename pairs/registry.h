@@ -16,17 +16,17 @@
 namespace lockstep {
 
 struct Registry {
-  std::vector<ImageFamily> image;  // families whose output is an image
+  std::vector<Family> families;  // every family, whatever its output kind
 
-  const ImageFamily* find_image(std::string_view name) const {
-    for (const auto& f : image)
+  const Family* find(std::string_view name) const {
+    for (const auto& f : families)
       if (f.name == name) return &f;
     return nullptr;
   }
   // "ray_cast, composite"
-  std::string image_names(std::string_view sep = ", ") const {
+  std::string names(std::string_view sep = ", ") const {
     std::string s;
-    for (const auto& f : image) {
+    for (const auto& f : families) {
       if (!s.empty()) s += sep;
       s += f.name;
     }

@@ -8,13 +8,13 @@
 
 namespace lockstep::props {
 namespace ray_cast {
-FamilyProperties properties(const ImageFamily&);
+FamilyProperties properties(const Family&);
 }
 namespace composite {
-FamilyProperties properties(const ImageFamily&);
+FamilyProperties properties(const Family&);
 }
 namespace raster {
-FamilyProperties properties(const ImageFamily&);
+FamilyProperties properties(const Family&);
 }
 
 const std::vector<ProviderRow>& property_providers() {

@@ -76,7 +76,7 @@ struct FamilyProperties {
 };
 
 // A family's property provider, given the family's registry row.
-using PropertyProvider = FamilyProperties (*)(const ImageFamily&);
+using PropertyProvider = FamilyProperties (*)(const Family&);
 
 struct ProviderRow {
   std::string_view family;

@@ -13,19 +13,18 @@
 
 namespace lockstep::props::composite {
 
-std::vector<CompositeSubject> subjects_of(const ImageFamily& f) {
+std::vector<CompositeSubject> subjects_of(const Family& f) {
   // float_ulps: per over (checks.h: derived 1.5 for premultiplied over, 3 for the
   // reference's straight formula), stated in the row; levels8: the family's
   // agreement tolerance (1/255 + 1e-6: one level; measured 0: every
   // implementation rounds x a / 255 exactly, the same way).
-  const int levels8 = int(std::floor(f.tol.color_abs * 255));
+  const int levels8 = int(std::floor(f.tol.abs * 255));
   std::vector<CompositeSubject> out;
   for (size_t i = 0; i < f.impls.size(); ++i) {
-    const ImageImpl& im = f.impls[i];
-    auto render = im.render;
-    auto fn = [render](const LayerStack& st, const FrameOptions& o, FrameStats* s) {
+    const FamilyImpl& im = f.impls[i];
+    auto fn = [im](const LayerStack& st, const FrameOptions& o, FrameStats* s) {
       const int w = st.width(), h = st.height();
-      return render(make_input<LayerStack>(st, "props/composite", w, h), o, s);
+      return im.run_as<Image>(make_input<LayerStack>(st, "props/composite", w, h), o, s);
     };
     out.push_back({std::string(im.name), fn, im.accuracy, i == 0 ? 0 : levels8, i == 0});
   }
@@ -34,7 +33,7 @@ std::vector<CompositeSubject> subjects_of(const ImageFamily& f) {
 
 const std::vector<CompositeSubject>& composite_subjects() {
   static const std::vector<CompositeSubject> s = [] {
-    const ImageFamily* f = registry().find_image("composite");
+    const Family* f = registry().find("composite");
     if (!f) throw std::runtime_error("the registry has no family 'composite'");
     return subjects_of(*f);
   }();

@@ -72,9 +72,9 @@ struct CompositeSubject {
 
 // The subjects of the registry's composite family (pairs/composite.cpp), the
 // reference first: name and entry point from the row, float_ulps = the row's
-// ImageImpl::accuracy (float ulps per over), levels8 = the family's agreement
+// FamilyImpl::accuracy (float ulps per over), levels8 = the family's agreement
 // tolerance in whole levels (0 for the reference itself).
-std::vector<CompositeSubject> subjects_of(const ImageFamily& family);
+std::vector<CompositeSubject> subjects_of(const Family& family);
 // subjects_of(the registry's "composite"), built once.
 const std::vector<CompositeSubject>& composite_subjects();
 

@@ -287,7 +287,7 @@ void replay_file(const fs::path& f) {
   }
   if (props.empty()) {
     ADD_FAILURE() << "no property " << r.family << "/" << r.check << "/" << r.pair << "/" << r.impl
-                  << " is registered (families: " << registry().image_names() << ")";
+                  << " is registered (families: " << registry().names() << ")";
     return;
   }
   for (const Property* p : props) {
@@ -367,7 +367,7 @@ void register_all() {
     if (!names.insert(n).second) std::cerr << "lockstep props: test " << n << " registered twice\n";
     return n;
   };
-  for (const ImageFamily& f : registry().image) {
+  for (const Family& f : registry().families) {
     const ProviderRow* row = nullptr;
     for (const ProviderRow& r : property_providers())
       if (r.family == f.name) row = &r;
@@ -403,7 +403,7 @@ void register_all() {
   }
   // A provider for a family that is not in the registry tests nothing real.
   for (const ProviderRow& r : property_providers())
-    if (!registry().find_image(r.family)) {
+    if (!registry().find(r.family)) {
       const std::string fam(r.family);
       add("Registry", unique(fam + "_is_registered"), [fam] {
         FAIL() << "props/families.cpp has properties for '" << fam << "', which pairs/registry.cpp does not list";

@@ -96,9 +96,8 @@ Verdict culling_agree(const RasterCase& c) {
 
 }  // namespace
 
-void culling_part(const ImageFamily& family, FamilyProperties& out) {
-  if (family.name != "zbuffer") return;
-  const ImageImpl& ref = family.reference();
+void culling_part(const Family& family, FamilyProperties& out) {
+  const FamilyImpl& ref = family.reference();
   // Half the cases nearly edge-on, half arbitrary.
   out.properties.push_back(case_property(family, ref, "CullingAgree", "edge_on_or_soup",
                                          rc::gen::oneOf(edge_on_soup(), triangle_soup()), 0, "samples",

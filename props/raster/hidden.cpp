@@ -149,9 +149,8 @@ void corpus_cases() {
 
 }  // namespace
 
-void hidden_part(const ImageFamily& family, FamilyProperties& out) {
-  if (family.name != "zbuffer") return;
-  const ImageImpl* simd = family.find("simd");
+void hidden_part(const Family& family, FamilyProperties& out) {
+  const FamilyImpl* simd = family.find("simd");
   if (!simd) return;
   Property p = case_property(family, *simd, "HiddenSkipped", "sphere_cluster", sphere_cluster(), 0,
                              "pixels differing", cluster_case);

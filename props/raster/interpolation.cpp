@@ -354,8 +354,7 @@ void perspective_oracle() {
 
 }  // namespace
 
-void interpolation_part(const ImageFamily& family, FamilyProperties& out) {
-  if (family.name != "scanline") return;
+void interpolation_part(const Family& family, FamilyProperties& out) {
   out.fixed.push_back({"Interpolation", "barycentric_weights", barycentric_weights});
   out.fixed.push_back({"Interpolation", "span_drift", span_drift});
   out.fixed.push_back({"Interpolation", "quad_rotation", quad_rotation});

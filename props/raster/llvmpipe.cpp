@@ -22,13 +22,13 @@ namespace lockstep::props::raster {
 
 namespace {
 
-Verdict coverage_agree(const ImageImpl& impl, const ImageImpl& reference, const RasterCase& c) {
+Verdict coverage_agree(const FamilyImpl& impl, const FamilyImpl& reference, const RasterCase& c) {
   const auto scene = c.scene();
   const Input in = make_input<Scene>(*scene, "<case>", c.width, c.height, scene->background);
   const FrameOptions o = c.options();
   FrameStats st;
-  const Image r = reference.render(in, o, &st);
-  const Image l = impl.render(in, o, &st);
+  const Image r = reference.run_as<Image>(in, o, &st);
+  const Image l = impl.run_as<Image>(in, o, &st);
   const std::string label = known_label(std::string(impl.name), impl.known);
   Verdict v;
   for (int j = 0; j < c.height; ++j)
@@ -62,10 +62,9 @@ rc::Gen<RasterCase> flat_soup() {
 
 }  // namespace
 
-void llvmpipe_part(const ImageFamily& family, FamilyProperties& out) {
-  if (family.name != "zbuffer") return;
-  const ImageImpl& reference = family.reference();
-  for (const ImageImpl& impl : family.impls) {
+void llvmpipe_part(const Family& family, FamilyProperties& out) {
+  const FamilyImpl& reference = family.reference();
+  for (const FamilyImpl& impl : family.impls) {
     if (impl.name != "llvmpipe") continue;  // registered only where OSMesa was found
     Property p = case_property(
         family, impl, "LlvmpipeCoverage", "flat_soup", flat_soup(), impl.known.max_rate, "coverage",

@@ -196,15 +196,15 @@ struct Frames {
   std::vector<std::string> notes;
 };
 
-Frames render_both(const ImageImpl& impl, const RasterCase& c) {
+Frames render_both(const FamilyImpl& impl, const RasterCase& c) {
   const auto scene = c.scene();
   const Input in = make_input<Scene>(*scene, "<case>", c.width, c.height, scene->background);
   Frames f;
   FrameStats st;
-  f.painter = impl.render(in, c.options(), &st);
+  f.painter = impl.run_as<Image>(in, c.options(), &st);
   f.notes = st.notes;
   FrameStats zs;
-  f.zbuffer = registry().find_image("zbuffer")->reference().render(in, c.options(), &zs);
+  f.zbuffer = registry().find("zbuffer")->reference().run_as<Image>(in, c.options(), &zs);
   return f;
 }
 
@@ -219,7 +219,7 @@ double pixel_error(const Frames& f, int i, int j, bool& coverage_differs) {
   return coverage_differs ? kInfinity : err;
 }
 
-std::string pixel_detail(const ImageImpl& impl, const Frames& f, int i, int j, double err) {
+std::string pixel_detail(const FamilyImpl& impl, const Frames& f, int i, int j, double err) {
   const float* a = f.painter.pixel(i, j);
   const float* b = f.zbuffer.pixel(i, j);
   std::ostringstream d;
@@ -232,7 +232,7 @@ std::string pixel_detail(const ImageImpl& impl, const Frames& f, int i, int j, d
 }
 
 // Layered scenes: equal to the z-buffer, nothing reported.
-Verdict equals_zbuffer(const ImageImpl& impl, const RasterCase& c) {
+Verdict equals_zbuffer(const FamilyImpl& impl, const RasterCase& c) {
   const Frames f = render_both(impl, c);
   Verdict v;
   if (!f.notes.empty()) {
@@ -262,7 +262,7 @@ Verdict equals_zbuffer(const ImageImpl& impl, const RasterCase& c) {
 
 // Cyclic and interpenetrating scenes: every differing pixel reported (no
 // split), or none differing (split).
-Verdict reports_or_splits(const ImageImpl& impl, const RasterCase& c, bool split) {
+Verdict reports_or_splits(const FamilyImpl& impl, const RasterCase& c, bool split) {
   const Frames f = render_both(impl, c);
   const auto scene = c.scene();
   const std::vector<int> covered = cover_count(*scene, c, reported_tris(f.notes));
@@ -285,10 +285,10 @@ Verdict reports_or_splits(const ImageImpl& impl, const RasterCase& c, bool split
   return v;
 }
 
-Property frame_property(const ImageFamily& family, const ImageImpl& impl, const std::string& suite,
+Property frame_property(const Family& family, const FamilyImpl& impl, const std::string& suite,
                         const std::string& check, const std::string& gen_name, SceneMaker make,
                         bool split,
-                        std::function<Verdict(const ImageImpl&, const RasterCase&)> judge) {
+                        std::function<Verdict(const FamilyImpl&, const RasterCase&)> judge) {
   Property p;
   p.family = std::string(family.name);
   p.check = check;
@@ -438,7 +438,7 @@ Verdict check_pairs(const PairsCase& c) {
   return v;
 }
 
-Property exact_property(const ImageFamily& family) {
+Property exact_property(const Family& family) {
   Property p;
   p.family = std::string(family.name);
   p.check = "exact";
@@ -466,7 +466,7 @@ Property exact_property(const ImageFamily& family) {
 
 // ---------------------------------------------------------------- the failure map
 
-void failure_map(const ImageFamily& family) {
+void failure_map(const Family& family) {
   for (const char* kind : {"cyclic_triple", "interpenetrating_pair"}) {
     const std::vector<PainterMapCase> cases =
         painter_failure_map(family.reference(), kind, 100, 20261125);
@@ -496,7 +496,7 @@ void failure_map(const ImageFamily& family) {
 
 }  // namespace
 
-std::vector<PainterMapCase> painter_failure_map(const ImageImpl& impl, const std::string& kind,
+std::vector<PainterMapCase> painter_failure_map(const FamilyImpl& impl, const std::string& kind,
                                                 int cases, uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> dist(0, 1);
@@ -538,9 +538,8 @@ std::vector<PainterMapCase> painter_failure_map(const ImageImpl& impl, const std
   return out;
 }
 
-void painter_part(const ImageFamily& family, FamilyProperties& out) {
-  if (family.name != "painter") return;
-  for (const ImageImpl& impl : family.impls) {
+void painter_part(const Family& family, FamilyProperties& out) {
+  for (const FamilyImpl& impl : family.impls) {
     out.properties.push_back(frame_property(family, impl, "PainterEqualsZbuffer", "equals_zbuffer",
                                             "layered", layered_nff, false, equals_zbuffer));
     for (const auto& [name, make] :
@@ -548,10 +547,10 @@ void painter_part(const ImageFamily& family, FamilyProperties& out) {
           std::pair<std::string, SceneMaker>{"interpenetrating_pair", interpenetrating_pair_nff}}) {
       out.properties.push_back(frame_property(
           family, impl, "PainterReports", "reports", name, make, false,
-          [](const ImageImpl& i, const RasterCase& c) { return reports_or_splits(i, c, false); }));
+          [](const FamilyImpl& i, const RasterCase& c) { return reports_or_splits(i, c, false); }));
       out.properties.push_back(frame_property(
           family, impl, "PainterSplit", "split", name, make, true,
-          [](const ImageImpl& i, const RasterCase& c) { return reports_or_splits(i, c, true); }));
+          [](const FamilyImpl& i, const RasterCase& c) { return reports_or_splits(i, c, true); }));
     }
   }
   out.properties.push_back(exact_property(family));

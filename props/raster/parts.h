@@ -1,9 +1,10 @@
 // lockstep props/raster: the parts of the raster families' properties.
 //
-// Each part adds what it tests of the family it is given (it looks at
-// family.name: zbuffer, scanline, painter) to out; properties.cpp lists them.
-// A new part: its file in props/raster/, its declaration here, its line in
-// kParts (properties.cpp), its file in props/CMakeLists.txt.
+// Each part adds what it tests of the family it is given to out; it runs for
+// the families whose row names it (Family::properties, pairs/raster.cpp);
+// properties.cpp lists them by name. A new part: its file in props/raster/,
+// its declaration here, its line in kParts (properties.cpp), its name in the
+// rows it applies to, its file in props/CMakeLists.txt.
 #pragma once
 
 #include <cstdint>
@@ -22,34 +23,34 @@ namespace lockstep::props::raster {
 // (its Outcomes are pixels or samples); the counterexample text is the case.
 // suite "RayCastCrossCheck" gives check "ray_cast_cross_check" and the test
 // RayCastCrossCheck.<family>__<impl>.
-Property case_property(const ImageFamily& family, const ImageImpl& impl, std::string suite,
+Property case_property(const Family& family, const FamilyImpl& impl, std::string suite,
                        std::string generator, rc::Gen<RasterCase> gen, double bound,
                        std::string unit, std::function<Verdict(const RasterCase&)> check);
 
 // z-buffer frames against ray casting (properties.cpp).
-void cross_check_part(const ImageFamily& family, FamilyProperties& out);
+void cross_check_part(const Family& family, FamilyProperties& out);
 // Supersampling against the exact box-filtered image (supersampling.cpp).
-void supersampling_part(const ImageFamily& family, FamilyProperties& out);
+void supersampling_part(const Family& family, FamilyProperties& out);
 // Its scenes: 1..5 flat, two-sided triangles parallel to the image plane at
 // distinct depths; and their screen triangles for the exact oracle.
 rc::Gen<RasterCase> flat_parallel_scene();
 std::vector<FlatTri> flat_tris(const Scene& scene, const ScreenMesh& mesh);
 // World-space against projection-space back-face culling (culling.cpp).
-void culling_part(const ImageFamily& family, FamilyProperties& out);
+void culling_part(const Family& family, FamilyProperties& out);
 // scanline: coverage against the z-buffer on snapped meshes, frames against the z-buffer
 // (scanline.cpp).
-void scanline_part(const ImageFamily& family, FamilyProperties& out);
+void scanline_part(const Family& family, FamilyProperties& out);
 // scanline: the interpolation lessons, measured (interpolation.cpp).
-void interpolation_part(const ImageFamily& family, FamilyProperties& out);
+void interpolation_part(const Family& family, FamilyProperties& out);
 // The z-buffer's visibility kernel: coverage agreement, watertightness, fill-rule
 // mutants; the optimized set-up's mesh against view_scene's (visibility.cpp).
-void visibility_part(const ImageFamily& family, FamilyProperties& out);
+void visibility_part(const Family& family, FamilyProperties& out);
 // The llvmpipe peer's coverage against the reference's (llvmpipe.cpp).
-void llvmpipe_part(const ImageFamily& family, FamilyProperties& out);
+void llvmpipe_part(const Family& family, FamilyProperties& out);
 // The simd z-buffer's hidden-sphere skipping changes no bit of the image (hidden.cpp).
-void hidden_part(const ImageFamily& family, FamilyProperties& out);
+void hidden_part(const Family& family, FamilyProperties& out);
 // The painter against the z-buffer, its reports, --split, its exact predicates (painter.cpp).
-void painter_part(const ImageFamily& family, FamilyProperties& out);
+void painter_part(const Family& family, FamilyProperties& out);
 // The painter's failure map (painter.cpp): random 64x64 flat scenes of one kind
 // ("cyclic_triple" or "interpenetrating_pair") drawn by impl without and with
 // split, each against the z-buffer.
@@ -60,7 +61,7 @@ struct PainterMapCase {
   bool reported = false;      // the painter reported a cycle or an interpenetration
   int wrong_split = 0;        // wrong pixels with split=1
 };
-std::vector<PainterMapCase> painter_failure_map(const ImageImpl& impl, const std::string& kind,
+std::vector<PainterMapCase> painter_failure_map(const FamilyImpl& impl, const std::string& kind,
                                                 int cases, uint64_t seed);
 
 }  // namespace lockstep::props::raster

@@ -16,10 +16,12 @@
 //       Anything else is unexplained.
 //
 // The parts of props/raster (one file each: visibility, painter, scanline,
-// interpolation, llvmpipe, ...) are functions `void X_part(const ImageFamily&,
+// interpolation, llvmpipe, ...) are functions `void X_part(const Family&,
 // FamilyProperties&)` declared in props/raster/parts.h and listed in kParts
-// below; each adds what it tests of the family it is given. props/families.cpp
-// maps every raster family (zbuffer, scanline, painter) to properties().
+// below by name; a family's row (pairs/raster.cpp, Family::properties) names
+// the parts that apply to it, and each adds what it tests of that family.
+// props/families.cpp maps every raster family (zbuffer, scanline, painter) to
+// properties().
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -36,7 +38,7 @@
 
 namespace lockstep::props::raster {
 
-FamilyProperties properties(const ImageFamily& family);
+FamilyProperties properties(const Family& family);
 
 namespace {
 
@@ -130,14 +132,14 @@ std::string explain(const Scene& scene, const Camera& cam, int i, int j, const f
   return "";
 }
 
-Verdict cross_check(const ImageImpl& impl, const RasterCase& c) {
+Verdict cross_check(const FamilyImpl& impl, const RasterCase& c) {
   const auto scene = c.scene();
   const Input in = make_input<Scene>(*scene, "<case>", c.width, c.height, scene->background);
   const FrameOptions o = c.options();
   FrameStats st;
-  const Image z = impl.render(in, o, &st);
-  const ImageFamily* rc_family = registry().find_image("ray_cast");
-  const Image r = rc_family->reference().render(in, o, &st);
+  const Image z = impl.run_as<Image>(in, o, &st);
+  const Family* rc_family = registry().find("ray_cast");
+  const Image r = rc_family->reference().run_as<Image>(in, o, &st);
   const Camera cam = Camera::from_view(scene->view, c.width, c.height);
   Verdict v;
   for (int j = 0; j < c.height; ++j)
@@ -166,14 +168,14 @@ Verdict cross_check(const ImageImpl& impl, const RasterCase& c) {
   return v;
 }
 
-Property cross_check_property(const ImageFamily& family, const ImageImpl& impl) {
+Property cross_check_property(const Family& family, const FamilyImpl& impl) {
   return case_property(family, impl, "RayCastCrossCheck", "triangle_soup", triangle_soup(), 1.0 / 255, "colour",
                        [&impl](const RasterCase& c) { return cross_check(impl, c); });
 }
 
 }  // namespace
 
-Property case_property(const ImageFamily& family, const ImageImpl& impl, std::string suite, std::string generator,
+Property case_property(const Family& family, const FamilyImpl& impl, std::string suite, std::string generator,
                        rc::Gen<RasterCase> gen, double bound, std::string unit,
                        std::function<Verdict(const RasterCase&)> check) {
   Property p;
@@ -203,33 +205,48 @@ Property case_property(const ImageFamily& family, const ImageImpl& impl, std::st
   return p;
 }
 
-void cross_check_part(const ImageFamily& family, FamilyProperties& out) {
-  if (family.name != "zbuffer" && family.name != "scanline") return;
+void cross_check_part(const Family& family, FamilyProperties& out) {
   // The cross-check shades per pixel (Phong); an implementation that cannot
   // (llvmpipe: flat and Gouraud only) says so through its unsupported().
   const Params phong{{{"shading", "phong"}}};
-  for (const ImageImpl& impl : family.impls)
+  for (const FamilyImpl& impl : family.impls)
     if (!impl.unsupported || impl.unsupported(phong).empty())
       out.properties.push_back(cross_check_property(family, impl));
 }
 
-// Every part of props/raster: each looks at the family it is given (zbuffer,
-// scanline, painter) and adds what it tests of it.
-FamilyProperties properties(const ImageFamily& family) {
-  using Part = void (*)(const ImageFamily&, FamilyProperties&);
-  static constexpr Part kParts[] = {
-      cross_check_part,
-      culling_part,
-      supersampling_part,
-      scanline_part,
-      interpolation_part,
-      visibility_part,
-      llvmpipe_part,
-      painter_part,
-      hidden_part,
+// Every part of props/raster, by the name a family's row lists it under
+// (Family::properties, pairs/raster.cpp): a family gets the parts it names.
+FamilyProperties properties(const Family& family) {
+  using Part = void (*)(const Family&, FamilyProperties&);
+  struct Named {
+    std::string_view name;
+    Part part;
+  };
+  static constexpr Named kParts[] = {
+      {"cross_check", cross_check_part},
+      {"culling", culling_part},
+      {"supersampling", supersampling_part},
+      {"scanline", scanline_part},
+      {"interpolation", interpolation_part},
+      {"visibility", visibility_part},
+      {"llvmpipe", llvmpipe_part},
+      {"painter", painter_part},
+      {"hidden", hidden_part},
   };
   FamilyProperties out;
-  for (Part part : kParts) part(family, out);
+  for (const Named& n : kParts)
+    if (family.has_property(n.name)) n.part(family, out);
+  // A part the row names that does not exist here would go untested.
+  for (std::string_view name : family.properties) {
+    bool known = false;
+    for (const Named& n : kParts) known = known || n.name == name;
+    if (known) continue;
+    const std::string fam(family.name), part(name);
+    out.fixed.push_back({"Registry", fam + "__" + part + "_is_a_property_part", [fam, part] {
+                           FAIL() << "pairs/raster.cpp lists property part '" << part << "' for family " << fam
+                                  << ", which props/raster/properties.cpp does not have";
+                         }});
+  }
   return out;
 }
 

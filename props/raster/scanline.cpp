@@ -327,7 +327,7 @@ Verdict check_coverage(const std::string& impl, const VisibilityFn& scan, const 
   return v;
 }
 
-Property coverage_property(const ImageFamily& family, const std::string& impl, VisibilityFn scan) {
+Property coverage_property(const Family& family, const std::string& impl, VisibilityFn scan) {
   Property p;
   p.family = std::string(family.name);
   p.check = "scanline_coverage";
@@ -355,13 +355,13 @@ Property coverage_property(const ImageFamily& family, const std::string& impl, V
 
 // ---------------------------------------------------------------- the frame against the z-buffer
 
-Verdict check_frame(const ImageImpl& impl, const RasterCase& c) {
+Verdict check_frame(const FamilyImpl& impl, const RasterCase& c) {
   const auto scene = c.scene();
   const Input in = make_input<Scene>(*scene, "<case>", c.width, c.height, scene->background);
   const FrameOptions o = c.options();
   FrameStats st;
-  const Image a = impl.render(in, o, &st);
-  const Image b = registry().find_image("zbuffer")->reference().render(in, o, &st);
+  const Image a = impl.run_as<Image>(in, o, &st);
+  const Image b = registry().find("zbuffer")->reference().run_as<Image>(in, o, &st);
   // The visible triangles, for explaining a difference.
   const RasterSettings s = raster_settings(c.params, "<case>");
   const ScreenMesh m = view_scene(*scene, c.width, c.height, s);
@@ -403,7 +403,7 @@ Verdict check_frame(const ImageImpl& impl, const RasterCase& c) {
   return v;
 }
 
-Property frame_property(const ImageFamily& family, const ImageImpl& impl) {
+Property frame_property(const Family& family, const FamilyImpl& impl) {
   Property p;
   p.family = std::string(family.name);
   p.check = "scanline_equals_zbuffer";
@@ -431,9 +431,8 @@ Property frame_property(const ImageFamily& family, const ImageImpl& impl) {
 
 }  // namespace
 
-void scanline_part(const ImageFamily& family, FamilyProperties& out) {
-  if (family.name != "scanline") return;
-  for (const ImageImpl& impl : family.impls) {
+void scanline_part(const Family& family, FamilyProperties& out) {
+  for (const FamilyImpl& impl : family.impls) {
     if (VisibilityFn scan = visibility_of(impl.name))
       out.properties.push_back(coverage_property(family, std::string(impl.name), scan));
     else

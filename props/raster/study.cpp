@@ -57,15 +57,15 @@ std::string corpus(const std::string& name) {
   return std::string(LOCKSTEP_CORPUS_DIR) + "/scenes/" + name;
 }
 
-const ImageFamily& zbuffer() { return *registry().find_image("zbuffer"); }
-const ImageImpl& timed_impl(const Options& o) {
-  const ImageFamily& f = zbuffer();
+const Family& zbuffer() { return *registry().find("zbuffer"); }
+const FamilyImpl& timed_impl(const Options& o) {
+  const Family& f = zbuffer();
   if (!o.impl.empty()) {
-    if (const ImageImpl* i = f.find(o.impl)) return *i;
+    if (const FamilyImpl* i = f.find(o.impl)) return *i;
     std::fprintf(stderr, "lockstep_raster_study: no zbuffer implementation '%s'\n", o.impl.c_str());
     std::exit(2);
   }
-  if (const ImageImpl* i = f.find("simd")) return *i;
+  if (const FamilyImpl* i = f.find("simd")) return *i;
   return f.reference();
 }
 
@@ -90,8 +90,8 @@ Input scene_input(Scene s, const std::string& name) {
 // ---------------------------------------------------------------- tessellation
 
 void tessellation(Options& o) {
-  const ImageImpl& impl = timed_impl(o);
-  const ImageImpl& caster = registry().find_image("ray_cast")->reference();
+  const FamilyImpl& impl = timed_impl(o);
+  const FamilyImpl& caster = registry().find("ray_cast")->reference();
   const int size = o.quick ? 128 : 512;
   std::printf(
       "# tessellation: scene,tess_error,triangles,ms,mean_error,pct_over_1_255,max_error (impl %s, "
@@ -103,7 +103,7 @@ void tessellation(Options& o) {
     fo.width = fo.height = size;
     fo.threads = 0;
     FrameStats st;
-    const Image truth = caster.render(in, fo, &st);
+    const Image truth = caster.run_as<Image>(in, fo, &st);
     uint64_t last_tris = 0;
     double first_pct = -1, last_pct = 0;
     for (double e : {8.0, 4.0, 2.0, 1.0, 0.5, 0.25, 0.125}) {
@@ -113,7 +113,7 @@ void tessellation(Options& o) {
       const ScreenMesh mesh =
           view_scene(input_as<Scene>(in), size, size, raster_settings(zo.params, name));
       Image img;
-      const double t = best_time(o.quick ? 1 : 3, [&] { img = impl.render(in, zo, &st); });
+      const double t = best_time(o.quick ? 1 : 3, [&] { img = impl.run_as<Image>(in, zo, &st); });
       const ImageError err = compare_images(img, truth);
       std::printf("%s,%g,%llu,%.3f,%.6f,%.4f,%.4f\n", name, e, (unsigned long long)mesh.sphere_tris,
                   1e3 * t, err.mean_error, err.percent_failed(), err.max_error);
@@ -155,7 +155,7 @@ Scene flat_scene(int size) {
 }
 
 void supersampling(Options& o) {
-  const ImageImpl& impl = timed_impl(o);
+  const FamilyImpl& impl = timed_impl(o);
   const int size = o.quick ? 24 : 64;
   Scene scene = flat_scene(size);
   RasterSettings flat;
@@ -177,7 +177,7 @@ void supersampling(Options& o) {
       fo.params.set("grid", grid);
       FrameStats st;
       Image img;
-      const double t = best_time(o.quick ? 1 : 3, [&] { img = impl.render(in, fo, &st); });
+      const double t = best_time(o.quick ? 1 : 3, [&] { img = impl.run_as<Image>(in, fo, &st); });
       CompareOptions co;
       const ImageError err = compare_images(img, exact, co);
       std::printf("%s,%d,%.3f,%.6f,%.6f\n", grid, n * n, 1e3 * t, err.mean_error, err.max_error);
@@ -258,7 +258,7 @@ void gouraud(Options& o) {
                         std::to_string(size) + " " + std::to_string(size) +
                         "\nb 0 0 0\nl 2 3 8\nf 0.2 0.4 0.9 0.7 0.8 200 0 1\ns 0 0 0 1.5\n";
   const Input in = scene_input(parse_nff(s, "<shiny sphere>"), "shiny");
-  const ImageImpl& ref = zbuffer().reference();
+  const FamilyImpl& ref = zbuffer().reference();
   std::printf(
       "# gouraud: tess_error,triangles,peak_phong,peak_gouraud,max_error,mean_error (reference, "
       "%dx%d)\n",
@@ -272,7 +272,7 @@ void gouraud(Options& o) {
     fo.params.set("shading", "phong");
     go.params.set("shading", "gouraud");
     FrameStats st;
-    const Image p = ref.render(in, fo, &st), g = ref.render(in, go, &st);
+    const Image p = ref.run_as<Image>(in, fo, &st), g = ref.run_as<Image>(in, go, &st);
     const ScreenMesh mesh =
         view_scene(input_as<Scene>(in), size, size, raster_settings(fo.params, "shiny"));
     double peak_p = 0, peak_g = 0;
@@ -294,7 +294,7 @@ void gouraud(Options& o) {
 // ---------------------------------------------------------------- the painter's failure map
 
 void painter(Options& o) {
-  const ImageFamily& f = *registry().find_image("painter");
+  const Family& f = *registry().find("painter");
   const int cases = o.quick ? 20 : 300;
   std::printf(
       "# painter: kind,case,wrong_fraction,wrong_pixels,reported,wrong_split (reference, 64x64, "

@@ -90,7 +90,7 @@ std::vector<FlatTri> flat_tris(const Scene& scene, const ScreenMesh& mesh) {
 
 namespace {
 
-Verdict converges(const ImageImpl& impl, const RasterCase& c) {
+Verdict converges(const FamilyImpl& impl, const RasterCase& c) {
   const auto scene = c.scene();
   const RasterSettings s0 = raster_settings(c.params, "<case>");
   const ScreenMesh mesh = view_scene(*scene, c.width, c.height, s0);
@@ -111,7 +111,7 @@ Verdict converges(const ImageImpl& impl, const RasterCase& c) {
       cs.params.set("spp", std::to_string(n * n));
       cs.params.set("grid", grid);
       FrameStats st;
-      const Image img = impl.render(in, cs.options(), &st);
+      const Image img = impl.run_as<Image>(in, cs.options(), &st);
       for (int j = 0; j < c.height; ++j)
         for (int i = 0; i < c.width; ++i) {
           int edges = 0;
@@ -152,12 +152,11 @@ Verdict converges(const ImageImpl& impl, const RasterCase& c) {
 
 }  // namespace
 
-void supersampling_part(const ImageFamily& family, FamilyProperties& out) {
-  if (family.name != "zbuffer" && family.name != "scanline") return;
+void supersampling_part(const Family& family, FamilyProperties& out) {
   // Implementations that cannot supersample (llvmpipe: one sample per pixel)
   // say so through their unsupported().
   const Params supersampled{{{"spp", "16"}}};
-  for (const ImageImpl& impl : family.impls)
+  for (const FamilyImpl& impl : family.impls)
     if (!impl.unsupported || impl.unsupported(supersampled).empty())
       out.properties.push_back(case_property(family, impl, "SupersamplingConverges", "flat_parallel_scene",
                                              flat_parallel_scene(), 0, "colour",

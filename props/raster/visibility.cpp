@@ -728,7 +728,7 @@ struct TargetGuard {
 // targets (AVX2: 4 double lanes and two halves per block; SSE4: 4 and 2; the
 // scalar one) must agree too. Fixed soups (std::mt19937) through the agreement
 // check, and corpus frames against the reference, per compiled target.
-void every_target(const ImageFamily& family) {
+void every_target(const Family& family) {
   const auto targets = hwy::SupportedAndGeneratedTargets();
   ASSERT_FALSE(targets.empty());
   std::vector<VisCase> cases;
@@ -768,11 +768,11 @@ void every_target(const ImageFamily& family) {
     }
     cases.push_back(c);
   }
-  const ImageImpl* simd = family.find("simd");
+  const FamilyImpl* simd = family.find("simd");
   ASSERT_NE(simd, nullptr);
   CompareOptions cmp;
-  cmp.fail_threshold = family.tol.color_abs;
-  cmp.fail_percent = 100.0 * (1.0 - family.tol.pixel_fraction);
+  cmp.fail_threshold = family.tol.abs;
+  cmp.fail_percent = 100.0 * (1.0 - family.tol.fraction);
   for (const int64_t t : targets) {
     TargetGuard guard(t);
     ASSERT_EQ(std::string(opt::zsimd_target_name()), std::string(hwy::TargetName(t)))
@@ -809,8 +809,8 @@ void every_target(const ImageFamily& family) {
         for (std::string kv; ps >> kv;)
           o.params.set(kv.substr(0, kv.find('=')), kv.substr(kv.find('=') + 1));
         FrameStats want_stats, got_stats;
-        const Image want = family.reference().render(in, o, &want_stats);
-        const Image got = simd->render(in, o, &got_stats);
+        const Image want = family.reference().run_as<Image>(in, o, &want_stats);
+        const Image got = simd->run_as<Image>(in, o, &got_stats);
         const ImageError e = compare_images(got, want, cmp);
         EXPECT_TRUE(e.pass) << name << " " << params << " on Highway target " << hwy::TargetName(t)
                             << ": " << describe(e);
@@ -830,18 +830,18 @@ void every_target(const ImageFamily& family) {
 // lighting on every pixel (measured 6.3e-6, on the shine-250 sphere; 1.1e-5 on
 // balls-2 at shine 250, 512^2; lit in float, the shine-1e5 quad would be off
 // by 5.6e-3).
-void flat_shine(const ImageFamily& family) {
-  const ImageImpl* simd = family.find("simd");
+void flat_shine(const Family& family) {
+  const FamilyImpl* simd = family.find("simd");
   ASSERT_NE(simd, nullptr);
   const Input in = family.load(std::string(LOCKSTEP_CORPUS_DIR) + "/scenes/shiny.nff");
   FrameOptions o;
   o.width = 96, o.height = 96, o.threads = 1;
   o.params.set("shading", "flat");
-  const Image want = family.reference().render(in, o, nullptr);
+  const Image want = family.reference().run_as<Image>(in, o, nullptr);
   constexpr double kBound = 1.5e-5;
   for (const int64_t t : hwy::SupportedAndGeneratedTargets()) {
     TargetGuard guard(t);
-    const Image got = simd->render(in, o, nullptr);
+    const Image got = simd->run_as<Image>(in, o, nullptr);
     double worst = 0;
     int wx = 0, wy = 0;
     for (int y = 0; y < o.height; ++y)
@@ -862,8 +862,7 @@ void flat_shine(const ImageFamily& family) {
 
 }  // namespace
 
-void visibility_part(const ImageFamily& family, FamilyProperties& out) {
-  if (family.name != "zbuffer") return;
+void visibility_part(const Family& family, FamilyProperties& out) {
   const Subject reference{"reference", ref::zbuffer_visibility};
   const Subject simd{"simd", simd_1};
   out.properties.push_back(agreement_property(simd));
@@ -889,7 +888,7 @@ void visibility_part(const ImageFamily& family, FamilyProperties& out) {
   out.fixed.push_back({"FlatShine", "zbuffer__simd", [&family] { flat_shine(family); }});
   // The optimized set-up (opt::simd::view_scene) makes view_scene's mesh.
   out.fixed.push_back({"SetupIdentical", "zbuffer__simd_corpus", setup_identical});
-  if (const ImageImpl* simd = family.find("simd")) {
+  if (const FamilyImpl* simd = family.find("simd")) {
     Property p = case_property(family, *simd, "SetupIdentical", "triangle_soup", triangle_soup(), 0,
                                "meshes differing", setup_case);
     p.units = "set-ups (culling mode x shading)";

@@ -70,7 +70,7 @@ Property property(const std::string& suite, const std::string& check, const Name
 
 }  // namespace
 
-FamilyProperties properties(const ImageFamily&) {
+FamilyProperties properties(const Family&) {
   FamilyProperties out;
   auto& props = out.properties;
   for (const Subject& s : all_subjects()) {

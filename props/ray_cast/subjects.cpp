@@ -13,7 +13,7 @@ constexpr double kF32Eps = 0x1p-24;
 constexpr double kF64Eps = 0x1p-53;
 
 template <class Fn>
-ImplInfo info_of(const Pair<Fn>& p, size_t i) {
+ImplInfo info_of(const KernelRow<Fn>& p, size_t i) {
   ImplInfo in;
   in.pair = std::string(p.name);
   in.name = std::string(p.impls[i].name);
@@ -68,7 +68,7 @@ OracleTrace single(const OracleHit& o) {
 }
 
 template <class Fn>
-void add_row(std::vector<Subject>& out, const Pair<Fn>& pair, Kernel kernel,
+void add_row(std::vector<Subject>& out, const KernelRow<Fn>& pair, Kernel kernel,
              std::function<void(Fn, const Case&, uint32_t, std::span<const Ray>, std::span<double>)> call,
              std::function<OracleHit(const Case&, const Ray&)> oracle) {
   for (size_t i = 0; i < pair.impls.size(); ++i) {

@@ -50,7 +50,7 @@ struct ImplInfo {
 struct Subject {
   ImplInfo info;
   Kernel kernel = Kernel::sphere;
-  Tolerance tol;  // the row's agreement tolerances
+  KernelTolerance tol;  // the row's agreement tolerances
   // Per ray: the answer for the case's own primitive(s).
   std::function<std::vector<Hit>(const Case&)> answer;
   // The exact answer to the same question, per ray.
