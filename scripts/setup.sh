@@ -10,6 +10,7 @@ packages=(
   libbenchmark-dev librapidcheck-dev libgtest-dev
   libtbb-dev libhwy-dev gnuplot-nox
   libosmesa6-dev libgl-dev  # the zbuffer family's llvmpipe row (Mesa OSMesa; GL/gl.h, GL/glext.h)
+  libteem-dev zlib1g-dev  # volumes: Teem's nrrd library reads NRRD (core/volume_io.cpp); zlib writes the tests' gzip files
 )
 
 missing=()
