@@ -161,6 +161,15 @@ RunResult run_property(const Property& prop, const RunOptions& opt) {
     }
   };
 
+  // The seed first, flushed, in every mode (a mutant's runs too): a run that
+  // finds something, crashes or times out can be replayed with it, and ctest
+  // keeps the line whether the test passes or not (ctest -V,
+  // Testing/Temporary/LastTest.log). Deep mode draws a random seed on purpose.
+  std::cout << "[ lockstep ] " << id << ": seed " << p.seed << ", max_success " << p.maxSuccess
+            << (env("LOCKSTEP_DEEP") ? " (deep)" : "") << "; replay: RC_PARAMS=\"seed=" << p.seed
+            << " max_success=" << p.maxSuccess << "\""
+            << (opt.report ? " ctest -R '" + prop.test_name() + "$'" : std::string(" (a mutant's run)"))
+            << std::endl;
   rc::detail::TestMetadata meta;
   meta.id = id;
   meta.description = id;
