@@ -220,6 +220,7 @@ FamilyProperties properties(const ImageFamily& family) {
   static constexpr Part kParts[] = {
       cross_check_part,
       culling_part,
+      render_agree_part,
       supersampling_part,
       scanline_part,
       interpolation_part,

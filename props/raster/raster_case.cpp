@@ -1,13 +1,16 @@
 // lockstep props/raster: cases and their generators (see raster_case.h).
 #include "props/raster/raster_case.h"
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
 #include <cstdio>
 #include <sstream>
 
 #include "core/error.h"
 #include "core/nff.h"
 #include "props/gen/numbers.h"
+#include "reference/raster.h"
 
 namespace lockstep::props::raster {
 
@@ -136,6 +139,84 @@ rc::Gen<RasterCase> edge_on_soup() {
     }
     c.nff = s;
     c.params.set("shading", "flat");
+    return c;
+  });
+}
+
+}  // namespace lockstep::props::raster
+
+namespace lockstep::props::raster {
+
+rc::Gen<RasterCase> shaded_soup() {
+  return rc::gen::exec([] {
+    RasterCase c;
+    c.width = *rc::gen::inRange(8, 49);
+    c.height = *rc::gen::inRange(8, 49);
+    std::string s = camera_block(c.width, c.height) + "b 0.1 0.2 0.3\n";
+    const double half = std::tan(20.0 * M_PI / 180.0);
+    // A point in view at eye depth 2..12.
+    auto in_view = [&](double spread) {
+      const double z = 2 + 10 * *unit_double();
+      return Vec3{(2 * spread * *unit_double() - spread) * half * z, (2 * spread * *unit_double() - spread) * half * z,
+                  -z};
+    };
+    auto vec = [](const Vec3& v) { return num(v.x) + " " + num(v.y) + " " + num(v.z); };
+    const int lights = *rc::gen::inRange(1, 4);
+    for (int l = 0; l < lights; ++l) {
+      const Vec3 at{*gen::uniform(-10, 10), *gen::uniform(-10, 10), *gen::uniform(-8, 4)};
+      s += "l " + vec(at) + "\n";
+      const int kind = *rc::gen::inRange(0, 3);  // 0 point, 1 attenuated, 2 spot
+      if (kind == 1)
+        s += "#lockstep atten " + num(*gen::uniform(0.2, 1)) + " " + num(*gen::uniform(0, 0.2)) + " " +
+             num(*gen::uniform(0, 0.05)) + "\n";
+      if (kind == 2) {
+        const Vec3 aim = in_view(0.8) - at;
+        s += "#lockstep spot " + vec(aim) + " " + num(*gen::uniform(5, 80)) + " " + num(*gen::uniform(0, 20)) + "\n";
+      }
+    }
+    const int objects = *rc::gen::inRange(1, 6);
+    for (int t = 0; t < objects; ++t) {
+      const bool two_sided = *rc::gen::inRange(0, 4) == 0;
+      s += "f " + num(0.2 + 0.8 * *unit_double()) + " " + num(0.2 + 0.8 * *unit_double()) + " " +
+           num(0.2 + 0.8 * *unit_double()) + " " + num(*gen::uniform(0.3, 0.9)) + " " + num(*gen::uniform(0, 0.8)) +
+           " " + num(*gen::uniform(1, 60)) + " " + (two_sided ? "0.5" : "0") + " 1\n";
+      const int kind = *rc::gen::inRange(0, 3);  // 0 flat triangle, 1 pp triangle, 2 pp quad
+      Vec3 p[4];
+      for (int k = 0; k < 3; ++k) p[k] = in_view(1.2);
+      if (*rc::gen::inRange(0, 3) == 0) {
+        // On pixel centres (Camera's convention), the first two on one row or
+        // column: an edge through samples, where the fill rule decides.
+        const double pitch = 2 * half / double(std::min(c.width, c.height) - 1);
+        int ij[3][2];
+        for (auto& q : ij) q[0] = *rc::gen::inRange(-2, c.width + 2), q[1] = *rc::gen::inRange(-2, c.height + 2);
+        const int axis = *rc::gen::inRange(0, 2);
+        ij[1][axis] = ij[0][axis];
+        for (int k = 0; k < 3; ++k) {
+          const double z = 2 + 10 * *unit_double();
+          p[k] = {(ij[k][0] + 0.5 - 0.5 * c.width) * pitch * z, (0.5 * c.height - ij[k][1] - 0.5) * pitch * z, -z};
+        }
+      }
+      const int n = kind == 2 ? 4 : 3;
+      if (n == 4) p[3] = p[0] + (p[2] - p[1]);  // a parallelogram: planar
+      const Vec3 face = normalize(cross(p[1] - p[0], p[2] - p[0]));
+      if (kind == 0) {
+        s += "p 3\n";
+        for (int k = 0; k < 3; ++k) s += vec(p[k]) + "\n";
+        continue;
+      }
+      // Quad order p0 p1 p2 p3 must go round: p3 = p0 + p2 - p1 is opposite p1.
+      const int order[4] = {0, 1, 2, 3};
+      s += "pp " + std::to_string(n) + "\n";
+      for (int k = 0; k < n; ++k) {
+        const Vec3 tilt{*gen::uniform(-1.2, 1.2), *gen::uniform(-1.2, 1.2), *gen::uniform(-1.2, 1.2)};
+        Vec3 nv = face + tilt;
+        if (!(length(nv) > 0.1)) nv = face;
+        s += vec(p[order[k]]) + " " + vec(nv) + "\n";
+      }
+    }
+    c.nff = s;
+    c.params.set("shading", *rc::gen::element<std::string>("flat", "gouraud", "phong", "phong", "blinn"));
+    c.params.set("cull", *rc::gen::element<std::string>("world", "projection"));
     return c;
   });
 }
