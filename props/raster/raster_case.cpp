@@ -126,15 +126,49 @@ rc::Gen<RasterCase> edge_on_soup() {
       // Two points in view, a third in the plane through them and the eye
       // (at the origin), then pushed off that plane by a relative offset.
       Vec3 p[3];
-      for (int k = 0; k < 2; ++k) {
-        const double z = 2 + 10 * *unit_double();
-        p[k] = {(2.2 * *unit_double() - 1.1) * half * z, (2.2 * *unit_double() - 1.1) * half * z, -z};
+      if (*rc::gen::inRange(0, 2) == 0) {
+        for (int k = 0; k < 2; ++k) {
+          const double z = 2 + 10 * *unit_double();
+          p[k] = {(2.2 * *unit_double() - 1.1) * half * z, (2.2 * *unit_double() - 1.1) * half * z, -z};
+        }
+        // The third on the line through them (extended up to half its length
+        // either way) and the eye, at depth 2..12 (in front of the hither plane).
+        double a = *gen::uniform(-0.5, 1.5);
+        if (-(p[0] + a * (p[1] - p[0])).z < 2) a = std::clamp(a, 0.0, 1.0);
+        const Vec3 q = p[0] + a * (p[1] - p[0]);
+        p[2] = ((2 + 10 * *unit_double()) / -q.z) * q;
+        const Vec3 n = normalize(cross(p[0], p[1]));
+        const double off = *gen::log_uniform(1e-9, 1e-1) * (*rc::gen::arbitrary<bool>() ? 1 : -1);
+        p[2] += off * length(p[2]) * n;
+      } else {
+        // A sliver whose snapped side is not its exact side, drawn on screen:
+        // v0, v1 within half a snapping step (1/256 px) of the centres of two
+        // pixels of one row (or column), so both snap onto it; v2 on the
+        // exact line through them extended beyond v1 (or before v0), where it
+        // may be more than half a step off the row, then moved a hair
+        // (1e-7..1e-3 step) to either side. v2 snaps off the row by a step
+        // whatever the hair's side: the snapped triangle owns (top-left rule)
+        // or leaves the run of samples between v0 and v1, and half the time
+        // world-space facing (the hair's side) and the snapped area disagree.
+        const double pitch = 2 * half / double(std::min(c.width, c.height) - 1);
+        const bool column = *rc::gen::arbitrary<bool>();
+        const int along = column ? c.height : c.width, across = column ? c.width : c.height;
+        const int row = *rc::gen::inRange(0, across), i0 = *rc::gen::inRange(0, along);
+        const int i1 = i0 + *rc::gen::inRange(1, 9) * (*rc::gen::arbitrary<bool>() ? 1 : -1);
+        const double step = 1.0 / kSubpixel;
+        const double e0 = *gen::uniform(-0.45, 0.45) * step, e1 = *gen::uniform(-0.45, 0.45) * step;
+        const double t = *rc::gen::arbitrary<bool>() ? *gen::uniform(1.3, 4) : -*gen::uniform(0.3, 3);
+        const double hair = *gen::log_uniform(1e-7, 1e-3) * step * (*rc::gen::arbitrary<bool>() ? 1 : -1);
+        // (along, across) in pixels, pixel centres at k + 0.5.
+        const double uv[3][2] = {{i0 + 0.5, row + 0.5 + e0},
+                                 {i1 + 0.5, row + 0.5 + e1},
+                                 {i0 + 0.5 + t * (i1 - i0), row + 0.5 + e0 + t * (e1 - e0) + hair}};
+        for (int k = 0; k < 3; ++k) {
+          const double z = 2 + 10 * *unit_double();
+          const double sx = column ? uv[k][1] : uv[k][0], sy = column ? uv[k][0] : uv[k][1];
+          p[k] = {(sx - 0.5 * c.width) * pitch * z, (0.5 * c.height - sy) * pitch * z, -z};
+        }
       }
-      const double a = *gen::uniform(-0.5, 1.5), b = *gen::uniform(0.2, 1.5);
-      p[2] = b * (p[0] + a * (p[1] - p[0]));
-      const Vec3 n = normalize(cross(p[0], p[1]));
-      const double off = *gen::log_uniform(1e-9, 1e-1) * (*rc::gen::arbitrary<bool>() ? 1 : -1);
-      p[2] += off * length(p[2]) * n;
       for (const Vec3& v : p) s += num(v.x) + " " + num(v.y) + " " + num(v.z) + "\n";
     }
     c.nff = s;
