@@ -104,11 +104,14 @@ ImageFamily zbuffer_family() {
   //             side, and a pixel centre within that step of the edge changes
   //             sides. Measured again (issue #20; deep mode, three seeds):
   //             3 of 362004, 3 of 350035, 6 of 354606 pixels; with the 4 of
-  //             367462 above, 16 of 1434107 = 1.1e-5. Stated rate: 3e-5 of
-  //             the pixels (`coverage`, per pixel), the measured rate with a
-  //             margin of 2.7 (its 95% upper bound is 1.8e-5); the driver
-  //             fails a run over it, and a long run whose rate falls below a
-  //             quarter of it (the cap would hide a regression).
+  //             367462 above, 16 of 1434107 = 1.1e-5; a 20000-case run
+  //             (seed 10361792614855094469) 111 of 7172091 = 1.55e-5; all
+  //             together 127 of 8606198 = 1.48e-5. Stated rate: 3e-5 of the
+  //             pixels (`coverage`, per pixel), the measured rate with a
+  //             margin of 2; the driver fails a run over it, and a long run
+  //             whose rate falls below a quarter of it (the cap would hide a
+  //             regression: that 20000-case run fails against the old 1e-4,
+  //             111 under its floor of 119).
   //   colour    where a pixel centre lies within a snapping step of an edge
   //             between two triangles, the other triangle may win it: up to
   //             2.7e-5 of the covered pixels (sombrero-2 512^2), each off by the
