@@ -90,7 +90,16 @@ Family zbuffer_family() {
   //             5.3e-5): a vertex whose exact position is within float
   //             rounding of a half-step of the 1/256 px grid snaps to the other
   //             side, and a pixel centre within that step of the edge changes
-  //             sides. Stated rate: 1e-4 of the pixels (`coverage`, per pixel).
+  //             sides. Measured again (issue #20; deep mode, three seeds):
+  //             3 of 362004, 3 of 350035, 6 of 354606 pixels; with the 4 of
+  //             367462 above, 16 of 1434107 = 1.1e-5; a 20000-case run
+  //             (seed 10361792614855094469) 111 of 7172091 = 1.55e-5; all
+  //             together 127 of 8606198 = 1.48e-5. Stated rate: 3e-5 of the
+  //             pixels (`coverage`, per pixel), the measured rate with a
+  //             margin of 2; the driver fails a run over it, and a long run
+  //             whose rate falls below a quarter of it (the cap would hide a
+  //             regression: that 20000-case run fails against the old 1e-4,
+  //             111 under its floor of 119).
   //   colour    where a pixel centre lies within a snapping step of an edge
   //             between two triangles, the other triangle may win it: up to
   //             2.7e-5 of the covered pixels (sombrero-2 512^2), each off by the
@@ -110,12 +119,12 @@ Family zbuffer_family() {
   //   (jacks-2-tess flat; 7.9e-4 on shells-1), off by up to 0.55 (balls-3
   //   Gouraud, over hard_abs), and depth by up to 2.0e-3 relative.
   if (opt::llvmpipe::available())
-    impls.push_back({"llvmpipe", opt::llvmpipe::zbuffer, 0, {"coverage", 1e-4, "pixel"}, "Mesa llvmpipe (OSMesa)",
+    impls.push_back({"llvmpipe", opt::llvmpipe::zbuffer, 0, {"coverage", 3e-5, "pixel"}, "Mesa llvmpipe (OSMesa)",
                      true, opt::llvmpipe::unsupported});
   f.impls = erase_all<Scene>(impls);
   // props/raster: the parts that test the z-buffer (the other raster families
   // are checked against it).
-  f.properties = {"cross_check", "culling", "supersampling", "visibility", "llvmpipe", "hidden"};
+  f.properties = {"cross_check", "culling", "render_agree", "supersampling", "visibility", "llvmpipe", "hidden"};
   return f;
 }
 

@@ -161,6 +161,15 @@ RunResult run_property(const Property& prop, const RunOptions& opt) {
     }
   };
 
+  // The seed first, flushed, in every mode (a mutant's runs too): a run that
+  // finds something, crashes or times out can be replayed with it, and ctest
+  // keeps the line whether the test passes or not (ctest -V,
+  // Testing/Temporary/LastTest.log). Deep mode draws a random seed on purpose.
+  std::cout << "[ lockstep ] " << id << ": seed " << p.seed << ", max_success " << p.maxSuccess
+            << (env("LOCKSTEP_DEEP") ? " (deep)" : "") << "; replay: RC_PARAMS=\"seed=" << p.seed
+            << " max_success=" << p.maxSuccess << "\""
+            << (opt.report ? " ctest -R '" + prop.test_name() + "$'" : std::string(" (a mutant's run)"))
+            << std::endl;
   rc::detail::TestMetadata meta;
   meta.id = id;
   meta.description = id;
@@ -230,9 +239,17 @@ RunResult run_property(const Property& prop, const RunOptions& opt) {
       const long n = tally.class_rays.count(per) ? tally.class_rays.at(per) : 0;
       const long k = tally.labels.count(label) ? tally.labels.at(label) : 0;
       const long cap = known_failure_cap(n, kf.max_rate);
+      const long floor = known_failure_floor(n, kf.max_rate);
       std::cout << "[ lockstep ]   known failure " << label << ": " << k << " of " << n << " " << per << " " << prop.units << " ("
                 << g3(n ? 100.0 * double(k) / double(n) : 0.0) << "%); stated max rate " << g3(100 * kf.max_rate)
-                << "%, at most " << cap << " of " << n << " in a run\n";
+                << "%, at most " << cap << " of " << n << " in a run, at least " << floor
+                << " (the rate within a factor " << g3(kCapSlack) << " of the cap)\n";
+      // The other side: a cap far above the rate hides regressions.
+      EXPECT_GE(k, floor) << id << ": known failure " << label << " on only " << k << " of " << n << " " << per
+                          << " " << prop.units << " (" << g3(n ? 100.0 * double(k) / double(n) : 0.0)
+                          << "%): its stated max rate " << g3(100 * kf.max_rate) << "% is more than " << g3(kCapSlack)
+                          << " times the rate (at least " << floor
+                          << " expected at 1e-6 significance): measure it and lower the cap";
       EXPECT_LE(k, cap) << id << ": known failure " << label << " on " << k << " of " << n << " " << per
                         << " " << prop.units << " (" << g3(n ? 100.0 * double(k) / double(n) : 0.0)
                         << "%), over its stated max rate " << g3(100 * kf.max_rate) << "% (pairs/" << prop.family

@@ -39,6 +39,20 @@ long known_failure_cap(long n, double max_rate) {
   return 0;
 }
 
+long known_failure_floor(long n, double max_rate) {
+  const double q = max_rate / kCapSlack;
+  if (n <= 0 || q <= 0) return 0;
+  if (q >= 1) return n;
+  const double lq = std::log1p(-q), lp = std::log(q);
+  double cum = 0;
+  for (long k = 0; k <= n; ++k) {
+    cum += std::exp(std::lgamma(double(n) + 1) - std::lgamma(double(k) + 1) - std::lgamma(double(n - k) + 1) +
+                    double(k) * lp + double(n - k) * lq);
+    if (cum >= 1e-6) return k;  // P(X <= k - 1) < 1e-6
+  }
+  return n;
+}
+
 void Tally::add(const Verdict& v) {
   ++cases;
   for (const Outcome& o : v.rays) {

@@ -17,6 +17,11 @@ std::string g3(double x);  // "%.3g"
 // P(X >= k) >= 1e-6 for X ~ Binomial(n, max_rate), i.e. more than this is
 // evidence (at 1e-6) that the true rate is over max_rate.
 long known_failure_cap(long n, double max_rate);
+// A known failure's floor: the smallest count k with P(X <= k) >= 1e-6 for
+// X ~ Binomial(n, max_rate / kCapSlack). Fewer in a run says the true rate is
+// below a kCapSlack-th of the stated max rate: the cap hides regressions (lower it).
+inline constexpr double kCapSlack = 4;
+long known_failure_floor(long n, double max_rate);
 
 struct Tally {
   long cases = 0, rays = 0, ok = 0, explained = 0, unexplained = 0, skipped = 0;

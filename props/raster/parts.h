@@ -35,6 +35,16 @@ void supersampling_part(const Family& family, FamilyProperties& out);
 // distinct depths; and their screen triangles for the exact oracle.
 rc::Gen<RasterCase> flat_parallel_scene();
 std::vector<FlatTri> flat_tris(const Scene& scene, const ScreenMesh& mesh);
+// An implementation's frame against the reference's, pixel for pixel: coverage
+// identical, colour within color_abs; another triangle visible where two
+// candidates' depths tie is labelled with tie's label (its rate capped by the
+// driver when the property's known failure is tie), a pixel near a spot
+// cone's edge `spot_edge`; a coverage difference is the implementation's
+// known failure if that is `coverage` (render_agree.cpp).
+Verdict image_agree(const FamilyImpl& impl, const FamilyImpl& reference, const RasterCase& c, double color_abs,
+                    const KnownFailure& tie);
+// RenderAgree: image_agree on shaded_soup scenes (render_agree.cpp).
+void render_agree_part(const Family& family, FamilyProperties& out);
 // World-space against projection-space back-face culling (culling.cpp).
 void culling_part(const Family& family, FamilyProperties& out);
 // scanline: coverage against the z-buffer on snapped meshes, frames against the z-buffer

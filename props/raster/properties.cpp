@@ -225,6 +225,7 @@ FamilyProperties properties(const Family& family) {
   static constexpr Named kParts[] = {
       {"cross_check", cross_check_part},
       {"culling", culling_part},
+      {"render_agree", render_agree_part},
       {"supersampling", supersampling_part},
       {"scanline", scanline_part},
       {"interpolation", interpolation_part},

@@ -40,6 +40,23 @@ rc::Gen<RasterCase> triangle_soup();
 //   edge_on_soup: as triangle_soup, but each triangle's plane passes within a
 //   random distance (1e-9 .. 1e-1 relative, either side) of the eye: faces seen
 //   edge-on or nearly, where world-space and projection-space culling may part.
+//   Half of the triangles are slivers drawn on screen instead: two vertices
+//   within half a snapping step of two pixel centres of one row (or column),
+//   the third on their exact line extended, off it by a hair (1e-7..1e-3
+//   step) to either side, so that it snaps a step off the row whatever the
+//   hair's side: the snapped triangle owns or leaves a run of samples, and
+//   half the time its world-space facing and snapped area disagree.
 rc::Gen<RasterCase> edge_on_soup();
+
+//   shaded_soup: what the soups above never meet: 1..5 objects, each a flat
+//   `p` triangle, a `pp` triangle or a planar `pp` quad (a patch) with curved
+//   vertex normals (the face normal tilted up to about 50 degrees per vertex),
+//   at depths 2..12 (so that perspective-correct and affine interpolation
+//   differ), a third of them with vertices on pixel centres and an edge along
+//   a row or column of samples (the fill rule); 1..3 lights, each a point light, an attenuated one or a spot
+//   (`#lockstep spot`, cut-off 5..80 degrees, aimed near the objects so that
+//   cone edges cross the frame); shading flat, gouraud, phong or blinn; some
+//   two-sided materials; cull=world or projection; one sample per pixel.
+rc::Gen<RasterCase> shaded_soup();
 
 }  // namespace lockstep::props::raster
