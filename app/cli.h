@@ -47,6 +47,10 @@ using Args = std::span<const std::string_view>;
 // The subcommands (app/render.cpp, app/diff.cpp, app/verify.cpp,
 // app/composite.cpp). args excludes the program and subcommand names.
 int render_main(Args args);
+// render with the family fixed by its --algo name (forced_algo; "" for the
+// extension's first) and `who` on every line it prints (app/render.cpp).
+int render_as(const std::string& who, const std::string& forced_algo, Args args);
+int isosurface_main(Args args);
 int composite_main(Args args);
 
 struct Run;
@@ -138,7 +142,7 @@ inline const Family& find_family(std::string_view name) {
 inline const Family& family_for_path(const std::string& path) {
   const std::string ext = std::filesystem::path(path).extension().string();
   for (const Family& f : registry().families)
-    if (!f.extension.empty() && f.extension == ext) return f;
+    if (f.reads(ext)) return f;
   std::string known;
   for (const Family& f : registry().families)
     if (!f.extension.empty()) known += (known.empty() ? "" : ", ") + std::string(f.extension) + " (" + std::string(f.name) + ")";

@@ -127,7 +127,7 @@ std::vector<Case> read_manifest(const fs::path& dir) {
 void load_inputs(std::vector<Case>& cases) {
   for (Case& c : cases) {
     c.input = c.family->load(c.input_path);
-    if (c.frame_width() <= 0 || c.frame_height() <= 0)
+    if (c.family->sized && (c.frame_width() <= 0 || c.frame_height() <= 0))
       throw InputError(c.input_path, 0, "no size: give one in the manifest");
     if (c.judge) c.judge->check(c.input);
   }

@@ -123,13 +123,24 @@ const Family& family_for(const std::string& in_path, const std::string& algo) {
   throw UsageError("--algo: '" + algo + "' is not one of " + known + " for " + std::string(first.extension) + " files");
 }
 
-int render_main(Args args) {
-  std::string in_path, out_path, impl_name, value, algo;
+int render_main(Args args) { return render_as("lockstep render", "", args); }
+
+int render_as(const std::string& who, const std::string& forced_algo, Args args) {
+  std::string in_path, out_path, impl_name, value, algo = forced_algo;
   int width = 0, height = 0, threads = 0;
-  // --algo first: it decides which family's settings the other options may name.
+  // --algo and the input first: they decide which family's settings the other
+  // options may name. Every option but --help and the families' flags takes a
+  // value, which is not the input.
+  auto takes_value = [](std::string_view a) {
+    if (a == "--help" || a == "-h" || a.find('=') != std::string_view::npos) return false;
+    for (const Family& f : registry().families)
+      if (const ParamSpec* p = find_param(f, a); p && p->flag) return false;
+    return true;
+  };
   for (size_t i = 0; i < args.size(); ++i)
     if (take_option(args, i, "--algo", value)) algo = value;
-    else if (!is_option(args[i]) && in_path.empty()) in_path = std::string(args[i]);
+    else if (is_option(args[i])) i += takes_value(args[i]) ? 1 : 0;
+    else if (in_path.empty()) in_path = std::string(args[i]);
   const Family* chosen = nullptr;
   if (!in_path.empty()) chosen = &family_for(in_path, algo);
   in_path.clear();
@@ -183,10 +194,10 @@ int render_main(Args args) {
   opts.height = height > 0 ? height : input.height;
   opts.threads = threads;
   opts.params = params;
-  const Run r = run_for_cli("lockstep render", family, impl, input, opts);
+  const Run r = run_for_cli(who, family, impl, input, opts);
   family.kind->write(r.out, out_path);
-  for (const std::string& note : r.stats.notes) std::fprintf(stderr, "lockstep render: %s\n", note.c_str());
-  std::fprintf(stderr, "%s -> %s\n", run_summary("lockstep render", family, impl, r).c_str(), out_path.c_str());
+  for (const std::string& note : r.stats.notes) std::fprintf(stderr, "%s: %s\n", who.c_str(), note.c_str());
+  std::fprintf(stderr, "%s -> %s\n", run_summary(who, family, impl, r).c_str(), out_path.c_str());
   return kExitOk;
 }
 

@@ -214,7 +214,7 @@ struct Family {
   std::string_view input;    // what load() reads, e.g. "an NFF scene (.nff)"
   std::string_view unit;     // "rays" or "pixels": what FrameStats::items counts
   std::string_view verb;     // what a run does, for the CLI's line: "trace", "composite"
-  std::string_view extension;     // files `lockstep render` hands to this family (".nff")
+  std::string_view extension;     // files `lockstep render` hands to this family (".nff"; several: ".nrrd .nhdr")
   std::string_view default_impl;  // `lockstep render` without --impl
   std::string_view algo;          // `lockstep render --algo NAME` picks this family among those of one extension
   bool sized = true;         // --size applies (false: the size is the input's)
@@ -242,6 +242,16 @@ struct Family {
     for (const auto& j : judges)
       if (j.name == n) return &j;
     return nullptr;
+  }
+  // Whether `lockstep render` hands files ending in ext (".nhdr") to this family.
+  bool reads(std::string_view ext) const {
+    for (size_t s = 0; s < extension.size();) {
+      size_t e = extension.find(' ', s);
+      if (e == std::string_view::npos) e = extension.size();
+      if (e > s && extension.substr(s, e - s) == ext) return true;
+      s = e + 1;
+    }
+    return false;
   }
   bool has_property(std::string_view part) const {
     for (const auto& p : properties)

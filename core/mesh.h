@@ -25,4 +25,26 @@ struct Mesh {
   size_t size() const { return triangles.size(); }
 };
 
+// The mesh with vertices of equal position merged (bit-equal coordinates; -0
+// and +0 alike), in order of first use, and triangles that lost a corner to
+// the merge (two corners at one point) dropped: what a soup and an indexed
+// mesh of the same surface have in common.
+Mesh weld(const Mesh& mesh);
+
+// What a surface is, combinatorially (of a welded mesh):
+struct Topology {
+  long vertices = 0, edges = 0, faces = 0;
+  long boundary_edges = 0;      // edges of one triangle: holes, cracks, or the volume's border
+  long nonmanifold_edges = 0;   // edges of three or more triangles
+  long misoriented_edges = 0;   // edges two triangles run the same way (inconsistent orientation)
+  long nonmanifold_vertices = 0;  // vertices whose triangles do not form one fan (pinched)
+  long components = 0;          // connected by shared edges
+  long euler() const { return vertices - edges + faces; }  // 2 - 2g per closed component
+  bool closed_manifold() const {
+    return boundary_edges == 0 && nonmanifold_edges == 0 && misoriented_edges == 0 && nonmanifold_vertices == 0;
+  }
+  std::string str() const;  // "V 120 E 354 F 236 chi 2, 1 component, closed oriented manifold"
+};
+Topology topology(const Mesh& welded);
+
 }  // namespace lockstep

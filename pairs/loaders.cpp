@@ -20,6 +20,11 @@ std::string spd_dir() {
   return LOCKSTEP_SPD_DIR;
 }
 
+std::string volumes_dir() {
+  if (const char* e = std::getenv("LOCKSTEP_VOLUMES_DIR")) return e;
+  return LOCKSTEP_VOLUMES_DIR;
+}
+
 std::optional<Input> load_spd(std::string_view name) {
   const std::string path = spd_dir() + "/" + std::string(name) + ".nff";
   if (!std::filesystem::exists(path)) return std::nullopt;

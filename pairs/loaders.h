@@ -19,6 +19,10 @@ Input load_nff(const std::string& path);
 // beside the source tree (as configured at build time).
 std::string spd_dir();
 
+// Where the real CT/MRI volumes are: $LOCKSTEP_VOLUMES_DIR, else
+// ../shared/volumes beside the source tree.
+std::string volumes_dir();
+
 // The SPD scene `name` (e.g. "balls-3"), loaded, or nothing when it is not
 // there (benchmarks time the scenes that are present).
 std::optional<Input> load_spd(std::string_view name);

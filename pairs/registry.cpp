@@ -2,6 +2,7 @@
 #include "pairs/registry.h"
 
 #include "pairs/composite.h"
+#include "pairs/marching_cubes.h"
 #include "pairs/ray_cast.h"
 #include "pairs/raster.h"
 
@@ -14,6 +15,7 @@ const Registry& registry() {
       zbuffer_family(),
       scanline_family(),
       painter_family(),
+      marching_cubes_family(),
   }};
   return r;
 }

@@ -16,6 +16,9 @@ FamilyProperties properties(const Family&);
 namespace raster {
 FamilyProperties properties(const Family&);
 }
+namespace marching_cubes {
+FamilyProperties properties(const Family&);
+}
 
 const std::vector<ProviderRow>& property_providers() {
   static const std::vector<ProviderRow> rows = {
@@ -24,6 +27,7 @@ const std::vector<ProviderRow>& property_providers() {
       {"zbuffer", raster::properties},
       {"scanline", raster::properties},
       {"painter", raster::properties},
+      {"marching_cubes", marching_cubes::properties},
   };
   return rows;
 }

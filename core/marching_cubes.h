@@ -1,0 +1,97 @@
+// lockstep core: marching cubes -- the contract every implementation shares:
+// the cube's corner and edge numbering, the 256-case table, the vertex on a
+// cut edge, and the settings.
+//
+// Marching cubes (Lorensen and Cline, "Marching Cubes: A High Resolution 3D
+// Surface Construction Algorithm", SIGGRAPH 1987; Foley, van Dam et al. 2nd
+// ed. 20.8; Schroeder, Martin, Lorensen, "The Visualization Toolkit", 6.2):
+// the isosurface f = iso of a sampled volume is approximated cube by cube.
+// A cube's 8 corners are classified below (f < iso) or not; the 8 bits index
+// a table of 256 cases that says which of the 12 edges the surface cuts and
+// how the cut points form triangles; each cut point is placed on its edge by
+// linear interpolation of f.
+//
+// Numbering (Lorensen and Cline's; Paul Bourke's table uses the same):
+//   corner v = (v&1 ^ v>>1&1, v>>1&1, v>>2&1):  0 (0,0,0) 1 (1,0,0) 2 (1,1,0) 3 (0,1,0)
+//                                               4 (0,0,1) 5 (1,0,1) 6 (1,1,1) 7 (0,1,1)
+//   edges 0-3 the bottom face's (0-1, 1-2, 2-3, 3-0), 4-7 the top face's
+//   (4-5, 5-6, 6-7, 7-4), 8-11 the vertical ones (0-4, 1-5, 2-6, 3-7).
+//
+// The table is not typed in: case_table() derives it from first principles,
+// which is how the textbook explains it. On each face of the cube the cut
+// edges pair up into segments that separate its below corners from the
+// others; the segments close into loops around the cube, and each loop is
+// one polygon, cut into triangles (a fan, unless a fan triangle would lie in a
+// face of the cube, where the neighbouring cube could make the same one and
+// the surface would pinch: then another diagonal). A face with two below corners on
+// one diagonal and two others on the other is ambiguous (the cases that left
+// holes in the 1987 table): here the below corners are always kept apart
+// (each cut off by its own segment). Both cubes that share a face see the same
+// four signs and so make the same choice: the surface has no cracks, and
+// away from the volume's border it is a closed, consistently oriented
+// 2-manifold. It is one of the topologies the trilinear interpolant allows,
+// not always the interpolant's own (that needs the asymptotic decider on faces
+// and the MC33 interior tests): props/marching_cubes says where they differ.
+//
+// Orientation: triangles are counter-clockwise seen from the side of values at
+// or above iso, so their normals point the way f increases (the gradient).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/family.h"
+#include "core/math.h"
+
+namespace lockstep::mc {
+
+// Corner v's offset in the cube, per axis.
+constexpr int corner_x(int v) { return (v & 1) ^ ((v >> 1) & 1); }
+constexpr int corner_y(int v) { return (v >> 1) & 1; }
+constexpr int corner_z(int v) { return (v >> 2) & 1; }
+
+// Edge e joins corners kEdgeCorner[e][0] and [1]; the first is always the one
+// nearer the origin, so two cubes sharing an edge interpolate it alike.
+inline constexpr int kEdgeCorner[12][2] = {{0, 1}, {1, 2}, {3, 2}, {0, 3}, {4, 5}, {5, 6},
+                                           {7, 6}, {4, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+// The axis edge e runs along (0 x, 1 y, 2 z).
+inline constexpr int kEdgeAxis[12] = {0, 1, 0, 1, 0, 1, 0, 1, 2, 2, 2, 2};
+
+// One case: up to 5 triangles (at most 12 cut edges, loops of at least 3),
+// as edge numbers; cut: bit e set when edge e is cut.
+struct Case {
+  uint8_t triangles = 0;
+  std::array<std::array<uint8_t, 3>, 5> tri{};
+  uint16_t cut = 0;
+};
+
+// The 256 cases, indexed by the bits of the below corners (bit v: corner v < iso).
+const std::array<Case, 256>& case_table();
+
+// The cut point on an edge from sample a (value fa) to sample b (value fb),
+// with fa and fb on either side of iso: linear interpolation, in double, from
+// the end nearer the origin (the same arithmetic in every implementation).
+inline Vec3f cut_point(const Vec3& a, const Vec3& b, double fa, double fb, double iso) {
+  const double t = (iso - fa) / (fb - fa);
+  return Vec3f(float(a.x + t * (b.x - a.x)), float(a.y + t * (b.y - a.y)), float(a.z + t * (b.z - a.z)));
+}
+
+// When a run found no triangle because iso lies outside the volume's values
+// (not an error: a user asked for a surface that is not there), the note that
+// says so for FrameStats::notes; "" when iso is within them.
+std::string empty_note(const std::vector<float>& samples, double iso);
+
+// ---------------------------------------------------------------- settings
+
+// The iso value, from the family's settings (iso=VALUE; required).
+struct Settings {
+  double iso = 0;
+};
+// Throws InputError(source, 0, ...) naming a bad or missing setting.
+Settings settings(const Params& p, const std::string& source);
+// For --help and the manifest.
+std::vector<ParamSpec> params();
+
+}  // namespace lockstep::mc

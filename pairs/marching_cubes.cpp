@@ -1,0 +1,85 @@
+// lockstep pairs: the marching-cubes family's row (see pairs/marching_cubes.h).
+#include "pairs/marching_cubes.h"
+
+#include <filesystem>
+#include <functional>
+#include <string>
+
+#include "core/marching_cubes.h"
+#include "core/volume_io.h"
+#include "optimized/marching_cubes.h"
+#include "pairs/loaders.h"
+#include "pairs/mesh_kind.h"
+#include "reference/marching_cubes.h"
+
+namespace lockstep {
+
+namespace {
+
+Input load(const std::string& path) { return make_input<Volume>(read_volume(path), path, 0, 0); }
+
+// The benchmarks of issue #20: the CT head at its bone and skin iso values,
+// the MRI brain at white matter, and a 256^3 gyroid (three periods).
+std::vector<BenchInput> bench_volumes() {
+  std::vector<BenchInput> out;
+  auto add = [&](std::string name, std::function<Input()> make, double iso, double cells) {
+    BenchInput b;
+    b.name = std::move(name);
+    b.make = std::move(make);
+    b.params.set("iso", std::to_string(iso));
+    b.counters = {{"cells", cells}};
+    out.push_back(std::move(b));
+  };
+  const std::string ct = volumes_dir() + "/cthead.nhdr", mri = volumes_dir() + "/ch2.nhdr";
+  if (std::filesystem::exists(ct)) {
+    const double cells = 255.0 * 255 * 112;
+    add("cthead/bone", [ct] { return load(ct); }, 1200, cells);
+    add("cthead/skin", [ct] { return load(ct); }, 600, cells);
+  }
+  if (std::filesystem::exists(mri)) add("ch2/white", [mri] { return load(mri); }, 130, 180.0 * 216 * 180);
+  add("gyroid-256",
+      [] {
+        FieldSpec f;
+        f.kind = FieldKind::kGyroid;
+        f.n = 256;
+        f.a = 3;  // three periods across the cube
+        return make_input<Volume>(sample_field(f, "gyroid-256"), "gyroid-256", 0, 0);
+      },
+      0, 255.0 * 255 * 255);
+  return out;
+}
+
+}  // namespace
+
+Family marching_cubes_family() {
+  Family f;
+  f.name = "marching_cubes";
+  f.what = "isosurfaces by marching cubes (Lorensen and Cline), triangle meshes out";
+  f.input = "a volume: NRRD (.nrrd, .nhdr) or an analytic field (.field)";
+  f.unit = "cubes";
+  f.verb = "extract";
+  f.extension = ".nrrd .nhdr .field";
+  f.default_impl = "simd";
+  f.algo = "isosurface";
+  f.sized = false;
+  f.kind = &mesh_kind();
+  // Agreement in world units: simd computes the reference's cut points with the
+  // same double arithmetic (core/marching_cubes.h: cut_point), so they agree to
+  // the bit; the budget allows nothing, a float's rounding at unit scale aside.
+  f.tol.abs = 1e-6;
+  f.tol.fraction = 1.0;
+  f.tol.hard = 1e-6;
+  f.load = load;
+  const TypedImpl<Volume, Mesh> impls[] = {
+      {"reference", ref::marching_cubes, 0, {}, {}, false},
+      {"simd", opt::simd::marching_cubes, 0},
+  };
+  f.impls = erase_all<Volume, Mesh>(impls);
+  f.params = mc::params();
+  f.check_params = [](const Params& p) { mc::settings(p, "settings"); };
+  f.bench = bench_volumes;
+  f.properties = {"agreement", "closed", "single_cubes", "sphere_convergence"};
+  return f;
+}
+
+}  // namespace lockstep

@@ -1,0 +1,387 @@
+// lockstep props/marching_cubes: the marching-cubes family's properties.
+//
+// The cases are small volumes drawn by RapidCheck (2 to 9 samples a side,
+// random spacing and origin), written as text with hexfloat samples so a
+// counterexample replays bit for bit. Samples are integers 0..8 and the iso
+// value k + 1/2 (no sample equals it: a cut point on a sample would merge
+// vertices of different edges) unless a generator says otherwise: the
+// agreement generator also draws iso values equal to samples, and iso values
+// no float equals with samples at the floats around them.
+//
+//   Agreement.marching_cubes__<impl>    (part "agreement") the implementation's
+//       mesh equals the reference's once both are welded (core/mesh.h): the
+//       same vertex positions bit for bit, and the same oriented triangles on
+//       them (as sets; a soup and an indexed mesh list them in different
+//       orders). Samples may equal the iso value here.
+//   Closed.marching_cubes__<impl>       (part "closed") with every sample on the
+//       volume's border above the iso value (or every one below), the surface
+//       is a closed, consistently oriented 2-manifold: every edge shared by two
+//       triangles running it opposite ways, every vertex one fan; its Euler
+//       characteristic is even; and it encloses positive volume when the
+//       inside is below the iso value (normals point the way values increase),
+//       negative when the inside is above.
+//   SingleCubes.marching_cubes__<impl>  (part "single_cubes") every one of the
+//       256 configurations of one cube, inside a 4x4x4 grid whose border is
+//       above (and, complemented, below) the iso value: a closed oriented
+//       manifold whose components are all spheres (chi = 2 each).
+//   SphereConvergence.marching_cubes__<impl> (part "sphere_convergence") the
+//       field |p| sampled on [-1, 1]^3 at h = 2/8 ... 2/128, iso 0.6: the
+//       largest distance from the mesh to the sphere (its triangles sampled
+//       densely; the one-sided Hausdorff distance) behaves like c h^2 / R:
+//       c is measured, and the ratio distance / h^2 stays within 10% of its
+//       mean over the four finest grids.
+#include <gtest/gtest.h>
+#include <rapidcheck.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <iterator>
+#include <map>
+#include <memory>
+#include <set>
+#include <sstream>
+#include <tuple>
+
+#include "core/error.h"
+#include "core/marching_cubes.h"
+#include "core/mesh.h"
+#include "core/volume.h"
+#include "props/gen/numbers.h"
+#include "props/property.h"
+
+namespace lockstep::props::marching_cubes {
+
+namespace {
+
+// ---------------------------------------------------------------- cases
+
+struct McCase {
+  Volume volume;
+  double iso = 0.5;
+};
+
+std::string hex(double x) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%a", x);
+  return buf;
+}
+
+std::string write_case(const McCase& c) {
+  const Volume& v = c.volume;
+  std::ostringstream s;
+  s << "mc_case " << v.nx << " " << v.ny << " " << v.nz << " iso " << hex(c.iso) << "\n";
+  s << "spacing " << hex(v.spacing.x) << " " << hex(v.spacing.y) << " " << hex(v.spacing.z) << "\n";
+  s << "origin " << hex(v.origin.x) << " " << hex(v.origin.y) << " " << hex(v.origin.z) << "\n";
+  for (int k = 0; k < v.nz; ++k)
+    for (int j = 0; j < v.ny; ++j) {
+      for (int i = 0; i < v.nx; ++i) s << (i ? " " : "") << hex(v.at(i, j, k));
+      s << "\n";
+    }
+  return s.str();
+}
+
+McCase read_case(const std::string& text, const std::string& file) {
+  // '#' comment lines (a counterexample file's own) are not part of the case.
+  std::string body;
+  {
+    std::istringstream lines(text);
+    for (std::string line; std::getline(lines, line);)
+      if (line.empty() || line[0] != '#') body += line + "\n";
+  }
+  std::istringstream s(body);
+  std::string word, iso;
+  McCase c;
+  Volume& v = c.volume;
+  auto num = [&](const std::string& w) { return std::strtod(w.c_str(), nullptr); };
+  std::string sx, sy, sz, ox, oy, oz;
+  if (!(s >> word >> v.nx >> v.ny >> v.nz >> iso >> iso) || word != "mc_case" || v.nx < 2 || v.ny < 2 || v.nz < 2 ||
+      v.nx > 64 || v.ny > 64 || v.nz > 64)
+    throw InputError(file, 0, "expected 'mc_case NX NY NZ iso ISO'");
+  c.iso = num(iso);
+  if (!(s >> word >> sx >> sy >> sz) || word != "spacing") throw InputError(file, 0, "expected 'spacing X Y Z'");
+  if (!(s >> word >> ox >> oy >> oz) || word != "origin") throw InputError(file, 0, "expected 'origin X Y Z'");
+  v.spacing = {num(sx), num(sy), num(sz)};
+  v.origin = {num(ox), num(oy), num(oz)};
+  v.data.resize(size_t(v.nx) * size_t(v.ny) * size_t(v.nz));
+  for (float& x : v.data) {
+    if (!(s >> word)) throw InputError(file, 0, "too few samples");
+    x = float(num(word));
+  }
+  v.source = file;
+  return c;
+}
+
+// ---------------------------------------------------------------- generators
+
+// Samples 0..8 (integers), iso k + 1/2; border: +1 all border samples 9 (above),
+// -1 all 0 (below, iso >= 1/2), 0 anything.
+rc::Gen<McCase> field(int border, bool ties) {
+  return rc::gen::exec([border, ties] {
+    McCase c;
+    Volume& v = c.volume;
+    v.nx = int(*gen::int_in(2, 9));
+    v.ny = int(*gen::int_in(2, 9));
+    v.nz = int(*gen::int_in(2, 9));
+    if (border != 0) {
+      v.nx = std::max(v.nx, 3);
+      v.ny = std::max(v.ny, 3);
+      v.nz = std::max(v.nz, 3);
+    }
+    // Spacings and origins of every scale: the same arithmetic must give the same bits.
+    v.spacing = {std::ldexp(1.0 + double(*gen::int_in(0, 15)) / 16, int(*gen::int_in(-6, 6))),
+                 std::ldexp(1.0 + double(*gen::int_in(0, 15)) / 16, int(*gen::int_in(-6, 6))),
+                 std::ldexp(1.0 + double(*gen::int_in(0, 15)) / 16, int(*gen::int_in(-6, 6)))};
+    v.origin = {double(*gen::int_in(-1000, 1000)) / 7, double(*gen::int_in(-1000, 1000)) / 7,
+                double(*gen::int_in(-1000, 1000)) / 7};
+    const int64_t kind = ties ? *gen::int_in(0, 3) : 3;
+    c.iso = double(*gen::int_in(0, 7)) + (kind == 0 ? 1.0 : kind == 1 ? 0.1 : 0.5);
+    // kind 1: an iso value no float equals, and samples at the floats around
+    // it (the classification in float must match the reference's in double).
+    const float near = float(c.iso);
+    const float around[4] = {near, std::nextafter(near, -1e30f), std::nextafter(near, 1e30f), float(c.iso - 1)};
+    v.data.resize(size_t(v.nx) * size_t(v.ny) * size_t(v.nz));
+    for (int k = 0; k < v.nz; ++k)
+      for (int j = 0; j < v.ny; ++j)
+        for (int i = 0; i < v.nx; ++i) {
+          const bool edge = i == 0 || j == 0 || k == 0 || i == v.nx - 1 || j == v.ny - 1 || k == v.nz - 1;
+          v.at(i, j, k) = edge && border > 0 ? 9.0f
+                          : edge && border < 0 ? -1.0f
+                          : kind == 1          ? around[size_t(*gen::int_in(0, 3))]
+                                               : float(*gen::int_in(0, 8));
+        }
+    v.source = "<generated>";
+    return c;
+  });
+}
+
+// ---------------------------------------------------------------- checks
+
+Mesh run(const FamilyImpl& impl, const McCase& c) {
+  FrameOptions o;
+  o.threads = 1;
+  o.params.set("iso", hex(c.iso));
+  Input in = make_input<Volume>(c.volume, c.volume.source, 0, 0);
+  return impl.run_as<Mesh>(in, o, nullptr);
+}
+
+std::string pos(const Vec3f& v) {
+  char buf[120];
+  std::snprintf(buf, sizeof buf, "(%a, %a, %a)", double(v.x), double(v.y), double(v.z));
+  return buf;
+}
+
+// Triangles as position triples, each rotated to start at its least position:
+// the same oriented triangle in any listing.
+using Tri = std::array<std::tuple<float, float, float>, 3>;
+std::multiset<Tri> triangle_set(const Mesh& m) {
+  std::multiset<Tri> out;
+  for (const auto& t : m.triangles) {
+    Tri q;
+    for (int k = 0; k < 3; ++k) {
+      const Vec3f& v = m.vertices[t[size_t(k)]];
+      q[size_t(k)] = {v.x + 0.0f, v.y + 0.0f, v.z + 0.0f};
+    }
+    while (!(q[0] <= q[1] && q[0] <= q[2])) std::rotate(q.begin(), q.begin() + 1, q.end());
+    out.insert(q);
+  }
+  return out;
+}
+
+Verdict agreement(const FamilyImpl& ref, const FamilyImpl& impl, const McCase& c) {
+  const Mesh a = weld(run(ref, c)), b = weld(run(impl, c));
+  Outcome o;
+  const auto ta = triangle_set(a), tb = triangle_set(b);
+  std::set<std::tuple<float, float, float>> va, vb;
+  for (const Vec3f& v : a.vertices) va.insert({v.x + 0.0f, v.y + 0.0f, v.z + 0.0f});
+  for (const Vec3f& v : b.vertices) vb.insert({v.x + 0.0f, v.y + 0.0f, v.z + 0.0f});
+  if (ta != tb || va != vb) {
+    o.kind = Outcome::unexplained;
+    o.label = "differs";
+    std::ostringstream d;
+    d << "reference " << a.triangles.size() << " triangles, " << a.vertices.size() << " vertices; " << impl.name << " "
+      << b.triangles.size() << " triangles, " << b.vertices.size() << " vertices (welded)";
+    std::vector<Tri> only_a, only_b;
+    std::set_difference(ta.begin(), ta.end(), tb.begin(), tb.end(), std::back_inserter(only_a));
+    std::set_difference(tb.begin(), tb.end(), ta.begin(), ta.end(), std::back_inserter(only_b));
+    auto show = [](const Tri& t) {
+      std::string s;
+      for (const auto& [x, y, z] : t) s += pos(Vec3f(x, y, z)) + " ";
+      return s;
+    };
+    d << "; " << only_a.size() << " triangles only in the reference";
+    if (!only_a.empty()) d << " (first: " << show(only_a.front()) << ")";
+    d << ", " << only_b.size() << " only in " << impl.name;
+    if (!only_b.empty()) d << " (first: " << show(only_b.front()) << ")";
+    o.detail = d.str();
+  }
+  Verdict v;
+  v.rays.push_back(o);
+  return v;
+}
+
+// Signed volume enclosed (divergence theorem): positive when the normals point out.
+double enclosed_volume(const Mesh& m) {
+  double vol = 0;
+  for (const auto& t : m.triangles) {
+    const Vec3f &a = m.vertices[t[0]], &b = m.vertices[t[1]], &c = m.vertices[t[2]];
+    vol += dot(Vec3{a.x, a.y, a.z}, cross(Vec3{b.x, b.y, b.z}, Vec3{c.x, c.y, c.z})) / 6;
+  }
+  return vol;
+}
+
+// border > 0: the inside is below (the volume must come out positive); < 0 the reverse.
+Verdict closed(const FamilyImpl& impl, const McCase& c, int border, bool spheres) {
+  const Mesh m = weld(run(impl, c));
+  const Topology t = topology(m);
+  Outcome o;
+  std::string why;
+  if (!t.closed_manifold()) why = "not a closed oriented manifold";
+  else if (t.euler() % 2 != 0) why = "odd Euler characteristic";
+  else if (spheres && t.euler() != 2 * t.components) why = "a component is not a sphere (chi != 2 per component)";
+  const double vol = enclosed_volume(m);
+  if (why.empty() && !m.triangles.empty() && !(border > 0 ? vol > 0 : vol < 0))
+    why = "encloses volume " + hex(vol) + " (normals point the wrong way)";
+  if (!why.empty()) {
+    o.kind = Outcome::unexplained;
+    o.label = "open_or_misoriented";
+    o.detail = why + ": " + t.str() + "; iso " + hex(c.iso);
+  }
+  Verdict v;
+  v.rays.push_back(o);
+  return v;
+}
+
+Property property(const Family& family, const FamilyImpl& impl, std::string suite, std::string check,
+                  std::string generator, rc::Gen<McCase> gen, std::function<Verdict(const McCase&)> judge) {
+  Property p;
+  p.family = std::string(family.name);
+  p.check = std::move(check);
+  p.suite = std::move(suite);
+  p.name = std::string(family.name) + "__" + std::string(impl.name);
+  p.generator = std::move(generator);
+  p.pair = std::string(family.name);
+  p.impl = std::string(impl.name);
+  p.unit = "meshes";
+  p.units = "volumes";
+  const auto g = std::make_shared<const rc::Gen<McCase>>(std::move(gen));
+  p.run = [g, judge] {
+    auto c = std::make_shared<const McCase>(**g);
+    Ran r;
+    r.verdict = judge(*c);
+    r.text = [c](long) { return write_case(*c); };
+    return r;
+  };
+  p.replay = [judge](const std::string& text, const std::string& file) { return judge(read_case(text, file)); };
+  return p;
+}
+
+// ---------------------------------------------------------------- fixed tests
+
+// One cube's configuration `bits` (bit v: corner v below) in a 4x4x4 grid whose
+// other samples are above (or, complemented, below).
+McCase single_cube(int bits, bool complement) {
+  McCase c;
+  Volume& v = c.volume;
+  v.nx = v.ny = v.nz = 4;
+  v.data.assign(64, complement ? 0.0f : 9.0f);
+  for (int corner = 0; corner < 8; ++corner) {
+    const bool below = ((bits >> corner) & 1) != complement;
+    v.at(1 + mc::corner_x(corner), 1 + mc::corner_y(corner), 1 + mc::corner_z(corner)) = below ? 0.0f : 9.0f;
+  }
+  // Values other than 0 and 9 make the cut points fall off the edges' midpoints.
+  for (int k = 1; k <= 2; ++k)
+    for (int j = 1; j <= 2; ++j)
+      for (int i = 1; i <= 2; ++i) v.at(i, j, k) += float((i * 3 + j * 5 + k * 7) % 4) * (v.at(i, j, k) > 4 ? -1 : 1);
+  c.iso = 4.5;
+  v.source = "single cube " + std::to_string(bits) + (complement ? " (complemented)" : "");
+  return c;
+}
+
+void single_cubes(const FamilyImpl& impl) {
+  int failures = 0;
+  for (int bits = 0; bits < 256; ++bits)
+    for (bool complement : {false, true}) {
+      const McCase c = single_cube(bits, complement);
+      const Verdict v = closed(impl, c, complement ? -1 : 1, true);
+      if (!v.passed() && ++failures <= 5) ADD_FAILURE() << c.volume.source << ": " << v.first_failure() << "\n" << write_case(c);
+    }
+  EXPECT_EQ(failures, 0) << "configurations whose surface is not closed, oriented and made of spheres";
+}
+
+// The largest distance from the mesh to the sphere |p| = r, over its triangles
+// sampled on a barycentric grid of 8 steps (the sag peaks inside triangles).
+double mesh_to_sphere(const Mesh& m, double r) {
+  double worst = 0;
+  constexpr int n = 8;
+  for (const auto& t : m.triangles) {
+    const Vec3 a{m.vertices[t[0]].x, m.vertices[t[0]].y, m.vertices[t[0]].z};
+    const Vec3 b{m.vertices[t[1]].x, m.vertices[t[1]].y, m.vertices[t[1]].z};
+    const Vec3 c{m.vertices[t[2]].x, m.vertices[t[2]].y, m.vertices[t[2]].z};
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; i + j <= n; ++j) {
+        const double u = double(i) / n, w = double(j) / n;
+        const Vec3 p = a + u * (b - a) + w * (c - a);
+        worst = std::max(worst, std::abs(length(p) - r));
+      }
+  }
+  return worst;
+}
+
+void sphere_convergence(const FamilyImpl& impl) {
+  constexpr double kR = 0.6;
+  std::vector<double> ratio;
+  std::string table;
+  for (int n : {9, 17, 33, 65, 129}) {
+    McCase c;
+    Volume& v = c.volume;
+    v.nx = v.ny = v.nz = n;
+    const double h = 2.0 / (n - 1);
+    v.spacing = {h, h, h};
+    v.origin = {-1, -1, -1};
+    v.data.resize(size_t(n) * n * n);
+    for (int k = 0; k < n; ++k)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) v.at(i, j, k) = float(length(v.position(i, j, k)));
+    c.iso = kR;
+    const double d = mesh_to_sphere(run(impl, c), kR);
+    ratio.push_back(d / (h * h) * kR);
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "  h %.5f  distance %.3e  c = distance R / h^2 = %.4f\n", h, d, ratio.back());
+    table += buf;
+  }
+  std::cout << "[ lockstep ] sphere R " << kR << ", mesh-to-sphere distance against h:\n" << table;
+  // The four finest grids: the ratio within 10% of its mean.
+  double mean = 0;
+  for (size_t i = 1; i < ratio.size(); ++i) mean += ratio[i] / double(ratio.size() - 1);
+  for (size_t i = 1; i < ratio.size(); ++i)
+    EXPECT_NEAR(ratio[i], mean, 0.1 * mean) << "distance / h^2 does not settle (grid " << i << ")\n" << table;
+}
+
+}  // namespace
+
+FamilyProperties properties(const Family& family) {
+  FamilyProperties out;
+  const FamilyImpl& ref = family.reference();
+  for (const FamilyImpl& impl : family.impls) {
+    const FamilyImpl* ip = &impl;
+    if (family.has_property("agreement") && &impl != &ref)
+      out.properties.push_back(property(family, impl, "Agreement", "agreement", "field_ties", field(0, true),
+                                        [&ref, ip](const McCase& c) { return agreement(ref, *ip, c); }));
+    if (family.has_property("closed")) {
+      out.properties.push_back(property(family, impl, "Closed", "closed", "field_border_above", field(1, false),
+                                        [ip](const McCase& c) { return closed(*ip, c, 1, false); }));
+      out.properties.push_back(property(family, impl, "ClosedBelow", "closed_below", "field_border_below",
+                                        field(-1, false),
+                                        [ip](const McCase& c) { return closed(*ip, c, -1, false); }));
+    }
+    const std::string name = std::string(family.name) + "__" + std::string(impl.name);
+    if (family.has_property("single_cubes")) out.fixed.push_back({"SingleCubes", name, [ip] { single_cubes(*ip); }});
+    if (family.has_property("sphere_convergence"))
+      out.fixed.push_back({"SphereConvergence", name, [ip] { sphere_convergence(*ip); }});
+  }
+  return out;
+}
+
+}  // namespace lockstep::props::marching_cubes
