@@ -9,8 +9,9 @@
 //     directions and origins, a negative direction; read back to exact values;
 //   * analytic fields: values at points where they are known in closed form,
 //     and sample_field's grid positions; .field files;
-#include "core/volume_io.h"
-
+//   * bad input: every file in tests/bad-volumes throws one InputError whose
+//     message, after the file name, matches the file's '# expect:' line, and
+//     nothing is printed on stderr.
 #include <gtest/gtest.h>
 #include <unistd.h>
 #include <zlib.h>
@@ -23,11 +24,13 @@
 #include <filesystem>
 #include <fstream>
 #include <numbers>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "core/error.h"
+#include "core/volume_io.h"
 
 namespace lockstep {
 namespace {
@@ -472,6 +475,44 @@ TEST(VolumeIo, FieldFiles) {
   write_file(dir.file("s.field"), "field sphere\nradius 0.75\nsize 2\n");
   EXPECT_EQ(read_field_spec(dir.file("s.field")).a, 0.75);
   EXPECT_EQ(read_field_spec(dir.file("s.field")).n, 2);
+}
+
+// ---------------------------------------------------------------- bad input (tests/bad-volumes)
+
+std::string regex_escaped(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    if (std::strchr(".^$|()[]{}*+?\\", c)) out += '\\';
+    out += c;
+  }
+  return out;
+}
+
+TEST(VolumeIo, BadVolumesThrowTheExpectedError) {
+  int n = 0;
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(LOCKSTEP_BAD_VOLUMES_DIR)) files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  for (const fs::path& p : files) {
+    const std::string ext = p.extension().string();
+    if (ext != ".nrrd" && ext != ".nhdr" && ext != ".field") continue;  // data files, README
+    std::string expect;
+    if (p.stem() == "empty") {
+      expect = ": file is empty";  // 0 bytes: no room for the comment
+    } else {
+      std::ifstream in(p, std::ios::binary);
+      std::string line;
+      for (int i = 0; i < 3 && std::getline(in, line); ++i)
+        if (line.starts_with("# expect: ")) expect = line.substr(10);
+      ASSERT_FALSE(expect.empty()) << p << " has no '# expect: <regex>' line among its first three";
+    }
+    const std::string m = error_of(p.string());
+    const std::regex re(regex_escaped(p.string()) + expect + "$");
+    EXPECT_TRUE(std::regex_search(m, re)) << p << "\n  message:  " << m << "\n  expected: <file>" << expect;
+    ++n;
+  }
+  EXPECT_GE(n, 20) << "fewer bad volumes than expected in " << LOCKSTEP_BAD_VOLUMES_DIR;
+  std::cout << "[ lockstep ] " << n << " bad volume files checked\n";
 }
 
 }  // namespace
