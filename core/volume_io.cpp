@@ -215,6 +215,31 @@ void check_gzip(const std::string& file, size_t offset, size_t need, const std::
       break;
     }
   }
+  // All bytes out, but the member not finished: Teem goes on reading the
+  // stream after its last byte (in the same call) and fails on a stream that
+  // stops there, so inflate on with no room for output: it must reach the end
+  // of the member, or stop for want of room (more data than needed: fine).
+  while (out >= need && error.empty() && !ended) {
+    if (z.avail_in == 0 && !eof) {
+      in.read(reinterpret_cast<char*>(input.data()), std::streamsize(input.size()));
+      z.next_in = input.data();
+      z.avail_in = uInt(std::max<std::streamsize>(in.gcount(), 0));
+      eof = z.avail_in == 0;
+    }
+    unsigned char none = 0;
+    z.next_out = &none;
+    z.avail_out = 0;
+    const int ret = inflate(&z, Z_NO_FLUSH);
+    if (ret == Z_STREAM_END) {
+      ended = true;
+    } else if (ret == Z_BUF_ERROR && z.avail_in == 0 && eof) {
+      error = "the stream stops before its end";
+    } else if (ret == Z_BUF_ERROR && z.avail_in > 0) {
+      break;  // wants room for more output: the stream holds more than the sizes need
+    } else if (ret != Z_OK && ret != Z_BUF_ERROR) {
+      error = z.msg ? z.msg : "error " + std::to_string(ret);
+    }
+  }
   // When the stream ends with the last byte needed, Teem (zlib's old gzio)
   // looks at what follows: gzip's magic starts another member, whose header
   // must then be sound (deflate, no reserved flags).
@@ -640,6 +665,9 @@ Volume read_nrrd(const std::string& path) {
 
 // ------------------------------------------------------------------ analytic fields
 
+// Coordinates and parameters beyond this are absurd (and their sines are noise).
+constexpr double kMaxFieldCoordinate = 1e6;
+
 bool valid_parameters(const FieldSpec& f, std::string& why) {
   auto bad = [&](const std::string& w) {
     why = w;
@@ -649,7 +677,11 @@ bool valid_parameters(const FieldSpec& f, std::string& why) {
     return bad("size " + std::to_string(f.n) + " is out of range (2 .. " + std::to_string(kMaxFieldSize) + ")");
   if (!std::isfinite(f.lo) || !std::isfinite(f.hi) || !(f.lo < f.hi) || !std::isfinite(f.hi - f.lo))
     return bad("bounds must be finite with LO < HI");
+  if (std::abs(f.lo) > kMaxFieldCoordinate || std::abs(f.hi) > kMaxFieldCoordinate)
+    return bad("bounds must lie within [-1e6, 1e6]");
   if (!std::isfinite(f.a) || !std::isfinite(f.b)) return bad("parameters must be finite");
+  if (std::abs(f.a) > kMaxFieldCoordinate || std::abs(f.b) > kMaxFieldCoordinate)
+    return bad("parameters must lie within [-1e6, 1e6]");
   switch (f.kind) {
     case FieldKind::kSphere:
       if (!(f.a > 0)) return bad("sphere radius must be > 0");
@@ -756,8 +788,18 @@ Volume sample_field(const FieldSpec& f, std::string source) {
   v.data.resize(size_t(f.n) * size_t(f.n) * size_t(f.n));
   for (int k = 0; k < f.n; ++k)
     for (int j = 0; j < f.n; ++j)
-      for (int i = 0; i < f.n; ++i)
-        v.at(i, j, k) = float(field_value(f, {coord[size_t(i)], coord[size_t(j)], coord[size_t(k)]}));
+      for (int i = 0; i < f.n; ++i) {
+        const Vec3 p{coord[size_t(i)], coord[size_t(j)], coord[size_t(k)]};
+        const float x = float(field_value(f, p));
+        if (!std::isfinite(x)) {
+          char at[96];
+          std::snprintf(at, sizeof at, "(%g, %g, %g)", p.x, p.y, p.z);
+          throw InputError(v.source, 0,
+                           std::string("the field is not finite at ") + at + " (sample (" + std::to_string(i) + ", " +
+                               std::to_string(j) + ", " + std::to_string(k) + "))");
+        }
+        v.at(i, j, k) = x;
+      }
   return v;
 }
 
@@ -862,6 +904,8 @@ FieldSpec read_field_spec(const std::string& path) {
     f.lo = bounds.values[0];
     f.hi = bounds.values[1];
     if (!(f.lo < f.hi) || !std::isfinite(f.hi - f.lo)) fail_at(bounds.line, "bounds: LO must be less than HI");
+    if (std::abs(f.lo) > kMaxFieldCoordinate || std::abs(f.hi) > kMaxFieldCoordinate)
+      fail_at(bounds.line, "bounds must lie within [-1e6, 1e6]");
   }
   if (radius.line) f.a = radius.values[0];
   if (radii.line) f.a = radii.values[0], f.b = radii.values[1];

@@ -74,11 +74,13 @@
 // A .field file: text, '#' starts a comment, one 'key value...' per line:
 //   field sphere|torus|gyroid|marschner_lobb   (required)
 //   size N                                     (2 <= N <= 1024; default 64)
-//   bounds LO HI                               (LO < HI, finite; default -1 1)
+//   bounds LO HI                               (LO < HI, within [-1e6, 1e6]; default -1 1)
 //   radius R          sphere: R > 0
 //   radii R r         torus: R > 0, r > 0
 //   periods P         gyroid: P > 0
 //   alpha A / fm F    marschner_lobb: A >= 0, F > 0
+// Parameters lie within [-1e6, 1e6]; a spec whose samples would not all be
+// finite floats (a tiny cube with many gyroid periods) is an InputError.
 // Keys may come in any order, each at most once; a key of another kind, an
 // unknown key, a missing or extra value, a non-number, NaN or Inf is an
 // InputError naming the line. The volume's source is the file's path.

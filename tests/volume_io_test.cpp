@@ -441,6 +441,12 @@ TEST(VolumeIo, SampleFieldRejectsBadSpecs) {
   f = FieldSpec{};
   f.a = 0;
   rejects(f, "sphere radius must be > 0");
+  f = FieldSpec{};
+  f.hi = 1e7;
+  rejects(f, "bounds must lie within [-1e6, 1e6]");
+  f = field_defaults(FieldKind::kGyroid);  // k = 2 pi 1e6 / 1e-310 overflows: NaN samples
+  f.a = 1e6, f.lo = 0, f.hi = 1e-310;
+  rejects(f, "the field is not finite at (0, 0, 0) (sample (0, 0, 0))");
 }
 
 TEST(VolumeIo, FieldFiles) {

@@ -52,6 +52,9 @@ nrrd("gzip-bad-crc.nrrd", "a gzip stream whose CRC is wrong",
 nrrd("gzip-junk-member.nrrd", "a broken second gzip member right after the data",
      r":7: corrupt gzip data after 64 of the 64 bytes the sizes need \(zlib: a broken gzip header after the data\)",
      ["type: uchar", "dimension: 3", "sizes: 4 4 4", "encoding: gzip"], gzip.compress(cube) + b"\x1f\x8bxyz")
+nrrd("gzip-no-trailer.nrrd", "a gzip stream cut before its CRC (every data byte is there)",
+     r":7: corrupt gzip data after 64 of the 64 bytes the sizes need \(zlib: the stream stops before its end\)",
+     ["type: uchar", "dimension: 3", "sizes: 4 4 4", "encoding: gzip"], gzip.compress(cube)[:-8])
 nrrd("gzip-line-skip.nrrd", "a line skip before gzip data",
      r":8: line skip with gzip encoding is not read",
      ["type: uchar", "dimension: 3", "sizes: 4 4 4", "encoding: gzip", "line skip: 1"], b"x\n" + gzip.compress(cube))
@@ -161,6 +164,8 @@ field("size-fraction.field", "size 3.5", r":4: size 3\.5 is out of range \(an in
 field("bounds-reversed.field", "bounds 1 -1", r":4: bounds: LO must be less than HI", ["field sphere", "bounds 1 -1"])
 field("bounds-nan.field", "a NaN bound", r":4: number out of range \(NaN, Inf or overflow\): 'nan'", ["field gyroid", "bounds nan 1"])
 field("bounds-overflow.field", "a bound of 1e999", r":4: number out of range \(NaN, Inf or overflow\): '1e999'", ["field gyroid", "bounds -1 1e999"])
+field("bounds-huge.field", "bounds of 1e308 (the field's sines would be NaN)", r":4: bounds must lie within \[-1e6, 1e6\]",
+      ["field marschner_lobb", "bounds -1 1e308"])
 field("unknown-key.field", "a key .field files do not have",
       r":4: unknown key 'colour' \(field, size, bounds, radius, radii, periods, alpha, fm\)", ["field sphere", "colour red"])
 field("missing-field.field", "no 'field' line", r": no 'field' line \(field sphere\|torus\|gyroid\|marschner_lobb\)", ["size 32", "radius 0.5"])
