@@ -180,6 +180,37 @@ TEST(VolumeIo, RealVolumesReadWithTheirReadmeSizesAndRanges) {
   }
 }
 
+TEST(VolumeIo, CorpusVolumesRead) {
+  const fs::path dir = fs::path(LOCKSTEP_CORPUS_DIR) / "volumes";
+  int n = 0;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string ext = e.path().extension().string();
+    if (ext != ".nhdr" && ext != ".nrrd" && ext != ".field") continue;
+    const Volume v = read_quietly(e.path().string());
+    EXPECT_GE(std::min({v.nx, v.ny, v.nz}), 2) << e.path();
+    EXPECT_EQ(v.data.size(), size_t(v.nx) * v.ny * v.nz) << e.path();
+    ++n;
+  }
+  EXPECT_EQ(n, 6) << "corpus/volumes: expected 2 NRRD volumes and 4 .field files";
+  // What corpus/volumes/README.md says of them.
+  const Volume bucky = read_volume((dir / "bucky.nhdr").string());
+  EXPECT_EQ(bucky.nx * bucky.ny * bucky.nz, 32 * 32 * 32);
+  EXPECT_EQ(bucky.at(10, 16, 16), 2);
+  const Volume neghip = read_volume((dir / "neghip.nhdr").string());
+  EXPECT_EQ(neghip.nx * neghip.ny * neghip.nz, 64 * 64 * 64);
+  const Volume sphere = read_volume((dir / "sphere-32.field").string());
+  EXPECT_EQ(sphere.nx, 32);
+  EXPECT_EQ(sphere.origin, (Vec3{-1, -1, -1}));
+  EXPECT_EQ(sphere.at(0, 0, 0), float(std::sqrt(3.0)));
+  const FieldSpec torus = read_field_spec((dir / "torus-32.field").string());
+  EXPECT_EQ(torus.kind, FieldKind::kTorus);
+  EXPECT_EQ(natural_iso(torus), 0.25);
+  EXPECT_EQ(read_field_spec((dir / "gyroid-32.field").string()).a, 2);
+  const Volume ml = read_volume((dir / "ml-41.field").string());
+  EXPECT_EQ(ml.nx, 41);
+  EXPECT_NEAR(ml.at(20, 20, 20), 0.6, 1e-7);  // the origin
+}
+
 // ---------------------------------------------------------------- hand-written NRRD files
 
 // 2 x 3 x 4 samples; value(i, j, k) = f(index).

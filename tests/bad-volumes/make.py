@@ -37,27 +37,27 @@ nrrd("truncated-detached.nhdr", "the data file holds 40 of the 64 bytes the size
 write("truncated-detached.raw", cube[:40])
 nrrd("truncated-gzip.nrrd", "gzip data that inflates to 32 of the 64 bytes",
      r":6: sizes need 64 bytes, but the gzip data inflates to 32", ["type: uchar", "dimension: 3", "sizes: 4 4 4", "encoding: gzip"],
-     gzip.compress(cube[:32]))
+     gzip.compress(cube[:32], mtime=0))
 nrrd("not-gzip.nrrd", "encoding gzip, but the data is raw",
      r":7: encoding gzip, but the data is not gzip \(zlib: incorrect header check\)",
      ["type: uchar", "dimension: 3", "sizes: 4 4 4", "encoding: gzip"], cube)
-corrupt = bytearray(gzip.compress(bytes(range(256)) * 4))
+corrupt = bytearray(gzip.compress(bytes(range(256)) * 4, mtime=0))
 corrupt[30] ^= 0xFF
 nrrd("corrupt-gzip.nrrd", "a gzip stream with a damaged byte",
      r":7: corrupt gzip data after [0-9]+ of the 1024 bytes the sizes need \(zlib: .*\)",
      ["type: uchar", "dimension: 3", "sizes: 16 8 8", "encoding: gzip"], bytes(corrupt))
 nrrd("gzip-bad-crc.nrrd", "a gzip stream whose CRC is wrong",
      r":7: corrupt gzip data after 64 of the 64 bytes the sizes need \(zlib: incorrect data check\)",
-     ["type: uchar", "dimension: 3", "sizes: 4 4 4", "encoding: gzip"], gzip.compress(cube)[:-8] + b"\0\0\0\0" + gzip.compress(cube)[-4:])
+     ["type: uchar", "dimension: 3", "sizes: 4 4 4", "encoding: gzip"], gzip.compress(cube, mtime=0)[:-8] + b"\0\0\0\0" + gzip.compress(cube, mtime=0)[-4:])
 nrrd("gzip-junk-member.nrrd", "a broken second gzip member right after the data",
      r":7: corrupt gzip data after 64 of the 64 bytes the sizes need \(zlib: a broken gzip header after the data\)",
-     ["type: uchar", "dimension: 3", "sizes: 4 4 4", "encoding: gzip"], gzip.compress(cube) + b"\x1f\x8bxyz")
+     ["type: uchar", "dimension: 3", "sizes: 4 4 4", "encoding: gzip"], gzip.compress(cube, mtime=0) + b"\x1f\x8bxyz")
 nrrd("gzip-no-trailer.nrrd", "a gzip stream cut before its CRC (every data byte is there)",
      r":7: corrupt gzip data after 64 of the 64 bytes the sizes need \(zlib: the stream stops before its end\)",
-     ["type: uchar", "dimension: 3", "sizes: 4 4 4", "encoding: gzip"], gzip.compress(cube)[:-8])
+     ["type: uchar", "dimension: 3", "sizes: 4 4 4", "encoding: gzip"], gzip.compress(cube, mtime=0)[:-8])
 nrrd("gzip-line-skip.nrrd", "a line skip before gzip data",
      r":8: line skip with gzip encoding is not read",
-     ["type: uchar", "dimension: 3", "sizes: 4 4 4", "encoding: gzip", "line skip: 1"], b"x\n" + gzip.compress(cube))
+     ["type: uchar", "dimension: 3", "sizes: 4 4 4", "encoding: gzip", "line skip: 1"], b"x\n" + gzip.compress(cube, mtime=0))
 nrrd("seven-dimensions.nrrd", "a 7-dimensional array",
      r":5: dimension 7: only 3-D volumes are read",
      ["type: uchar", "dimension: 7", "sizes: 2 2 2 2 2 2 2", "encoding: raw"], cube[:128] + cube[:64])
