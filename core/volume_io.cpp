@@ -5,6 +5,7 @@
 #include <teem/air.h>
 #include <teem/biff.h>
 #include <teem/nrrd.h>
+#include <zlib.h>
 
 #include <algorithm>
 #include <cctype>
@@ -177,6 +178,96 @@ size_t type_size(int t) {
   }
 }
 
+// Inflates the gzip stream (members one after another, as Teem reads them)
+// that starts at byte `offset` of `file`, up to `need` bytes; an InputError
+// unless it yields them.
+void check_gzip(const std::string& file, size_t offset, size_t need, const std::string& path, const NrrdHeader& h) {
+  std::ifstream in(file, std::ios::binary);
+  in.seekg(std::streamoff(offset));
+  z_stream z{};
+  if (inflateInit2(&z, 15 + 16) != Z_OK) throw InputError(path, 0, "zlib: out of memory");
+  std::vector<unsigned char> input(size_t(1) << 16), output(size_t(1) << 16);
+  size_t out = 0;
+  std::string error;
+  bool eof = false, ended = false;
+  while (out < need) {
+    if (z.avail_in == 0 && !eof) {
+      in.read(reinterpret_cast<char*>(input.data()), std::streamsize(input.size()));
+      z.next_in = input.data();
+      z.avail_in = uInt(std::max<std::streamsize>(in.gcount(), 0));
+      eof = z.avail_in == 0;
+    }
+    if (z.avail_in == 0 && eof) break;
+    // No further than the sizes need, as Teem (what lies beyond, it never inflates).
+    const size_t room = std::min(output.size(), need - out);
+    z.next_out = output.data();
+    z.avail_out = uInt(room);
+    const int ret = inflate(&z, Z_NO_FLUSH);
+    out += room - z.avail_out;
+    ended = ret == Z_STREAM_END;
+    if (ret == Z_STREAM_END) {
+      if (out >= need) break;
+      inflateReset(&z);  // another member may follow
+      continue;
+    }
+    if (ret != Z_OK && ret != Z_BUF_ERROR) {
+      error = z.msg ? z.msg : "error " + std::to_string(ret);
+      break;
+    }
+  }
+  // All bytes out, but the member not finished: Teem goes on reading the
+  // stream after its last byte (in the same call) and fails on a stream that
+  // stops there, so inflate on with no room for output: it must reach the end
+  // of the member, or stop for want of room (more data than needed: fine).
+  while (out >= need && error.empty() && !ended) {
+    if (z.avail_in == 0 && !eof) {
+      in.read(reinterpret_cast<char*>(input.data()), std::streamsize(input.size()));
+      z.next_in = input.data();
+      z.avail_in = uInt(std::max<std::streamsize>(in.gcount(), 0));
+      eof = z.avail_in == 0;
+    }
+    unsigned char none = 0;
+    z.next_out = &none;
+    z.avail_out = 0;
+    const int ret = inflate(&z, Z_NO_FLUSH);
+    if (ret == Z_STREAM_END) {
+      ended = true;
+    } else if (ret == Z_BUF_ERROR && z.avail_in == 0 && eof) {
+      error = "the stream stops before its end";
+    } else if (ret == Z_BUF_ERROR && z.avail_in > 0) {
+      break;  // wants room for more output: the stream holds more than the sizes need
+    } else if (ret != Z_OK && ret != Z_BUF_ERROR) {
+      error = z.msg ? z.msg : "error " + std::to_string(ret);
+    }
+  }
+  // When the stream ends with the last byte needed, Teem (zlib's old gzio)
+  // looks at what follows: gzip's magic starts another member, whose header
+  // must then be sound (deflate, no reserved flags).
+  if (out >= need && error.empty() && ended) {
+    std::string rest(reinterpret_cast<const char*>(z.next_in), z.avail_in);
+    if (rest.size() < 4 && !eof) {
+      char more[4];
+      in.read(more, 4);
+      rest.append(more, size_t(std::max<std::streamsize>(in.gcount(), 0)));
+    }
+    if (rest.size() >= 2 && rest[0] == '\x1f' && rest[1] == '\x8b' &&
+        (rest.size() < 4 || rest[2] != 8 || (static_cast<unsigned char>(rest[3]) & 0xe0) != 0))
+      error = "a broken gzip header after the data";
+  }
+  inflateEnd(&z);
+  if (out >= need && error.empty()) return;
+  const int line = h.line_of[nrrdField_encoding];
+  if (out == 0 && !error.empty())
+    throw InputError(path, line, "encoding gzip, but the data is not gzip (zlib: " + error + ")");
+  if (!error.empty())
+    throw InputError(path, line,
+                     "corrupt gzip data after " + std::to_string(out) + " of the " + std::to_string(need) +
+                         " bytes the sizes need (zlib: " + error + ")");
+  throw InputError(
+      path, h.line_of[nrrdField_sizes],
+      "sizes need " + std::to_string(need) + " bytes, but the gzip data inflates to " + std::to_string(out));
+}
+
 // Reads and checks the header of the NRRD file at path (core/volume_io.h lists the checks).
 NrrdHeader scan_nrrd_header(const std::string& path) {
   const size_t file_size = regular_file_size(path, path, 0, "file");
@@ -225,6 +316,10 @@ NrrdHeader scan_nrrd_header(const std::string& path) {
           path, line_no,
           "a second '" + name + ":' field (the first is on line " + std::to_string(h.line_of[field]) + ")");
     h.line_of[field] = line_no;
+    if (field >= nrrdField_sizes && field <= nrrdField_units && !h.line_of[nrrdField_dimension])
+      throw InputError(path, line_no, "'" + name + ":' must come after 'dimension:'");
+    if (field == nrrdField_block_size)
+      throw InputError(path, line_no, "block size: only for type block, which is not read");
     const std::string v(value);
     switch (field) {
       case nrrdField_dimension: {
@@ -308,8 +403,6 @@ NrrdHeader scan_nrrd_header(const std::string& path) {
                   {nrrdField_encoding, "encoding"}};
   for (const auto& r : required)
     if (!h.line_of[r.field]) throw InputError(path, 0, std::string("the NRRD header has no '") + r.name + ":' field");
-  if (h.line_of[nrrdField_sizes] < h.line_of[nrrdField_dimension])
-    throw InputError(path, h.line_of[nrrdField_sizes], "sizes: must come after 'dimension:'");
   if (h.type != nrrdTypeUChar && h.type != nrrdTypeChar && !h.line_of[nrrdField_endian] &&
       (h.encoding == nrrdEncodingTypeRaw || h.encoding == nrrdEncodingTypeGzip || h.encoding == nrrdEncodingTypeHex))
     throw InputError(path, 0,
@@ -356,23 +449,15 @@ NrrdHeader scan_nrrd_header(const std::string& path) {
                    " compressed)");
       break;
   }
-  // zlib reads data without gzip's magic as it is (its "transparent" mode): say
-  // so rather than take raw bytes labelled gzip. (After a line skip, not checked.)
-  if (h.encoding == nrrdEncodingTypeGzip && h.line_skip == 0 && h.byte_skip >= 0) {
-    const size_t at = (h.data_file.empty() ? h.data_offset : 0) + size_t(h.byte_skip);
-    std::string magic;
-    if (h.data_file.empty() && at + 2 <= text.size()) {
-      magic = text.substr(at, 2);
-    } else {
-      std::ifstream in(data_name, std::ios::binary);
-      in.seekg(std::streamoff(at));
-      char b[2] = {0, 0};
-      in.read(b, 2);
-      magic.assign(b, size_t(std::max<std::streamsize>(in.gcount(), 0)));
-    }
-    if (magic != "\x1f\x8b")
-      throw InputError(path, h.line_of[nrrdField_encoding],
-                       "encoding gzip, but the data does not start with gzip's magic bytes 1f 8b");
+  // gzip: Teem's reader leaks its zlib state on each of its error paths (a
+  // corrupt or short stream), and zlib reads data without gzip's magic as it is
+  // (raw bytes labelled gzip would pass). So the stream is inflated here first,
+  // as far as the sizes need, and Teem only sees streams that hold the data.
+  if (h.encoding == nrrdEncodingTypeGzip) {
+    if (h.line_skip != 0)
+      throw InputError(path, h.line_of[nrrdField_line_skip], "line skip with gzip encoding is not read");
+    if (h.byte_skip < 0) throw InputError(path, h.line_of[nrrdField_byte_skip], "byte skip -1 needs raw encoding");
+    check_gzip(data_name, (h.data_file.empty() ? h.data_offset : 0) + size_t(h.byte_skip), bytes, path, h);
   }
   return h;
 }
@@ -580,6 +665,9 @@ Volume read_nrrd(const std::string& path) {
 
 // ------------------------------------------------------------------ analytic fields
 
+// Coordinates and parameters beyond this are absurd (and their sines are noise).
+constexpr double kMaxFieldCoordinate = 1e6;
+
 bool valid_parameters(const FieldSpec& f, std::string& why) {
   auto bad = [&](const std::string& w) {
     why = w;
@@ -589,7 +677,11 @@ bool valid_parameters(const FieldSpec& f, std::string& why) {
     return bad("size " + std::to_string(f.n) + " is out of range (2 .. " + std::to_string(kMaxFieldSize) + ")");
   if (!std::isfinite(f.lo) || !std::isfinite(f.hi) || !(f.lo < f.hi) || !std::isfinite(f.hi - f.lo))
     return bad("bounds must be finite with LO < HI");
+  if (std::abs(f.lo) > kMaxFieldCoordinate || std::abs(f.hi) > kMaxFieldCoordinate)
+    return bad("bounds must lie within [-1e6, 1e6]");
   if (!std::isfinite(f.a) || !std::isfinite(f.b)) return bad("parameters must be finite");
+  if (std::abs(f.a) > kMaxFieldCoordinate || std::abs(f.b) > kMaxFieldCoordinate)
+    return bad("parameters must lie within [-1e6, 1e6]");
   switch (f.kind) {
     case FieldKind::kSphere:
       if (!(f.a > 0)) return bad("sphere radius must be > 0");
@@ -696,8 +788,18 @@ Volume sample_field(const FieldSpec& f, std::string source) {
   v.data.resize(size_t(f.n) * size_t(f.n) * size_t(f.n));
   for (int k = 0; k < f.n; ++k)
     for (int j = 0; j < f.n; ++j)
-      for (int i = 0; i < f.n; ++i)
-        v.at(i, j, k) = float(field_value(f, {coord[size_t(i)], coord[size_t(j)], coord[size_t(k)]}));
+      for (int i = 0; i < f.n; ++i) {
+        const Vec3 p{coord[size_t(i)], coord[size_t(j)], coord[size_t(k)]};
+        const float x = float(field_value(f, p));
+        if (!std::isfinite(x)) {
+          char at[96];
+          std::snprintf(at, sizeof at, "(%g, %g, %g)", p.x, p.y, p.z);
+          throw InputError(v.source, 0,
+                           std::string("the field is not finite at ") + at + " (sample (" + std::to_string(i) + ", " +
+                               std::to_string(j) + ", " + std::to_string(k) + "))");
+        }
+        v.at(i, j, k) = x;
+      }
   return v;
 }
 
@@ -802,6 +904,8 @@ FieldSpec read_field_spec(const std::string& path) {
     f.lo = bounds.values[0];
     f.hi = bounds.values[1];
     if (!(f.lo < f.hi) || !std::isfinite(f.hi - f.lo)) fail_at(bounds.line, "bounds: LO must be less than HI");
+    if (std::abs(f.lo) > kMaxFieldCoordinate || std::abs(f.hi) > kMaxFieldCoordinate)
+      fail_at(bounds.line, "bounds must lie within [-1e6, 1e6]");
   }
   if (radius.line) f.a = radius.values[0];
   if (radii.line) f.a = radii.values[0], f.b = radii.values[1];

@@ -31,13 +31,23 @@
 //     whose product exceeds kMaxVolumeSamples (checked without overflow);
 //   - unknown or unsupported types (int64, uint64, block) and encodings (bzip2, zrl);
 //   - `data file:` lists and %d sequences; a data file that is not an existing regular file;
+//   - unknown fields, a field given twice, per-axis fields before `dimension:`,
+//     `block size:`;
 //   - a `byte skip:` below -1 or `line skip:` below 0;
 //   - less data than the sizes need: raw needs the bytes (after the header and
 //     any byte skip), hex two characters a byte, ascii at least one byte a
-//     sample, gzip at most 1032 bytes out per byte in (deflate's limit).
+//     sample, gzip at most 1032 bytes out per byte in (deflate's limit);
+//   - gzip data is inflated here (zlib) as far as the sizes need, and must
+//     yield them without an error: Teem's gzip reader leaks its zlib state on
+//     a short or corrupt stream, and zlib passes non-gzip bytes through as if
+//     they were the data (line skips and byte skip -1 with gzip are refused).
 // Then Teem reads the file (under a mutex: biff, Teem's error stack, is
-// global), and everything it reports goes into the InputError (line 0; biff's
-// message, one line). Teem prints nothing on stderr (nrrdStateVerboseIO = 0).
+// global), and what it reports becomes the InputError: biff's innermost
+// message on one line, on the line of the field it names (else line 0).
+// Teem prints nothing on stderr (nrrdStateVerboseIO = 0). Known left to
+// Teem: on some header errors it finds itself (an unterminated quoted string
+// in `units:` or `labels:`, for one) it leaks a few hundred bytes
+// (scripts/lsan-teem.supp, the fuzz run's suppressions, lists them).
 // After reading: the geometry as above, and every sample finite in float (a
 // NaN, an infinity or a double beyond float's range is an InputError naming
 // the sample's (i, j, k)).
@@ -64,11 +74,13 @@
 // A .field file: text, '#' starts a comment, one 'key value...' per line:
 //   field sphere|torus|gyroid|marschner_lobb   (required)
 //   size N                                     (2 <= N <= 1024; default 64)
-//   bounds LO HI                               (LO < HI, finite; default -1 1)
+//   bounds LO HI                               (LO < HI, within [-1e6, 1e6]; default -1 1)
 //   radius R          sphere: R > 0
 //   radii R r         torus: R > 0, r > 0
 //   periods P         gyroid: P > 0
 //   alpha A / fm F    marschner_lobb: A >= 0, F > 0
+// Parameters lie within [-1e6, 1e6]; a spec whose samples would not all be
+// finite floats (a tiny cube with many gyroid periods) is an InputError.
 // Keys may come in any order, each at most once; a key of another kind, an
 // unknown key, a missing or extra value, a non-number, NaN or Inf is an
 // InputError naming the line. The volume's source is the file's path.

@@ -9,8 +9,9 @@
 //     directions and origins, a negative direction; read back to exact values;
 //   * analytic fields: values at points where they are known in closed form,
 //     and sample_field's grid positions; .field files;
-#include "core/volume_io.h"
-
+//   * bad input: every file in tests/bad-volumes throws one InputError whose
+//     message, after the file name, matches the file's '# expect:' line, and
+//     nothing is printed on stderr.
 #include <gtest/gtest.h>
 #include <unistd.h>
 #include <zlib.h>
@@ -23,11 +24,13 @@
 #include <filesystem>
 #include <fstream>
 #include <numbers>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "core/error.h"
+#include "core/volume_io.h"
 
 namespace lockstep {
 namespace {
@@ -175,6 +178,37 @@ TEST(VolumeIo, RealVolumesReadWithTheirReadmeSizesAndRanges) {
       }
     }
   }
+}
+
+TEST(VolumeIo, CorpusVolumesRead) {
+  const fs::path dir = fs::path(LOCKSTEP_CORPUS_DIR) / "volumes";
+  int n = 0;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string ext = e.path().extension().string();
+    if (ext != ".nhdr" && ext != ".nrrd" && ext != ".field") continue;
+    const Volume v = read_quietly(e.path().string());
+    EXPECT_GE(std::min({v.nx, v.ny, v.nz}), 2) << e.path();
+    EXPECT_EQ(v.data.size(), size_t(v.nx) * v.ny * v.nz) << e.path();
+    ++n;
+  }
+  EXPECT_EQ(n, 6) << "corpus/volumes: expected 2 NRRD volumes and 4 .field files";
+  // What corpus/volumes/README.md says of them.
+  const Volume bucky = read_volume((dir / "bucky.nhdr").string());
+  EXPECT_EQ(bucky.nx * bucky.ny * bucky.nz, 32 * 32 * 32);
+  EXPECT_EQ(bucky.at(10, 16, 16), 2);
+  const Volume neghip = read_volume((dir / "neghip.nhdr").string());
+  EXPECT_EQ(neghip.nx * neghip.ny * neghip.nz, 64 * 64 * 64);
+  const Volume sphere = read_volume((dir / "sphere-32.field").string());
+  EXPECT_EQ(sphere.nx, 32);
+  EXPECT_EQ(sphere.origin, (Vec3{-1, -1, -1}));
+  EXPECT_EQ(sphere.at(0, 0, 0), float(std::sqrt(3.0)));
+  const FieldSpec torus = read_field_spec((dir / "torus-32.field").string());
+  EXPECT_EQ(torus.kind, FieldKind::kTorus);
+  EXPECT_EQ(natural_iso(torus), 0.25);
+  EXPECT_EQ(read_field_spec((dir / "gyroid-32.field").string()).a, 2);
+  const Volume ml = read_volume((dir / "ml-41.field").string());
+  EXPECT_EQ(ml.nx, 41);
+  EXPECT_NEAR(ml.at(20, 20, 20), 0.6, 1e-7);  // the origin
 }
 
 // ---------------------------------------------------------------- hand-written NRRD files
@@ -438,6 +472,12 @@ TEST(VolumeIo, SampleFieldRejectsBadSpecs) {
   f = FieldSpec{};
   f.a = 0;
   rejects(f, "sphere radius must be > 0");
+  f = FieldSpec{};
+  f.hi = 1e7;
+  rejects(f, "bounds must lie within [-1e6, 1e6]");
+  f = field_defaults(FieldKind::kGyroid);  // k = 2 pi 1e6 / 1e-310 overflows: NaN samples
+  f.a = 1e6, f.lo = 0, f.hi = 1e-310;
+  rejects(f, "the field is not finite at (0, 0, 0) (sample (0, 0, 0))");
 }
 
 TEST(VolumeIo, FieldFiles) {
@@ -472,6 +512,44 @@ TEST(VolumeIo, FieldFiles) {
   write_file(dir.file("s.field"), "field sphere\nradius 0.75\nsize 2\n");
   EXPECT_EQ(read_field_spec(dir.file("s.field")).a, 0.75);
   EXPECT_EQ(read_field_spec(dir.file("s.field")).n, 2);
+}
+
+// ---------------------------------------------------------------- bad input (tests/bad-volumes)
+
+std::string regex_escaped(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    if (std::strchr(".^$|()[]{}*+?\\", c)) out += '\\';
+    out += c;
+  }
+  return out;
+}
+
+TEST(VolumeIo, BadVolumesThrowTheExpectedError) {
+  int n = 0;
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(LOCKSTEP_BAD_VOLUMES_DIR)) files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  for (const fs::path& p : files) {
+    const std::string ext = p.extension().string();
+    if (ext != ".nrrd" && ext != ".nhdr" && ext != ".field") continue;  // data files, README
+    std::string expect;
+    if (p.stem() == "empty") {
+      expect = ": file is empty";  // 0 bytes: no room for the comment
+    } else {
+      std::ifstream in(p, std::ios::binary);
+      std::string line;
+      for (int i = 0; i < 3 && std::getline(in, line); ++i)
+        if (line.starts_with("# expect: ")) expect = line.substr(10);
+      ASSERT_FALSE(expect.empty()) << p << " has no '# expect: <regex>' line among its first three";
+    }
+    const std::string m = error_of(p.string());
+    const std::regex re(regex_escaped(p.string()) + expect + "$");
+    EXPECT_TRUE(std::regex_search(m, re)) << p << "\n  message:  " << m << "\n  expected: <file>" << expect;
+    ++n;
+  }
+  EXPECT_GE(n, 20) << "fewer bad volumes than expected in " << LOCKSTEP_BAD_VOLUMES_DIR;
+  std::cout << "[ lockstep ] " << n << " bad volume files checked\n";
 }
 
 }  // namespace
