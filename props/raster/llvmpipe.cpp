@@ -12,7 +12,7 @@
 //       more than the row's stated rate (a binomial test at 1e-6).
 //
 // Only coverage is judged here. Depth and colour agreement on the SPD scenes is
-// measured by scripts/llvmpipe_check.cpp and written in the row's comment.
+// measured by tools/llvmpipe_check.cpp and written in the row's comment.
 #include <cmath>
 #include <sstream>
 
