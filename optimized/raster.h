@@ -1,4 +1,4 @@
-// lockstep optimized: rasterization (declarations; the contract is reference/raster.h).
+// lockstep optimized: rasterization (declarations; the contract is core/raster.h).
 //
 //   simd      optimized/zbuffer_simd.cpp  Highway edge functions over tiles, TBB
 //   llvmpipe  optimized/raster_llvmpipe.cpp  Mesa's software rasteriser through OSMesa
@@ -6,7 +6,7 @@
 //             LOCKSTEP_HAVE_OSMESA)
 #pragma once
 
-#include "reference/raster.h"
+#include "core/raster.h"
 
 namespace lockstep {
 

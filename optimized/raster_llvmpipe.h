@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "core/image.h"
-#include "reference/raster.h"
+#include "core/raster.h"
 
 namespace lockstep::opt::llvmpipe {
 

@@ -1,7 +1,7 @@
 // The optimized z-buffer's set-up: ref::view_scene's screen mesh, bit for bit,
 // in less time (declared in optimized/raster.h).
 //
-// view_scene (reference/viewing.cpp) transforms, tests and projects every
+// view_scene (core/viewing.cpp) transforms, tests and projects every
 // triangle's three vertices on their own, one triangle after another. Here:
 //   * every scene vertex is moved to eye space and snapped once, in parallel,
 //     with the very same double operations (so the same bits): a vertex shared
@@ -50,7 +50,7 @@ namespace lockstep::opt::zsimd {
 
 namespace {
 
-// reference/viewing.cpp's eye_from_world, to_screen and lit, operation for operation.
+// core/viewing.cpp's eye_from_world, to_screen and lit, operation for operation.
 Vec3 eye_from_world(const Camera& c, const Vec3& p) {
   const Vec3 d = p - c.eye;
   return {dot(d, c.right), dot(d, c.up), dot(d, c.forward)};

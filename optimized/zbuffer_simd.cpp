@@ -1,4 +1,4 @@
-// The optimized z-buffer (contract: reference/raster.h, optimized/raster.h).
+// The optimized z-buffer (contract: core/raster.h, optimized/raster.h).
 //
 //   1. Set-up and binning (Binner; TBB over chunks of triangles): one TriSetup
 //      per screen triangle (exact int64 edge functions with the top-left bias,

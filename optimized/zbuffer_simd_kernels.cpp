@@ -4,7 +4,7 @@
 // Rasterisation (raster_tile): Pineda's edge functions over the triangle's
 // bounding box clipped to the tile, one sample plane (one sample offset) at a
 // time, a row of N = 16 samples per vector (8 on AVX2; 4 or 8 in double). The contract
-// (reference/raster.h) wants the exact integer edge functions on the snapped
+// (core/raster.h) wants the exact integer edge functions on the snapped
 // vertices with the top-left rule, so that coverage is bit-identical to the
 // reference's; |coordinates| < 2^25 puts the edge functions below 2^52, exact in
 // int64 and in double but not in int32. The samples of one sample plane are a
@@ -1033,7 +1033,7 @@ void SphereFaces(const Vec3* world, const std::array<uint32_t, 3>* tri, size_t n
 
 // ---------------------------------------------------------------- the set-up's vertex step
 //
-// reference/viewing.cpp's eye_from_world, inside_all and to_screen on N
+// core/viewing.cpp's eye_from_world, inside_all and to_screen on N
 // vertices at once, with the very same double operations in the same order
 // (no fused multiply-add: the build has -ffp-contract=off), so the same bits;
 // llround as trunc plus a correction (exact: x - trunc(x) is exact). The tail

@@ -17,7 +17,7 @@
 #include <type_traits>
 #include <vector>
 
-#include "reference/raster.h"
+#include "core/raster.h"
 
 namespace lockstep::opt::zsimd {
 

@@ -1,7 +1,7 @@
 // lockstep reference: the scanline z-buffer (Foley, van Dam, Feiner, Hughes,
 // "Computer Graphics: Principles and Practice", 2nd ed., 3.6 "Filling
 // polygons" and 15.4 "The z-buffer algorithm"; Watkins 1970, "A real-time
-// visible surface algorithm"), over the screen mesh of reference/viewing.cpp.
+// visible surface algorithm"), over the screen mesh of core/viewing.cpp.
 //
 // Polygon scan conversion visits a polygon row by row: an edge table (ET)
 // holds every edge in the bucket of the first sample row it crosses; an active
