@@ -1,4 +1,4 @@
-// lockstep optimized: rasterization (declarations; the contract is reference/raster.h).
+// lockstep optimized: rasterization (declarations; the contract is core/raster.h).
 //
 //   simd      optimized/zbuffer_simd.cpp  Highway edge functions over tiles, TBB
 //   llvmpipe  optimized/raster_llvmpipe.cpp  Mesa's software rasteriser through OSMesa
@@ -6,7 +6,7 @@
 //             LOCKSTEP_HAVE_OSMESA)
 #pragma once
 
-#include "reference/raster.h"
+#include "core/raster.h"
 
 namespace lockstep {
 
@@ -39,7 +39,7 @@ bool available();
 std::string version();
 // Why these settings are beyond the row (shading other than flat or gouraud,
 // spp > 1, silhouettes, affine interpolation), or "" when it can draw them
-// (ImageImpl::unsupported; zbuffer throws InputError with the same words).
+// (FamilyImpl::unsupported; zbuffer throws InputError with the same words).
 std::string unsupported(const Params& params);
 Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats);
 }  // namespace opt::llvmpipe

@@ -40,7 +40,7 @@
 // context creation and LLVM's compilation of the shader variants for this
 // state (FrameStats::build_seconds: about 11 ms in the benchmark, 20-50 ms
 // cold), and the float colour buffer costs a fixed ~7 ms a frame at 1024^2
-// (clear, and OSMesa's copy into the image). scripts/llvmpipe_check.cpp
+// (clear, and OSMesa's copy into the image). tools/llvmpipe_check.cpp
 // `time` separates the phases.
 #include "core/error.h"
 #include "optimized/raster.h"

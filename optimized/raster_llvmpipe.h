@@ -1,7 +1,7 @@
 // lockstep optimized: the llvmpipe row's OpenGL context (only built where
 // libOSMesa is found: LOCKSTEP_HAVE_OSMESA). opt::llvmpipe::zbuffer
 // (optimized/raster.h) is one Context and one draw(); the hand-run timing tool
-// (scripts/llvmpipe_timing.cpp) keeps one Context and draws many times, to
+// (tools/llvmpipe_check.cpp, `time`) keeps one Context and draws many times, to
 // separate the one-shot costs (context, LLVM shader compilation) from the frame.
 #pragma once
 
@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "core/image.h"
-#include "reference/raster.h"
+#include "core/raster.h"
 
 namespace lockstep::opt::llvmpipe {
 

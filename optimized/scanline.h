@@ -1,4 +1,4 @@
-// lockstep optimized: the scanline z-buffer (the contract is reference/raster.h
+// lockstep optimized: the scanline z-buffer (the contract is core/raster.h
 // and reference/scanline.h).
 //
 //   simd  optimized/scanline_simd.cpp  the reference's edge table, active edge
@@ -9,7 +9,7 @@
 //         z-buffer's SIMD kernel (opt::simd::shade_visibility, optimized/raster.h).
 #pragma once
 
-#include "reference/raster.h"
+#include "core/raster.h"
 
 namespace lockstep {
 

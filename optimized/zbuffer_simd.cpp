@@ -1,4 +1,4 @@
-// The optimized z-buffer (contract: reference/raster.h, optimized/raster.h).
+// The optimized z-buffer (contract: core/raster.h, optimized/raster.h).
 //
 //   1. Set-up and binning (Binner; TBB over chunks of triangles): one TriSetup
 //      per screen triangle (exact int64 edge functions with the top-left bias,
@@ -6,7 +6,7 @@
 //      appended to the lists of the tiles that box touches. Each chunk keeps
 //      its own lists, so a tile reads its triangles chunk by chunk: in mesh order.
 //   2. Tiles (optimized/tiling.h, work-stealing over the threads): raster the
-//      tile's triangles into tile-local buffers (zbuffer_simd_kernels.cpp), then
+//      tile's triangles into tile-local buffers (zbuffer_raster_kernels.cpp), then
 //      either copy them into the Visibility (zbuffer_visibility) or shade the
 //      visible samples and box-filter them into the image (zbuffer), while the
 //      tile is still in cache. Flat shading without silhouettes is drawn
@@ -21,7 +21,7 @@
 // straight to the Binner (no ScreenTri is kept; for forward flat shading only
 // positions and vertex depths, a sphere at a time), leaves out triangles with
 // no sample in their box and those hidden behind nearer spheres (same image:
-// see zbuffer_setup.cpp's occlusion map), and lights flat colours in SIMD.
+// see zbuffer_occlusion.h), and lights flat colours in SIMD.
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>

@@ -1,4 +1,11 @@
-// lockstep optimized: the Highway z-buffer kernels (zbuffer_simd_kernels.cpp).
+// lockstep optimized: the Highway z-buffer kernels, declared here, defined in
+//   zbuffer_raster_kernels.cpp  raster_tile, target_name;
+//   zbuffer_shade_kernels.cpp   shade_tile, flat_colors;
+//   zbuffer_setup_kernels.cpp   the set-up's vector steps (project_vertices,
+//                               triangle_step, set_up_*, polygon_run, ...);
+// with the helpers two of them share in zbuffer_simd_kernels-inl.h. The
+// set-up driver (zbuffer_setup.cpp, zbuffer_spheres.cpp, zbuffer_occlusion.cpp)
+// declares view_scene_chunks here too.
 //
 // The contract functions (optimized/zbuffer_simd.cpp) prepare one TriSetup per
 // screen triangle and bin them into screen tiles; these kernels then run one
@@ -17,7 +24,7 @@
 #include <type_traits>
 #include <vector>
 
-#include "reference/raster.h"
+#include "core/raster.h"
 
 namespace lockstep::opt::zsimd {
 
@@ -217,7 +224,7 @@ void raster_tile(const RasterParams& p, const TileJob& t, double* depth, int32_t
 
 const char* target_name();
 
-// The stored depth at a vertex of w = 1/z (see zbuffer_simd_kernels.cpp):
+// The stored depth at a vertex of w = 1/z (see zbuffer_setup_kernels.cpp):
 // affine in w, so in screen space; stored_depth before its rounding, with
 // stored_depth's own operations (the constant denominator computed once, the
 // same bits): the depth plane's error stays that of the reference's formula.
@@ -289,7 +296,7 @@ size_t sphere_face_codes(const double* nx, const double* ny, const double* nz, c
 // Grows [lo, hi] by the n points, as scene_bounds does (std::min and std::max:
 // a NaN coordinate is passed over), a vector of points at a time.
 void grow_bounds(const Vec3* points, size_t n, Vec3& lo, Vec3& hi);
-// The hidden spheres' occluders (zbuffer_setup's OcclusionMap::add): along a
+// The hidden spheres' occluders (zbuffer_occlusion.cpp's OcclusionMap::add): along a
 // row of n rays (eye-space directions ((a0 + i) cell - half_w) pitch, dy, 1),
 // where each enters the ball of centre ce (eye space) and radius^2 rho2, in eye
 // depth: out[i] = z_occ for an inside-out ball, +inf for a ray that misses it

@@ -5,7 +5,7 @@
 //   painter   reference, simd
 //
 // All read the same NFF scenes as ray_cast and take the settings of
-// reference/raster.h (raster_params()) through FrameOptions::params.
+// core/raster.h (raster_params()) through FrameOptions::params.
 #pragma once
 
 #include "core/family.h"

@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "reference/raster.h"
+#include "core/raster.h"
 
 namespace lockstep {
 

@@ -1,7 +1,7 @@
 // lockstep reference: the scanline z-buffer (Foley, van Dam, Feiner, Hughes,
 // "Computer Graphics: Principles and Practice", 2nd ed., 3.6 "Filling
 // polygons" and 15.4 "The z-buffer algorithm"; Watkins 1970, "A real-time
-// visible surface algorithm"), over the screen mesh of reference/viewing.cpp.
+// visible surface algorithm"), over the screen mesh of core/viewing.cpp.
 //
 // Polygon scan conversion visits a polygon row by row: an edge table (ET)
 // holds every edge in the bucket of the first sample row it crosses; an active
@@ -26,9 +26,12 @@
 // Samples: pixel row j with spp = n*n samples holds n (regular grid) or n*n
 // (rotated grid) sample rows y = 256 j + oy. Each distinct oy is scanned as its
 // own sequence of rows one pixel apart (a "pass" with its own ET and AEL), so
-// that every step down an edge is the same 256 units. The z-buffer itself is
-// one pixel row high (Foley 15.4's scan-line z-buffer): the visible fragment
-// of each sample of the row is kept, and shaded once the row is done.
+// that every step down an edge is the same 256 units. So the scan of one
+// sample row (scan_row: AEL update, spans, step) is the lecture's algorithm
+// as it stands, and supersampling is only the loop around it (scan_frame: per
+// pixel row, every pass's sample row). The z-buffer itself is one pixel row
+// high (Foley 15.4's scan-line z-buffer): the visible fragment of each sample
+// of the row is kept, and shaded once the row is done.
 //
 // Ties: within a row the active triangles are visited in scene order and a
 // sample keeps the first of equal depths, as in ref::zbuffer.
@@ -192,15 +195,123 @@ bool make_edge(const ScreenTri& t, const TriSetup& ts, uint32_t tri, int a, int 
   return true;
 }
 
-// ---------------------------------------------------------------- the scan
+// ---------------------------------------------------------------- the edge table
 
-// The scan of the whole frame. For every pixel row j, for every pass, every
-// covered sample of that row is handed to on_sample(index, fragment) (the
-// triangles in scene order); on_row(j) is called when row j is complete.
+// The edge table of one pass (sample rows y = 256 j + oy): every edge of every
+// triangle, in the bucket of the first pixel row j whose sample row it
+// crosses; within a bucket in scene order.
+std::vector<std::vector<Edge>> edge_table(const ScreenMesh& mesh,
+                                          const std::vector<TriSetup>& setups, int32_t oy) {
+  std::vector<std::vector<Edge>> et(size_t(mesh.height));
+  for (uint32_t ti = 0; ti < mesh.tris.size(); ++ti) {
+    const ScreenTri& t = mesh.tris[ti];
+    // A flat bottom: two vertices on the lowest row, joined by a horizontal
+    // edge that (positive area, y down) runs right to left and owns no
+    // sample on its row (top-left rule). Both other edges end there: cut.
+    const int32_t ymax = std::max({t.v[0].y, t.v[1].y, t.v[2].y});
+    const bool flat_bottom = (t.v[0].y == ymax) + (t.v[1].y == ymax) + (t.v[2].y == ymax) == 2;
+    for (int a = 0; a < 3; ++a) {
+      const int b = (a + 1) % 3;
+      Edge e;
+      int first = 0;
+      if (make_edge(t, setups[ti], ti, a, b, oy, mesh.height, flat_bottom, e, first))
+        et[first].push_back(e);
+    }
+  }
+  return et;
+}
+
+// ---------------------------------------------------------------- one span
+
+// The samples of triangle ti on one sample row between its left edge L and its
+// right edge R (both crossing the row): 1/z with the plane's constant slope
+// -A/C, the attributes linear between their values on the two edges, one
+// sample right at a time. Each sample goes to on_sample(index, fragment).
+template <class OnSample>
+void scan_span(const Edge& L, const Edge& R, const TriSetup& ts, uint32_t ti, const Pass& pass,
+               int j, int width, int spp, bool perspective, OnSample& on_sample) {
+  const double yrow = double(int64_t(j) * kSubpixel + pass.oy) / kSubpixel;
+  const double xl = L.crossing(), xr = R.crossing();
+  Attr slope{};
+  if (xr > xl)
+    for (int k = 0; k < 3; ++k) slope[k] = (R.a[k] - L.a[k]) / (xr - xl);
+  for (const Column& col : pass.columns) {
+    // The samples x = 256 i + ox with L.bound <= x <= R.bound, on screen.
+    const int64_t i0 = std::max<int64_t>(ceil_div(L.bound() - col.ox, kSubpixel), 0);
+    const int64_t i1 = std::min<int64_t>(floor_div(R.bound() - col.ox, kSubpixel), width - 1);
+    if (i0 > i1) continue;
+    // Values at the first sample, from the left edge's crossing.
+    const double x0 = double(i0 * kSubpixel + col.ox) / kSubpixel;
+    double wz = L.w + (x0 - xl) * ts.dwdx;
+    Attr a;
+    for (int k = 0; k < 3; ++k) a[k] = L.a[k] + (x0 - xl) * slope[k];
+    for (int64_t i = i0; i <= i1; ++i) {
+      Fragment f;
+      f.tri = ti;
+      f.z = 1 / wz;
+      f.sx = double(i * kSubpixel + col.ox) / kSubpixel;
+      f.sy = yrow;
+      if (perspective) {
+        // The interpolated weights / z, divided by their sum (the interpolated 1/z).
+        const double sum = a[0] + a[1] + a[2];
+        for (int k = 0; k < 3; ++k) f.b[k] = a[k] / sum;
+      } else {
+        for (int k = 0; k < 3; ++k) f.b[k] = a[k];
+      }
+      on_sample((size_t(j) * width + size_t(i)) * spp + col.k, f);
+      // One sample (one pixel) right.
+      wz += ts.dwdx;
+      for (int k = 0; k < 3; ++k) a[k] += slope[k];
+    }
+  }
+}
+
+// ---------------------------------------------------------------- one sample row
+
+// Scans the sample row of pixel row j in one pass (y = 256 j + pass.oy):
+// `starting` is the pass's edge-table bucket for row j, `active` its active
+// edge list, carried from the row above to the row below. Every covered
+// sample goes to on_sample(index, fragment), the triangles in scene order.
+template <class OnSample>
+void scan_row(const std::vector<TriSetup>& setups, const Pass& pass, int j, int width, int spp,
+              bool perspective, const std::vector<Edge>& starting, std::vector<Edge>& active,
+              OnSample& on_sample) {
+  // 1. Edges starting on this row join the AEL; edges that ended leave it.
+  for (const Edge& e : starting) active.push_back(e);
+  std::erase_if(active, [&](const Edge& e) { return e.last_row < j; });
+  // 2. Group by triangle in scene order (the tie rule), left edges first.
+  std::sort(active.begin(), active.end(), [](const Edge& a, const Edge& b) {
+    return a.tri != b.tri ? a.tri < b.tri : a.left > b.left;
+  });
+  // 3. One span per triangle: between its innermost left and right edge.
+  for (size_t g = 0; g < active.size();) {
+    size_t end = g;
+    const Edge *L = nullptr, *R = nullptr;
+    for (; end < active.size() && active[end].tri == active[g].tri; ++end) {
+      const Edge& e = active[end];
+      // Two edges of one side are active together only on the row of
+      // their shared vertex; the inner one bounds the span.
+      if (e.left && (!L || e.bound() > L->bound())) L = &e;
+      if (!e.left && (!R || e.bound() < R->bound())) R = &e;
+    }
+    const uint32_t ti = active[g].tri;
+    g = end;
+    if (!L || !R || L->bound() > R->bound()) continue;  // no sample on this row
+    scan_span(*L, *R, setups[ti], ti, pass, j, width, spp, perspective, on_sample);
+  }
+  // 4. Every active edge one row down.
+  for (Edge& e : active) e.step();
+}
+
+// ---------------------------------------------------------------- the frame
+
+// The scan of the whole frame: pixel row by pixel row, and within a pixel row
+// the supersampling passes, each scanning its own sample row (scan_row). Every
+// covered sample is handed to on_sample(index, fragment); on_row(j) is called
+// when pixel row j is complete (all its samples scanned).
 template <class OnSample, class OnRow>
 void scan_frame(const ScreenMesh& mesh, const RasterSettings& s,
                 const std::function<void(double)>& progress, OnSample on_sample, OnRow on_row) {
-  const int w = mesh.width, h = mesh.height;
   const auto offsets = sample_offsets(s);
   const int spp = int(offsets.size());
   const std::vector<Pass> passes = passes_of(offsets);
@@ -210,92 +321,15 @@ void scan_frame(const ScreenMesh& mesh, const RasterSettings& s,
   setups.reserve(mesh.tris.size());
   for (const ScreenTri& t : mesh.tris) setups.push_back(setup_triangle(t, s.perspective));
 
-  // The edge table of every pass: edges bucketed by their first row.
-  std::vector<std::vector<std::vector<Edge>>> et(passes.size(), std::vector<std::vector<Edge>>(h));
-  for (size_t p = 0; p < passes.size(); ++p)
-    for (uint32_t ti = 0; ti < mesh.tris.size(); ++ti) {
-      const ScreenTri& t = mesh.tris[ti];
-      // A flat bottom: two vertices on the lowest row, joined by a horizontal
-      // edge that (positive area, y down) runs right to left and owns no
-      // sample on its row (top-left rule). Both other edges end there: cut.
-      const int32_t ymax = std::max({t.v[0].y, t.v[1].y, t.v[2].y});
-      const bool flat_bottom = (t.v[0].y == ymax) + (t.v[1].y == ymax) + (t.v[2].y == ymax) == 2;
-      for (int a = 0; a < 3; ++a) {
-        const int b = (a + 1) % 3;
-        Edge e;
-        int first = 0;
-        if (make_edge(t, setups[ti], ti, a, b, passes[p].oy, h, flat_bottom, e, first))
-          et[p][first].push_back(e);
-      }
-    }
-
+  // Per pass: its edge table and its active edge list.
+  std::vector<std::vector<std::vector<Edge>>> et;
+  for (const Pass& pass : passes) et.push_back(edge_table(mesh, setups, pass.oy));
   std::vector<std::vector<Edge>> ael(passes.size());
-  for (int j = 0; j < h; ++j) {
-    if (progress && (j & 15) == 0) progress(double(j) / h);
-    for (size_t p = 0; p < passes.size(); ++p) {
-      std::vector<Edge>& active = ael[p];
-      // 1. Edges starting on this row join the AEL; edges that ended leave it.
-      for (const Edge& e : et[p][j]) active.push_back(e);
-      std::erase_if(active, [&](const Edge& e) { return e.last_row < j; });
-      // 2. Group by triangle in scene order (the tie rule), left edges first.
-      std::sort(active.begin(), active.end(), [](const Edge& a, const Edge& b) {
-        return a.tri != b.tri ? a.tri < b.tri : a.left > b.left;
-      });
-      // 3. One span per triangle: between its innermost left and right edge.
-      const double yrow = double(int64_t(j) * kSubpixel + passes[p].oy) / kSubpixel;
-      for (size_t g = 0; g < active.size();) {
-        size_t end = g;
-        const Edge *L = nullptr, *R = nullptr;
-        for (; end < active.size() && active[end].tri == active[g].tri; ++end) {
-          const Edge& e = active[end];
-          // Two edges of one side are active together only on the row of
-          // their shared vertex; the inner one bounds the span.
-          if (e.left && (!L || e.bound() > L->bound())) L = &e;
-          if (!e.left && (!R || e.bound() < R->bound())) R = &e;
-        }
-        const uint32_t ti = active[g].tri;
-        g = end;
-        if (!L || !R || L->bound() > R->bound()) continue;  // no sample on this row
-        const TriSetup& ts = setups[ti];
-        // Across the span: 1/z with the plane's constant slope -A/C; the
-        // attributes linear between their values on the two edges.
-        const double xl = L->crossing(), xr = R->crossing();
-        Attr slope{};
-        if (xr > xl)
-          for (int k = 0; k < 3; ++k) slope[k] = (R->a[k] - L->a[k]) / (xr - xl);
-        for (const Column& col : passes[p].columns) {
-          // The samples x = 256 i + ox with L.bound <= x <= R.bound, on screen.
-          const int64_t i0 = std::max<int64_t>(ceil_div(L->bound() - col.ox, kSubpixel), 0);
-          const int64_t i1 = std::min<int64_t>(floor_div(R->bound() - col.ox, kSubpixel), w - 1);
-          if (i0 > i1) continue;
-          // Values at the first sample, from the left edge's crossing.
-          const double x0 = double(i0 * kSubpixel + col.ox) / kSubpixel;
-          double wz = L->w + (x0 - xl) * ts.dwdx;
-          Attr a;
-          for (int k = 0; k < 3; ++k) a[k] = L->a[k] + (x0 - xl) * slope[k];
-          for (int64_t i = i0; i <= i1; ++i) {
-            Fragment f;
-            f.tri = ti;
-            f.z = 1 / wz;
-            f.sx = double(i * kSubpixel + col.ox) / kSubpixel;
-            f.sy = yrow;
-            if (s.perspective) {
-              // The interpolated weights / z, divided by their sum (the interpolated 1/z).
-              const double sum = a[0] + a[1] + a[2];
-              for (int k = 0; k < 3; ++k) f.b[k] = a[k] / sum;
-            } else {
-              for (int k = 0; k < 3; ++k) f.b[k] = a[k];
-            }
-            on_sample((size_t(j) * w + size_t(i)) * spp + col.k, f);
-            // One sample (one pixel) right.
-            wz += ts.dwdx;
-            for (int k = 0; k < 3; ++k) a[k] += slope[k];
-          }
-        }
-      }
-      // 4. Every active edge one row down.
-      for (Edge& e : active) e.step();
-    }
+
+  for (int j = 0; j < mesh.height; ++j) {
+    if (progress && (j & 15) == 0) progress(double(j) / mesh.height);
+    for (size_t p = 0; p < passes.size(); ++p)
+      scan_row(setups, passes[p], j, mesh.width, spp, s.perspective, et[p][j], ael[p], on_sample);
     on_row(j);
   }
 }

@@ -1,5 +1,5 @@
 // lockstep reference: the scanline z-buffer, and the interpolation lessons it
-// is built from (the contract is reference/raster.h).
+// is built from (the contract is core/raster.h).
 //
 // The scanline z-buffer draws the same ScreenMesh as ref::zbuffer, with the
 // same samples, the same fill rule and the same tie rule (the first of equal
@@ -13,7 +13,7 @@
 #include <functional>
 #include <span>
 
-#include "reference/raster.h"
+#include "core/raster.h"
 
 namespace lockstep {
 

@@ -1,5 +1,5 @@
-// lockstep reference: the z-buffer (Catmull 1974; Foley et al., 2nd ed., 15.4)
-// and the shading of a fragment, over the screen mesh of reference/viewing.cpp.
+// lockstep reference: the z-buffer (Catmull 1974; Foley et al., 2nd ed., 15.4),
+// over the screen mesh of core/viewing.cpp, shaded by core/raster_shading.cpp.
 //
 // For every triangle, for every sample in its bounding box: the three edge
 // functions in exact integer arithmetic decide coverage (top-left rule for
@@ -13,7 +13,6 @@
 #include <string>
 
 #include "core/error.h"
-#include "core/shading.h"
 #include "reference/raster.h"
 
 namespace lockstep {
@@ -36,40 +35,6 @@ bool top_left(const ScreenVertex& a, const ScreenVertex& b) {
 bool owns(int64_t e, bool is_top_left) { return e > 0 || (e == 0 && is_top_left); }
 
 }  // namespace
-
-// ---------------------------------------------------------------- shading
-
-Vec3 shade_fragment(const Scene& scene, const ScreenMesh& mesh, const RasterSettings& s, const Fragment& f) {
-  const ScreenTri& t = mesh.tris[f.tri];
-  const Camera& cam = mesh.camera;
-  const Material& m = scene.material_of_prim(t.prim);
-  // The view ray through the sample: its direction has forward component 1, so
-  // the point at eye depth z is eye + z * dir (as ray casting's hit point).
-  const double cx = (f.sx - 0.5 * mesh.width) * cam.pitch, cy = (0.5 * mesh.height - f.sy) * cam.pitch;
-  const Vec3 dir = cam.forward + cx * cam.right + cy * cam.up;
-  const Vec3 v = -normalize(dir);
-
-  // The interpolated normal, renormalised, turned towards the viewer (ray
-  // casting's rule, core/shading.cpp's surface_normal).
-  auto normal = [&] {
-    Vec3 n = f.b[0] * t.v[0].normal + f.b[1] * t.v[1].normal + f.b[2] * t.v[2].normal;
-    n = length(n) > 0 ? normalize(n) : t.face_normal;
-    if (dot(n, dir) > 0) n = -n;
-    return n;
-  };
-
-  Vec3 c;
-  switch (s.shading) {
-    case Shading::kFlat: c = t.flat_color; break;
-    case Shading::kGouraud: c = f.b[0] * t.v[0].color + f.b[1] * t.v[1].color + f.b[2] * t.v[2].color; break;
-    case Shading::kPhong: c = phong(scene, m, cam.eye + f.z * dir, normal(), v, Specular::kPhong); break;
-    case Shading::kBlinn: c = phong(scene, m, cam.eye + f.z * dir, normal(), v, Specular::kBlinn); break;
-    case Shading::kToon: c = toon(scene, m, cam.eye + f.z * dir, normal(), s.toon_bands); break;
-  }
-  // Silhouettes: where the surface turns away from the viewer, N.V near 0.
-  if (s.silhouette && std::abs(dot(normal(), v)) < s.silhouette_eps) c = Vec3{0, 0, 0};
-  return c;
-}
 
 // ---------------------------------------------------------------- the z-buffer
 

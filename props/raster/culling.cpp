@@ -1,5 +1,5 @@
 // lockstep props/raster: back-face culling in world space against culling in
-// projection space (reference/viewing.cpp).
+// projection space (core/viewing.cpp).
 //
 //   CullingAgree.zbuffer__reference   The same scene drawn with cull=world and
 //       cull=projection: every sample shows the same triangle, except where a

@@ -14,7 +14,7 @@
 //       below a quarter of it (the cap would hide a regression).
 //
 // Only coverage is judged here. Depth and colour agreement on the SPD scenes is
-// measured by scripts/llvmpipe_check.cpp and written in the row's comment.
+// measured by tools/llvmpipe_check.cpp and written in the row's comment.
 #include <cmath>
 #include <sstream>
 

@@ -18,7 +18,7 @@
 #include "props/gen/numbers.h"
 #include "props/raster/exact_coverage.h"
 #include "props/raster/parts.h"
-#include "reference/raster.h"
+#include "core/raster.h"
 
 namespace lockstep::props::raster {
 

@@ -1,11 +1,11 @@
-// lockstep reference: the raster families' settings (reference/raster.h),
+// lockstep core: the raster families' settings (core/raster.h),
 // read from a family's Params (CLI `--shading phong`, corpus `shading=phong`).
 #include <cmath>
 #include <cstdlib>
 #include <string>
 
 #include "core/error.h"
-#include "reference/raster.h"
+#include "core/raster.h"
 
 namespace lockstep {
 

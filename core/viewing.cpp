@@ -1,5 +1,5 @@
-// lockstep reference: the viewing pipeline of the raster families
-// (reference/raster.h): world -> eye -> cull -> clip -> screen -> snap.
+// lockstep core: the viewing pipeline of the raster families (core/raster.h),
+// shared by every implementation: world -> eye -> cull -> clip -> screen -> snap.
 //
 // Foley et al., 2nd ed., 6.5 (the viewing transformation), 3.14 (Sutherland and
 // Hodgman's polygon clipping, here against planes in eye space), 15.2.4
@@ -11,8 +11,8 @@
 #include <tuple>
 #include <vector>
 
+#include "core/raster.h"
 #include "core/shading.h"
-#include "reference/raster.h"
 
 namespace lockstep {
 
