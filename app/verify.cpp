@@ -123,8 +123,10 @@ int verify_main(Args args) {
   if (!o.regolden) print_header();
   for (size_t ci = 0; ci < cases.size(); ++ci) {
     const Case& c = cases[ci];
-    std::fprintf(stderr, "lockstep verify: [%zu/%zu] %s %s (%dx%d)\n", ci + 1, cases.size(),
-                 std::string(c.family->name).c_str(), c.name.c_str(), c.frame_width(), c.frame_height());
+    const std::string size =
+        c.family->sized ? " (" + std::to_string(c.frame_width()) + "x" + std::to_string(c.frame_height()) + ")" : "";
+    std::fprintf(stderr, "lockstep verify: [%zu/%zu] %s %s%s\n", ci + 1, cases.size(),
+                 std::string(c.family->name).c_str(), c.name.c_str(), size.c_str());
     for (Row& r : verify_case(c, o, verdicts)) rows.push_back(std::move(r));
   }
 
