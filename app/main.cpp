@@ -35,6 +35,8 @@ void print_help() {
       "      composite RGBA layers (front first) with 'over'\n"
       "  lockstep isosurface VOLUME --iso C [--impl NAME] [--threads N] -o MESH\n"
       "      extract an isosurface by marching cubes (.nrrd/.nhdr volume or .field) into a mesh\n"
+      "  lockstep volume VOLUME --tf TF [--algo raycast|splat|iso] [--step DT] [--view AZ,EL] -o IMAGE\n"
+      "      render a volume: ray casting, splatting, or the isosurface ray cast\n"
       "  lockstep diff A B [--fail T] [--failpercent P] [--warn W] [--heatmap OUT]\n"
       "      compare two images (idiff style); exit 0 when they agree, 1 when not\n"
       "  lockstep verify [CORPUS_DIR] [--report DIR] [--impl NAME]... [--filter SUBSTR]\n"
@@ -68,7 +70,7 @@ void print_version() {
 
 int run(int argc, char** argv, std::string& sub) {
   std::vector<std::string_view> args(argv + 1, argv + argc);
-  if (args.empty()) throw cli::UsageError("missing subcommand (render, composite, isosurface, diff or verify)");
+  if (args.empty()) throw cli::UsageError("missing subcommand (render, composite, isosurface, volume, diff or verify)");
   const std::string_view first = args.front();
   if (first == "--help" || first == "-h" || first == "help") {
     print_help();
@@ -93,9 +95,10 @@ int run(int argc, char** argv, std::string& sub) {
   if (first == "verify") return cli::verify_main(rest);
   if (first == "composite") return cli::composite_main(rest);
   if (first == "isosurface") return cli::isosurface_main(rest);
+  if (first == "volume") return cli::volume_main(rest);
   sub.clear();
   if (cli::is_option(first)) cli::unknown_option(first);
-  throw cli::UsageError("unknown subcommand '" + std::string(first) + "' (render, composite, isosurface, diff or verify)");
+  throw cli::UsageError("unknown subcommand '" + std::string(first) + "' (render, composite, isosurface, volume, diff or verify)");
 }
 
 }  // namespace

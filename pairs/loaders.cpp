@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "core/nff.h"
+#include "core/volume_io.h"
 
 namespace lockstep {
 
@@ -14,6 +15,8 @@ Input load_nff(const std::string& path) {
   const Vec3 bg = s.background;
   return make_input<Scene>(std::move(s), path, w, h, bg);
 }
+
+Input load_volume(const std::string& path) { return make_input<Volume>(read_volume(path), path, 0, 0); }
 
 std::string spd_dir() {
   if (const char* e = std::getenv("LOCKSTEP_SPD_DIR")) return e;

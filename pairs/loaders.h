@@ -23,6 +23,10 @@ std::string spd_dir();
 // ../shared/volumes beside the source tree.
 std::string volumes_dir();
 
+// A volume (core/volume_io.h: NRRD through Teem, or a .field) as a family's
+// Input. Throws InputError naming file and line.
+Input load_volume(const std::string& path);
+
 // The SPD scene `name` (e.g. "balls-3"), loaded, or nothing when it is not
 // there (benchmarks time the scenes that are present).
 std::optional<Input> load_spd(std::string_view name);

@@ -5,6 +5,7 @@
 #include "pairs/marching_cubes.h"
 #include "pairs/ray_cast.h"
 #include "pairs/raster.h"
+#include "pairs/volume.h"
 
 namespace lockstep {
 
@@ -16,6 +17,9 @@ const Registry& registry() {
       scanline_family(),
       painter_family(),
       marching_cubes_family(),
+      volume_family(),
+      splat_family(),
+      volume_iso_family(),
   }};
   return r;
 }

@@ -1,0 +1,96 @@
+// lockstep pairs: the volume-rendering families' rows (see pairs/volume.h).
+#include "pairs/volume.h"
+
+#include <filesystem>
+#include <functional>
+#include <string>
+
+#include "core/output_image.h"
+#include "core/volume_render.h"
+#include "pairs/loaders.h"
+#include "reference/volume_render.h"
+
+namespace lockstep {
+
+namespace {
+
+// The frames of issue #20 at 512^2: the CT head and the MRI brain, two transfer
+// functions each; the reference draws them at 128^2 (heavy_for_reference).
+std::vector<BenchInput> bench_frames(vr::Mode mode) {
+  std::vector<BenchInput> out;
+  auto add = [&](std::string name, const std::string& path, std::vector<std::pair<std::string, std::string>> params) {
+    if (!std::filesystem::exists(path)) return;
+    BenchInput b;
+    b.name = std::move(name);
+    b.make = [path] { return load_volume(path); };
+    b.width = b.height = 512;
+    b.heavy_for_reference = true;
+    for (auto& [k, v] : params) b.params.set(k, v);
+    out.push_back(std::move(b));
+  };
+  const std::string ct = volumes_dir() + "/cthead.nhdr", mri = volumes_dir() + "/ch2.nhdr";
+  // The CT head seen from the front (the face looks along -y), a little from above.
+  if (mode == vr::Mode::kIso) {
+    add("cthead/bone", ct, {{"iso", "1200"}, {"view", "-90,-15,180"}});
+    add("cthead/skin", ct, {{"iso", "600"}, {"view", "-90,-15,180"}});
+    add("ch2/skin", mri, {{"iso", "80"}, {"view", "-90,-15,180"}});
+  } else {
+    add("cthead/bone", ct, {{"tf", "ct-bone"}, {"view", "-90,-15,180"}});
+    add("cthead/skin", ct, {{"tf", "ct-skin"}, {"view", "-90,-15,180"}});
+    add("ch2/mri", mri, {{"tf", "mri"}, {"view", "-90,-15,180"}});
+  }
+  return out;
+}
+
+Family base(vr::Mode mode) {
+  Family f;
+  f.input = "a volume: NRRD (.nrrd, .nhdr) or an analytic field (.field)";
+  f.unit = "pixels";
+  f.verb = "render";
+  f.extension = ".nrrd .nhdr .field";
+  f.default_impl = "reference";
+  f.sized = true;
+  f.kind = &image_kind();
+  f.load = load_volume;
+  f.params = vr::params(mode);
+  f.check_params = [mode](const Params& p) { vr::settings(p, "settings", mode); };
+  f.bench = [mode] { return bench_frames(mode); };
+  // Until an optimized row: goldens are the reference's own (8-bit colours).
+  f.tol.abs = 1.0 / 255;
+  f.tol.fraction = 1.0;
+  return f;
+}
+
+}  // namespace
+
+Family volume_family() {
+  Family f = base(vr::Mode::kRaycast);
+  f.name = "volume";
+  f.what = "volume rendering by V-buffer ray casting (transfer function, front-to-back over)";
+  f.algo = "raycast";
+  const TypedImpl<Volume> impls[] = {{"reference", ref::volume_raycast, 0, {}, {}, false}};
+  f.impls = erase_all<Volume, Image>(impls);
+  return f;
+}
+
+Family splat_family() {
+  Family f = base(vr::Mode::kSplat);
+  f.name = "splat";
+  f.what = "volume rendering by splatting (Gaussian footprints in depth order)";
+  f.algo = "splat";
+  const TypedImpl<Volume> impls[] = {{"reference", ref::volume_splat, 0, {}, {}, false}};
+  f.impls = erase_all<Volume, Image>(impls);
+  return f;
+}
+
+Family volume_iso_family() {
+  Family f = base(vr::Mode::kIso);
+  f.name = "volume_iso";
+  f.what = "the isosurface of the trilinear interpolant, ray cast (first crossing, bisection, gradient shading)";
+  f.algo = "iso";
+  const TypedImpl<Volume> impls[] = {{"reference", ref::volume_iso, 0, {}, {}, false}};
+  f.impls = erase_all<Volume, Image>(impls);
+  return f;
+}
+
+}  // namespace lockstep
