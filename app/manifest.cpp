@@ -54,7 +54,9 @@ std::vector<Case> read_manifest(const fs::path& dir) {
         ++it;
         continue;
       }
-      c.params.set(it->substr(0, eq), it->substr(eq + 1));
+      // '@PATH': a file of the corpus (a transfer function), relative to this folder.
+      const std::string value = it->substr(eq + 1);
+      c.params.set(it->substr(0, eq), value.starts_with('@') ? (dir / value.substr(1)).string() : value);
       it = w.erase(it);
     }
     if (!c.params.items.empty()) {

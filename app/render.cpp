@@ -178,6 +178,8 @@ int render_as(const std::string& who, const std::string& forced_algo, Args args)
     try {
       family.check_params(params);
     } catch (const InputError& e) {
+      // A file a setting names (a transfer function) reports its own file and line.
+      if (e.file() != "settings") throw;
       throw UsageError(std::string(e.what()).substr(std::string("settings: ").size()));
     }
   }

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <numbers>
 
@@ -220,6 +221,16 @@ Vec3 iso_base(const Settings& s) {
   double rgba[4];
   s.tf.eval(s.iso, rgba);
   return {rgba[0], rgba[1], rgba[2]};
+}
+
+std::string empty_note(const Volume& v, double iso) {
+  if (v.data.empty()) return "the volume has no samples: the image is empty";
+  const auto [lo, hi] = std::minmax_element(v.data.begin(), v.data.end());
+  if (iso >= double(*lo) && iso <= double(*hi)) return {};
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "iso %g is outside the volume's values [%g, %g]: no surface, the image is empty", iso,
+                double(*lo), double(*hi));
+  return buf;
 }
 
 }  // namespace lockstep::vr

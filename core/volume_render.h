@@ -107,6 +107,10 @@ Vec3 iso_shade(const Vec3& base, const Vec3& grad, const Vec3& dir);
 // one was given, else a light grey.
 Vec3 iso_base(const Settings& s);
 
+// When iso lies outside the volume's values (not an error: the surface is not
+// there), the note that says so for FrameStats::notes; "" otherwise.
+std::string empty_note(const Volume& v, double iso);
+
 // Bisection steps the reference takes between the two samples that bracket a
 // crossing: the hit is then within dt 2^-kIsoBisections of the interpolant's.
 inline constexpr int kIsoBisections = 24;

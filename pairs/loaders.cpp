@@ -16,7 +16,9 @@ Input load_nff(const std::string& path) {
   return make_input<Scene>(std::move(s), path, w, h, bg);
 }
 
-Input load_volume(const std::string& path) { return make_input<Volume>(read_volume(path), path, 0, 0); }
+Input load_volume(const std::string& path, int width, int height) {
+  return make_input<Volume>(read_volume(path), path, width, height);
+}
 
 std::string spd_dir() {
   if (const char* e = std::getenv("LOCKSTEP_SPD_DIR")) return e;

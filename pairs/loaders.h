@@ -24,8 +24,9 @@ std::string spd_dir();
 std::string volumes_dir();
 
 // A volume (core/volume_io.h: NRRD through Teem, or a .field) as a family's
-// Input. Throws InputError naming file and line.
-Input load_volume(const std::string& path);
+// Input, with the frame size a sized family draws it at by default (0: unsized).
+// Throws InputError naming file and line.
+Input load_volume(const std::string& path, int width = 0, int height = 0);
 
 // The SPD scene `name` (e.g. "balls-3"), loaded, or nothing when it is not
 // there (benchmarks time the scenes that are present).

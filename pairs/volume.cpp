@@ -22,7 +22,7 @@ std::vector<BenchInput> bench_frames(vr::Mode mode) {
     if (!std::filesystem::exists(path)) return;
     BenchInput b;
     b.name = std::move(name);
-    b.make = [path] { return load_volume(path); };
+    b.make = [path] { return load_volume(path, 512, 512); };
     b.width = b.height = 512;
     b.heavy_for_reference = true;
     for (auto& [k, v] : params) b.params.set(k, v);
@@ -51,7 +51,8 @@ Family base(vr::Mode mode) {
   f.default_impl = "reference";
   f.sized = true;
   f.kind = &image_kind();
-  f.load = load_volume;
+  // 256 x 256 unless the CLI's --size or the manifest says otherwise.
+  f.load = [](const std::string& path) { return load_volume(path, 256, 256); };
   f.params = vr::params(mode);
   f.check_params = [mode](const Params& p) { vr::settings(p, "settings", mode); };
   f.bench = [mode] { return bench_frames(mode); };

@@ -41,6 +41,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/transfer_function.h"
 #include "core/volume_io.h"
 
 namespace rc::detail {
@@ -503,6 +504,42 @@ TEST(FuzzVolume, RandomBytes) {
     std::string bytes = *rc::gen::elementOf(std::vector<std::string>{"", "NRRD0004\n", "NRRD0001\n", "field "});
     bytes += random_bytes(*rc::gen::inRange(0, 300));
     read_ok(kind, bytes);
+  });
+}
+
+// Transfer functions (core/transfer_function.h): the corpus' .tf files and
+// every file of tests/bad-tf, mutated, parsed: a valid function (at least one
+// point, values strictly increasing and finite, colours and alpha in [0, 1],
+// eval finite everywhere) or an InputError.
+TEST(FuzzVolume, TransferFunctions) {
+  std::vector<std::string> bases;
+  for (const char* d : {LOCKSTEP_CORPUS_DIR "/tf", LOCKSTEP_BAD_TF_DIR})
+    for (const auto& e : fs::directory_iterator(d))
+      if (e.path().extension() == ".tf") {
+        std::ifstream f(e.path(), std::ios::binary);
+        std::ostringstream t;
+        t << f.rdbuf();
+        bases.push_back(t.str());
+      }
+  ASSERT_GE(bases.size(), 10u);
+  check("fuzz_volume.transfer_functions", [&bases] {
+    const std::string base = *rc::gen::elementOf(bases);
+    const std::string text = *rc::gen::resize(rc::kNominalSize, rc::gen::exec([base] { return mutate(base); }));
+    try {
+      const lockstep::TransferFunction tf = lockstep::parse_transfer_function(text, "fuzz.tf");
+      RC_ASSERT(!tf.points.empty());
+      for (size_t i = 0; i < tf.points.size(); ++i) {
+        const auto& q = tf.points[i];
+        RC_ASSERT(std::isfinite(q.value));
+        if (i) RC_ASSERT(q.value > tf.points[i - 1].value);
+        for (float c : {q.r, q.g, q.b, q.a}) RC_ASSERT(c >= 0.0f && c <= 1.0f);
+        double out[4];
+        tf.eval(q.value * 0.5 + 1, out);
+        for (double c : out) RC_ASSERT(std::isfinite(c) && c >= 0 && c <= 1);
+      }
+    } catch (const lockstep::InputError& e) {
+      RC_ASSERT(std::string(e.what()).starts_with("fuzz.tf"));
+    }
   });
 }
 

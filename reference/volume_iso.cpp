@@ -14,6 +14,7 @@
 //      at the eye, two-sided.
 // A ray that meets no crossing shows the background (0, 0, 0, 0).
 #include <cmath>
+#include <string>
 
 #include "core/volume_render.h"
 #include "reference/volume_render.h"
@@ -52,7 +53,10 @@ Image volume_iso(const Volume& volume, const FrameOptions& options, FrameStats* 
     }
     if (options.progress) options.progress(double(y + 1) / view.height);
   }
-  if (stats) stats->items = uint64_t(view.width) * uint64_t(view.height);
+  if (stats) {
+    stats->items = uint64_t(view.width) * uint64_t(view.height);
+    if (std::string note = vr::empty_note(volume, s.iso); !note.empty()) stats->notes.push_back(std::move(note));
+  }
   return image;
 }
 

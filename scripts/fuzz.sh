@@ -6,6 +6,7 @@
 # soups, mutated SPD files; parse_nff must return a consistent Scene or throw
 # InputError) and props/fuzz_volume.cpp (mutated NRRD files, attached and
 # detached, and .field files; read_volume must return a valid Volume or throw
+# InputError; mutated transfer functions, tests/bad-tf and corpus/tf: a valid one or
 # InputError: our header checks and Teem's reading both run under the
 # sanitizers). Any memory error, leak or undefined behaviour aborts the run.
 #   bash scripts/fuzz.sh                       # 5000 cases per property

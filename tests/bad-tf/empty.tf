@@ -1,0 +1,3 @@
+# expect: no control points
+# only comments
+

@@ -1,0 +1,321 @@
+// Tests of the volume-rendering contract and references (core/volume_render.h,
+// core/transfer_function.h, reference/volume_*.cpp) against exact answers.
+//
+//   * transfer functions: evaluation between and beyond control points, the
+//     presets, max_alpha; every file in tests/bad-tf throws one InputError
+//     whose message matches its '# expect:' line;
+//   * the view: rays parallel, one pixel apart, samples on shared planes;
+//   * ray casting of a field that is linear along the ray (trilinear
+//     interpolation is exact there) under the ramp transfer function, looking
+//     straight down z: the exact opacity is 1 - exp(-integral of the
+//     extinction), sigma(v) = -ln(1 - alpha(v)) / dt0, in closed form; the
+//     Riemann sum the method takes converges to it at first order in dt;
+//   * compositing: a constant field gives 1 - (1 - alpha')^n for the n samples
+//     the ray takes, exactly; early termination stops within eps;
+//   * the isosurface of a sphere's distance field: a pixel is covered iff its
+//     ray passes within the radius (pixels near the silhouette, within the
+//     trilinear interpolant's error, are exempt) and the shade follows the
+//     normal: ambient + diffuse |n . d| of the true sphere within 0.02;
+//   * splatting converges to ray casting on a smooth field: stated difference.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+
+#include "core/error.h"
+#include "core/transfer_function.h"
+#include "core/volume_io.h"
+#include "core/volume_render.h"
+#include "reference/volume_render.h"
+
+namespace lockstep {
+namespace {
+
+namespace fs = std::filesystem;
+
+FrameOptions frame(int w, int h, Params p) {
+  FrameOptions o;
+  o.width = w;
+  o.height = h;
+  o.params = std::move(p);
+  return o;
+}
+
+Params params(std::initializer_list<std::pair<const char*, std::string>> kv) {
+  Params p;
+  for (const auto& [k, v] : kv) p.set(k, v);
+  return p;
+}
+
+// A volume whose value is z (world), nx x ny x nz samples over [0, 1]^2 x [0, zmax].
+Volume linear_z(int n, int nz, double zmax) {
+  Volume v;
+  v.nx = v.ny = n;
+  v.nz = nz;
+  v.spacing = {1.0 / (n - 1), 1.0 / (n - 1), zmax / (nz - 1)};
+  v.data.resize(size_t(n) * n * nz);
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) v.at(i, j, k) = float(k * v.spacing.z);
+  v.source = "linear-z";
+  return v;
+}
+
+// ---------------------------------------------------------------- transfer functions
+
+TEST(TransferFunction, PiecewiseLinearAndConstantBeyond) {
+  const TransferFunction tf = parse_transfer_function("# a comment\n10 0 0 0 0\n\n20 1 0.5 0 1 # end\n", "t.tf");
+  ASSERT_EQ(tf.points.size(), 2u);
+  double c[4];
+  tf.eval(15, c);
+  EXPECT_DOUBLE_EQ(c[0], 0.5);
+  EXPECT_DOUBLE_EQ(c[1], 0.25);
+  EXPECT_DOUBLE_EQ(c[3], 0.5);
+  tf.eval(-100, c);
+  EXPECT_EQ(c[3], 0.0);
+  tf.eval(1e9, c);
+  EXPECT_EQ(c[3], 1.0);
+  EXPECT_EQ(tf.max_alpha(0, 10), 0.0);
+  EXPECT_DOUBLE_EQ(tf.max_alpha(12, 14), 0.4);
+  EXPECT_EQ(tf.max_alpha(0, 100), 1.0);
+}
+
+TEST(TransferFunction, PresetsAndMaxAlphaAtInteriorPoints) {
+  for (const char* name : {"ct-bone", "ct-skin", "mri", "ramp"}) {
+    const TransferFunction tf = read_transfer_function(name);
+    EXPECT_GE(tf.points.size(), 2u) << name;
+    for (size_t i = 1; i < tf.points.size(); ++i) EXPECT_GT(tf.points[i].value, tf.points[i - 1].value) << name;
+  }
+  // ct-skin is a bump: the largest alpha in [400, 950] is at 700, inside.
+  const TransferFunction skin = read_transfer_function("ct-skin");
+  double c[4];
+  skin.eval(700, c);
+  EXPECT_EQ(skin.max_alpha(400, 950), c[3]);
+  EXPECT_GT(c[3], 0.0);
+  EXPECT_EQ(skin.max_alpha(960, 1240), 0.0);
+}
+
+TEST(TransferFunction, BadFilesNameTheLine) {
+  int files = 0;
+  for (const auto& e : fs::directory_iterator(LOCKSTEP_BAD_TF_DIR)) {
+    if (e.path().extension() != ".tf") continue;
+    ++files;
+    std::ifstream f(e.path());
+    std::string first;
+    std::getline(f, first);
+    ASSERT_TRUE(first.starts_with("# expect: ")) << e.path();
+    const std::string expect = first.substr(10);
+    try {
+      read_transfer_function(e.path().string());
+      ADD_FAILURE() << e.path() << ": no error, expected " << expect;
+    } catch (const InputError& err) {
+      const std::string msg = err.what();
+      const std::string prefix = e.path().string();
+      ASSERT_TRUE(msg.starts_with(prefix)) << msg;
+      // FILE:LINE: message or FILE: message
+      EXPECT_TRUE(std::regex_search(msg.substr(prefix.size()), std::regex("^:? ?" + expect)))
+          << e.path() << "\n  message:  " << msg << "\n  expected: " << expect;
+    }
+  }
+  EXPECT_GE(files, 10);
+}
+
+TEST(TransferFunction, UnknownPresetOrMissingFile) {
+  EXPECT_THROW(read_transfer_function("ct-bones"), InputError);
+  EXPECT_THROW(read_transfer_function("/nonexistent/x.tf"), InputError);
+}
+
+// ---------------------------------------------------------------- settings and view
+
+TEST(VolumeSettings, BadSettingsAreInputErrors) {
+  const Params good = params({{"tf", "ramp"}});
+  EXPECT_NO_THROW(vr::settings(good, "s", vr::Mode::kRaycast));
+  EXPECT_THROW(vr::settings(Params{}, "s", vr::Mode::kRaycast), InputError);  // no tf
+  EXPECT_THROW(vr::settings(params({{"tf", "ramp"}, {"step", "0"}}), "s", vr::Mode::kRaycast), InputError);
+  EXPECT_THROW(vr::settings(params({{"tf", "ramp"}, {"step", "0.001"}}), "s", vr::Mode::kRaycast), InputError);
+  EXPECT_THROW(vr::settings(params({{"tf", "ramp"}, {"view", "30"}}), "s", vr::Mode::kRaycast), InputError);
+  EXPECT_THROW(vr::settings(params({{"tf", "ramp"}, {"view", "30,91"}}), "s", vr::Mode::kRaycast), InputError);
+  EXPECT_THROW(vr::settings(params({{"tf", "ramp"}, {"view", "nan,0"}}), "s", vr::Mode::kRaycast), InputError);
+  EXPECT_THROW(vr::settings(params({{"tf", "ramp"}, {"eps", "0.7"}}), "s", vr::Mode::kRaycast), InputError);
+  EXPECT_THROW(vr::settings(params({{"tf", "ramp"}, {"iso", "1"}}), "s", vr::Mode::kRaycast), InputError);
+  EXPECT_THROW(vr::settings(params({{"tf", "ramp"}}), "s", vr::Mode::kIso), InputError);  // no iso
+  EXPECT_NO_THROW(vr::settings(params({{"iso", "0.5"}}), "s", vr::Mode::kIso));
+}
+
+TEST(VolumeView, ParallelRaysOnePixelApartSamplesOnSharedPlanes) {
+  Volume v = linear_z(5, 5, 1.0);
+  vr::Settings s = vr::settings(params({{"tf", "ramp"}, {"view", "37,-21,15"}}), "s", vr::Mode::kRaycast);
+  const vr::View view = vr::make_view(v, s, 40, 30);
+  EXPECT_NEAR(length(view.dir), 1, 1e-15);
+  EXPECT_NEAR(dot(view.du, view.dir), 0, 1e-15);
+  EXPECT_NEAR(dot(view.dv, view.dir), 0, 1e-15);
+  EXPECT_NEAR(dot(view.du, view.dv), 0, 1e-15);
+  // The shorter side (30 px) spans the bounding sphere's diameter, sqrt(3).
+  EXPECT_NEAR(30 * length(view.dv), std::sqrt(3.0), 1e-12);
+  // Every ray's origin lies on one plane: sample k of any ray lies on plane k.
+  const double d00 = dot(vr::ray_origin(view, 0, 0), view.dir);
+  EXPECT_NEAR(dot(vr::ray_origin(view, 39, 29), view.dir), d00, 1e-12);
+  EXPECT_NEAR(dot(vr::ray_origin(view, 13, 7), view.dir), d00, 1e-12);
+  // The centre pixel's ray passes through the volume's centre.
+  Volume w = linear_z(5, 5, 1.0);
+  const vr::View even = vr::make_view(w, s, 2, 2);
+  const Vec3 mid = 0.5 * (vr::ray_origin(even, 0, 0) + vr::ray_origin(even, 1, 1));
+  const Vec3 off = mid - Vec3{0.5, 0.5, 0.5};
+  EXPECT_NEAR(length(off - dot(off, even.dir) * even.dir), 0, 1e-12);
+}
+
+// ---------------------------------------------------------------- ray casting against exact answers
+
+// Looking straight down (elevation -90) through a field v = z on [0, zmax] with
+// the ramp (alpha(v) = v, colour white), dt0 = the smallest spacing h: the exact
+// opacity is 1 - exp(-(1/h) integral_0^zmax -ln(1 - z) dz), and with
+// G(z) = (1 - z) ln(1 - z) - (1 - z) an antiderivative of -ln(1 - z)... here
+// d/dz[(1 - z) ln(1 - z) - (1 - z)] = -ln(1 - z) - 1 + 1 = -ln(1 - z).
+double exact_ramp_opacity(double zmax, double h) {
+  auto G = [](double z) { return (1 - z) * std::log(1 - z) - (1 - z); };
+  return 1 - std::exp(-(G(zmax) - G(0)) / h);
+}
+
+TEST(VolumeRaycast, CompositesItsSamplesExactlyAndConvergesToTheIntegral) {
+  const double zmax = 0.6;
+  const Volume v = linear_z(9, 9, zmax);  // h = 1/8 in x, y; 0.075 in z: dt0 = 0.075
+  const double h = zmax / 8;
+  const double exact = exact_ramp_opacity(zmax, h);
+  double worst_per_dt = 0, last = 0;
+  for (const double step : {1.0, 0.5, 0.25, 0.125, 0.0625, 0.03125}) {
+    const Params p = params({{"tf", "ramp"}, {"view", "0,90"}, {"eps", "0"}, {"step", std::to_string(step)}});
+    const Image img = ref::volume_raycast(v, frame(9, 9, p), nullptr);
+    // The centre pixel: its ray runs the whole depth, down z.
+    const float* px = img.pixel(4, 4);
+    EXPECT_NEAR(px[0], px[3], 1e-6) << "premultiplied white: colour = alpha";
+    // 1. The samples it takes, composited by hand: exact up to float output.
+    const vr::View view = vr::make_view(v, vr::settings(p, "s", vr::Mode::kRaycast), 9, 9);
+    const Vec3 o = vr::ray_origin(view, 4, 4);
+    long k0, k1;
+    vr::ray_samples(view, o, k0, k1);
+    double clear = 1;  // transmittance
+    for (long k = k0; k <= k1; ++k) {
+      const double z = (o + (double(k) * view.dt) * view.dir).z;
+      clear *= std::pow(1 - std::clamp(z, 0.0, 1.0), step);
+    }
+    EXPECT_NEAR(px[3], 1 - clear, 2e-7) << "step " << step;
+    // 2. Against the integral: a Riemann sum, first order in dt (the samples
+    // cover the depth to within one step at each end). Measured: error / dt at
+    // most 0.28 over these steps (in world units, dt = step h).
+    const double err = std::abs(px[3] - exact);
+    worst_per_dt = std::max(worst_per_dt, err / (step * h));
+    last = err;
+    std::printf("step %-8g dt %-8g error %.3g (error/dt %.3g)\n", step, step * h, err, err / (step * h));
+  }
+  EXPECT_LT(worst_per_dt, 0.4);
+  EXPECT_LT(last, 0.4 * 0.03125 * h);
+}
+
+TEST(VolumeRaycast, ConstantFieldCompositesExactlyAndStopsWithinEps) {
+  Volume v = linear_z(5, 5, 1.0);
+  std::fill(v.data.begin(), v.data.end(), 0.3f);  // ramp: alpha 0.3 per voxel (h = 0.25)
+  const Params p = params({{"tf", "ramp"}, {"view", "0,90"}, {"eps", "0"}, {"step", "0.5"}});
+  const vr::Settings s = vr::settings(p, "s", vr::Mode::kRaycast);
+  const vr::View view = vr::make_view(v, s, 5, 5);
+  long k0, k1;
+  vr::ray_samples(view, vr::ray_origin(view, 2, 2), k0, k1);
+  const double n = double(k1 - k0 + 1);
+  EXPECT_TRUE(n == 8 || n == 9) << n;  // depth 1, dt = 0.125: 8 steps, 9 samples when both faces fall on a plane
+  const double alpha = 1 - std::pow(1 - double(0.3f), 0.5);
+  const Image img = ref::volume_raycast(v, frame(5, 5, p), nullptr);
+  EXPECT_NEAR(img.pixel(2, 2)[3], 1 - std::pow(1 - alpha, n), 1e-7);
+  // Early termination: eps = 0.4 stops once alpha >= 0.6, within one sample's worth.
+  const Image early = ref::volume_raycast(
+      v, frame(5, 5, params({{"tf", "ramp"}, {"view", "0,90"}, {"eps", "0.4"}, {"step", "0.5"}})), nullptr);
+  EXPECT_GE(early.pixel(2, 2)[3], 0.6f);
+  EXPECT_LT(early.pixel(2, 2)[3], 0.6f + alpha);
+}
+
+TEST(VolumeRaycast, TransparentTransferFunctionGivesTheBackground) {
+  const fs::path tf = fs::temp_directory_path() / "lockstep-clear.tf";
+  std::ofstream(tf) << "0 1 1 1 0\n1 1 1 1 0\n";
+  FieldSpec f = field_defaults(FieldKind::kGyroid);
+  f.n = 12;
+  const Volume v = sample_field(f, "gyroid");
+  const Image img = ref::volume_raycast(v, frame(16, 16, params({{"tf", tf.string()}})), nullptr);
+  for (float x : img.rgba) ASSERT_EQ(x, 0.0f);
+  const Image sp = ref::volume_splat(v, frame(16, 16, params({{"tf", tf.string()}})), nullptr);
+  for (float x : sp.rgba) ASSERT_EQ(x, 0.0f);
+}
+
+// ---------------------------------------------------------------- the isosurface
+
+TEST(VolumeIso, SphereCoverageAndShadeMatchTheTrueSphere) {
+  FieldSpec f = field_defaults(FieldKind::kSphere);  // |p| on [-1, 1]^3, radius 0.5
+  f.n = 41;
+  const Volume v = sample_field(f, "sphere");
+  const int w = 64;
+  const Params p = params({{"iso", "0.5"}, {"view", "20,30"}, {"step", "0.25"}});
+  const Image img = ref::volume_iso(v, frame(w, w, p), nullptr);
+  const vr::View view = vr::make_view(v, vr::settings(p, "s", vr::Mode::kIso), w, w);
+  const double h = 2.0 / 40, pixel = length(view.du);
+  // The trilinear interpolant of |p| lies above |p| by at most h^2 / (8 r) per
+  // axis-ish: a band of 3 h^2 / (8 * 0.5) around the radius is exempt.
+  const double band = 3 * h * h / 4 + 1e-9;
+  int checked = 0, shade_checked = 0;
+  for (int y = 0; y < w; ++y)
+    for (int x = 0; x < w; ++x) {
+      const Vec3 o = vr::ray_origin(view, x, y);
+      const double tc = -dot(o, view.dir);  // the closest point to the centre
+      const double miss = length(o + tc * view.dir);
+      const float* px = img.pixel(x, y);
+      if (miss < 0.5 - band) {
+        ++checked;
+        ASSERT_EQ(px[3], 1.0f) << "pixel " << x << "," << y << " misses, ray passes at " << miss;
+        // The true sphere's normal at the first hit: shade 0.85 (0.2 + 0.8 |n.d|).
+        const Vec3 hit = o + (tc - std::sqrt(0.25 - miss * miss)) * view.dir;
+        const double want = 0.85 * (0.2 + 0.8 * std::abs(dot(normalize(hit), view.dir)));
+        if (miss < 0.4) {
+          ++shade_checked;
+          EXPECT_NEAR(px[0], want, 0.02) << "pixel " << x << "," << y;
+        }
+      } else if (miss > 0.5 + band + pixel * 0) {
+        ++checked;
+        ASSERT_EQ(px[3], 0.0f) << "pixel " << x << "," << y << " hits, ray passes at " << miss;
+      }
+    }
+  EXPECT_GT(checked, w * w * 9 / 10);
+  EXPECT_GT(shade_checked, 150);  // the disk of radius 0.4: about 172 pixels
+}
+
+// ---------------------------------------------------------------- splatting against ray casting
+
+TEST(VolumeSplat, AgreesWithRayCastingOnASmoothFieldWithinItsStatedDifference) {
+  FieldSpec f = field_defaults(FieldKind::kSphere);
+  f.n = 33;
+  const Volume v = sample_field(f, "sphere");
+  const fs::path tf = fs::temp_directory_path() / "lockstep-soft.tf";
+  // A soft shell: alpha peaks 0.2 per voxel at |p| = 0.5.
+  std::ofstream(tf) << "0.2 1 0.5 0.2 0\n0.5 1 0.8 0.6 0.2\n0.8 0.2 0.5 1 0\n";
+  const Params p = params({{"tf", tf.string()}, {"view", "25,35"}, {"step", "0.25"}, {"eps", "0"}});
+  const Image rc = ref::volume_raycast(v, frame(48, 48, p), nullptr);
+  Params ps = p;
+  ps.items.erase(ps.items.begin() + 2);  // splatting takes no step
+  const Image sp = ref::volume_splat(v, frame(48, 48, ps), nullptr);
+  double worst = 0, sum = 0;
+  for (size_t i = 0; i < rc.rgba.size(); ++i) {
+    const double d = std::abs(double(rc.rgba[i]) - sp.rgba[i]);
+    worst = std::max(worst, d);
+    sum += d;
+  }
+  const double mean = sum / double(rc.rgba.size());
+  RecordProperty("worst", std::to_string(worst));
+  RecordProperty("mean", std::to_string(mean));
+  std::printf("splat vs ray casting: worst %.4f, mean %.5f\n", worst, mean);
+  EXPECT_LT(worst, 0.1);
+  EXPECT_LT(mean, 0.01);
+}
+
+}  // namespace
+}  // namespace lockstep
