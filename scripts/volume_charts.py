@@ -1,0 +1,119 @@
+#!/usr/bin/env python3
+"""Charts and tables of the volume study (props/volume/study.cpp) for BENCHMARKS.md.
+
+usage: volume_charts.py STUDY.csv OUT_DIR
+  STUDY.csv  lockstep_volume_study all > STUDY.csv (two CSV sections, each with its header)
+  OUT_DIR    where volume_step.png and volume_cross.png go (bench/charts)
+Prints the markdown tables on stdout.
+"""
+import os
+import subprocess
+import sys
+
+
+def sections(path):
+    out, fields = {}, None
+    for line in open(path):
+        w = line.strip().split(",")
+        if not w or not w[0]:
+            continue
+        if w[0] == "study":
+            fields = w
+            continue
+        out.setdefault(w[0], []).append(dict(zip(fields, w)))
+    return out
+
+
+def gnuplot(script):
+    subprocess.run(["gnuplot"], input=script, text=True, check=True)
+
+
+def step(rows, out):
+    inputs = []
+    for r in rows:
+        if r["input"] not in inputs:
+            inputs.append(r["input"])
+    print("\n### Ray casting: error against the step (reference at step 1/16 as truth)\n")
+    print("| input | implementation | step (voxels) | ms per frame | mean error | largest error |")
+    print("|---|---|---:|---:|---:|---:|")
+    for r in rows:
+        print(f"| {r['input']} | {r['impl']} | {float(r['step']):g} | {float(r['ms']):.1f} | "
+              f"{float(r['mean_error']):.2e} | {float(r['max_error']):.3f} |")
+    dat = os.path.join(out, "volume_step.dat")
+    plots = []
+    with open(dat, "w") as f:
+        k = 0
+        for inp in inputs:
+            impls = []
+            for r in rows:
+                if r["input"] == inp and r["impl"] not in impls:
+                    impls.append(r["impl"])
+            for im in impls:
+                f.write(f"# {inp} {im}\n")
+                for r in rows:
+                    if r["input"] == inp and r["impl"] == im:
+                        f.write(f"{r['ms']} {r['mean_error']} {r['step']}\n")
+                f.write("\n\n")
+                plots.append((k, f"{inp} {im}"))
+                k += 1
+    plot = ", ".join(f"'{dat}' index {i} using 1:2 with linespoints title '{t}'" for i, t in plots)
+    gnuplot(f"""set terminal pngcairo size 900,560
+set output '{out}/volume_step.png'
+set title "Volume ray casting: speed against accuracy (steps 2, 1, 1/2, 1/4, 1/8 voxel; one thread, 256x256)"
+set logscale xy
+set xlabel "ms per frame"
+set ylabel "mean error per channel against step 1/16"
+set key outside right
+set grid
+plot {plot}
+""")
+
+
+def cross(rows, out):
+    print("\n### Marching cubes through the z-buffer against the ray-cast isosurface\n")
+    print("| field | n | h | triangles | outline (px) | pixels covered by one only | mean depth difference "
+          "| largest |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|")
+    for r in rows:
+        print(f"| {r['field']} | {r['n']} | {float(r['h']):.4f} | {r['triangles']} | {r['silhouette_px']} | "
+              f"{r['mismatch_px']} | {float(r['mean_depth_diff']):.2e} | {float(r['max_depth_diff']):.3f} |")
+    dat = os.path.join(out, "volume_cross.dat")
+    fields = []
+    for r in rows:
+        if r["field"] not in fields:
+            fields.append(r["field"])
+    with open(dat, "w") as f:
+        for fl in fields:
+            f.write(f"# {fl}\n")
+            for r in rows:
+                if r["field"] == fl:
+                    f.write(f"{r['h']} {r['mean_depth_diff']} {r['mismatch_px']}\n")
+            f.write("\n\n")
+    plot = ", ".join(f"'{dat}' index {i} using 1:2 with linespoints title '{fl}: mean depth difference'"
+                     for i, fl in enumerate(fields))
+    gnuplot(f"""set terminal pngcairo size 900,500
+set output '{out}/volume_cross.png'
+set title "Marching-cubes mesh (z-buffer) against the ray-cast isosurface, as the grid is refined"
+set logscale xy
+set xlabel "grid spacing h"
+set ylabel "mean depth difference (world units)"
+set key left top
+set grid
+f(x) = {float(rows[0]['mean_depth_diff']) / float(rows[0]['h']) ** 2} * x**2
+plot {plot}, f(x) with lines dashtype 2 title 'h^2'
+""")
+
+
+def main():
+    if len(sys.argv) != 3:
+        sys.exit(__doc__)
+    s = sections(sys.argv[1])
+    os.makedirs(sys.argv[2], exist_ok=True)
+    if "step" in s:
+        step(s["step"], sys.argv[2])
+    if "cross" in s:
+        cross(s["cross"], sys.argv[2])
+
+
+if __name__ == "__main__":
+    main()
