@@ -11,8 +11,9 @@ namespace {
 
 void print_help() {
   std::printf(
-      "usage: lockstep volume VOLUME --tf TF [--algo raycast|splat|iso] [--step DT] [--view AZ,EL]\n"
-      "                       [--iso C] [--eps E] [--impl NAME] [--size WxH] [--threads N] -o IMAGE\n"
+      "usage: lockstep volume VOLUME --tf TF [--algo raycast|splat|iso] [--step DT | --error E]\n"
+      "                       [--view AZ,EL[,ROLL]] [--iso C] [--eps E] [--impl NAME] [--size WxH]\n"
+      "                       [--threads N] -o IMAGE\n"
       "\n"
       "Renders VOLUME as a semi-transparent cloud (raycast, splat) or as the surface where\n"
       "its trilinear interpolant equals C (iso), parallel projection; the image is\n"
@@ -29,7 +30,10 @@ void print_help() {
       "                  iso: the first crossing of C along each ray, shaded from the gradient\n"
       "  --iso C         the iso value (iso: required)\n"
       "  --step DT       sampling step along a ray, in voxels, 1/64..16 (default 0.5)\n"
-      "  --view AZ,EL    camera azimuth about z and elevation, degrees (default 30,20)\n"
+      "  --error E       raycast, instead of --step: the largest step (4 .. 1/8) whose mean error\n"
+      "                  per channel, measured on a 48x48 preview against step 1/16, is at most E\n"
+      "  --view AZ,EL[,ROLL]  camera azimuth about z, elevation and roll, degrees (default\n"
+      "                  30,20,0; the CT head stands up with -90,-15,180)\n"
       "  --eps E         a ray stops once its opacity reaches 1 - E, 0..0.5 (default 1/256; 0: never)\n"
       "  --impl NAME     implementation (default: reference; see `lockstep render --help`)\n"
       "  --size WxH      image size (default 256x256)\n"

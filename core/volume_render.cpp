@@ -24,6 +24,9 @@ std::vector<ParamSpec> params(Mode mode) {
                  "the transfer function (required): a preset (ct-bone, ct-skin, mri, ramp) or a .tf file"});
   }
   if (mode != Mode::kSplat) p.push_back({"step", "DT in (0, 16]", "0.5", "the sampling step along a ray, in voxels"});
+  if (mode == Mode::kRaycast)
+    p.push_back({"error", "E > 0", "",
+                 "instead of step: the largest step whose measured mean error per channel stays under E"});
   p.push_back({"view", "AZ,EL[,ROLL]", "30,20,0",
                "the camera's azimuth about z, elevation and roll about the view, in degrees (parallel projection)"});
   if (mode != Mode::kIso) {
@@ -89,6 +92,11 @@ Settings settings(const Params& p, const std::string& source, Mode mode) {
   if (const std::string v = p.get("eps"); !v.empty()) {
     s.eps = number("eps", v, source);
     if (!(s.eps >= 0 && s.eps <= 0.5)) throw InputError(source, 0, "eps must lie in [0, 0.5], got " + v);
+  }
+  if (const std::string v = p.get("error"); !v.empty()) {
+    s.error = number("error", v, source);
+    if (!(s.error > 0 && s.error <= 1)) throw InputError(source, 0, "error must lie in (0, 1], got " + v);
+    if (!p.get("step").empty()) throw InputError(source, 0, "give step or error, not both");
   }
   s.skip = p.get("noskip").empty() || p.get("noskip") == "0";
   return s;

@@ -56,6 +56,8 @@ struct Settings {
   double eps = 1.0 / 256;     // raycast: a ray stops once its opacity reaches 1 - eps (0: never)
   double iso = 0;             // iso: the value (required)
   bool skip = true;           // implementations that skip empty space may (false: they must not)
+  double error = 0;           // raycast: > 0 asks for the largest step whose error stays under it
+                              // (the family's rows measure it: pairs/volume.cpp, ref::step_for_error)
 };
 
 // Throws InputError(source, 0, ...) naming a bad or missing setting (a bad .tf

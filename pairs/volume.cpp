@@ -1,6 +1,9 @@
 // lockstep pairs: the volume-rendering families' rows (see pairs/volume.h).
 #include "pairs/volume.h"
 
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -71,6 +74,34 @@ Family volume_family() {
   f.algo = "raycast";
   const TypedImpl<Volume> impls[] = {{"reference", ref::volume_raycast, 0, {}, {}, false}};
   f.impls = erase_all<Volume, Image>(impls);
+  // error=E: the step is measured once, here, for every implementation alike
+  // (ref::step_for_error), and handed on as step=; the note says what was
+  // chosen, and the measuring counts as the run's build time.
+  for (FamilyImpl& impl : f.impls)
+    impl.run = [run = impl.run](const Input& in, const FrameOptions& o, FrameStats* stats) {
+      const std::string error = o.params.get("error");
+      if (error.empty()) return run(in, o, stats);
+      const Volume& v = input_as<Volume>(in);
+      double measured = 0;
+      const auto t0 = std::chrono::steady_clock::now();
+      const double step = ref::step_for_error(v, o.params, o.width, o.height, &measured);
+      const double choosing = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      FrameOptions chosen = o;
+      chosen.params.items.clear();
+      for (const auto& [k, val] : o.params.items)
+        if (k != "error") chosen.params.set(k, val);
+      chosen.params.set("step", std::to_string(step));
+      Output out = run(in, chosen, stats);
+      if (stats) {
+        stats->build_seconds += choosing;  // a one-shot cost, shown apart from the frame
+        char note[200];
+        std::snprintf(note, sizeof note, "error %s: step %g voxel (mean error %.3g on a preview, against step 1/16)%s",
+                      error.c_str(), step, measured,
+                      measured > std::strtod(error.c_str(), nullptr) ? "; no step down to 1/8 meets it" : "");
+        stats->notes.push_back(note);
+      }
+      return out;
+    };
   return f;
 }
 

@@ -249,6 +249,33 @@ TEST(VolumeRaycast, TransparentTransferFunctionGivesTheBackground) {
   for (float x : sp.rgba) ASSERT_EQ(x, 0.0f);
 }
 
+TEST(VolumeRaycast, StepForErrorPicksTheLargestStepUnderTheError) {
+  FieldSpec f = field_defaults(FieldKind::kMarschnerLobb);
+  f.n = 24;
+  const Volume v = sample_field(f, "ml");
+  auto preview_error = [&](double step) {
+    Params p = params({{"tf", "ramp"}, {"view", "10,30"}});
+    FrameOptions o = frame(40, 40, p);
+    o.params.set("step", std::to_string(1.0 / 16));
+    const Image fine = ref::volume_raycast(v, o, nullptr);
+    o.params = p;
+    o.params.set("step", std::to_string(step));
+    const Image img = ref::volume_raycast(v, o, nullptr);
+    double sum = 0;
+    for (size_t i = 0; i < img.rgba.size(); ++i) sum += std::abs(double(img.rgba[i]) - fine.rgba[i]);
+    return sum / double(img.rgba.size());
+  };
+  for (const double e : {0.02, 0.005, 0.001}) {
+    double measured = 0;
+    const double step = ref::step_for_error(v, params({{"tf", "ramp"}, {"view", "10,30"}, {"error", std::to_string(e)}}),
+                                            40, 40, &measured);
+    EXPECT_NEAR(measured, preview_error(step), 1e-12) << "error " << e;
+    if (step >= 1.0 / 8) EXPECT_LE(measured, e) << "error " << e << " step " << step;
+    if (step < 4) EXPECT_GT(preview_error(2 * step), e) << "error " << e << ": step " << 2 * step << " would do";
+    std::printf("error %g: step %g (measured %.3g)\n", e, step, measured);
+  }
+}
+
 // ---------------------------------------------------------------- the isosurface
 
 TEST(VolumeIso, SphereCoverageAndShadeMatchTheTrueSphere) {
