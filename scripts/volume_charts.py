@@ -34,10 +34,10 @@ def step(rows, out):
         if r["input"] not in inputs:
             inputs.append(r["input"])
     print("\n### Ray casting: error against the step (reference at step 1/16 as truth)\n")
-    print("| input | implementation | step (voxels) | ms per frame | mean error | largest error |")
-    print("|---|---|---:|---:|---:|---:|")
+    print("| input | implementation | threads | step (voxels) | ms per frame | mean error | largest error |")
+    print("|---|---|---:|---:|---:|---:|---:|")
     for r in rows:
-        print(f"| {r['input']} | {r['impl']} | {float(r['step']):g} | {float(r['ms']):.1f} | "
+        print(f"| {r['input']} | {r['impl']} | {r['threads']} | {float(r['step']):g} | {float(r['ms']):.1f} | "
               f"{float(r['mean_error']):.2e} | {float(r['max_error']):.3f} |")
     dat = os.path.join(out, "volume_step.dat")
     plots = []
@@ -46,20 +46,21 @@ def step(rows, out):
         for inp in inputs:
             impls = []
             for r in rows:
-                if r["input"] == inp and r["impl"] not in impls:
-                    impls.append(r["impl"])
-            for im in impls:
-                f.write(f"# {inp} {im}\n")
+                key = (r["impl"], r["threads"])
+                if r["input"] == inp and key not in impls:
+                    impls.append(key)
+            for im, th in impls:
+                f.write(f"# {inp} {im} {th}T\n")
                 for r in rows:
-                    if r["input"] == inp and r["impl"] == im:
+                    if r["input"] == inp and r["impl"] == im and r["threads"] == th:
                         f.write(f"{r['ms']} {r['mean_error']} {r['step']}\n")
                 f.write("\n\n")
-                plots.append((k, f"{inp} {im}"))
+                plots.append((k, f"{inp} {im} {th}T"))
                 k += 1
     plot = ", ".join(f"'{dat}' index {i} using 1:2 with linespoints title '{t}'" for i, t in plots)
-    gnuplot(f"""set terminal pngcairo size 900,560
+    gnuplot(f"""set terminal pngcairo size 1000,620
 set output '{out}/volume_step.png'
-set title "Volume ray casting: speed against accuracy (steps 2, 1, 1/2, 1/4, 1/8 voxel; one thread, 256x256)"
+set title "Volume ray casting at 512x512: speed against accuracy (steps 2 .. 1/8 voxel; a peer: one point)"
 set logscale xy
 set xlabel "ms per frame"
 set ylabel "mean error per channel against step 1/16"
