@@ -10,8 +10,10 @@
 //           next sample in +x, +y, +z is cut (one byte); per sample row
 //           (fixed j, k): how many cuts of each axis it owns, and the first and
 //           last sample with any
-//   pass 2  per cube: its case, from the eight corners' below bits; per cube
-//           row: its triangles, and the first and last cube that is cut
+//   pass 2  per cube: its case, from the eight corners' below bits, only
+//           between the first and last cut samples of its four sample rows
+//           (trimming: a cut cube has a cut edge at its own sample); per cube row: its triangles, the first and last cube
+//           that is cut
 //   offsets prefix sums over the rows: where each sample row's cut points and
 //           each cube row's triangles go in the output
 //   pass 3  per sample row: its cut points (x cuts, then y, then z, in order of
@@ -178,8 +180,17 @@ Mesh marching_cubes(const Volume& v, const FrameOptions& options, FrameStats* st
         uint8_t* f = &flags[v.index(0, j, k)];
         classify_row(r0, ry, rz, iso, nx, f);
         SampleRow& r = srows[size_t(k) * size_t(ny) + size_t(j)];
+        // Counted eight flag bytes at a time: one popcount per axis.
         uint32_t cx = 0, cy = 0, cz = 0;
-        for (int i = 0; i < nx; ++i) {
+        int i = 0;
+        for (; i + 8 <= nx; i += 8) {
+          uint64_t w;
+          std::memcpy(&w, f + i, 8);
+          cx += uint32_t(std::popcount(w & 0x0202020202020202ull));
+          cy += uint32_t(std::popcount(w & 0x0404040404040404ull));
+          cz += uint32_t(std::popcount(w & 0x0808080808080808ull));
+        }
+        for (; i < nx; ++i) {
           cx += (f[i] >> 1) & 1;
           cy += (f[i] >> 2) & 1;
           cz += (f[i] >> 3) & 1;
@@ -211,11 +222,33 @@ Mesh marching_cubes(const Volume& v, const FrameOptions& options, FrameStats* st
         const uint8_t* r01 = &flags[v.index(0, j, k + 1)];
         const uint8_t* r11 = &flags[v.index(0, j + 1, k + 1)];
         uint8_t* c = &cases[(size_t(k) * size_t(cy_n) + size_t(j)) * size_t(cx_n)];
-        case_row(r00, r10, r01, r11, cx_n, c);
         CubeRow& row = crows[size_t(k) * size_t(cy_n) + size_t(j)];
+        // Trimming (flying edges' "computational trimming"): a cut cube has a
+        // cut edge at its own sample i in one of its four sample rows (if its
+        // -x face is mixed, one of that face's four edges is cut; if that face
+        // is uniform but the cube is not, one of its x edges is), so only cubes
+        // between the rows' first and last cut samples can be cut, and a cube
+        // row whose four sample rows have no cut has no case to find (most of
+        // a CT scan's air and tissue). Cases outside the trimmed range are
+        // never read (pass 3 reads row.first .. row.last).
+        const SampleRow* sr[4] = {&srows[size_t(k) * size_t(ny) + size_t(j)],
+                                  &srows[size_t(k) * size_t(ny) + size_t(j) + 1],
+                                  &srows[(size_t(k) + 1) * size_t(ny) + size_t(j)],
+                                  &srows[(size_t(k) + 1) * size_t(ny) + size_t(j) + 1]};
+        int lo = cx_n, hi = -1;
+        for (const SampleRow* q : sr)
+          if (q->last >= q->first) {
+            lo = std::min(lo, q->first);
+            hi = std::max(hi, q->last);
+          }
+        hi = std::min(hi, cx_n - 1);
+        row.last = -1;
+        row.triangles = 0;
+        if (hi < lo) continue;
+        case_row(r00 + lo, r10 + lo, r01 + lo, r11 + lo, hi - lo + 1, c + lo);
         uint32_t n = 0;
         int last = -1;
-        for (int i = next_cut(c, 0, cx_n); i < cx_n; i = next_cut(c, i + 1, cx_n)) {
+        for (int i = next_cut(c, lo, hi + 1); i <= hi; i = next_cut(c, i + 1, hi + 1)) {
           if (last < 0) row.first = i;
           n += ntri[c[i]];
           last = i;
