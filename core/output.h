@@ -83,6 +83,7 @@ struct Agreement {
   double worst = 0;         // the largest error
   double score = kInfinity; // the kind's figure of merit (images: PSNR in dB)
   bool pass = true;
+  std::string detail;       // a difference the samples do not show, in the kind's words ("" when none)
   double percent_over() const { return samples ? 100.0 * double(over) / double(samples) : 0.0; }
 };
 

@@ -135,11 +135,25 @@ Agreement compare(const Output& oa, const Output& ob, const Tolerance& tol) {
   r.score = r.worst > 0 ? 20 * std::log10(diag / r.worst) : kInfinity;
   const long allowed = long(std::floor((1.0 - tol.fraction) * double(r.samples) + 1e-9));
   r.pass = r.over <= allowed && r.over_hard == 0;
+  // Vertices alone do not see a missing triangle (its corners belong to its
+  // neighbours too): the two surfaces must also have the same open, non-manifold
+  // and misoriented edges (the same holes and cracks; their Euler characteristic
+  // may differ where ambiguous faces are separated the other way).
+  const Topology ta = topology(a), tb = topology(b);
+  if (ta.boundary_edges != tb.boundary_edges || ta.nonmanifold_edges != tb.nonmanifold_edges ||
+      ta.misoriented_edges != tb.misoriented_edges) {
+    r.pass = false;
+    r.detail = "open/non-manifold/misoriented edges " + std::to_string(ta.boundary_edges) + "/" +
+               std::to_string(ta.nonmanifold_edges) + "/" + std::to_string(ta.misoriented_edges) + " against " +
+               std::to_string(tb.boundary_edges) + "/" + std::to_string(tb.nonmanifold_edges) + "/" +
+               std::to_string(tb.misoriented_edges);
+  }
   return r;
 }
 
 std::string describe(const Agreement& a, const Tolerance& tol) {
   if (!a.comparable) return "one mesh is empty, the other is not";
+  if (!a.detail.empty() && a.over == 0 && a.over_hard == 0) return a.detail;
   if (a.over_hard > 0) return std::to_string(a.over_hard) + " vertices farther than the hard limit " + fmt("%.3g", tol.hard);
   if (a.over > 0) return std::to_string(a.over) + " vertices farther than " + fmt("%.4g", tol.abs) + " from the other mesh";
   return {};
