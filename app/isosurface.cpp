@@ -10,7 +10,7 @@ namespace {
 
 void print_help() {
   std::printf(
-      "usage: lockstep isosurface VOLUME --iso C [--impl reference|simd] [--threads N] -o MESH\n"
+      "usage: lockstep isosurface VOLUME --iso C [--impl reference|simd|vtk] [--threads N] -o MESH\n"
       "\n"
       "Extracts the isosurface where VOLUME's value equals C by marching cubes and writes\n"
       "it as a triangle mesh; the format follows MESH's extension (.ply binary, .obj, .off;\n"
@@ -20,7 +20,8 @@ void print_help() {
       "                  analytic field (.field: sphere, torus, gyroid, marschner_lobb)\n"
       "  --iso C         the iso value (required); outside the data's range the mesh is empty\n"
       "  --impl NAME     reference (the textbook method, one cube at a time, a triangle soup)\n"
-      "                  or simd (each cut edge once, slabs on all cores; default)\n"
+      "                  or simd (each cut edge once, slabs on all cores; default), or vtk\n"
+      "                  (VTK's vtkFlyingEdges3D, a production peer; where VTK was found at build)\n"
       "  --threads N     worker threads, N >= 1 (default: all cores)\n"
       "  -o, --output F  the mesh to write (required)\n"
       "\n"

@@ -7,6 +7,7 @@
 // main() only dispatches and turns exceptions into exit codes (app/cli.h).
 #include <OpenImageIO/oiioversion.h>
 #include <embree3/rtcore_config.h>
+#include "optimized/marching_cubes_vtk.h"
 #include "optimized/raster.h"
 #include "optimized/ray_cast.h"
 #include <cstdio>
@@ -59,6 +60,11 @@ void print_version() {
     std::printf("  llvmpipe row: built (OSMesa: %s)\n", lockstep::opt::llvmpipe::version().c_str());
   else
     std::printf("  llvmpipe row: not built (no OSMesa at configure time; scripts/setup.sh installs libosmesa6-dev)\n");
+  // The marching_cubes family's peer row exists only where VTK was found at configure time.
+  if (lockstep::opt::vtk::available())
+    std::printf("  vtk row: built (%s)\n", lockstep::opt::vtk::version().c_str());
+  else
+    std::printf("  vtk row: not built (no VTK at configure time; scripts/setup.sh --peers installs libvtk9-dev)\n");
   // Every family and implementation built into this binary; peers are production libraries.
   for (const lockstep::Family& f : lockstep::registry().families) {
     std::printf("  %-10s", std::string(f.name).c_str());

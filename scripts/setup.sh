@@ -1,7 +1,18 @@
 #!/usr/bin/env bash
 # Install lockstep's build and test dependencies from Debian 12 packages.
 # Idempotent: when everything is present it only runs dpkg-query (a second or so).
+#   --peers  also the production peers that are large to install: VTK
+#            (libvtk9-dev, about 150 packages; the marching_cubes family's vtk row).
+#            Without them those rows are simply not built.
 set -euo pipefail
+
+peers=0
+for a in "$@"; do
+  case "$a" in
+    --peers) peers=1 ;;
+    *) echo "setup: unknown option $a (usage: setup.sh [--peers])" >&2; exit 2 ;;
+  esac
+done
 
 packages=(
   build-essential cmake ninja-build pkg-config
@@ -12,6 +23,10 @@ packages=(
   libosmesa6-dev libgl-dev  # the zbuffer family's llvmpipe row (Mesa OSMesa; GL/gl.h, GL/glext.h)
   libteem-dev zlib1g-dev  # volumes: Teem's nrrd library reads NRRD (core/volume_io.cpp); zlib writes the tests' gzip files
 )
+
+if ((peers)); then
+  packages+=(libvtk9-dev)  # vtkFlyingEdges3D (optimized/marching_cubes_vtk.cpp)
+fi
 
 missing=()
 for p in "${packages[@]}"; do
