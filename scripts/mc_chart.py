@@ -51,7 +51,7 @@ def main():
 set output '{out}/mc_accuracy.png'
 set title "Marching cubes, speed against accuracy (labels: samples a side; one thread)"
 set xlabel "ms per extraction"; set ylabel "two-sided Hausdorff distance to the surface"
-set logscale xy; set grid; set key top right
+set logscale xy; set grid; set key top right; set format y "%.0e"
 plot {plots}
 """)
 

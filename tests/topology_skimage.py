@@ -343,7 +343,7 @@ def pad(vol, value):
     return np.pad(vol, 1, constant_values=value).astype(np.float32)
 
 
-def single_cubes(t, lockstep, tmp, rng, draws, complement):
+def single_cubes(t, lockstep, tmp, rng, seed, draws, complement):
     """All 256 configurations x draws, 3 samples apart, padded above (or below when complemented)."""
     cases = [(bits, d) for bits in range(256) for d in range(draws)]
     side = int(np.ceil(len(cases) ** (1 / 3)))
@@ -363,12 +363,12 @@ def single_cubes(t, lockstep, tmp, rng, draws, complement):
                 mag *= 0.25 if below else 1.0
             vol[3 * s[0] + 1 + dk, 3 * s[1] + 1 + dj, 3 * s[2] + 1 + di] = -mag if below else mag
         slots.append(s)
-        what[s] = f"configuration {bits} (bit c: corner (i,j,k) = {CORNERS} below) draw {d}" + \
-            (" complemented" if complement else "")
+        what[s] = (f"seed {seed} configuration {bits} (bit c set: corner c below, corners (i, j, k) in the order "
+                   f"{CORNERS}) draw {d}" + (" complemented" if complement else ""))
     compare_packed(t, lockstep, tmp, "single_cube", vol, 0.0, slots, (3, 3, 3), lambda s: what[s])
 
 
-def cube_pairs(t, lockstep, tmp, rng, count):
+def cube_pairs(t, lockstep, tmp, rng, seed, count):
     """Two cubes along x sharing a face whose below corners are on one diagonal; other corners random."""
     side = int(np.ceil(count ** (1 / 3)))
     nk, nj, ni = 3 * side + 1, 3 * side + 1, 4 * side + 1
@@ -385,7 +385,7 @@ def cube_pairs(t, lockstep, tmp, rng, count):
                 block[dk, dj, 1] = -abs(block[dk, dj, 1]) if below else abs(block[dk, dj, 1])
         vol[k0:k0 + 2, j0:j0 + 2, i0:i0 + 3] = block
         slots.append(s)
-        what[s] = f"cube pair {idx}"
+        what[s] = f"seed {seed} cube pair {idx} (samples k {k0}..{k0 + 1}, j {j0}..{j0 + 1}, i {i0}..{i0 + 2})"
     compare_packed(t, lockstep, tmp, "cube_pair", vol, 0.0, slots, (3, 3, 4), lambda s: what[s])
 
 
@@ -426,9 +426,9 @@ def main():
         seed = 20
         rng = np.random.default_rng(seed)
         draws = 3 if quick else 6
-        single_cubes(t, lockstep, tmp, rng, draws, False)
-        single_cubes(t, lockstep, tmp, rng, draws, True)
-        cube_pairs(t, lockstep, tmp, rng, 300 if quick else 1000)
+        single_cubes(t, lockstep, tmp, rng, seed, draws, False)
+        single_cubes(t, lockstep, tmp, rng, seed, draws, True)
+        cube_pairs(t, lockstep, tmp, rng, seed, 300 if quick else 1000)
 
         def field(cls, what, vol, iso, field_file=None):
             ours, lew, amb = compare_field(t, lockstep, tmp, cls, what, vol, iso, field_file)
