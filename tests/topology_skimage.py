@@ -28,8 +28,10 @@ Each difference is classified against the field's ambiguities (g = f - iso):
             10, 12, 13 have interior tunnels even where every face agrees).
   none      a difference with neither is a failure: our topology must be the
             interpolant's wherever no ambiguity allows otherwise.
-Also failures: a mesh of ours that is not a closed oriented manifold, the
-reference and simd meshes' topologies differing, and a difference from
+Also failures: a mesh of ours with an edge not in exactly two triangles that
+run it opposite ways (not closed, or not consistently oriented; pinched
+vertices are left to props/marching_cubes' Closed property), the reference
+and simd meshes' topologies differing, and a difference from
 skimage's lorensen mesh of -f at -iso: skimage's Lorensen table keeps the
 corners above the level apart on an ambiguous face and does no interior test,
 so on the negated field it applies our rule (below corners apart), and its
@@ -295,7 +297,8 @@ def compare_field(t, lockstep, tmp, cls, what, vol, iso, field_file=None):
         v, f = run_lockstep(lockstep, src, iso, impl, os.path.join(tmp, f"{impl}.ply"))
         meshes[impl] = Topo(*weld(v, f))
         if not meshes[impl].closed:
-            t.failures.append(f"{cls} {what}: the {impl} mesh is not a closed oriented manifold")
+            t.failures.append(f"{cls} {what}: the {impl} mesh is not closed and oriented (an edge not in exactly "
+                              "two triangles that run it opposite ways)")
     lew = Topo(*weld(*skimage_mesh(vol, iso, "lewiner")))
     lor = Topo(*weld(*skimage_mesh(vol, iso, "lorensen")))
     lor_neg = Topo(*weld(*skimage_mesh(-vol, -iso, "lorensen")))
@@ -321,7 +324,8 @@ def compare_packed(t, lockstep, tmp, cls, vol, iso, slots, stride, what_of):
         v, f = run_lockstep(lockstep, src, iso, impl, os.path.join(tmp, f"{impl}.ply"))
         topo = Topo(*weld(v, f))
         if not topo.closed:
-            t.failures.append(f"{cls}: the {impl} mesh of the packed volume is not a closed oriented manifold")
+            t.failures.append(f"{cls}: the {impl} mesh of the packed volume is not closed and oriented (an edge not "
+                              "in exactly two triangles that run it opposite ways)")
         ours[impl] = topo.by_slot(slot_of)
     lew_t = Topo(*weld(*skimage_mesh(vol, iso, "lewiner")))
     lew = lew_t.by_slot(slot_of)

@@ -27,7 +27,8 @@ K::Point_3 point(const Vec3& v) { return {v.x, v.y, v.z}; }
 Triangles triangles_of(const Mesh& m) {
   Triangles out;
   out.reserve(m.triangles.size());
-  for (const auto& t : m.triangles) out.emplace_back(point(m.vertices[t[0]]), point(m.vertices[t[1]]), point(m.vertices[t[2]]));
+  for (const auto& t : m.triangles)
+    out.emplace_back(point(m.vertices[t[0]]), point(m.vertices[t[1]]), point(m.vertices[t[2]]));
   return out;
 }
 
@@ -109,7 +110,8 @@ Hausdorff sphere_hausdorff(const Mesh& mesh, double r, double spacing) {
   const K::Point_3 o(0, 0, 0);
   for (const K::Triangle_3& t : tris) {
     double far = 0;
-    for (int k = 0; k < 3; ++k) far = std::max(far, std::sqrt(CGAL::squared_distance(o, t.vertex(k))));
+    for (int k = 0; k < 3; ++k)
+      far = std::max(far, std::sqrt(CGAL::squared_distance(o, t.vertex(k))));
     const double near = std::sqrt(CGAL::squared_distance(o, t));
     h.mesh_to_surface = std::max({h.mesh_to_surface, far - r, r - near});
   }
@@ -128,7 +130,9 @@ Hausdorff sphere_hausdorff(const Mesh& mesh, double r, double spacing) {
 Hausdorff torus_hausdorff(const Mesh& mesh, double a, double b, double spacing) {
   Hausdorff h;
   const Triangles tris = triangles_of(mesh);
-  auto dist = [a, b](const Vec3& p) { return std::abs(std::hypot(std::hypot(p.x, p.y) - a, p.z) - b); };
+  auto dist = [a, b](const Vec3& p) {
+    return std::abs(std::hypot(std::hypot(p.x, p.y) - a, p.z) - b);
+  };
   // Barycentric grid per triangle; the 16 worst triangles refined.
   constexpr int n = 16;
   std::vector<std::pair<double, size_t>> worst;
@@ -139,7 +143,8 @@ Hausdorff torus_hausdorff(const Mesh& mesh, double a, double b, double spacing) 
     const Vec3 p2{mesh.vertices[tri[2]].x, mesh.vertices[tri[2]].y, mesh.vertices[tri[2]].z};
     double d = 0;
     for (int i = 0; i <= n; ++i)
-      for (int j = 0; i + j <= n; ++j) d = std::max(d, dist(p0 + (double(i) / n) * (p1 - p0) + (double(j) / n) * (p2 - p0)));
+      for (int j = 0; i + j <= n; ++j)
+        d = std::max(d, dist(p0 + (double(i) / n) * (p1 - p0) + (double(j) / n) * (p2 - p0)));
     worst.push_back({d, t});
   }
   const size_t top = std::min<size_t>(16, worst.size());
@@ -158,13 +163,15 @@ Hausdorff torus_hausdorff(const Mesh& mesh, double a, double b, double spacing) 
     double bu = 0, bw = 0, bd = -1;
     for (int i = 0; i <= n; ++i)
       for (int j = 0; i + j <= n; ++j)
-        if (const double d = at(double(i) / n, double(j) / n); d > bd) bd = d, bu = double(i) / n, bw = double(j) / n;
+        if (const double d = at(double(i) / n, double(j) / n); d > bd)
+          bd = d, bu = double(i) / n, bw = double(j) / n;
     double step = 1.0 / n;
     for (int halvings = 0; halvings < 20;) {
       double nu = bu, nw = bw, nd = bd;
       for (int x = -1; x <= 1; ++x)
         for (int y = -1; y <= 1; ++y)
-          if (const double d = at(bu + x * step, bw + y * step); d > nd) nd = d, nu = bu + x * step, nw = bw + y * step;
+          if (const double d = at(bu + x * step, bw + y * step); d > nd)
+            nd = d, nu = bu + x * step, nw = bw + y * step;
       if (nd > bd) {
         bu = std::clamp(nu, 0.0, 1.0);
         bw = std::clamp(nw, 0.0, 1.0 - bu);

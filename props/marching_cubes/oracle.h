@@ -29,7 +29,9 @@ namespace lockstep::props::marching_cubes {
 
 struct Hausdorff {
   double mesh_to_surface = 0, surface_to_mesh = 0;
-  double two_sided() const { return mesh_to_surface > surface_to_mesh ? mesh_to_surface : surface_to_mesh; }
+  double two_sided() const {
+    return mesh_to_surface > surface_to_mesh ? mesh_to_surface : surface_to_mesh;
+  }
 };
 
 // The sphere |p| = r centred at the origin; `spacing`: the surface samples'

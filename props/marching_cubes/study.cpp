@@ -55,7 +55,9 @@ int run(bool quick) {
   const Family& family = *registry().find("marching_cubes");
   int failures = 0;
   std::vector<Row> rows;
-  std::printf("# marching_cubes: field,n,h,impl,threads,ms,triangles,mesh_to_surface,surface_to_mesh,hausdorff,c\n");
+  std::printf(
+      "# marching_cubes: "
+      "field,n,h,impl,threads,ms,triangles,mesh_to_surface,surface_to_mesh,hausdorff,c\n");
   for (FieldKind kind : {FieldKind::kSphere, FieldKind::kTorus}) {
     for (int n : {16, 32, 64, 128, 256}) {
       if (quick && n > 64) continue;
@@ -63,7 +65,8 @@ int run(bool quick) {
       spec.n = n;
       const Volume v = sample_field(spec, field_name(kind));
       const double h = (spec.hi - spec.lo) / (n - 1), iso = natural_iso(spec);
-      // The curvature radius c is quoted against: R for the sphere, the tube radius b for the torus.
+      // The curvature radius c is quoted against: R for the sphere, the tube radius b for the
+      // torus.
       const double radius = kind == FieldKind::kSphere ? spec.a : spec.b;
       for (const FamilyImpl& impl : family.impls) {
         FrameOptions o;
@@ -79,12 +82,21 @@ int run(bool quick) {
           mesh = impl.run_as<Mesh>(in, o, nullptr);
           best = std::min(best, w.seconds());
         }
-        const Hausdorff d = kind == FieldKind::kSphere ? sphere_hausdorff(mesh, spec.a, h / 2)
-                                                       : torus_hausdorff(mesh, spec.a, spec.b, h / 2);
-        Row row{field_name(kind), std::string(impl.name), n, h, best * 1e3, d.mesh_to_surface, d.surface_to_mesh,
-                d.two_sided() * radius / (h * h), mesh.triangles.size()};
-        std::printf("%s,%d,%.6f,%s,1,%.3f,%zu,%.4e,%.4e,%.4e,%.4f\n", row.field.c_str(), n, h, row.impl.c_str(), row.ms,
-                    row.triangles, row.to_surface, row.to_mesh, d.two_sided(), row.c);
+        const Hausdorff d = kind == FieldKind::kSphere
+                                ? sphere_hausdorff(mesh, spec.a, h / 2)
+                                : torus_hausdorff(mesh, spec.a, spec.b, h / 2);
+        Row row{field_name(kind),
+                std::string(impl.name),
+                n,
+                h,
+                best * 1e3,
+                d.mesh_to_surface,
+                d.surface_to_mesh,
+                d.two_sided() * radius / (h * h),
+                mesh.triangles.size()};
+        std::printf("%s,%d,%.6f,%s,1,%.3f,%zu,%.4e,%.4e,%.4e,%.4f\n", row.field.c_str(), n, h,
+                    row.impl.c_str(), row.ms, row.triangles, row.to_surface, row.to_mesh,
+                    d.two_sided(), row.c);
         std::fflush(stdout);
         rows.push_back(row);
       }
@@ -96,24 +108,27 @@ int run(bool quick) {
     for (const Row& q : rows)
       if (q.field == r.field && q.n == r.n && q.impl == family.reference().name) ref = &q;
     claim(failures, ref && r.to_surface == ref->to_surface && r.to_mesh == ref->to_mesh,
-          r.field + " n " + std::to_string(r.n) + ": " + r.impl + "'s distance differs from the reference's");
+          r.field + " n " + std::to_string(r.n) + ": " + r.impl +
+              "'s distance differs from the reference's");
     if (ref && r.impl == "simd" && r.n >= 64)
-      claim(failures, r.ms < ref->ms, r.field + " n " + std::to_string(r.n) + ": simd (" + std::to_string(r.ms) +
-                                " ms) is not faster than the reference (" + std::to_string(ref->ms) + " ms)");
+      claim(failures, r.ms < ref->ms,
+            r.field + " n " + std::to_string(r.n) + ": simd (" + std::to_string(r.ms) +
+                " ms) is not faster than the reference (" + std::to_string(ref->ms) + " ms)");
   }
   for (const char* field : {"sphere", "torus"}) {
     const bool torus = std::strcmp(field, "torus") == 0;
     const double tol = 0.10;
     std::vector<double> c;
     for (const Row& r : rows)
-      if (r.field == field && r.impl == family.reference().name && !(torus && r.n < 32)) c.push_back(r.c);
+      if (r.field == field && r.impl == family.reference().name && !(torus && r.n < 32))
+        c.push_back(r.c);
     double mean = 0;
     for (double x : c) mean += x / double(c.size());
     for (size_t i = 0; i < c.size(); ++i)
-      claim(failures, std::abs(c[i] - mean) <= tol * mean, std::string(field) + ": c = " + std::to_string(c[i]) + " at grid " +
-                                                      std::to_string(i) + " is not within " +
-                                                      std::to_string(int(tol * 100)) + "% of the mean " +
-                                                      std::to_string(mean));
+      claim(failures, std::abs(c[i] - mean) <= tol * mean,
+            std::string(field) + ": c = " + std::to_string(c[i]) + " at grid " + std::to_string(i) +
+                " is not within " + std::to_string(int(tol * 100)) + "% of the mean " +
+                std::to_string(mean));
     std::fprintf(stderr, "lockstep_mc_study: %s c mean %.4f, range %.4f .. %.4f\n", field, mean,
                  *std::min_element(c.begin(), c.end()), *std::max_element(c.begin(), c.end()));
   }
