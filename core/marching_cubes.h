@@ -31,7 +31,15 @@
 // away from the volume's border it is a closed, consistently oriented
 // 2-manifold. It is one of the topologies the trilinear interpolant allows,
 // not always the interpolant's own (that needs the asymptotic decider on faces
-// and the MC33 interior tests): props/marching_cubes says where they differ.
+// and the MC33 interior tests). tests/topology_skimage.py measures how often,
+// against scikit-image's Lewiner (MC33) marching cubes, by the components'
+// Euler characteristics (quick run, seed 20): never without an ambiguity (0
+// unexplained); analytic fields (sphere, torus, gyroid, Marschner-Lobb, 12 to
+// 64 samples a side) agree in every case; single cubes of all 256
+// configurations differ in 17.7% of cases (16.6% where the decider joins the
+// below corners of a face, 1.1% by an interior tunnel), two cubes sharing an
+// ambiguous face in 66%, noise fields in 53% (smoothed) to 100% (uniform, 8^3
+// and up). skimage's Lorensen table on -f (the same rule) agrees everywhere.
 //
 // Orientation: triangles are counter-clockwise seen from the side of values at
 // or above iso, so their normals point the way f increases (the gradient).
