@@ -207,8 +207,8 @@ HWY_INLINE void FlatLit(D d, const ShadeParams& p, const V pos_in[3], const V nr
 // view_scene's lit() turns the face normal n towards the eye e before lighting
 // at p: n is negated when dot(n, normalize(e - p)) < 0, in double. FlatColors
 // takes that decision on its double inputs, before FlatLit rounds them to
-// float: in float, a face seen nearly edge-on (the eye within ~1e-8 of its
-// plane, relatively) was turned the other way than by the reference, and lit
+// float: in float, a face seen nearly edge-on (the eye within float rounding,
+// relatively, of its plane) could be turned the other way than by the reference, and lit
 // from the other side (CullingAgree.zbuffer__simd, deep mode;
 // corpus/counterexamples/culling_agree.edge_on_or_soup.zbuffer.simd-1.txt).
 //

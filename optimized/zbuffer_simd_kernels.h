@@ -170,8 +170,8 @@ void shade_tile(const ShadeParams& p, const int32_t* tri, const TilePlanes* cons
 // flat colour), in float lanes (double ones for a high shine): for i < n, the
 // colour at point (in[0..2])[i] of a face with unit normal (in[3..5])[i],
 // turned towards the eye here (ShadeParams::flat_eye; decided in double, as
-// view_scene's lit() decides it, on the same bits), of surface surface[id[i]] (kd * colour, ks,
-// shine: FlatSurface); out[0..2]: red, green, blue. Every array has room for n
+// view_scene's lit() decides it, on the same bits), of surface surface[id[i]]
+// (kd * colour, ks, shine: FlatSurface); out[0..2]: red, green, blue. Every array has room for n
 // rounded up to 16; id does not decrease (a surface's requests are one run).
 inline constexpr int kFlatInputs = 6;
 struct FlatSurface {
