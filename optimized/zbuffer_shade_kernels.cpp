@@ -189,21 +189,69 @@ HWY_INLINE void Lighting(DF df, const float* light, int nlights, Shading shading
 constexpr double kFloatShine = 256;
 
 template <class D, class V = hn::Vec<D>>
-HWY_INLINE void FlatLit(D d, const ShadeParams& p, const V pos_in[3], const V nrm_in[3],
+HWY_INLINE void FlatLit(D d, const ShadeParams& p, const V pos_in[3], const V nrm[3],
                         const V kd[3], V ks, V shine, V col[3]) {
   const V zero = hn::Zero(d), one = hn::Set(d, hn::TFromD<D>(1));
   auto dot3 = [](const V a[3], const V b[3]) {
     return hn::MulAdd(a[0], b[0], hn::MulAdd(a[1], b[1], hn::Mul(a[2], b[2])));
   };
-  V view[3], nrm[3];
+  V view[3];
   for (int c = 0; c < 3; ++c) view[c] = hn::Sub(hn::Set(d, hn::TFromD<D>(p.eye[c])), pos_in[c]);
   const V inv = hn::Div(one, hn::Sqrt(dot3(view, view)));
   for (int c = 0; c < 3; ++c) view[c] = hn::Mul(view[c], inv);
-  // view_scene's lit(): the face turned towards the eye.
-  const auto away = hn::Lt(dot3(nrm_in, view), zero);
-  for (int c = 0; c < 3; ++c) nrm[c] = hn::IfThenElse(away, hn::Neg(nrm_in[c]), nrm_in[c]);
+  // (nrm: turned towards the eye already, in double: FlatColors.)
   Lighting(d, p.light, p.nlights, Shading::kPhong, 1.0f, 1.0f, pos_in, nrm, view, kd, ks, shine,
            hn::Eq(zero, zero), col);
+}
+
+// view_scene's lit() turns the face normal n towards the eye e before lighting
+// at p: n is negated when dot(n, normalize(e - p)) < 0, in double. FlatColors
+// takes that decision on its double inputs, before FlatLit rounds them to
+// float: in float, a face seen nearly edge-on (the eye within float rounding,
+// relatively, of its plane) could be turned the other way than by the reference, and lit
+// from the other side (CullingAgree.zbuffer__simd, deep mode;
+// corpus/counterexamples/culling_agree.edge_on_or_soup.zbuffer.simd-1.txt).
+//
+// FacingSure, per lane, with d = e - p (the reference's very operation) and
+// the products a_k = n_k d_k: S = (a_0 + a_1) + a_2 and C = |a_0| + |a_1| +
+// |a_2|. Where |S| > 2^-44 C (and |d|'s largest component M lies in
+// (2^-400, 2^500), with C > 2^-600 M: no overflow, and the underflow of any
+// product or quotient is far below the margin), the sign of S is the sign of
+// the exact n.d (S is within 3.01u C of it, u = 2^-53) and of the reference's
+// rounded dot(n, d / |d|) (within about 8u C / |d| of n.d / |d|): the margin
+// 2^-44 = 512u is some 50 times what the two need. There the face is turned
+// where S < 0 (away). Elsewhere -- (nearly) edge-on faces, inputs out of those
+// ranges or not finite -- the mask is false, and the caller takes the
+// reference's expression itself (FacingByReference).
+template <class D, class V = hn::Vec<D>>
+HWY_INLINE hn::Mask<D> FacingSure(D d, const double eye[3], const V pos[3], const V nrm[3],
+                                  hn::Mask<D>& away) {
+  const V to[3] = {hn::Sub(hn::Set(d, eye[0]), pos[0]), hn::Sub(hn::Set(d, eye[1]), pos[1]),
+                   hn::Sub(hn::Set(d, eye[2]), pos[2])};
+  const V a[3] = {hn::Mul(nrm[0], to[0]), hn::Mul(nrm[1], to[1]), hn::Mul(nrm[2], to[2])};
+  const V s = hn::Add(hn::Add(a[0], a[1]), a[2]);
+  const V c = hn::Add(hn::Add(hn::Abs(a[0]), hn::Abs(a[1])), hn::Abs(a[2]));
+  const V m = hn::Max(hn::Max(hn::Abs(to[0]), hn::Abs(to[1])), hn::Abs(to[2]));
+  away = hn::Lt(s, hn::Zero(d));
+  return hn::And(hn::And(hn::Gt(hn::Abs(s), hn::Mul(c, hn::Set(d, 0x1p-44))),
+                         hn::Gt(c, hn::Mul(m, hn::Set(d, 0x1p-600)))),
+                 hn::And(hn::Gt(m, hn::Set(d, 0x1p-400)), hn::Lt(m, hn::Set(d, 0x1p500))));
+}
+
+// The reference's decision for requests at .. at + m - 1 (core/viewing.cpp's
+// lit(), operation for operation): flip[l] = 1 where it turns the normal, else
+// 0 (also past m). For a vector holding a lane FacingSure leaves undecided;
+// out of line: this rare path, inlined, made every FlatColors call ~10% slower.
+HWY_NOINLINE void FacingByReference(const double eye[3], const double* const* in, size_t at,
+                                    size_t m, size_t lanes, double* flip) {
+  const Vec3 e{eye[0], eye[1], eye[2]};
+  for (size_t l = 0; l < lanes; ++l) {
+    flip[l] = 0;
+    if (l >= m) continue;
+    const size_t j = at + l;
+    const Vec3 p{in[0][j], in[1][j], in[2][j]}, n{in[3][j], in[4][j], in[5][j]};
+    if (dot(n, normalize(e - p)) < 0) flip[l] = 1;
+  }
 }
 
 void FlatColors(const ShadeParams& p, size_t n, const double* const* in, const uint32_t* id,
@@ -231,6 +279,22 @@ void FlatColors(const ShadeParams& p, size_t n, const double* const* in, const u
         for (int k = 0; k < 5; ++k) lanes[k][l] = surface[id[i + l]].k[k];
       for (int k = 0; k < 5; ++k)
         lo[kFlatInputs + k] = hn::Load(dd, lanes[k]), hi[kFlatInputs + k] = hn::Load(dd, lanes[k] + H);
+    }
+    // The faces turned towards the eye, as view_scene's lit() turns them.
+    {
+      hn::Mask<decltype(dd)> away_lo, away_hi;
+      const auto sure_lo = FacingSure(dd, p.flat_eye, lo, lo + 3, away_lo);
+      const auto sure_hi = FacingSure(dd, p.flat_eye, hi, hi + 3, away_hi);
+      if (!hn::AllTrue(dd, hn::And(sure_lo, sure_hi))) [[unlikely]] {
+        HWY_ALIGN double flip[hn::MaxLanes(df)];
+        FacingByReference(p.flat_eye, in, i, std::min(N, n - i), N, flip);
+        away_lo = hn::Gt(hn::Load(dd, flip), hn::Zero(dd));
+        away_hi = hn::Gt(hn::Load(dd, flip + H), hn::Zero(dd));
+      }
+      for (int k = 3; k < 6; ++k) {
+        lo[k] = hn::IfThenElse(away_lo, hn::Neg(lo[k]), lo[k]);
+        hi[k] = hn::IfThenElse(away_hi, hn::Neg(hi[k]), hi[k]);
+      }
     }
     const VD zero = hn::Zero(dd);
     const auto high_lo = hn::And(hn::Gt(lo[10], high), hn::Gt(lo[9], zero));

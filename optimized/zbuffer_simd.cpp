@@ -552,8 +552,9 @@ struct ShadeBuffers {
   size_t size = 0;
 };
 
-// The lights and the eye in float, for the kernels: lights holds the
-// per-light floats the result points to.
+// The lights and the eye in float, for the kernels (and the eye in double,
+// for flat_colors' facing test): lights holds the per-light floats the result
+// points to.
 zsimd::ShadeParams light_params(const Scene& scene, const Vec3& eye, std::vector<float>& lights) {
   lights.clear();
   const double default_ip = scene.lights.empty() ? 0 : 1 / std::sqrt(double(scene.lights.size()));
@@ -570,6 +571,7 @@ zsimd::ShadeParams light_params(const Scene& scene, const Vec3& eye, std::vector
   sp.nlights = int(scene.lights.size());
   sp.light = lights.data();
   sp.eye[0] = float(eye.x), sp.eye[1] = float(eye.y), sp.eye[2] = float(eye.z);
+  sp.flat_eye[0] = eye.x, sp.flat_eye[1] = eye.y, sp.flat_eye[2] = eye.z;
   return sp;
 }
 

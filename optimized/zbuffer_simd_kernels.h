@@ -134,6 +134,9 @@ struct ShadeParams {
   // The scene's materials (ShadeTri::material indexes them; at least one entry).
   const ShadeMaterial* materials = nullptr;
   float eye[3] = {0, 0, 0};
+  // The eye in double: flat_colors turns each face towards it as view_scene's
+  // lit() does, in double (a face seen edge-on is turned the same way).
+  double flat_eye[3] = {0, 0, 0};
   // The view direction (forward component 1) through the tile's top-left
   // pixel corner, and its change per pixel right and down: the sample at eye
   // depth z is eye + z dir (as the reference's fragments).
@@ -166,8 +169,9 @@ void shade_tile(const ShadeParams& p, const int32_t* tri, const TilePlanes* cons
 // Flat colours with shade_tile's lighting (Phong specular, as view_scene's
 // flat colour), in float lanes (double ones for a high shine): for i < n, the
 // colour at point (in[0..2])[i] of a face with unit normal (in[3..5])[i],
-// turned towards the eye here, of surface surface[id[i]] (kd * colour, ks,
-// shine: FlatSurface); out[0..2]: red, green, blue. Every array has room for n
+// turned towards the eye here (ShadeParams::flat_eye; decided in double, as
+// view_scene's lit() decides it, on the same bits), of surface surface[id[i]]
+// (kd * colour, ks, shine: FlatSurface); out[0..2]: red, green, blue. Every array has room for n
 // rounded up to 16; id does not decrease (a surface's requests are one run).
 inline constexpr int kFlatInputs = 6;
 struct FlatSurface {

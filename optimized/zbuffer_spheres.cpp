@@ -222,11 +222,14 @@ bool view_sphere(const Scene& scene, const RasterSettings& s, const Camera& cam,
       double* const in[6] = {batch.plane(0), batch.plane(1), batch.plane(2),
                              batch.plane(3), batch.plane(4), batch.plane(5)};
       for (size_t j = 0; j < kept; ++j) {
-        // (v1 and v2 may be swapped: the sum may differ from view_spheres'
-        // in its last bit, far below the SIMD lighting's float precision.)
-        const Vec3 p = (sc.world[sc.va[j]] + sc.world[sc.vb[j]] + sc.world[sc.vc[j]]) / 3.0;
-        in[0][j] = p.x, in[1][j] = p.y, in[2][j] = p.z;
+        // The centroid summed in view_spheres' order (triangle_step may have
+        // swapped v1 and v2; the sum would then differ in its last bit), so
+        // that flat_colors turns the face towards the eye on the same bits.
         const uint32_t at = tag[j];
+        const auto& [a, b0, c0] =
+            (at & kSureFace) ? unit.tri[at & ~kSureFace] : sc.cand_tri[at];
+        const Vec3 p = (sc.world[a] + sc.world[flip ? c0 : b0] + sc.world[flip ? b0 : c0]) / 3.0;
+        in[0][j] = p.x, in[1][j] = p.y, in[2][j] = p.z;
         if (at & kSureFace) {
           const uint32_t t = at & ~kSureFace;
           in[3][j] = sign * unit_face.nx[t], in[4][j] = sign * unit_face.ny[t],

@@ -12,12 +12,29 @@
 //   ShadeKernel.MaterialPerLane   A 16-sample block holding triangles of two
 //       materials lights each sample with its own (the kernel broadcasts one
 //       material per block, and gathers per lane when a block holds several).
+//   ShadeKernel.FlatFacingAsReference   flat_colors turns each face towards
+//       the eye exactly as view_scene's lit() does: negated where
+//       dot(n, normalize(eye - p)) < 0 in double. Faces seen nearly edge-on
+//       (n tilted from the plane through the eye by 0 to 1e-5 radians, both
+//       ways), the light well off each face's plane on a random side: a face
+//       turned the reference's way is lit by the light exactly when the
+//       reference's is (ambient only otherwise). Deciding in float -- what
+//       the kernel did -- turns about half the faces tilted by less than
+//       ~1e-7 the other way (CullingAgree.zbuffer__simd in deep mode found it);
+//       the tilts up to ~1e-13 also exercise the lanes the kernel leaves to
+//       the reference's own expression. Both surfaces' paths: float lanes and
+//       (a high shine) double ones.
 #include <gtest/gtest.h>
 
 #include <array>
 #include <cmath>
+#include <cstdio>
+#include <random>
 #include <sstream>
 #include <vector>
+
+#include "core/math.h"
+#include "core/shading.h"
 
 #include "hwy/aligned_allocator.h"
 #include "optimized/zbuffer_simd_kernels.h"
@@ -149,6 +166,90 @@ TEST(ShadeKernel, MaterialPerLane) {
                                     << "\n  other:" << pixels(b);
     }
   EXPECT_NE(a[0], b[0]);
+}
+
+TEST(ShadeKernel, FlatFacingAsReference) {
+  constexpr uint64_t kSeed = 20261203;
+  constexpr size_t kRequests = 4000;  // (not a multiple of 16: a padded tail)
+  std::mt19937_64 rng(kSeed);
+  std::uniform_real_distribution<double> coord(-10.0, 10.0);
+  // The eye off the float grid (the kernel must decide on the double one).
+  const Vec3 eye{0.1, -0.3, 0.7};
+  const Vec3 light{3, 7, -2};
+  const double tilts[] = {0, 1e-16, -1e-16, 1e-14, -1e-14, 1e-13, -1e-13, 1e-11, -1e-11,
+                          1e-9, -1e-9, 1e-7, -1e-7, 1e-5, -1e-5};
+  constexpr size_t kTilts = std::size(tilts);
+  // Two surfaces (ids do not decrease): kd * colour, ks, shine; the second's
+  // high shine takes the double lanes (kFloatShine).
+  const opt::zsimd::FlatSurface surfaces[2] = {{{0.6, 0.3, 0.2, 0.0, 1.0}},
+                                               {{0.6, 0.3, 0.2, 0.5, 1000.0}}};
+  const size_t padded = (kRequests + 15) / 16 * 16;
+  std::vector<double> in_planes[6];
+  for (auto& v : in_planes) v.assign(padded, 0.0);
+  std::vector<uint32_t> id(padded, 1);
+  std::vector<Vec3> pos(kRequests), nrm(kRequests);
+  for (size_t i = 0; i < kRequests; ++i) {
+    // A point whose direction to the light is well off the direction to the
+    // eye; the face's normal perpendicular to the eye's direction, towards
+    // the light or away from it, then tilted.
+    Vec3 p, perp;
+    do {
+      p = {coord(rng), coord(rng), coord(rng)};
+      const Vec3 d = eye - p, lp = light - p;
+      perp = lp - d * (dot(lp, d) / dot(d, d));
+    } while (!(length(perp) > 0.3 * length(light - p)));
+    const Vec3 n0 = normalize(perp) * ((rng() & 1) ? 1.0 : -1.0);
+    const Vec3 n = normalize(n0 + tilts[i % kTilts] * normalize(eye - p));
+    pos[i] = p, nrm[i] = n;
+    for (int c = 0; c < 3; ++c) in_planes[c][i] = p[c], in_planes[3 + c][i] = n[c];
+    id[i] = i < kRequests / 2 ? 0 : 1;
+  }
+  std::vector<float> lights = {float(light.x), float(light.y), float(light.z), 1, 1, 1, 1, 0, 0,
+                               0, 0, 0, 0, 0, 0};
+  ShadeParams sp;
+  sp.nlights = 1;
+  sp.light = lights.data();
+  sp.eye[0] = float(eye.x), sp.eye[1] = float(eye.y), sp.eye[2] = float(eye.z);
+  sp.flat_eye[0] = eye.x, sp.flat_eye[1] = eye.y, sp.flat_eye[2] = eye.z;
+  const double* in[6];
+  for (int k = 0; k < 6; ++k) in[k] = in_planes[k].data();
+  std::vector<float> rgb(3 * padded);
+  float* out[3] = {rgb.data(), rgb.data() + padded, rgb.data() + 2 * padded};
+  opt::zsimd::flat_colors(sp, kRequests, in, id.data(), surfaces, out);
+
+  // Ambient alone: kAmbient kd; lit: at least 0.3 kd more (N.L >= 0.3).
+  const double ambient = kAmbient * surfaces[0].k[0];
+  size_t flipped_near = 0, near = 0, mismatches = 0;
+  std::ostringstream first;
+  for (size_t i = 0; i < kRequests; ++i) {
+    const Vec3 &p = pos[i], &n = nrm[i];
+    const double ref_dot = dot(n, normalize(eye - p));  // core/viewing.cpp's lit()
+    const Vec3 turned = ref_dot < 0 ? -n : n;
+    const bool want_lit = dot(turned, light - p) > 0;
+    const bool got_lit = out[0][i] > ambient + 0.1;
+    if (std::abs(tilts[i % kTilts]) <= 1e-13) ++near, flipped_near += ref_dot < 0;
+    if (got_lit == want_lit) continue;
+    if (mismatches++ == 0) {
+      char buf[512];
+      std::snprintf(buf, sizeof buf,
+                    "seed %llu, request %zu (surface %u, tilt %g): eye (%a %a %a) p (%a %a %a) "
+                    "n (%a %a %a); reference dot(n, normalize(eye - p)) = %a (%s), so %s; "
+                    "reference red %s %.6f; flat_colors red %.6f (%s), off by %.6f",
+                    (unsigned long long)kSeed, i, id[i], tilts[i % kTilts], eye.x, eye.y, eye.z,
+                    p.x, p.y, p.z, n.x, n.y, n.z, ref_dot, ref_dot < 0 ? "turned" : "kept",
+                    want_lit ? "lit" : "ambient only", want_lit ? ">=" : "=",
+                    want_lit ? ambient + 0.18 : ambient, out[0][i],
+                    got_lit ? "lit" : "ambient only",
+                    want_lit ? ambient + 0.18 - out[0][i] : out[0][i] - ambient);
+      first << buf;
+    }
+  }
+  EXPECT_EQ(mismatches, 0u) << "faces turned otherwise than by the reference, of " << kRequests
+                            << "; the first: " << first.str();
+  // The test can fail: the reference turns a good share of the faces nearest
+  // edge-on either way (there the sign is its rounding's).
+  EXPECT_GT(flipped_near, near / 10) << flipped_near << " of " << near;
+  EXPECT_LT(flipped_near, near - near / 10) << flipped_near << " of " << near;
 }
 
 }  // namespace
