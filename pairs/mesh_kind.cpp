@@ -136,17 +136,14 @@ Agreement compare(const Output& oa, const Output& ob, const Tolerance& tol) {
   const long allowed = long(std::floor((1.0 - tol.fraction) * double(r.samples) + 1e-9));
   r.pass = r.over <= allowed && r.over_hard == 0;
   // Vertices alone do not see a missing triangle (its corners belong to its
-  // neighbours too): the two surfaces must also have the same open, non-manifold
-  // and misoriented edges (the same holes and cracks; their Euler characteristic
-  // may differ where ambiguous faces are separated the other way).
+  // neighbours too): the two surfaces must also have the same open edges (the
+  // same holes and cracks; their Euler characteristic may differ where
+  // ambiguous faces are separated the other way, and welding cut points that
+  // fall on a sample may pinch an edge in one and not the other).
   const Topology ta = topology(a), tb = topology(b);
-  if (ta.boundary_edges != tb.boundary_edges || ta.nonmanifold_edges != tb.nonmanifold_edges ||
-      ta.misoriented_edges != tb.misoriented_edges) {
+  if (ta.boundary_edges != tb.boundary_edges) {
     r.pass = false;
-    r.detail = "open/non-manifold/misoriented edges " + std::to_string(ta.boundary_edges) + "/" +
-               std::to_string(ta.nonmanifold_edges) + "/" + std::to_string(ta.misoriented_edges) + " against " +
-               std::to_string(tb.boundary_edges) + "/" + std::to_string(tb.nonmanifold_edges) + "/" +
-               std::to_string(tb.misoriented_edges);
+    r.detail = "open edges " + std::to_string(ta.boundary_edges) + " against " + std::to_string(tb.boundary_edges);
   }
   return r;
 }

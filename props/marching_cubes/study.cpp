@@ -107,9 +107,17 @@ int run(bool quick) {
     const Row* ref = nullptr;
     for (const Row& q : rows)
       if (q.field == r.field && q.n == r.n && q.impl == family.reference().name) ref = &q;
-    claim(failures, ref && r.to_surface == ref->to_surface && r.to_mesh == ref->to_mesh,
-          r.field + " n " + std::to_string(r.n) + ": " + r.impl +
-              "'s distance differs from the reference's");
+    // Our rows compute the reference's cut points bit for bit: equal distances.
+    // A peer (vtk) interpolates in float: within 0.1% of the reference's.
+    bool peer = false;
+    for (const FamilyImpl& impl : family.impls)
+      if (impl.name == r.impl) peer = !impl.peer.empty();
+    auto near = [](double a, double b) { return std::abs(a - b) <= 1e-3 * std::abs(b); };
+    claim(failures,
+          ref && (peer ? near(r.to_surface, ref->to_surface) && near(r.to_mesh, ref->to_mesh)
+                       : r.to_surface == ref->to_surface && r.to_mesh == ref->to_mesh),
+          r.field + " n " + std::to_string(r.n) + ": " + r.impl + "'s distance differs from the reference's" +
+              (peer ? " by more than 0.1%" : ""));
     if (ref && r.impl == "simd" && r.n >= 64)
       claim(failures, r.ms < ref->ms,
             r.field + " n " + std::to_string(r.n) + ": simd (" + std::to_string(r.ms) +
