@@ -7,6 +7,7 @@
 
 #include "core/output_image.h"
 #include "core/volume_render.h"
+#include "optimized/volume_raycast.h"
 #include "pairs/loaders.h"
 #include "reference/volume_render.h"
 
@@ -68,8 +69,11 @@ Family volume_family() {
   f.name = "volume";
   f.what = "volume rendering by V-buffer ray casting (transfer function, front-to-back over)";
   f.algo = "raycast";
-  const TypedImpl<Volume> impls[] = {{"reference", ref::volume_raycast, 0, {}, {}, false}};
+  const TypedImpl<Volume> impls[] = {{"reference", ref::volume_raycast, 0, {}, {}, false},
+                                      {"simd", opt::simd::volume_raycast}};
   f.impls = erase_all<Volume, Image>(impls);
+  f.default_impl = "simd";
+  f.properties = {"agreement", "skip", "transparent", "mirror"};
   return f;
 }
 
@@ -88,8 +92,11 @@ Family volume_iso_family() {
   f.name = "volume_iso";
   f.what = "the isosurface of the trilinear interpolant, ray cast (first crossing, bisection, gradient shading)";
   f.algo = "iso";
-  const TypedImpl<Volume> impls[] = {{"reference", ref::volume_iso, 0, {}, {}, false}};
+  const TypedImpl<Volume> impls[] = {{"reference", ref::volume_iso, 0, {}, {}, false},
+                                      {"simd", opt::simd::volume_iso}};
   f.impls = erase_all<Volume, Image>(impls);
+  f.default_impl = "simd";
+  f.properties = {"agreement", "mirror"};
   return f;
 }
 
