@@ -158,12 +158,14 @@ struct Sample {
   VF f[3];
 };
 
-HWY_INLINE void Locate(const Ctx& c, const Rays& r, long k, Sample& s) {
+// Sample kq (one per lane) of the packet: grid coordinates g0 + (kq - kbase)
+// dg, clamped; cells; fractions.
+HWY_INLINE void Locate(const Ctx& c, const Rays& r, VI kq, Sample& s) {
   const DF df;
   const DI di;
+  const VF steps = hn::ConvertTo(df, hn::Sub(kq, hn::Set(di, int32_t(r.kbase))));
   for (int a = 0; a < 3; ++a) {
-    const float off = float(double(k - r.kbase) * c.dg[a]);
-    VF g = hn::Add(hn::Load(df, r.g0[a]), hn::Set(df, off));
+    VF g = hn::Add(hn::Load(df, r.g0[a]), hn::Mul(steps, hn::Set(df, float(c.dg[a]))));
     g = hn::Min(hn::Max(g, hn::Zero(df)), hn::Set(df, c.gmax[a]));
     const VI i = hn::Min(hn::ConvertTo(di, g), hn::Set(di, c.imax[a]));
     s.g[a] = g;
@@ -236,30 +238,38 @@ void CastRow(const Ctx& c, int x_begin, int x_end, int y, float* out, uint64_t* 
         const VI vk = hn::Set(di, int32_t(k));
         const auto pending = hn::AndNot(done, hn::Lt(vk, k0));
         const auto active_i = hn::Not(hn::Or(done, hn::Or(hn::Lt(vk, k0), hn::Gt(vk, k1))));
-        if (hn::AllFalse(di, active_i)) {
+        if (!c.skip && hn::AllFalse(di, active_i)) {
           if (hn::AllFalse(di, pending)) break;
           // Only lanes still to start: go to the first one's first sample.
           k = hn::GetLane(hn::MinOfLanes(di, hn::IfThenElse(pending, k0, hn::Set(di, INT32_MAX))));
           continue;
         }
-        const auto active = hn::RebindMask(df, active_i);
+        // Each lane's next sample: k, or its first one still to come.
+        const VI kq = hn::IfThenElse(pending, k0, vk);
         Sample s;
-        Locate(c, r, k, s);
+        Locate(c, r, kq, s);
         if (c.skip) {
-          const VI state = hn::GatherIndex(di, c.cell_state, MacroIndex(c, s));
-          if (hn::AllFalse(di, hn::AndNot(hn::Eq(state, hn::Set(di, 1)), active_i))) {
-            // Every active lane is in a transparent macro cell: jump.
-            const VI steps = hn::Add(StepsInCell(c, s), hn::Set(di, 1));
-            int32_t jump = hn::GetLane(hn::MinOfLanes(di, hn::IfThenElse(active_i, steps, hn::Set(di, INT32_MAX))));
-            const int32_t next_start = hn::GetLane(hn::MinOfLanes(di, hn::IfThenElse(pending, k0, hn::Set(di, INT32_MAX))));
-            long next = k + std::max<long>(1, jump);
-            next = std::min<long>(next, next_start);
-            if (next <= k) next = k + 1;
+          const auto clear = hn::Eq(hn::GatherIndex(di, c.cell_state, MacroIndex(c, s)), hn::Set(di, 1));
+          if (hn::AllFalse(di, hn::AndNot(clear, active_i))) {
+            // Every lane taking sample k is in a transparent macro cell: jump to
+            // the first sample past the nearest exit, not past a lane still to
+            // start unless its first sample is in a transparent cell too (then
+            // not past that cell's exit).
+            const VI past = hn::Add(kq, hn::Add(StepsInCell(c, s), hn::Set(di, 1)));
+            const VI limit = hn::IfThenElse(hn::Or(active_i, hn::And(pending, clear)), past,
+                                            hn::IfThenElse(pending, k0, hn::Set(di, INT32_MAX)));
+            const long next = hn::GetLane(hn::MinOfLanes(di, limit));
+            if (next == INT32_MAX) break;
             skip_count += uint64_t(next - k) * hn::CountTrue(di, active_i);
-            k = next;
+            k = std::max(next, k + 1);
+            continue;
+          }
+          if (hn::AllFalse(di, active_i)) {
+            k = hn::GetLane(hn::MinOfLanes(di, hn::IfThenElse(pending, k0, hn::Set(di, INT32_MAX))));
             continue;
           }
         }
+        const auto active = hn::RebindMask(df, active_i);
         const VF value = Trilinear(c, s);
         // The segment: how many inner control values lie at or below v.
         const VF v = hn::Min(hn::Max(value, hn::Set(df, c.x_first)), hn::Set(df, c.x_last));
@@ -325,26 +335,27 @@ void IsoRow(const Ctx& c, int x_begin, int x_end, int y, int32_t* hit, uint64_t*
         const VI vk = hn::Set(di, int32_t(k));
         const auto pending = hn::AndNot(done, hn::Lt(vk, k0));
         const auto active = hn::Not(hn::Or(done, hn::Or(hn::Lt(vk, k0), hn::Gt(vk, k1))));
-        if (hn::AllFalse(di, active)) {
-          if (hn::AllFalse(di, pending)) break;
-          k = hn::GetLane(hn::MinOfLanes(di, hn::IfThenElse(pending, k0, hn::Set(di, INT32_MAX))));
-          continue;
-        }
+        const VI kq = hn::IfThenElse(pending, k0, vk);
         Sample s;
-        Locate(c, r, k, s);
+        Locate(c, r, kq, s);
         const VI state = hn::GatherIndex(di, c.cell_state, MacroIndex(c, s));
+        const auto uniform = hn::Lt(state, hn::Set(di, 2));
         const auto first = hn::Eq(vk, k0);
         VI above;
         long next = k + 1;
-        if (hn::AllFalse(di, hn::AndNot(hn::Lt(state, hn::Set(di, 2)), active))) {
-          // Every active lane in a macro cell entirely on one side: its side is
-          // known, and stays so up to the cell's exit.
+        auto took = active;  // lanes whose side at kq is decided now
+        if (hn::AllFalse(di, hn::AndNot(uniform, active))) {
+          // Every lane taking sample k is in a macro cell entirely on one side:
+          // its side is known, and stays so up to the cell's exit; a lane still
+          // to start whose first sample is in such a cell takes its side there
+          // (its first sample, no bracket).
           above = state;
-          const VI steps = hn::Add(StepsInCell(c, s), hn::Set(di, 1));
-          const int32_t jump = hn::GetLane(hn::MinOfLanes(di, hn::IfThenElse(active, steps, hn::Set(di, INT32_MAX))));
-          const int32_t next_start = hn::GetLane(hn::MinOfLanes(di, hn::IfThenElse(pending, k0, hn::Set(di, INT32_MAX))));
-          next = std::min<long>(k + std::max<int32_t>(1, jump), next_start);
-          if (next <= k) next = k + 1;
+          took = hn::Or(active, hn::And(pending, uniform));
+          const VI past = hn::Add(kq, hn::Add(StepsInCell(c, s), hn::Set(di, 1)));
+          const VI limit = hn::IfThenElse(took, past, hn::IfThenElse(pending, k0, hn::Set(di, INT32_MAX)));
+          next = hn::GetLane(hn::MinOfLanes(di, limit));
+          if (next == INT32_MAX) break;
+          next = std::max(next, k + 1);
           skip_count += uint64_t(next - k - 1) * hn::CountTrue(di, active);
         } else {
           const VF value = Trilinear(c, s);
@@ -364,12 +375,17 @@ void IsoRow(const Ctx& c, int x_begin, int x_end, int y, int32_t* hit, uint64_t*
               }
             above = hn::Load(di, above_store);
           }
+          if (hn::AllFalse(di, active)) {
+            // Only lanes still to start (none in a one-sided cell): the first one's first sample.
+            next = hn::GetLane(hn::MinOfLanes(di, hn::IfThenElse(pending, k0, hn::Set(di, INT32_MAX))));
+            if (next == INT32_MAX) break;
+          }
         }
         // A bracket (k - 1, k): an active lane past its first sample whose side changed.
         const auto crossed = hn::AndNot(first, hn::And(active, hn::Ne(above, prev)));
         khit = hn::IfThenElse(crossed, vk, khit);
         done = hn::Or(done, crossed);
-        prev = hn::IfThenElse(active, above, prev);
+        prev = hn::IfThenElse(took, above, prev);
         if (hn::AllFalse(di, hn::AndNot(done, hn::Gt(k1, vk)))) break;
         // A jump crosses samples on the lane's side: prev stays right.
         k = next;
