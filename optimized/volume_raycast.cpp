@@ -462,55 +462,46 @@ MacroGrid build_macro(const Volume& v, int threads) {
     a = std::max(0, c * s - 1);
     b = std::min(n - 1, c * s + s + 1);
   };
-  // Per slice k: over x within each row, then over y: plane[k][J][I].
-  std::vector<float> plo(size_t(v.nz) * m.mj * m.mi), phi(plo.size());
-  parallel_tiles(1, v.nz, 1, 4, threads, nullptr, [&](int, int k0, int, int k1) {
-    std::vector<float> rlo(size_t(v.ny) * m.mi), rhi(rlo.size());
-    for (int k = k0; k < k1; ++k) {
-      for (int j = 0; j < v.ny; ++j) {
-        const float* row = &v.data[v.index(0, j, k)];
-        for (int I = 0; I < m.mi; ++I) {
-          int a, b;
-          range(v.nx, I, a, b);
-          float lo = row[a], hi = row[a];
-          for (int i = a + 1; i <= b; ++i) {
-            lo = std::min(lo, row[i]);
-            hi = std::max(hi, row[i]);
-          }
-          rlo[size_t(j) * m.mi + I] = lo;
-          rhi[size_t(j) * m.mi + I] = hi;
-        }
-      }
-      for (int J = 0; J < m.mj; ++J) {
-        int a, b;
-        range(v.ny, J, a, b);
-        float* ol = &plo[(size_t(k) * m.mj + J) * m.mi];
-        float* oh = &phi[(size_t(k) * m.mj + J) * m.mi];
-        for (int I = 0; I < m.mi; ++I) ol[I] = rlo[size_t(a) * m.mi + I], oh[I] = rhi[size_t(a) * m.mi + I];
-        for (int j = a + 1; j <= b; ++j)
-          for (int I = 0; I < m.mi; ++I) {
-            ol[I] = std::min(ol[I], rlo[size_t(j) * m.mi + I]);
-            oh[I] = std::max(oh[I], rhi[size_t(j) * m.mi + I]);
-          }
-      }
-    }
-  });
   const size_t plane = size_t(m.mj) * m.mi;
   m.lo.resize(size_t(m.mk) * plane);
   m.hi.resize(m.lo.size());
-  for (int K = 0; K < m.mk; ++K) {
-    int a, b;
-    range(v.nz, K, a, b);
-    float* ol = &m.lo[size_t(K) * plane];
-    float* oh = &m.hi[size_t(K) * plane];
-    std::copy_n(&plo[size_t(a) * plane], plane, ol);
-    std::copy_n(&phi[size_t(a) * plane], plane, oh);
-    for (int k = a + 1; k <= b; ++k)
-      for (size_t q = 0; q < plane; ++q) {
-        ol[q] = std::min(ol[q], plo[size_t(k) * plane + q]);
-        oh[q] = std::max(oh[q], phi[size_t(k) * plane + q]);
+  const size_t nx = size_t(v.nx);
+  // Per macro row (J, K): the element-wise min and max of the sample rows it
+  // spans in y and z (contiguous, vectorised by the compiler), then along x.
+  parallel_tiles(m.mj, m.mk, m.mj, 1, threads, nullptr, [&](int, int K0, int, int K1) {
+    std::vector<float> lo(nx), hi(nx);
+    for (int K = K0; K < K1; ++K)
+      for (int J = 0; J < m.mj; ++J) {
+        int ka, kb, ja, jb;
+        range(v.nz, K, ka, kb);
+        range(v.ny, J, ja, jb);
+        const float* first = &v.data[v.index(0, ja, ka)];
+        std::copy_n(first, nx, lo.data());
+        std::copy_n(first, nx, hi.data());
+        float* HWY_RESTRICT l = lo.data();
+        float* HWY_RESTRICT h = hi.data();
+        for (int k = ka; k <= kb; ++k)
+          for (int j = ja; j <= jb; ++j) {
+            const float* HWY_RESTRICT row = &v.data[v.index(0, j, k)];
+            for (size_t i = 0; i < nx; ++i) {
+              l[i] = std::min(l[i], row[i]);
+              h[i] = std::max(h[i], row[i]);
+            }
+          }
+        for (int I = 0; I < m.mi; ++I) {
+          int a, b;
+          range(v.nx, I, a, b);
+          float cl = l[a], ch = h[a];
+          for (int i = a + 1; i <= b; ++i) {
+            cl = std::min(cl, l[i]);
+            ch = std::max(ch, h[i]);
+          }
+          const size_t q = size_t(K) * plane + size_t(J) * m.mi + size_t(I);
+          m.lo[q] = cl;
+          m.hi[q] = ch;
+        }
       }
-  }
+  });
   return m;
 }
 
