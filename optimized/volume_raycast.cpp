@@ -61,6 +61,7 @@ struct Ctx {
   const Volume* volume = nullptr;
   const vr::View* view = nullptr;
   const float* data = nullptr;
+  int64_t samples = 0;  // floats in data
   int nx = 0, ny = 0, nz = 0;
   float gmax[3] = {0, 0, 0};  // n - 1: grid coordinates are clamped to [0, n - 1]
   int imax[3] = {0, 0, 0};    // n - 2: the last cell
@@ -216,15 +217,39 @@ HWY_INLINE void GatherPairs(const Ctx& c, VI index, VF& a, VF& b) {
   b = hn::ConcatOdd(df, phi, plo);
 }
 
-HWY_INLINE VF Trilinear(const Ctx& c, const Sample& s) {
+// The trilinear interpolant at every lane's sample. When the active lanes'
+// cells all start within one vector's width of a sample row (rays whose image
+// rows run along the volume's x axis: lanes half a voxel apart read the same
+// few samples), each of the four rows of corners is one unaligned load and two
+// lane permutations; otherwise pair gathers. The same values either way.
+HWY_INLINE VF Trilinear(const Ctx& c, const Sample& s, hn::Mask<DI> active) {
+  const DF df;
   const DI di;
   const int32_t sy = c.nx, sz = c.nx * c.ny;
   const VI base = hn::Add(s.i[0], hn::Mul(hn::Add(s.i[1], hn::Mul(s.i[2], hn::Set(di, c.ny))), hn::Set(di, c.nx)));
   VF v000, v100, v010, v110, v001, v101, v011, v111;
-  GatherPairs(c, base, v000, v100);
-  GatherPairs(c, hn::Add(base, hn::Set(di, sy)), v010, v110);
-  GatherPairs(c, hn::Add(base, hn::Set(di, sz)), v001, v101);
-  GatherPairs(c, hn::Add(base, hn::Set(di, sz + sy)), v011, v111);
+  const int32_t lanes = int32_t(hn::Lanes(df));
+  const int32_t lo = hn::GetLane(hn::MinOfLanes(di, hn::IfThenElse(active, base, hn::Set(di, INT32_MAX))));
+  const int32_t hi = hn::GetLane(hn::MaxOfLanes(di, hn::IfThenElse(active, base, hn::Set(di, INT32_MIN))));
+  if (hi - lo + 2 <= lanes && int64_t(lo) + sz + sy + lanes <= c.samples) {
+    const VI rel = hn::IfThenElseZero(active, hn::Sub(base, hn::Set(di, lo)));
+    const auto ia = hn::IndicesFromVec(df, rel);
+    const auto ib = hn::IndicesFromVec(df, hn::Add(rel, hn::Set(di, 1)));
+    auto row = [&](int32_t off, VF& a, VF& b) {
+      const VF r = hn::LoadU(df, c.data + lo + off);
+      a = hn::TableLookupLanes(r, ia);
+      b = hn::TableLookupLanes(r, ib);
+    };
+    row(0, v000, v100);
+    row(sy, v010, v110);
+    row(sz, v001, v101);
+    row(sz + sy, v011, v111);
+  } else {
+    GatherPairs(c, base, v000, v100);
+    GatherPairs(c, hn::Add(base, hn::Set(di, sy)), v010, v110);
+    GatherPairs(c, hn::Add(base, hn::Set(di, sz)), v001, v101);
+    GatherPairs(c, hn::Add(base, hn::Set(di, sz + sy)), v011, v111);
+  }
   const VF c00 = Lerp(v000, v100, s.f[0]);
   const VF c10 = Lerp(v010, v110, s.f[0]);
   const VF c01 = Lerp(v001, v101, s.f[0]);
@@ -289,7 +314,7 @@ void CastRow(const Ctx& c, int x_begin, int x_end, int y, float* out, uint64_t* 
           }
         }
         const auto active = hn::RebindMask(df, active_i);
-        const VF value = Trilinear(c, s);
+        const VF value = Trilinear(c, s, active_i);
         // The segment: how many inner control values lie at or below v.
         const VF v = hn::Min(hn::Max(value, hn::Set(df, c.x_first)), hn::Set(df, c.x_last));
         VI seg = hn::Zero(di);
@@ -377,7 +402,7 @@ void IsoRow(const Ctx& c, int x_begin, int x_end, int y, int32_t* hit, uint64_t*
           next = std::max(next, k + 1);
           skip_count += uint64_t(next - k - 1) * hn::CountTrue(di, active);
         } else {
-          const VF value = Trilinear(c, s);
+          const VF value = Trilinear(c, s, active);
           above = hn::VecFromMask(di, hn::RebindMask(di, hn::Ge(value, hn::Set(df, c.iso))));
           above = hn::And(above, hn::Set(di, 1));
           // Close to iso: decide in double, the reference's way.
@@ -511,6 +536,7 @@ vk::Ctx context(const Volume& v, const vr::View& view) {
   c.volume = &v;
   c.view = &view;
   c.data = v.data.data();
+  c.samples = int64_t(v.data.size());
   c.nx = v.nx, c.ny = v.ny, c.nz = v.nz;
   const int n[3] = {v.nx, v.ny, v.nz};
   const double sp[3] = {v.spacing.x, v.spacing.y, v.spacing.z};

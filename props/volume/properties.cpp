@@ -8,7 +8,7 @@
 // -- a transfer function of 2 to 8 control points over the field's range (the
 // points below a random cut transparent, as ct-bone's, and a quarter of the
 // others: so that macro cells are skipped), a view (azimuth,
-// elevation, roll), a step, eps, an iso value and a frame of 4 to 32 pixels a
+// elevation, roll; a quarter with image rows along x), a step, eps, an iso value and a frame of 4 to 32 pixels a
 // side. Its text form has every number as a hexfloat, so a counterexample
 // replays bit for bit. The transfer function reaches the renderer as a .tf
 // file written to the temporary directory (named by the hash of its text).
@@ -350,6 +350,12 @@ rc::Gen<VrCase> gen_case(bool transparent, bool empty = false) {
     c.az = *gen::uniform(-180, 180);
     c.el = *gen::chance(1, 20) ? (*gen::chance(1, 2) ? 90.0 : -90.0) : *gen::uniform(-89, 89);
     c.roll = *gen::chance(1, 4) ? 0.0 : *gen::uniform(-180, 180);
+    // A quarter of the views with image rows along the volume's x axis (simd's
+    // row loads instead of gathers: neighbouring rays read the same rows).
+    if (*gen::chance(1, 4)) {
+      c.az = *gen::chance(1, 2) ? 90.0 : -90.0;
+      c.roll = *gen::chance(1, 2) ? 0.0 : 180.0;
+    }
     static constexpr double kSteps[] = {0.25, 0.5, 0.75, 1, 1.3, 2};
     c.step = kSteps[*gen::int_in(0, 5)];
     static constexpr double kEps[] = {1.0 / 256, 1.0 / 256, 0.02, 0.1, 0};
