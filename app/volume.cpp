@@ -31,7 +31,7 @@ void print_help() {
       "  --step DT       sampling step along a ray, in voxels, 1/64..16 (default 0.5)\n"
       "  --view AZ,EL    camera azimuth about z and elevation, degrees (default 30,20)\n"
       "  --eps E         a ray stops once its opacity reaches 1 - E, 0..0.5 (default 1/256; 0: never)\n"
-      "  --impl NAME     implementation (default: reference; see `lockstep render --help`)\n"
+      "  --impl NAME     implementation (default: simd; see `lockstep render --help`)\n"
       "  --size WxH      image size (default 256x256)\n"
       "  --threads N     worker threads, N >= 1 (default: all cores; the reference is single-threaded)\n"
       "  -o, --output F  the image to write (required)\n"
