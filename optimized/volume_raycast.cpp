@@ -612,7 +612,7 @@ Image volume_raycast(const Volume& v, const FrameOptions& options, FrameStats* s
   if (stats) {
     stats->items = uint64_t(view.width) * uint64_t(view.height);
     stats->build_seconds = build_seconds;
-    stats->skipped = skipped;
+    // The samples skipped (`skipped`) are not FrameStats::skipped, whose unit is the family's (pixels).
   }
   return image;
 }
@@ -680,7 +680,7 @@ Image volume_iso(const Volume& v, const FrameOptions& options, FrameStats* stats
   if (stats) {
     stats->items = uint64_t(view.width) * uint64_t(view.height);
     stats->build_seconds = build_seconds;
-    stats->skipped = skipped;
+    // The samples skipped (`skipped`) are not FrameStats::skipped, whose unit is the family's (pixels).
   }
   return image;
 }

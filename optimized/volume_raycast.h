@@ -14,8 +14,7 @@ namespace lockstep::opt::simd {
 // The reference's image (same rays, same samples k dt on the shared planes,
 // same opacity correction, compositing order and termination rule), computed
 // in float. FrameStats::build_seconds = the macro-cell grid's build and the
-// transfer function's transparency table (one-shot costs, inside the run);
-// FrameStats::skipped = samples skipped as provably transparent.
+// transfer function's transparency table (one-shot costs, inside the run).
 Image volume_raycast(const Volume& volume, const FrameOptions& options, FrameStats* stats);
 
 // The reference's isosurface: the bracketing samples found in float SIMD, each
