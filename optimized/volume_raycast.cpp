@@ -490,29 +490,45 @@ MacroGrid build_macro(const Volume& v, int threads) {
   const size_t plane = size_t(m.mj) * m.mi;
   m.lo.resize(size_t(m.mk) * plane);
   m.hi.resize(m.lo.size());
-  const size_t nx = size_t(v.nx);
-  // Per macro row (J, K): the element-wise min and max of the sample rows it
-  // spans in y and z (contiguous, vectorised by the compiler), then along x.
-  parallel_tiles(m.mj, m.mk, m.mj, 1, threads, nullptr, [&](int, int K0, int, int K1) {
-    std::vector<float> lo(nx), hi(nx);
-    for (int K = K0; K < K1; ++K)
+  const size_t nx = size_t(v.nx), row_stride = size_t(v.ny) * nx;
+  // Per macro slab K: the element-wise min and max of the sample planes it
+  // spans in z (contiguous, vectorised by the compiler; each sample read about
+  // 1.4 times), then per macro row J of that over the rows it spans in y, then
+  // along x.
+  parallel_tiles(1, m.mk, 1, 1, threads, nullptr, [&](int, int K0, int, int K1) {
+    std::vector<float> plo(row_stride), phi(row_stride), lo(nx), hi(nx);
+    for (int K = K0; K < K1; ++K) {
+      int ka, kb;
+      range(v.nz, K, ka, kb);
+      {
+        const float* first = &v.data[v.index(0, 0, ka)];
+        std::copy_n(first, row_stride, plo.data());
+        std::copy_n(first, row_stride, phi.data());
+        float* HWY_RESTRICT l = plo.data();
+        float* HWY_RESTRICT h = phi.data();
+        for (int k = ka + 1; k <= kb; ++k) {
+          const float* HWY_RESTRICT p = &v.data[v.index(0, 0, k)];
+          for (size_t q = 0; q < row_stride; ++q) {
+            l[q] = std::min(l[q], p[q]);
+            h[q] = std::max(h[q], p[q]);
+          }
+        }
+      }
       for (int J = 0; J < m.mj; ++J) {
-        int ka, kb, ja, jb;
-        range(v.nz, K, ka, kb);
+        int ja, jb;
         range(v.ny, J, ja, jb);
-        const float* first = &v.data[v.index(0, ja, ka)];
-        std::copy_n(first, nx, lo.data());
-        std::copy_n(first, nx, hi.data());
+        std::copy_n(&plo[size_t(ja) * nx], nx, lo.data());
+        std::copy_n(&phi[size_t(ja) * nx], nx, hi.data());
         float* HWY_RESTRICT l = lo.data();
         float* HWY_RESTRICT h = hi.data();
-        for (int k = ka; k <= kb; ++k)
-          for (int j = ja; j <= jb; ++j) {
-            const float* HWY_RESTRICT row = &v.data[v.index(0, j, k)];
-            for (size_t i = 0; i < nx; ++i) {
-              l[i] = std::min(l[i], row[i]);
-              h[i] = std::max(h[i], row[i]);
-            }
+        for (int j = ja + 1; j <= jb; ++j) {
+          const float* HWY_RESTRICT rl = &plo[size_t(j) * nx];
+          const float* HWY_RESTRICT rh = &phi[size_t(j) * nx];
+          for (size_t i = 0; i < nx; ++i) {
+            l[i] = std::min(l[i], rl[i]);
+            h[i] = std::max(h[i], rh[i]);
           }
+        }
         for (int I = 0; I < m.mi; ++I) {
           int a, b;
           range(v.nx, I, a, b);
@@ -526,6 +542,7 @@ MacroGrid build_macro(const Volume& v, int threads) {
           m.hi[q] = ch;
         }
       }
+    }
   });
   return m;
 }
