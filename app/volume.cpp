@@ -35,7 +35,7 @@ void print_help() {
       "  --view AZ,EL[,ROLL]  camera azimuth about z, elevation and roll, degrees (default\n"
       "                  30,20,0; the CT head stands up with -90,-15,180)\n"
       "  --eps E         a ray stops once its opacity reaches 1 - E, 0..0.5 (default 1/256; 0: never)\n"
-      "  --impl NAME     implementation (default: reference; see `lockstep render --help`)\n"
+      "  --impl NAME     implementation (default: simd; see `lockstep render --help`)\n"
       "  --size WxH      image size (default 256x256)\n"
       "  --threads N     worker threads, N >= 1 (default: all cores; the reference is single-threaded)\n"
       "  -o, --output F  the image to write (required)\n"

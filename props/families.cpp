@@ -19,6 +19,9 @@ FamilyProperties properties(const Family&);
 namespace marching_cubes {
 FamilyProperties properties(const Family&);
 }
+namespace volume {
+FamilyProperties properties(const Family&);
+}
 
 const std::vector<ProviderRow>& property_providers() {
   static const std::vector<ProviderRow> rows = {
@@ -28,6 +31,9 @@ const std::vector<ProviderRow>& property_providers() {
       {"scanline", raster::properties},
       {"painter", raster::properties},
       {"marching_cubes", marching_cubes::properties},
+      {"volume", volume::properties},
+      {"volume_iso", volume::properties},
+      {"splat", volume::properties},
   };
   return rows;
 }
