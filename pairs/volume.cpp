@@ -126,7 +126,7 @@ Family splat_family() {
   f.algo = "splat";
   const TypedImpl<Volume> impls[] = {{"reference", ref::volume_splat, 0, {}, {}, false}};
   f.impls = erase_all<Volume, Image>(impls);
-  f.properties = {"transparent"};
+  f.properties = {"transparent", "mirror"};
   return f;
 }
 

@@ -80,8 +80,37 @@ Image volume_splat(const Volume& volume, const FrameOptions& options, FrameStats
 
   // Accumulated in double, written as float at the end.
   std::vector<double> acc(size_t(view.width) * size_t(view.height) * 4, 0.0);
-  size_t done = 0;
-  for (const Splat& sp : order) {
+  // 4. Voxels of equal depth (a view along an axis puts whole slices
+  // on one plane) form a sheet (Westover's sheet buffer): their optical depths
+  // add up per pixel first, then the sheet goes under the image at once, so
+  // the result does not depend on the order within the sheet (a mirrored
+  // volume from the mirrored camera gives the mirrored image).
+  std::vector<double> sheet(acc.size(), 0.0);  // per pixel: tau, tau r, tau g, tau b
+  std::vector<size_t> touched;
+  // "Equal" up to rounding: depths are dot products, and the mirrored volume's
+  // are the same numbers summed in another order.
+  const double tie = 1e-9 * length(view.hi - view.lo);
+  double sheet_depth = 0;
+  auto flush = [&] {
+    for (const size_t px : touched) {
+      double* t = &sheet[px * 4];
+      double* p = &acc[px * 4];
+      const double alpha = -std::expm1(-t[0]);
+      // Under what is already in front; the colour is the sheet's
+      // extinction-weighted mean.
+      const double w = (1 - p[3]) * alpha;
+      for (int ch = 0; ch < 3; ++ch) p[ch] += w * t[ch + 1] / t[0];
+      p[3] += w;
+      t[0] = t[1] = t[2] = t[3] = 0;
+    }
+    touched.clear();
+  };
+  for (size_t n = 0; n < order.size(); ++n) {
+    const Splat& sp = order[n];
+    if (n == 0 || sp.depth - sheet_depth > tie) {
+      flush();
+      sheet_depth = sp.depth;
+    }
     const size_t i = sp.index % size_t(volume.nx), j = sp.index / size_t(volume.nx) % size_t(volume.ny),
                  k = sp.index / (size_t(volume.nx) * size_t(volume.ny));
     double rgba[4];
@@ -95,20 +124,23 @@ Image volume_splat(const Volume& volume, const FrameOptions& options, FrameStats
     const int y0 = std::max(0, int(std::floor(cy)) - reach_y), y1 = std::min(view.height - 1, int(std::ceil(cy)) + reach_y);
     for (int y = y0; y <= y1; ++y)
       for (int x = x0; x <= x1; ++x) {
-        double* p = &acc[(size_t(y) * size_t(view.width) + size_t(x)) * 4];
-        if (s.eps > 0 && p[3] >= 1 - s.eps) continue;
+        const size_t px = size_t(y) * size_t(view.width) + size_t(x);
+        if (s.eps > 0 && acc[px * 4 + 3] >= 1 - s.eps) continue;
         // The offset from the centre in world units along right and up.
         const double dx = (x - cx) * pixel, dy = (cy - y) * pixel;
         const double q = ixx * dx * dx + 2 * ixy * dx * dy + iyy * dy * dy;
         if (q > kCutoff * kCutoff) continue;
-        const double alpha = -std::expm1(-sigma * voxel_volume * norm * std::exp(-0.5 * q));
-        // Under what is already in front.
-        const double w = (1 - p[3]) * alpha;
-        for (int ch = 0; ch < 3; ++ch) p[ch] += w * rgba[ch];
-        p[3] += w;
+        // 3. The optical depth the footprint adds here.
+        const double tau = sigma * voxel_volume * norm * std::exp(-0.5 * q);
+        if (!(tau > 0)) continue;  // underflow: nothing to add (and no 0/0 in the flush)
+        double* t = &sheet[px * 4];
+        if (t[0] == 0) touched.push_back(px);
+        t[0] += tau;
+        for (int ch = 0; ch < 3; ++ch) t[ch + 1] += tau * rgba[ch];
       }
-    if (options.progress && ++done % 65536 == 0) options.progress(double(done) / double(order.size()));
+    if (options.progress && (n + 1) % 65536 == 0) options.progress(double(n + 1) / double(order.size()));
   }
+  flush();
   Image image = Image::uninitialized(options.width, options.height);
   for (size_t n = 0; n < acc.size(); ++n) image.rgba[n] = float(acc[n]);
   if (stats) stats->items = uint64_t(view.width) * uint64_t(view.height);

@@ -32,10 +32,10 @@
 //       (sample i <-> nx - 1 - i, the same box), seen from azimuth 180 - az and
 //       roll -roll: the image mirrored left-right, every channel within
 //       kMirrorTol (the rays are the mirror images of each other up to the
-//       rounding of their origins; termination flips as in Agreement). Not for
-//       splat: its reference composites footprints of equal depth in index
-//       order, which the flip reverses (measured: 1.3% of pixels differ, up to
-//       0.1, looking straight down the z axis).
+//       rounding of their origins; termination flips as in Agreement). Splat
+//       too: footprints of equal depth form one sheet, composited at once
+//       (before: in index order, which the flip reverses; 1.3% of pixels
+//       differed, up to 0.1, looking straight down the z axis).
 #include <gtest/gtest.h>
 #include <rapidcheck.h>
 
