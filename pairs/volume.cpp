@@ -145,6 +145,17 @@ Family volume_iso_family() {
   // 0 difference (props/volume Agreement, 25,000 cases; the CT head at 256^2).
   f.tol.abs = 1e-6;
   f.tol.fraction = 1.0;
+  // An iso value outside the volume's values is not an error: every
+  // implementation's run says so in a note (the image is empty).
+  for (FamilyImpl& impl : f.impls)
+    impl.run = [run = impl.run](const Input& in, const FrameOptions& o, FrameStats* stats) {
+      Output out = run(in, o, stats);
+      if (stats)
+        if (std::string note = vr::empty_note(input_as<Volume>(in), vr::settings(o.params, "", vr::Mode::kIso).iso);
+            !note.empty())
+          stats->notes.push_back(std::move(note));
+      return out;
+    };
   return f;
 }
 

@@ -53,10 +53,7 @@ Image volume_iso(const Volume& volume, const FrameOptions& options, FrameStats* 
     }
     if (options.progress) options.progress(double(y + 1) / view.height);
   }
-  if (stats) {
-    stats->items = uint64_t(view.width) * uint64_t(view.height);
-    if (std::string note = vr::empty_note(volume, s.iso); !note.empty()) stats->notes.push_back(std::move(note));
-  }
+  if (stats) stats->items = uint64_t(view.width) * uint64_t(view.height);
   return image;
 }
 
