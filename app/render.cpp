@@ -1,6 +1,7 @@
 // lockstep render: one input, one implementation, one output (an image, for
 // every family so far; written by the family's output kind). The family is
 // the one whose files end in the input's extension (pairs/registry.h).
+#include <algorithm>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -24,10 +25,16 @@ void print_help() {
     std::printf("  %-10s %s from %s; --impl %s (default: %.*s)\n", std::string(f.name).c_str(),
                 std::string(f.what).c_str(), std::string(f.input).c_str(), impl_names(f, "|").c_str(),
                 int(f.default_impl.size()), f.default_impl.data());
-  std::printf("\n  --algo NAME     which family draws an input of a shared extension (.nff:");
+  std::printf("\n  --algo NAME     which family draws an input of a shared extension (default: the first):\n");
+  std::vector<std::string_view> exts;
   for (const Family& f : registry().families)
-    if (!f.algo.empty()) std::printf(" %s", std::string(f.algo).c_str());
-  std::printf("; default: the first)\n");
+    if (!f.algo.empty() && std::find(exts.begin(), exts.end(), f.extension) == exts.end()) exts.push_back(f.extension);
+  for (const std::string_view ext : exts) {
+    std::printf("                  %.*s:", int(ext.size()), ext.data());
+    for (const Family& f : registry().families)
+      if (f.extension == ext && !f.algo.empty()) std::printf(" %s", std::string(f.algo).c_str());
+    std::printf("\n");
+  }
   // Families with the same settings (the raster families) are listed together.
   std::vector<const Family*> done;
   for (const Family& f : registry().families) {
