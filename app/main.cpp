@@ -9,6 +9,7 @@
 #include <embree3/rtcore_config.h>
 #include "optimized/raster.h"
 #include "optimized/ray_cast.h"
+#include "optimized/volume_volpack.h"
 #include <cstdio>
 #include <exception>
 #include <new>
@@ -59,6 +60,11 @@ void print_version() {
     std::printf("  llvmpipe row: built (OSMesa: %s)\n", lockstep::opt::llvmpipe::version().c_str());
   else
     std::printf("  llvmpipe row: not built (no OSMesa at configure time; scripts/setup.sh installs libosmesa6-dev)\n");
+  // The volume family's peer row exists only where VolPack was found at configure time.
+  if (lockstep::opt::volpack::available())
+    std::printf("  volpack row: built (%s)\n", lockstep::opt::volpack::version().c_str());
+  else
+    std::printf("  volpack row: not built (no VolPack at configure time; scripts/setup.sh installs libvolpack1-dev)\n");
   // Every family and implementation built into this binary; peers are production libraries.
   for (const lockstep::Family& f : lockstep::registry().families) {
     std::printf("  %-10s", std::string(f.name).c_str());

@@ -11,6 +11,7 @@ packages=(
   libtbb-dev libhwy-dev gnuplot-nox
   libosmesa6-dev libgl-dev  # the zbuffer family's llvmpipe row (Mesa OSMesa; GL/gl.h, GL/glext.h)
   libteem-dev zlib1g-dev  # volumes: Teem's nrrd library reads NRRD (core/volume_io.cpp); zlib writes the tests' gzip files
+  libvolpack1-dev  # the volume family's volpack row (VolPack shear-warp; optional, as OSMesa)
 )
 
 missing=()
