@@ -25,4 +25,16 @@ std::string version();
 // (vpClassifyVolume), done per call; FrameStats::items = pixels.
 Image volume_raycast(const Volume& volume, const FrameOptions& options, FrameStats* stats);
 
+// VolPack's three ways to draw the same frame, for the hand-run timing tool
+// (tools/volpack_timing.cpp): from the classified run-length volume (the
+// row's), from the raw voxels classified on the fly, and the raw voxels with a
+// min-max octree skipping transparent regions.
+enum class Path { kClassified, kRaw, kRawOctree };
+struct Times {
+  double prepare = 0;   // quantization and tables (ours)
+  double classify = 0;  // vpClassifyVolume (kClassified) or vpCreateMinMaxOctree (kRawOctree)
+  double render = 0;    // vpRenderClassifiedVolume or vpRenderRawVolume
+};
+Image render_path(const Volume& volume, const FrameOptions& options, Path path, Times* times);
+
 }  // namespace lockstep::opt::volpack
