@@ -155,7 +155,8 @@ void inverse_prematrix(const Volume& v, double m[4][4]) {
 
 bool available() { return true; }
 
-std::string version() { return std::string("VolPack ") + VP_VERSION + " (Debian libvolpack1 1.0b3)"; }
+// volpack.h's own version string (Debian 12's libvolpack1-dev 1.0b3 says "1.1").
+std::string version() { return std::string("VolPack, volpack.h VP_VERSION ") + VP_VERSION; }
 
 Image render_path(const Volume& volume, const FrameOptions& options, Path path, Times* times) {
   const vr::Settings s = vr::settings(options.params, volume.source, vr::Mode::kRaycast);
