@@ -191,8 +191,9 @@ struct FamilyImpl {
   // The row's own agreement with the reference, when the family's tolerance
   // cannot fit it (a peer of another method, e.g. VolPack's shear-warp against
   // ray casting): measured, stated in the row, and used instead of Family::tol
-  // by `lockstep verify` (unless the manifest's line sets fail/failpercent) and
-  // by properties that compare rows with the reference. Empty: Family::tol.
+  // by `lockstep verify` (unless the manifest's line sets fail/failpercent);
+  // properties that compare a row with the reference should hold it to
+  // tolerance() too (none does yet). Empty: Family::tol.
   std::optional<Tolerance> agree;
 
   // The tolerance this row is held to against the reference.
