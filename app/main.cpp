@@ -10,6 +10,7 @@
 #include "optimized/marching_cubes_vtk.h"
 #include "optimized/raster.h"
 #include "optimized/ray_cast.h"
+#include "optimized/volume_volpack.h"
 #include <cstdio>
 #include <exception>
 #include <new>
@@ -65,6 +66,11 @@ void print_version() {
     std::printf("  vtk row: built (%s)\n", lockstep::opt::vtk::version().c_str());
   else
     std::printf("  vtk row: not built (no VTK at configure time; scripts/setup.sh --peers installs libvtk9-dev)\n");
+  // The volume family's peer row exists only where VolPack was found at configure time.
+  if (lockstep::opt::volpack::available())
+    std::printf("  volpack row: built (%s)\n", lockstep::opt::volpack::version().c_str());
+  else
+    std::printf("  volpack row: not built (no VolPack at configure time; scripts/setup.sh installs libvolpack1-dev)\n");
   // Every family and implementation built into this binary; peers are production libraries.
   for (const lockstep::Family& f : lockstep::registry().families) {
     std::printf("  %-10s", std::string(f.name).c_str());

@@ -93,6 +93,7 @@ std::vector<Case> read_manifest(const fs::path& dir) {
       }
       if (given(4)) c.tol.abs = parse_number("fail", w[4], 0, 1e30);
       if (given(5)) c.tol.fraction = 1.0 - parse_number("failpercent", w[5], 0, 100) / 100.0;
+      c.tol_given = given(4) || given(5);
     } catch (const UsageError& e) {
       fail(e.what());
     }

@@ -32,9 +32,15 @@ void print_help() {
       "\n"
       "families (pairs/registry.h):\n",
       LOCKSTEP_CORPUS_DIR, kGoldenTolerance);
-  for (const Family& f : registry().families)
+  for (const Family& f : registry().families) {
     std::printf("  %-10s %s; impls: %s\n", std::string(f.name).c_str(), f.kind->describe_tolerance(f.tol).c_str(),
                 impl_names(f).c_str());
+    // Rows held to their own agreement (FamilyImpl::agree).
+    for (const FamilyImpl& i : f.impls)
+      if (i.agree)
+        std::printf("  %-10s   %s: its own, %s\n", "", std::string(i.name).c_str(),
+                    f.kind->describe_tolerance(*i.agree).c_str());
+  }
   std::printf(
       "\n"
       "  --report DIR     report folder (default ./lockstep-report)\n"

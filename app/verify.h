@@ -33,6 +33,7 @@ struct Case {
   int width = 0, height = 0;  // 0: the input's own size
   std::vector<std::string> impls;  // to compare with the reference; empty: all of the family
   Tolerance tol;                   // the family's, or the manifest's fail / failpercent
+  bool tol_given = false;          // the manifest's line set fail or failpercent (then rows' own agree is not used)
   const Judge* judge = nullptr;    // null: judged against the reference only
   RefExpect ref_expect = RefExpect::kAny;
   std::string ref_reason;  // why the reference is expected to be wrong

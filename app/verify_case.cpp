@@ -140,6 +140,8 @@ std::vector<Row> verify_case(const Case& c, const VerifyOptions& o, std::vector<
       }
     }
     const Run r = run_frame(fam, impl, c.input, opts, true);
+    // The row's own agreement (FamilyImpl::agree) unless the manifest's line sets one.
+    const Tolerance& tol = c.tol_given ? c.tol : impl.tolerance(c.tol);
     Row row;
     row.case_name = c.name;
     row.family = std::string(fam.name);
@@ -153,28 +155,28 @@ std::vector<Row> verify_case(const Case& c, const VerifyOptions& o, std::vector<
     } else {
       row.view = view(r.out, name);
       if (r_ref.ok) {
-        row.err = kind.compare(r_ref.out, r.out, c.tol);
-        row.difference = difference(r_ref.out, r.out, c.tol, name + "-heat");
+        row.err = kind.compare(r_ref.out, r.out, tol);
+        row.difference = difference(r_ref.out, r.out, tol, name + "-heat");
       }
       if (!judge) {
         row.pass = r_ref.ok && row.err.pass;
         if (!r_ref.ok) row.note = "no reference to compare with";
-        else if (!row.err.pass) row.note = "differs from reference: " + kind.describe(row.err, c.tol);
+        else if (!row.err.pass) row.note = "differs from reference: " + kind.describe(row.err, tol);
       } else {
-        const JudgeVerdict j = judge(r.out, r_ref.ok ? &r_ref.out : nullptr, c.tol);
+        const JudgeVerdict j = judge(r.out, r_ref.ok ? &r_ref.out : nullptr, tol);
         if (!j.picture.empty()) row.judged = view(j.picture, name + "-judge");
         row.pass = j.wrong == 0;
         row.note = row.pass ? "analytic: right (" + j.detail + ")" : "analytic: WRONG, " + j.detail;
         if (r_ref.ok) {
           // Where both show something, the output must agree with the reference.
           const Agreement& b = j.with_reference;
-          const long allowed = long(std::floor((1.0 - c.tol.fraction) * double(b.samples) + 1e-9));
+          const long allowed = long(std::floor((1.0 - tol.fraction) * double(b.samples) + 1e-9));
           // A reference expected wrong (cancellation moves its t, so its shading)
           // is no yardstick: then the comparison is only reported.
           const bool enforced = c.ref_expect != RefExpect::kWrong;
           if (enforced) row.pass = row.pass && b.pass;
           row.note += "; colour vs reference on " + std::to_string(b.samples) + " " + std::string(kind.sample) +
-                      " both cover: " + std::to_string(b.over) + " over " + fmt("%.4g", c.tol.abs) +
+                      " both cover: " + std::to_string(b.over) + " over " + fmt("%.4g", tol.abs) +
                       (b.pass ? "" : enforced ? " (FAIL, " + std::to_string(allowed) + " allowed)"
                                               : " (not enforced: the reference is expected wrong)");
         }

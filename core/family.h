@@ -22,6 +22,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -187,6 +188,16 @@ struct FamilyImpl {
   // family allows. `verify` and the benchmarks skip such cases, saying why; a
   // direct render throws InputError with the same reason.
   std::string (*unsupported)(const Params&) = nullptr;
+  // The row's own agreement with the reference, when the family's tolerance
+  // cannot fit it (a peer of another method, e.g. VolPack's shear-warp against
+  // ray casting): measured, stated in the row, and used instead of Family::tol
+  // by `lockstep verify` (unless the manifest's line sets fail/failpercent);
+  // properties that compare a row with the reference should hold it to
+  // tolerance() too (none does yet). Empty: Family::tol.
+  std::optional<Tolerance> agree;
+
+  // The tolerance this row is held to against the reference.
+  const Tolerance& tolerance(const Tolerance& family_tol) const { return agree ? *agree : family_tol; }
 
   // The run's output as the family's own type (family-specific code: props/).
   template <class Out>
@@ -274,6 +285,7 @@ struct TypedImpl {
   std::string_view peer = {};
   bool threaded = true;
   std::string (*unsupported)(const Params&) = nullptr;  // see FamilyImpl::unsupported
+  std::optional<Tolerance> agree = {};                   // see FamilyImpl::agree
 };
 
 template <class In>
@@ -299,6 +311,7 @@ FamilyImpl erase(const TypedImpl<In, Out>& t) {
   i.peer = t.peer;
   i.threaded = t.threaded;
   i.unsupported = t.unsupported;
+  i.agree = t.agree;
   return i;
 }
 
