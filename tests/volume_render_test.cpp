@@ -270,8 +270,12 @@ TEST(VolumeRaycast, StepForErrorPicksTheLargestStepUnderTheError) {
     const double step = ref::step_for_error(v, params({{"tf", "ramp"}, {"view", "10,30"}, {"error", std::to_string(e)}}),
                                             40, 40, &measured);
     EXPECT_NEAR(measured, preview_error(step), 1e-12) << "error " << e;
-    if (step >= 1.0 / 8) EXPECT_LE(measured, e) << "error " << e << " step " << step;
-    if (step < 4) EXPECT_GT(preview_error(2 * step), e) << "error " << e << ": step " << 2 * step << " would do";
+    if (step >= 1.0 / 8) {
+      EXPECT_LE(measured, e) << "error " << e << " step " << step;
+    }
+    if (step < 4) {
+      EXPECT_GT(preview_error(2 * step), e) << "error " << e << ": step " << 2 * step << " would do";
+    }
     std::printf("error %g: step %g (measured %.3g)\n", e, step, measured);
   }
 }
