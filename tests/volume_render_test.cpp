@@ -32,6 +32,7 @@
 #include "core/transfer_function.h"
 #include "core/volume_io.h"
 #include "core/volume_render.h"
+#include "optimized/volume_raycast.h"
 #include "reference/volume_render.h"
 
 namespace lockstep {
@@ -278,6 +279,38 @@ TEST(VolumeRaycast, StepForErrorPicksTheLargestStepUnderTheError) {
     }
     std::printf("error %g: step %g (measured %.3g)\n", e, step, measured);
   }
+}
+
+TEST(VolumeSimd, MacroCellsKeptWithTheVolumeFollowTheTransferFunction) {
+  // The simd row keeps its macro cells and their transparency with the volume
+  // (Volume::derived): a second frame builds nothing, another transfer function
+  // gets its own transparency, and a copy changed in place gets its own cells.
+  FieldSpec f = field_defaults(FieldKind::kSphere);
+  f.n = 40;
+  const Volume v = sample_field(f, "sphere");
+  const fs::path shell = fs::temp_directory_path() / "lockstep-shell.tf";
+  std::ofstream(shell) << "0.4 1 1 1 0\n0.5 1 0.5 0.2 0.6\n0.6 1 1 1 0\n";
+  // Opaque only in the cube's corners (|p| >= 1.2), cells the shell's
+  // transparency would skip.
+  const fs::path core = fs::temp_directory_path() / "lockstep-corners.tf";
+  std::ofstream(core) << "1.1 1 1 1 0\n1.2 0.2 0.4 1 0.5\n2 0.2 0.4 1 0.5\n";
+  auto check = [&](const Volume& vol, const fs::path& tf, bool expect_build) {
+    const FrameOptions o = frame(40, 40, params({{"tf", tf.string()}, {"view", "30,20"}}));
+    FrameStats st;
+    const Image fast = opt::simd::volume_raycast(vol, o, &st);
+    const Image slow = ref::volume_raycast(vol, o, nullptr);
+    double worst = 0;
+    for (size_t i = 0; i < fast.rgba.size(); ++i) worst = std::max(worst, std::abs(double(fast.rgba[i]) - slow.rgba[i]));
+    EXPECT_LT(worst, 6e-4) << tf;
+    if (!expect_build) EXPECT_EQ(st.build_seconds, 0.0) << tf << ": built again";
+  };
+  check(v, shell, true);
+  check(v, shell, false);
+  check(v, core, true);  // another transparency: the shell's would skip the corners
+  check(v, shell, false);
+  Volume w = v;  // a copy, then changed: its own cells
+  for (float& x : w.data) x = 1.0f - x;
+  check(w, core, true);
 }
 
 // ---------------------------------------------------------------- the isosurface
