@@ -70,6 +70,7 @@
 #include "core/mesh.h"
 #include "core/volume.h"
 #include "pairs/mesh_kind.h"
+#include "props/gen/case_text.h"
 #include "props/gen/numbers.h"
 #include "props/marching_cubes/oracle.h"
 #include "props/property.h"
@@ -85,53 +86,28 @@ struct McCase {
   double iso = 0.5;
 };
 
-std::string hex(double x) {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%a", x);
-  return buf;
-}
+using gen::hex;
 
 std::string write_case(const McCase& c) {
   const Volume& v = c.volume;
   std::ostringstream s;
   s << "mc_case " << v.nx << " " << v.ny << " " << v.nz << " iso " << hex(c.iso) << "\n";
-  s << "spacing " << hex(v.spacing.x) << " " << hex(v.spacing.y) << " " << hex(v.spacing.z) << "\n";
-  s << "origin " << hex(v.origin.x) << " " << hex(v.origin.y) << " " << hex(v.origin.z) << "\n";
-  for (int k = 0; k < v.nz; ++k)
-    for (int j = 0; j < v.ny; ++j) {
-      for (int i = 0; i < v.nx; ++i) s << (i ? " " : "") << hex(v.at(i, j, k));
-      s << "\n";
-    }
+  gen::write_geometry(s, v);
+  gen::write_samples(s, v);
   return s.str();
 }
 
 McCase read_case(const std::string& text, const std::string& file) {
-  // '#' comment lines (a counterexample file's own) are not part of the case.
-  std::string body;
-  {
-    std::istringstream lines(text);
-    for (std::string line; std::getline(lines, line);)
-      if (line.empty() || line[0] != '#') body += line + "\n";
-  }
-  std::istringstream s(body);
+  std::istringstream s(gen::without_comments(text));
   std::string word, iso;
   McCase c;
   Volume& v = c.volume;
-  auto num = [&](const std::string& w) { return std::strtod(w.c_str(), nullptr); };
-  std::string sx, sy, sz, ox, oy, oz;
   if (!(s >> word >> v.nx >> v.ny >> v.nz >> iso >> iso) || word != "mc_case" || v.nx < 2 || v.ny < 2 || v.nz < 2 ||
       v.nx > 64 || v.ny > 64 || v.nz > 64)
     throw InputError(file, 0, "expected 'mc_case NX NY NZ iso ISO'");
-  c.iso = num(iso);
-  if (!(s >> word >> sx >> sy >> sz) || word != "spacing") throw InputError(file, 0, "expected 'spacing X Y Z'");
-  if (!(s >> word >> ox >> oy >> oz) || word != "origin") throw InputError(file, 0, "expected 'origin X Y Z'");
-  v.spacing = {num(sx), num(sy), num(sz)};
-  v.origin = {num(ox), num(oy), num(oz)};
-  v.data.resize(size_t(v.nx) * size_t(v.ny) * size_t(v.nz));
-  for (float& x : v.data) {
-    if (!(s >> word)) throw InputError(file, 0, "too few samples");
-    x = float(num(word));
-  }
+  c.iso = std::strtod(iso.c_str(), nullptr);
+  gen::read_geometry(s, v, file);
+  gen::read_samples(s, v, file);
   v.source = file;
   return c;
 }

@@ -55,6 +55,7 @@
 #include "core/transfer_function.h"
 #include "core/volume.h"
 #include "core/volume_io.h"
+#include "props/gen/case_text.h"
 #include "props/gen/numbers.h"
 #include "props/property.h"
 
@@ -83,11 +84,7 @@ struct VrCase {
   double az = 30, el = 20, roll = 0, step = 0.5, eps = 1.0 / 256, iso = 0.5;
 };
 
-std::string hex(double x) {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%a", x);
-  return buf;
-}
+using gen::hex;
 
 std::string tf_text(const std::vector<ControlPoint>& tf) {
   std::string s;
@@ -100,27 +97,16 @@ std::string write_case(const VrCase& c) {
   const Volume& v = c.volume;
   std::ostringstream s;
   s << "vr_case " << v.nx << " " << v.ny << " " << v.nz << " size " << c.width << " " << c.height << "\n";
-  s << "spacing " << hex(v.spacing.x) << " " << hex(v.spacing.y) << " " << hex(v.spacing.z) << "\n";
-  s << "origin " << hex(v.origin.x) << " " << hex(v.origin.y) << " " << hex(v.origin.z) << "\n";
+  gen::write_geometry(s, v);
   s << "view " << hex(c.az) << " " << hex(c.el) << " " << hex(c.roll) << " step " << hex(c.step) << " eps "
     << hex(c.eps) << " iso " << hex(c.iso) << "\n";
   s << "tf " << c.tf.size() << "\n" << tf_text(c.tf);
-  for (int k = 0; k < v.nz; ++k)
-    for (int j = 0; j < v.ny; ++j) {
-      for (int i = 0; i < v.nx; ++i) s << (i ? " " : "") << hex(v.at(i, j, k));
-      s << "\n";
-    }
+  gen::write_samples(s, v);
   return s.str();
 }
 
 VrCase read_case(const std::string& text, const std::string& file) {
-  std::string body;
-  {
-    std::istringstream lines(text);
-    for (std::string line; std::getline(lines, line);)
-      if (line.empty() || line[0] != '#') body += line + "\n";
-  }
-  std::istringstream s(body);
+  std::istringstream s(gen::without_comments(text));
   auto num = [&](const std::string& w) { return std::strtod(w.c_str(), nullptr); };
   auto expect = [&](const char* what) {
     std::string w;
@@ -139,10 +125,7 @@ VrCase read_case(const std::string& text, const std::string& file) {
     throw InputError(file, 0, "volume sizes must lie in 2..256");
   expect("size");
   c.width = int(next()), c.height = int(next());
-  expect("spacing");
-  v.spacing.x = next(), v.spacing.y = next(), v.spacing.z = next();
-  expect("origin");
-  v.origin.x = next(), v.origin.y = next(), v.origin.z = next();
+  gen::read_geometry(s, v, file);
   expect("view");
   c.az = next(), c.el = next(), c.roll = next();
   expect("step");
@@ -159,8 +142,7 @@ VrCase read_case(const std::string& text, const std::string& file) {
     p.r = float(next()), p.g = float(next()), p.b = float(next()), p.a = float(next());
     c.tf.push_back(p);
   }
-  v.data.resize(size_t(v.nx) * size_t(v.ny) * size_t(v.nz));
-  for (float& x : v.data) x = float(next());
+  gen::read_samples(s, v, file);
   v.source = file;
   return c;
 }
