@@ -16,7 +16,7 @@ namespace {
 void print_help() {
   std::printf(
       "usage: lockstep verify [CORPUS_DIR] [--report DIR | --no-report] [--impl NAME]...\n"
-      "                       [--filter SUBSTR] [--threads N] [--regolden]\n"
+      "                       [--filter SUBSTR] [--threads N] [--regolden] [--junit FILE] [--json FILE]\n"
       "\n"
       "Runs every case of CORPUS_DIR/manifest.txt (default: %s), whatever its family:\n"
       "  * runs it with the family's reference and checks that against golden/<case>\n"
@@ -49,6 +49,9 @@ void print_help() {
       "                   comma list; a name of any family)\n"
       "  --filter SUBSTR  only cases whose name (or family) contains SUBSTR\n"
       "  --threads N      worker threads for the optimized implementations (default: all cores)\n"
+      "  --junit FILE     also write the rows as JUnit XML (a suite per family, a testcase per\n"
+      "                   case and implementation; CI dashboards read it)\n"
+      "  --json FILE      also write the rows as JSON (schema lockstep-verify/1, app/verify_export.cpp)\n"
       "  --regolden       render the golden images (reference only) instead of verifying;\n"
       "                   goldens never come from optimized code (scripts/regolden.sh)\n"
       "\n"
@@ -65,7 +68,7 @@ void check_impl_name(const std::string& n) {
 }  // namespace
 
 int verify_main(Args args) {
-  std::string corpus = LOCKSTEP_CORPUS_DIR, report = "lockstep-report", filter, value;
+  std::string corpus = LOCKSTEP_CORPUS_DIR, report = "lockstep-report", filter, value, junit, json;
   bool corpus_given = false;
   VerifyOptions o;
   for (size_t i = 0; i < args.size(); ++i) {
@@ -90,6 +93,12 @@ int verify_main(Args args) {
       filter = value;
     } else if (take_option(args, i, "--threads", value)) {
       o.threads = int(parse_long("--threads", value, 1, 4096));
+    } else if (take_option(args, i, "--junit", value)) {
+      if (value.empty()) throw UsageError("--junit needs a file");
+      junit = value;
+    } else if (take_option(args, i, "--json", value)) {
+      if (value.empty()) throw UsageError("--json needs a file");
+      json = value;
     } else if (a == "--regolden") {
       o.regolden = true;
     } else if (is_option(a)) {
@@ -146,6 +155,8 @@ int verify_main(Args args) {
   const bool all_pass = failed == 0;
   std::printf("%zu cases, %zu rows: %s\n", cases.size(), rows.size(),
               all_pass ? "all PASS" : (std::to_string(failed) + " FAIL").c_str());
+  if (!json.empty()) write_json(json, cases, rows);
+  if (!junit.empty()) write_junit(junit, rows);
   if (!o.no_report) {
     write_report(o.report_dir, cases, rows, verdicts, all_pass, o.threads);
     std::fprintf(stderr, "lockstep verify: report in %s\n", (o.report_dir / "report.md").string().c_str());

@@ -77,4 +77,9 @@ void write_report(const std::filesystem::path& dir, const std::vector<Case>& cas
                   const std::vector<std::string>& verdicts, bool all_pass, int threads);
 std::string fmt(const char* f, double v);
 
+// app/verify_export.cpp: the rows for CI dashboards (formats there); each file
+// written whole or not at all (InputError naming it).
+void write_json(const std::filesystem::path& path, const std::vector<Case>& cases, const std::vector<Row>& rows);
+void write_junit(const std::filesystem::path& path, const std::vector<Row>& rows);
+
 }  // namespace lockstep::cli
