@@ -16,7 +16,8 @@ namespace {
 void print_help() {
   std::printf(
       "usage: lockstep verify [CORPUS_DIR] [--report DIR | --no-report] [--impl NAME]...\n"
-      "                       [--filter SUBSTR] [--threads N] [--regolden] [--junit FILE] [--json FILE]\n"
+      "                       [--filter SUBSTR] [--shard K/N] [--threads N] [--regolden] [--junit FILE]\n"
+      "                       [--json FILE]\n"
       "\n"
       "Runs every case of CORPUS_DIR/manifest.txt (default: %s), whatever its family:\n"
       "  * runs it with the family's reference and checks that against golden/<case>\n"
@@ -48,6 +49,10 @@ void print_help() {
       "  --impl NAME      only these implementations besides the reference (repeat, or a\n"
       "                   comma list; a name of any family)\n"
       "  --filter SUBSTR  only cases whose name (or family) contains SUBSTR\n"
+      "  --shard K/N      only shard K of N (K = 0 .. N-1): the cases split into N parts of about\n"
+      "                   equal measured cost (CORPUS_DIR/costs.txt), the same split on every\n"
+      "                   machine; without it, GoogleTest's GTEST_TOTAL_SHARDS and GTEST_SHARD_INDEX\n"
+      "                   (and GTEST_SHARD_STATUS_FILE is touched), as CI runners set them\n"
       "  --threads N      worker threads for the optimized implementations (default: all cores)\n"
       "  --junit FILE     also write the rows as JUnit XML (a suite per family, a testcase per\n"
       "                   case and implementation; CI dashboards read it)\n"
@@ -69,6 +74,8 @@ void check_impl_name(const std::string& n) {
 
 int verify_main(Args args) {
   std::string corpus = LOCKSTEP_CORPUS_DIR, report = "lockstep-report", filter, value, junit, json;
+  int shard = 0, shards = 1;
+  bool shard_given = false;
   bool corpus_given = false;
   VerifyOptions o;
   for (size_t i = 0; i < args.size(); ++i) {
@@ -93,6 +100,12 @@ int verify_main(Args args) {
       filter = value;
     } else if (take_option(args, i, "--threads", value)) {
       o.threads = int(parse_long("--threads", value, 1, 4096));
+    } else if (take_option(args, i, "--shard", value)) {
+      const size_t slash = value.find('/');
+      if (slash == std::string::npos) throw UsageError("--shard is K/N (K = 0 .. N-1), got '" + value + "'");
+      shards = int(parse_long("--shard's N", value.substr(slash + 1), 1, 100000));
+      shard = int(parse_long("--shard's K", value.substr(0, slash), 0, shards - 1));
+      shard_given = true;
     } else if (take_option(args, i, "--junit", value)) {
       if (value.empty()) throw UsageError("--junit needs a file");
       junit = value;
@@ -118,6 +131,11 @@ int verify_main(Args args) {
     return c.name.find(filter) == std::string::npos && std::string(c.family->name).find(filter) == std::string::npos;
   });
   if (cases.empty()) throw UsageError("no case name contains '" + filter + "'");
+  if (!shard_given) shard_from_environment(shard, shards);
+  if (shards > 1) {
+    cases = shard_of(std::move(cases), read_costs(corpus_dir), shard, shards);
+    std::fprintf(stderr, "lockstep verify: shard %d of %d (0-based): %zu cases\n", shard, shards, cases.size());
+  }
   load_inputs(cases);
   o.golden_dir = corpus_dir / "golden";
   o.report_dir = report;

@@ -82,4 +82,18 @@ std::string fmt(const char* f, double v);
 void write_json(const std::filesystem::path& path, const std::vector<Case>& cases, const std::vector<Row>& rows);
 void write_junit(const std::filesystem::path& path, const std::vector<Row>& rows);
 
+// app/verify_shard.cpp: splitting the cases over machines.
+// CORPUS/costs.txt: 'case seconds' per line ('#' comments), the measured cost of
+// a case (all its rows); a case not listed costs the median of those listed (1
+// when none is). Throws InputError naming file and line on a malformed line.
+std::vector<std::pair<std::string, double>> read_costs(const std::filesystem::path& corpus_dir);
+// Shard k of n: cases assigned greedily, costliest first (ties by name), each to
+// the shard with the least cost so far (ties: the lowest index) -- the same on
+// every machine; returns shard k's cases in manifest order.
+std::vector<Case> shard_of(std::vector<Case> cases, const std::vector<std::pair<std::string, double>>& costs,
+                           int k, int n);
+// GTEST_TOTAL_SHARDS / GTEST_SHARD_INDEX when both are set (UsageError when
+// malformed), and GTEST_SHARD_STATUS_FILE touched to say sharding is understood.
+void shard_from_environment(int& k, int& n);
+
 }  // namespace lockstep::cli
