@@ -13,9 +13,12 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string_view>
 #include <string>
 #include <vector>
+
+#include <rapidcheck.h>
 
 #include "core/family.h"
 #include "props/verdict.h"
@@ -55,6 +58,23 @@ struct Property {
   std::string id() const { return check + "." + generator + "." + pair + "." + impl; }
   std::string test_name() const { return suite + "." + name; }
 };
+
+// Fills p.run and p.replay for a family whose cases are values of type Case
+// with a text form: run draws a case from gen and judges it (its counterexample
+// text is write(case)); replay judges read(text, file).
+template <class Case, class Write, class Read>
+void set_case_runner(Property& p, rc::Gen<Case> gen, std::function<Verdict(const Case&)> judge, Write write,
+                     Read read) {
+  const auto g = std::make_shared<const rc::Gen<Case>>(std::move(gen));
+  p.run = [g, judge, write] {
+    auto c = std::make_shared<const Case>(**g);
+    Ran r;
+    r.verdict = judge(*c);
+    r.text = [c, write](long) { return write(*c); };
+    return r;
+  };
+  p.replay = [judge, read](const std::string& text, const std::string& file) { return judge(read(text, file)); };
+}
 
 // A plain test of the family that is not a random property (e.g. an exhaustive sweep).
 struct FixedTest {

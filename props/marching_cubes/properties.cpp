@@ -356,15 +356,7 @@ Property property(const Family& family, const FamilyImpl& impl, std::string suit
   p.impl = std::string(impl.name);
   p.unit = "meshes";
   p.units = "volumes";
-  const auto g = std::make_shared<const rc::Gen<McCase>>(std::move(gen));
-  p.run = [g, judge] {
-    auto c = std::make_shared<const McCase>(**g);
-    Ran r;
-    r.verdict = judge(*c);
-    r.text = [c](long) { return write_case(*c); };
-    return r;
-  };
-  p.replay = [judge](const std::string& text, const std::string& file) { return judge(read_case(text, file)); };
+  set_case_runner<McCase>(p, std::move(gen), std::move(judge), write_case, read_case);
   return p;
 }
 

@@ -419,15 +419,7 @@ Property property(const Family& family, const FamilyImpl& impl, std::string suit
   p.bound = bound;
   p.unit = "largest channel difference";
   p.units = "pixels";
-  const auto g = std::make_shared<const rc::Gen<VrCase>>(std::move(gen));
-  p.run = [g, judge] {
-    auto c = std::make_shared<const VrCase>(**g);
-    Ran r;
-    r.verdict = judge(*c);
-    r.text = [c](long) { return write_case(*c); };
-    return r;
-  };
-  p.replay = [judge](const std::string& text, const std::string& file) { return judge(read_case(text, file)); };
+  set_case_runner<VrCase>(p, std::move(gen), std::move(judge), write_case, read_case);
   return p;
 }
 
