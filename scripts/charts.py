@@ -58,13 +58,10 @@ def per_ray_ns(b):
     return 1e9 / b["items_per_second"] if b.get("items_per_second") else None
 
 
-def main():
-    bench_json, out = sys.argv[1], sys.argv[-1]
-    acc_csv = sys.argv[2] if len(sys.argv) > 3 else None
-    os.makedirs(out, exist_ok=True)
-    ctx, rows = load(bench_json)
-
-    # ---- frames: scene/impl/threads
+def ray_cast_frames(rows):
+    """{(scene, impl, threads): benchmark} of the ray_cast frames, the
+    implementations in run order, the scenes by auto's size measure, the most
+    threads, auto's (crossover, triangle weight)."""
     frames = {}
     for name, b in rows:
         p = name.split("/")
@@ -80,10 +77,15 @@ def main():
         if i not in impls:
             impls.append(i)
     threads_all = max([t for _, _, t in frames] or [1])
+    return frames, impls, scenes, threads_all, (x, weight)
 
-    print("| scene | prims | " + " | ".join(f"{i} 1T (Mrays/s)" for i in impls) +
-          f" | simd {threads_all}T | embree {threads_all}T | auto {threads_all}T | simd/ref 1T | embree/ref 1T | auto vs best 1T | auto vs best {threads_all}T | embree BVH build ms 1T |")
-    print("|---" * (2 + len(impls) + 8) + "|")
+
+def frames_table(rows):
+    """The SPD frames: Mrays/s per implementation and thread count."""
+    frames, impls, scenes, threads_all, _ = ray_cast_frames(rows)
+    out = ["| scene | prims | " + " | ".join(f"{i} 1T (Mrays/s)" for i in impls) +
+           f" | simd {threads_all}T | embree {threads_all}T | auto {threads_all}T | simd/ref 1T | embree/ref 1T | auto vs best 1T | auto vs best {threads_all}T | embree BVH build ms 1T |",
+           "|---" * (2 + len(impls) + 8) + "|"]
     for s in scenes:
         get = lambda i, t: frames.get((s, i, t), {}).get("items_per_second")
         cells = [f"{get(i, 1) / 1e6:.2f}" if get(i, 1) else "-" for i in impls]
@@ -99,8 +101,13 @@ def main():
                 return "-"
             return f"{100 * (best - auto) / best:.1f}% slower" if auto < best else "fastest"
         prims = int(frames[next(k for k in frames if k[0] == s)]["prims"])
-        print(f"| {s} | {prims} | " + " | ".join(cells + cells_all) + f" | {ratio('simd')} | {ratio('embree')} | {autovs(1)} | {autovs(threads_all)} | {build_ms} |")
+        out.append(f"| {s} | {prims} | " + " | ".join(cells + cells_all) + f" | {ratio('simd')} | {ratio('embree')} | {autovs(1)} | {autovs(threads_all)} | {build_ms} |")
+    return "\n".join(out)
 
+
+def scaling_chart(rows, out):
+    frames, impls, scenes, _, (x, weight) = ray_cast_frames(rows)
+    first = lambda s: frames[next(k for k in frames if k[0] == s)]
     with open(os.path.join(out, "scaling.dat"), "w") as f:
         f.write("# size " + " ".join(impls) + "  (size = spheres + %d x triangles; ns per primary ray, 1 thread)\n" % weight)
         for s in scenes:
@@ -122,32 +129,51 @@ plot {plot}
 """
     subprocess.run(["gnuplot"], input=gp, text=True, check=True)
 
-    # ---- speed vs accuracy
-    if acc_csv and os.path.exists(acc_csv):
-        kern = {}
-        for name, b in rows:
-            p = name.split("/")
-            if p[0] == "kernel":
-                kern[(p[1], p[2])] = per_ray_ns(b)
-            if p[0] == "throughput":
-                kern[("throughput_" + p[1], p[2])] = per_ray_ns(b)
-        print("\n| in a scene (4096 rays x 256 primitives, trace, 1 thread) | impl | ns per ray-primitive test | tests/s |")
-        print("|---|---|---|---|")
-        for (k, impl), ns in kern.items():
-            if k.startswith("throughput_"):
-                print(f"| {k[len('throughput_'):]} | {impl} | {ns:.3f} | {1 / ns:.2f} G |")
-        acc = list(csv.DictReader(open(acc_csv)))
-        print("\n| kernel | impl | ns per test | max rel. error | p99 rel. error | cases |")
-        print("|---|---|---|---|---|---|")
-        with open(os.path.join(out, "accuracy.dat"), "w") as f:
-            f.write("# ns max p99 label\n")
-            for a in acc:
-                ns = kern.get((a["kernel"], a["impl"]))
-                print(f"| {a['kernel']} | {a['impl']} | {ns:.2f} | {float(a['max']):.3g} | {float(a['p99']):.3g} | {a['cases']} |"
-                      if ns else f"| {a['kernel']} | {a['impl']} | - | {float(a['max']):.3g} | {float(a['p99']):.3g} | {a['cases']} |")
-                if ns:
-                    f.write(f"{ns} {max(float(a['max']), 1e-18)} {max(float(a['p99']), 1e-18)} \"{a['kernel']}/{a['impl']}\"\n")
-        gp = f"""set terminal pngcairo size 900,600 font ',11' noenhanced
+
+def kernels(rows):
+    """{(kernel, impl): ns per test}; the in-scene throughput rows keyed
+    ("throughput_" + primitive, impl)."""
+    kern = {}
+    for name, b in rows:
+        p = name.split("/")
+        if p[0] == "kernel":
+            kern[(p[1], p[2])] = per_ray_ns(b)
+        if p[0] == "throughput":
+            kern[("throughput_" + p[1], p[2])] = per_ray_ns(b)
+    return kern
+
+
+def throughput_table(rows):
+    out = ["| in a scene (4096 rays x 256 primitives, trace, 1 thread) | impl | ns per ray-primitive test | tests/s |",
+           "|---|---|---|---|"]
+    for (k, impl), ns in kernels(rows).items():
+        if k.startswith("throughput_"):
+            out.append(f"| {k[len('throughput_'):]} | {impl} | {ns:.3f} | {1 / ns:.2f} G |")
+    return "\n".join(out)
+
+
+def accuracy_table(rows, acc_csv):
+    """Per kernel entry point: ns per test and the error of t against the
+    oracle (max, p99) with the bound the properties enforce."""
+    kern = kernels(rows)
+    out = ["| kernel | impl | ns per test | bound (enforced) | max rel. error | p99 rel. error | cases |",
+           "|---|---|---|---|---|---|---|"]
+    for a in csv.DictReader(open(acc_csv)):
+        ns = kern.get((a["kernel"], a["impl"]))
+        out.append(f"| {a['kernel']} | {a['impl']} | {f'{ns:.2f}' if ns else '-'} | {a.get('bound') or '-'} | "
+                   f"{float(a['max']):.3g} | {float(a['p99']):.3g} | {a['cases']} |")
+    return "\n".join(out)
+
+
+def accuracy_chart(rows, acc_csv, out):
+    kern = kernels(rows)
+    with open(os.path.join(out, "accuracy.dat"), "w") as f:
+        f.write("# ns max p99 label\n")
+        for a in csv.DictReader(open(acc_csv)):
+            ns = kern.get((a["kernel"], a["impl"]))
+            if ns:
+                f.write(f"{ns} {max(float(a['max']), 1e-18)} {max(float(a['p99']), 1e-18)} \"{a['kernel']}/{a['impl']}\"\n")
+    gp = f"""set terminal pngcairo size 900,600 font ',11' noenhanced
 set output '{out}/accuracy.png'
 set logscale xy
 set grid
@@ -159,7 +185,20 @@ plot '{out}/accuracy.dat' using 1:2 with points pt 7 ps 1.5 title 'max error', \
      '' using 1:3 with points pt 5 ps 1.2 title 'p99 error', \\
      '' using 1:2:4 with labels left offset 1,0.6 font ',9' notitle
 """
-        subprocess.run(["gnuplot"], input=gp, text=True, check=True)
+    subprocess.run(["gnuplot"], input=gp, text=True, check=True)
+
+
+def main():
+    bench_json, out = sys.argv[1], sys.argv[-1]
+    acc_csv = sys.argv[2] if len(sys.argv) > 3 else None
+    os.makedirs(out, exist_ok=True)
+    ctx, rows = load(bench_json)
+    print(frames_table(rows))
+    scaling_chart(rows, out)
+    if acc_csv and os.path.exists(acc_csv):
+        print("\n" + throughput_table(rows))
+        print("\n" + accuracy_table(rows, acc_csv))
+        accuracy_chart(rows, acc_csv, out)
 
 
 # Error of each compositing path against the exact (Gmpq) oracle, absolute, in
@@ -172,26 +211,30 @@ COMPOSITE_ERROR = {
 }
 
 
-def composite(rows, out):
-    """The compositing family: Mpix/s and GB/s per stack, implementation and thread
-    count, memcpy of the same bytes as the yardstick; speed against error."""
+def composite_frames(rows):
+    """{(stack, impl, threads): benchmark} of the compositing frames, the
+    stacks in run order, the thread counts."""
     fr = {}
     for name, b in rows:
         p = name.split("/")
         if p[0] != "frame" or p[1] != "composite":
             continue
         fr[(p[2], p[3], int(p[4].split(":")[1]))] = b
-    if not fr:
-        return
     stacks = []
     for s, _, _ in fr:
         if s not in stacks:
             stacks.append(s)
-    threads = sorted({t for _, _, t in fr})
-    print("\n| stack (4096 x 4096) | " + " | ".join(f"{i} {t}T Mpix/s (GB/s)" for t in threads for i in ("reference", "simd", "oiio") if (t == 1 or i != "reference")) +
-          " | memcpy 2T GB/s | simd / memcpy 2T | simd / oiio 2T | simd first run 2T ms |")
-    ncol = 1 + sum(1 for t in threads for i in ("reference", "simd", "oiio") if (t == 1 or i != "reference")) + 4
-    print("|---" * ncol + "|")
+    return fr, stacks, sorted({t for _, _, t in fr})
+
+
+def composite_table(rows):
+    """Mpix/s and GB/s per stack, implementation and thread count, memcpy of the
+    same bytes as the yardstick."""
+    fr, stacks, threads = composite_frames(rows)
+    cols = [(i, t) for t in threads for i in ("reference", "simd", "oiio") if (t == 1 or i != "reference")]
+    out = ["| stack (4096 x 4096) | " + " | ".join(f"{i} {t}T Mpix/s (GB/s)" for i, t in cols) +
+           " | memcpy 2T GB/s | simd / memcpy 2T | simd / oiio 2T | simd first run 2T ms |",
+           "|---" * (1 + len(cols) + 4) + "|"]
     for s in stacks:
         def cell(i, t):
             b = fr.get((s, i, t))
@@ -199,14 +242,22 @@ def composite(rows, out):
                 return "-"
             gb = f" ({b['bytes_per_second'] / 1e9:.1f})" if "bytes_per_second" in b else ""
             return f"{b['items_per_second'] / 1e6:.1f}{gb}"
-        cells = [cell(i, t) for t in threads for i in ("reference", "simd", "oiio") if (t == 1 or i != "reference")]
+        cells = [cell(i, t) for i, t in cols]
         tt = threads[-1]
         simd, oiio, mc = fr.get((s, "simd", tt)), fr.get((s, "oiio", tt)), fr.get((s, "memcpy", tt))
         mcs = f"{mc['bytes_per_second'] / 1e9:.1f}" if mc else "-"
         vs_mc = f"{100 * simd['bytes_per_second'] / mc['bytes_per_second']:.0f}%" if simd and mc else "-"
         vs_oiio = f"{simd['items_per_second'] / oiio['items_per_second']:.1f}x" if simd and oiio else "-"
         first = f"{simd['first_ms']:.0f}" if simd and "first_ms" in simd else "-"
-        print(f"| {s} | " + " | ".join(cells) + f" | {mcs} | {vs_mc} | {vs_oiio} | {first} |")
+        out.append(f"| {s} | " + " | ".join(cells) + f" | {mcs} | {vs_mc} | {vs_oiio} | {first} |")
+    return "\n".join(out)
+
+
+def composite(rows, out):
+    """The compositing family's chart: speed against error."""
+    fr, stacks, threads = composite_frames(rows)
+    if not fr:
+        return
     # speed against error: 2-layer stacks, the most threads
     tt = threads[-1]
     with open(os.path.join(out, "composite.dat"), "w") as f:
@@ -258,8 +309,7 @@ def stability_table(path):
         elif not r["label"].startswith("class:"):
             # rates divide by the rays of the label's class (per), else by all rays
             c["labels"][r["label"]] = (int(r["count"]), int(r["rays"]), r.get("per") or "")
-    print("\n| check | generator | pair | " + " | ".join(impls) + " |")
-    print("|---" * (3 + len(impls)) + "|")
+    out = ["| check | generator | pair | " + " | ".join(impls) + " |", "|---" * (3 + len(impls)) + "|"]
     for k in keys:
         cells = []
         for i in impls:
@@ -278,11 +328,15 @@ def stability_table(path):
                         return f"{100 * n / den:.1f}%" + (f" of {den}{of}" if per else "")
                     return f"{n} of {den}{of}"
                 cells.append(", ".join(f"{l} {share(v)}" for l, v in sorted(wrong.items(), key=lambda x: -x[1][0] / x[1][1])))
-        print(f"| {k[0]} | {k[1]} | {k[2]} | " + " | ".join(cells) + " |")
+        out.append(f"| {k[0]} | {k[1]} | {k[2]} | " + " | ".join(cells) + " |")
+    return "\n".join(out)
 
 
 if __name__ == "__main__":
     main()
-    composite(load(sys.argv[1])[1], sys.argv[-1])
+    rows = load(sys.argv[1])[1]
+    if composite_frames(rows)[0]:
+        print("\n" + composite_table(rows))
+    composite(rows, sys.argv[-1])
     if os.environ.get("LOCKSTEP_STABILITY_CSV") and os.path.exists(os.environ["LOCKSTEP_STABILITY_CSV"]):
-        stability_table(os.environ["LOCKSTEP_STABILITY_CSV"])
+        print("\n" + stability_table(os.environ["LOCKSTEP_STABILITY_CSV"]))

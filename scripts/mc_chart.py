@@ -17,8 +17,7 @@ import subprocess
 import sys
 
 
-def main():
-    csv, out = sys.argv[1], sys.argv[2]
+def load(csv):
     rows = []
     for line in open(csv):
         line = line.strip()
@@ -26,14 +25,24 @@ def main():
             f = line.split(",")
             rows.append(dict(field=f[0], n=int(f[1]), h=float(f[2]), impl=f[3], ms=float(f[5]), tris=int(f[6]),
                              haus=float(f[9]), c=float(f[10])))
-    print("| field | n | h | triangles | reference ms | simd ms | Hausdorff | c |")
-    print("|---|---:|---:|---:|---:|---:|---:|---:|")
+    return rows
+
+
+def table(rows):
+    out = ["| field | n | h | triangles | reference ms | simd ms | Hausdorff | c |", "|---|---:|---:|---:|---:|---:|---:|---:|"]
     keys = sorted({(r["field"], r["n"]) for r in rows})
     for field, n in keys:
         by = {r["impl"]: r for r in rows if r["field"] == field and r["n"] == n}
         ref, simd = by["reference"], by.get("simd", by["reference"])
-        print(f"| {field} | {n} | {ref['h']:.4f} | {ref['tris']} | {ref['ms']:.2f} | {simd['ms']:.2f} | "
-              f"{ref['haus']:.2e} | {ref['c']:.3f} |")
+        out.append(f"| {field} | {n} | {ref['h']:.4f} | {ref['tris']} | {ref['ms']:.2f} | {simd['ms']:.2f} | "
+                   f"{ref['haus']:.2e} | {ref['c']:.3f} |")
+    return "\n".join(out)
+
+
+def main():
+    csv, out = sys.argv[1], sys.argv[2]
+    rows = load(csv)
+    print(table(rows))
     dat = os.path.join(out, "mc_accuracy.dat")
     series = sorted({(r["field"], r["impl"]) for r in rows})
     with open(dat, "w") as f:

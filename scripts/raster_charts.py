@@ -44,15 +44,21 @@ def gnuplot(script):
     subprocess.run(["gnuplot"], input=script, text=True, check=True)
 
 
-def tessellation(sec, out):
+def tessellation_table(sec):
     fields, rows, title = sec
-    print("\n### Tessellation: z-buffer (Phong per sample) against ray casting\n")
-    print("| scene | tess_error (px) | sphere triangles | ms/frame | mean error | pixels over 1/255 |")
-    print("|---|---:|---:|---:|---:|---:|")
-    data = {}
+    out = ["| scene | tess_error (px) | sphere triangles | ms/frame | mean error | pixels over 1/255 |",
+           "|---|---:|---:|---:|---:|---:|"]
     for r in rows:
         scene, e, tris, ms, mean, pct = r[0], r[1], int(r[2]), float(r[3]), float(r[4]), float(r[5])
-        print(f"| {scene} | {e} | {tris} | {ms:.1f} | {mean:.4f} | {pct:.2f}% |")
+        out.append(f"| {scene} | {e} | {tris} | {ms:.1f} | {mean:.4f} | {pct:.2f}% |")
+    return "\n".join(out)
+
+
+def tessellation(sec, out):
+    fields, rows, title = sec
+    data = {}
+    for r in rows:
+        scene, e, tris, ms, mean = r[0], r[1], int(r[2]), float(r[3]), float(r[4])
         data.setdefault(scene, []).append((ms, mean, e, tris))
     dat = os.path.join(out, "raster_tessellation.dat")
     with open(dat, "w") as f:
@@ -73,14 +79,18 @@ plot {plots}
 """)
 
 
+def supersampling_table(sec):
+    fields, rows, title = sec
+    out = ["| grid | spp | ms/frame | mean error | max error |", "|---|---:|---:|---:|---:|"]
+    for grid, spp, ms, mean, mx in rows:
+        out.append(f"| {grid} | {spp} | {float(ms):.2f} | {float(mean):.5f} | {float(mx):.4f} |")
+    return "\n".join(out)
+
+
 def supersampling(sec, out):
     fields, rows, title = sec
-    print("\n### Supersampling against the exact box-filtered image\n")
-    print("| grid | spp | ms/frame | mean error | max error |")
-    print("|---|---:|---:|---:|---:|")
     data = {}
     for grid, spp, ms, mean, mx in rows:
-        print(f"| {grid} | {spp} | {float(ms):.2f} | {float(mean):.5f} | {float(mx):.4f} |")
         data.setdefault(grid, []).append((spp, ms, mean, mx))
     dat = os.path.join(out, "raster_supersampling.dat")
     with open(dat, "w") as f:
@@ -103,7 +113,8 @@ unset multiplot
 """)
 
 
-def zfight(sec, out):
+def zfight_grid(sec):
+    """(formats, near planes, separations, {(format, near, sep): share wrong})"""
     fields, rows, title = sec
     fmts = []
     grid = {}
@@ -111,14 +122,20 @@ def zfight(sec, out):
         if fmt not in fmts:
             fmts.append(fmt)
         grid[(fmt, float(near), float(sep))] = float(wrong)
-    nears = sorted({k[1] for k in grid})
-    seps = sorted({k[2] for k in grid}, reverse=True)
-    print("\n### Z-fighting: share of pixels where the back plane wins (depth 10..100)\n")
-    print("| format | near | " + " | ".join(f"sep {s:g}" for s in seps) + " |")
-    print("|---|---:|" + "---:|" * len(seps))
+    return fmts, sorted({k[1] for k in grid}), sorted({k[2] for k in grid}, reverse=True), grid
+
+
+def zfight_table(sec):
+    fmts, nears, seps, grid = zfight_grid(sec)
+    out = ["| format | near | " + " | ".join(f"sep {s:g}" for s in seps) + " |", "|---|---:|" + "---:|" * len(seps)]
     for fmt in fmts:
         for n in nears:
-            print(f"| {fmt} | {n:g} | " + " | ".join(f"{100 * grid[(fmt, n, s)]:.0f}%" for s in seps) + " |")
+            out.append(f"| {fmt} | {n:g} | " + " | ".join(f"{100 * grid[(fmt, n, s)]:.0f}%" for s in seps) + " |")
+    return "\n".join(out)
+
+
+def zfight(sec, out):
+    fmts, nears, seps, grid = zfight_grid(sec)
     dat = os.path.join(out, "raster_zfight.dat")
     with open(dat, "w") as f:
         for fmt in fmts:
@@ -143,33 +160,50 @@ unset multiplot
 """)
 
 
-def gouraud(sec):
+def gouraud_table(sec):
     fields, rows, title = sec
-    print("\n### Gouraud's missed highlights (shiny sphere, against Phong)\n")
-    print("| tess_error (px) | triangles | Phong peak | Gouraud peak | max error | mean error |")
-    print("|---:|---:|---:|---:|---:|---:|")
+    out = ["| tess_error (px) | triangles | Phong peak | Gouraud peak | max error | mean error |",
+           "|---:|---:|---:|---:|---:|---:|"]
     for r in rows:
-        print("| " + " | ".join(r) + " |")
+        out.append("| " + " | ".join(r) + " |")
+    return "\n".join(out)
 
 
-def painter(sec, out):
+def painter_cases(sec):
+    """{kind: [(wrong pixel fraction, wrong pixels, reported, wrong pixels with split)]}"""
     fields, rows, title = sec
-    print("\n### The painter's failure map (random 64x64 flat scenes, against the z-buffer)\n")
-    print("| scenes | cases | drawn wrong | reported | wrong pixels (of covered): median | mean | max "
-          "| wrong pixels with split |")
-    print("|---|---:|---:|---:|---:|---:|---:|---:|")
     kinds = {}
     for r in rows:
         kinds.setdefault(r[0], []).append((float(r[2]), int(r[3]), int(r[4]), int(r[5])))
+    return kinds
+
+
+def painter_summary(sec):
+    """{kind: {cases, wrong, reported, median, mean, max, split}} (fractions of covered pixels)"""
+    out = {}
+    for kind, cs in painter_cases(sec).items():
+        fr = sorted(c[0] for c in cs)
+        out[kind] = dict(cases=len(cs), wrong=sum(1 for c in cs if c[1] > 0),
+                         reported=sum(1 for c in cs if c[1] > 0 and c[2]), median=fr[len(fr) // 2],
+                         mean=sum(fr) / len(fr), max=fr[-1], split=sum(c[3] for c in cs))
+    return out
+
+
+def painter_table(sec):
+    out = ["| scenes | cases | drawn wrong | reported | wrong pixels (of covered): median | mean | max "
+           "| wrong pixels with split |", "|---|---:|---:|---:|---:|---:|---:|---:|"]
+    for kind, p in painter_summary(sec).items():
+        out.append(f"| {kind.replace('_', ' ')} | {p['cases']} | {p['wrong']} | {p['reported']} of {p['wrong']} "
+                   f"| {100 * p['median']:.1f}% | {100 * p['mean']:.1f}% | {100 * p['max']:.1f}% | {p['split']} |")
+    return "\n".join(out)
+
+
+def painter(sec, out):
+    kinds = painter_cases(sec)
     dat = os.path.join(out, "raster_painter.dat")
     with open(dat, "w") as f:
         for kind, cs in kinds.items():
             fr = sorted(c[0] for c in cs)
-            wrong = sum(1 for c in cs if c[1] > 0)
-            rep = sum(1 for c in cs if c[1] > 0 and c[2])
-            split = sum(c[3] for c in cs)
-            print(f"| {kind.replace('_', ' ')} | {len(cs)} | {wrong} | {rep} of {wrong} | {100 * fr[len(fr) // 2]:.1f}% "
-                  f"| {100 * sum(fr) / len(fr):.1f}% | {100 * fr[-1]:.1f}% | {split} |")
             f.write(f"# {kind}\n")
             for k, v in enumerate(fr):
                 f.write(f"{100.0 * (k + 0.5) / len(fr)} {100 * v}\n")
@@ -185,7 +219,11 @@ plot {plots}
 """)
 
 
-def bench(path, out):
+def raster_frames(path):
+    """The raster frames of a Google Benchmark JSON (medians): a row per
+    (family, scene, shading, implementation, threads), the (scene, shading)
+    pairs in run order, the implementations (family, impl, threads) in table
+    order, and a lookup."""
     data = json.load(open(path))
     rows = []
     for b in data["benchmarks"]:
@@ -211,11 +249,18 @@ def bench(path, out):
     for r in rows:
         if (r["scene"], r["shading"]) not in scenes:
             scenes.append((r["scene"], r["shading"]))
+    impls = sorted({(r["fam"], r["impl"], r["threads"]) for r in rows},
+                   key=lambda k: (["zbuffer", "scanline", "painter"].index(k[0]) if k[0] in
+                                  ("zbuffer", "scanline", "painter") else 9, k[1] != "reference", k[1], k[2]))
+    return rows, scenes, impls, get
 
-    print("\n### The z-buffer at 1024^2: ms per frame (warm; cold first frame in brackets)\n")
-    print("| scene | shading | triangles (spheres tessellated) | reference 1T | simd 1T | simd 2T | llvmpipe 1T | llvmpipe 2T "
-          "| simd / ref, 1T | simd 2T vs llvmpipe 2T |")
-    print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|")
+
+def zbuffer_table(path):
+    """The z-buffer's ms per frame, warm (the cold first frame in brackets)."""
+    rows, scenes, impls, get = raster_frames(path)
+    out = ["| scene | shading | triangles (spheres tessellated) | reference 1T | simd 1T | simd 2T | llvmpipe 1T "
+           "| llvmpipe 2T | simd / ref, 1T | simd 2T vs llvmpipe 2T |",
+           "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for sc, sh in scenes:
         cells = [get("zbuffer", sc, sh, i, t) for i, t in
                  (("reference", 1), ("simd", 1), ("simd", 2), ("llvmpipe", 1), ("llvmpipe", 2))]
@@ -226,21 +271,26 @@ def bench(path, out):
         ref, s1, s2, l2 = cells[0], cells[1], cells[2], cells[4]
         sp = f"{ref['ms'] / s1['ms']:.1f}x" if ref and s1 else ""
         vs = f"{l2['ms'] / s2['ms']:.1f}x faster" if l2 and s2 else ""
-        print(f"| {sc} | {sh} | {drawn:.0f} | " + " | ".join(txt) + f" | {sp} | {vs} |")
+        out.append(f"| {sc} | {sh} | {drawn:.0f} | " + " | ".join(txt) + f" | {sp} | {vs} |")
+    return "\n".join(out)
 
-    impls = sorted({(r["fam"], r["impl"], r["threads"]) for r in rows},
-                   key=lambda k: (["zbuffer", "scanline", "painter"].index(k[0]) if k[0] in
-                                  ("zbuffer", "scanline", "painter") else 9, k[1] != "reference", k[1], k[2]))
-    print("\n### Every raster implementation at 1024^2: Mtris/s / Mpix/s (warm)\n")
-    print("| scene | shading | " + " | ".join(f"{f} {i} {t}T" for f, i, t in impls) + " |")
-    print("|---|---|" + "---:|" * len(impls))
+
+def every_impl_table(path):
+    """Every raster implementation: Mtris/s / Mpix/s, warm."""
+    rows, scenes, impls, get = raster_frames(path)
+    out = ["| scene | shading | " + " | ".join(f"{f} {i} {t}T" for f, i, t in impls) + " |",
+           "|---|---|" + "---:|" * len(impls)]
     for sc, sh in scenes:
         cells = []
         for f, i, t in impls:
             c = get(f, sc, sh, i, t)
             cells.append(f"{c['mtris']:.3g} / {c['mpix']:.0f}" if c else "")
-        print(f"| {sc} | {sh} | " + " | ".join(cells) + " |")
+        out.append(f"| {sc} | {sh} | " + " | ".join(cells) + " |")
+    return "\n".join(out)
 
+
+def bench(path, out):
+    rows, scenes, impls, get = raster_frames(path)
     dat = os.path.join(out, "raster_scaling.dat")
     series = [k for k in impls if k[0] == "zbuffer"] + [k for k in impls if k[0] != "zbuffer" and k[2] == 2]
     with open(dat, "w") as fh:
@@ -269,16 +319,29 @@ def main():
     os.makedirs(out, exist_ok=True)
     sec = sections(sys.argv[1])
     if "tessellation" in sec:
+        print("\n### Tessellation: z-buffer (Phong per sample) against ray casting\n")
+        print(tessellation_table(sec["tessellation"]))
         tessellation(sec["tessellation"], out)
     if "supersampling" in sec:
+        print("\n### Supersampling against the exact box-filtered image\n")
+        print(supersampling_table(sec["supersampling"]))
         supersampling(sec["supersampling"], out)
     if "zfight" in sec:
+        print("\n### Z-fighting: share of pixels where the back plane wins (depth 10..100)\n")
+        print(zfight_table(sec["zfight"]))
         zfight(sec["zfight"], out)
     if "gouraud" in sec:
-        gouraud(sec["gouraud"])
+        print("\n### Gouraud's missed highlights (shiny sphere, against Phong)\n")
+        print(gouraud_table(sec["gouraud"]))
     if "painter" in sec:
+        print("\n### The painter's failure map (random 64x64 flat scenes, against the z-buffer)\n")
+        print(painter_table(sec["painter"]))
         painter(sec["painter"], out)
     if len(sys.argv) == 4:
+        print("\n### The z-buffer at 1024^2: ms per frame (warm; cold first frame in brackets)\n")
+        print(zbuffer_table(sys.argv[2]))
+        print("\n### Every raster implementation at 1024^2: Mtris/s / Mpix/s (warm)\n")
+        print(every_impl_table(sys.argv[2]))
         bench(sys.argv[2], out)
 
 

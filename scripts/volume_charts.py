@@ -28,17 +28,41 @@ def gnuplot(script):
     subprocess.run(["gnuplot"], input=script, text=True, check=True)
 
 
+def step_label(step):
+    return f"1/{round(1 / step)}" if step < 1 else f"{step:g}"
+
+
+def step_table(rows):
+    """One row per (input, implementation, threads), one column per step:
+    ms per frame and mean error (volpack: its one point, with its largest error)."""
+    steps = sorted({float(r["step"]) for r in rows if r["impl"] != "volpack"}, reverse=True)
+    keys = []
+    for r in rows:
+        if (r["input"], r["impl"], r["threads"]) not in keys:
+            keys.append((r["input"], r["impl"], r["threads"]))
+    out = ["| input | row | " + " | ".join(f"step {step_label(x)}" for x in steps) + " |",
+           "|---|---|" + "---:|" * len(steps)]
+    for key in keys:
+        cells = []
+        for x in steps:
+            hit = [r for r in rows if (r["input"], r["impl"], r["threads"]) == key and float(r["step"]) == x]
+            c = ""
+            if hit:
+                r = hit[0]
+                ms = float(r["ms"])
+                c = f"{ms:.0f} ms, {float(r['mean_error']):.1e}" if ms >= 100 else f"{ms:.3g} ms, {float(r['mean_error']):.1e}"
+                if key[1] == "volpack":
+                    c += f" (max {float(r['max_error']):.2f})"
+            cells.append(c)
+        out.append(f"| {key[0]} | {key[1]} {key[2]}T | " + " | ".join(cells) + " |")
+    return "\n".join(out)
+
+
 def step(rows, out):
     inputs = []
     for r in rows:
         if r["input"] not in inputs:
             inputs.append(r["input"])
-    print("\n### Ray casting: error against the step (truth: simd at step 1/16, within 6e-4 of the reference)\n")
-    print("| input | implementation | threads | step (voxels) | ms per frame | mean error | largest error |")
-    print("|---|---|---:|---:|---:|---:|---:|")
-    for r in rows:
-        print(f"| {r['input']} | {r['impl']} | {r['threads']} | {float(r['step']):g} | {float(r['ms']):.1f} | "
-              f"{float(r['mean_error']):.2e} | {float(r['max_error']):.3f} |")
     dat = os.path.join(out, "volume_step.dat")
     panels = []
     with open(dat, "w") as f:
@@ -75,14 +99,16 @@ unset multiplot
 """)
 
 
-def cross(rows, out):
-    print("\n### Marching cubes through the z-buffer against the ray-cast isosurface\n")
-    print("| field | n | h | triangles | outline (px) | pixels covered by one only | mean depth difference "
-          "| largest |")
-    print("|---|---:|---:|---:|---:|---:|---:|---:|")
+def cross_table(rows):
+    out = ["| field | n | h | triangles | outline (px) | pixels covered by one only | mean depth difference "
+           "| largest |", "|---|---:|---:|---:|---:|---:|---:|---:|"]
     for r in rows:
-        print(f"| {r['field']} | {r['n']} | {float(r['h']):.4f} | {r['triangles']} | {r['silhouette_px']} | "
-              f"{r['mismatch_px']} | {float(r['mean_depth_diff']):.2e} | {float(r['max_depth_diff']):.3f} |")
+        out.append(f"| {r['field']} | {r['n']} | {float(r['h']):.4f} | {r['triangles']} | {r['silhouette_px']} | "
+                   f"{r['mismatch_px']} | {float(r['mean_depth_diff']):.2e} | {float(r['max_depth_diff']):.3f} |")
+    return "\n".join(out)
+
+
+def cross(rows, out):
     dat = os.path.join(out, "volume_cross.dat")
     fields = []
     for r in rows:
@@ -116,8 +142,12 @@ def main():
     s = sections(sys.argv[1])
     os.makedirs(sys.argv[2], exist_ok=True)
     if "step" in s:
+        print("\n### Ray casting: ms per frame and mean error against the step (truth: simd at step 1/16)\n")
+        print(step_table(s["step"]))
         step(s["step"], sys.argv[2])
     if "cross" in s:
+        print("\n### Marching cubes through the z-buffer against the ray-cast isosurface\n")
+        print(cross_table(s["cross"]))
         cross(s["cross"], sys.argv[2])
 
 
