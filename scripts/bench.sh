@@ -20,3 +20,6 @@ LOCKSTEP_NO_SAVE=1 LOCKSTEP_DEEP=1 LOCKSTEP_STABILITY_CSV=bench/results/stabilit
   ./build/props/lockstep_props --gtest_filter='Stability*:Watertight*:Degenerate*' >/dev/null || true
 LOCKSTEP_STABILITY_CSV=bench/results/stability.csv \
   python3 scripts/charts.py bench/results/latest.json bench/results/accuracy.csv bench/charts | tee bench/results/tables.md
+
+# The page: BENCHMARKS.md from bench/results/ (scripts/benchmarks_md.py).
+python3 scripts/benchmarks_md.py

@@ -35,3 +35,6 @@ json.dump(out, open(f"{r}/raster.json", "w"), indent=1)
 EOF
 ./build/props/lockstep_raster_study all > $R/raster_study.csv
 python3 scripts/raster_charts.py $R/raster_study.csv $R/raster.json bench/charts | tee $R/raster_tables.md
+
+# The page: BENCHMARKS.md from bench/results/ (scripts/benchmarks_md.py).
+python3 scripts/benchmarks_md.py
