@@ -95,8 +95,11 @@ class Results:
                 if k not in d:
                     raise InputError(p, f'lockstep-table/1 without "{k}"')
             for i, r in enumerate(d["rows"]):
-                if len(r) != len(d["columns"]):
-                    raise InputError(p, f"row {i + 1} has {len(r)} cells for {len(d['columns'])} columns")
+                if not isinstance(r, list) or len(r) != len(d["columns"]):
+                    raise InputError(p, f"row {i + 1} is not a list of {len(d['columns'])} cells")
+            for t in d.get("targets", []):
+                if not isinstance(t, dict) or not all(k in t for k in ("text", "measured", "met")):
+                    raise InputError(p, f'a target needs "text", "measured" and "met": {json.dumps(t)[:80]}')
             return d
         return self.read(name, load_table)
 

@@ -124,7 +124,7 @@ class Generator(unittest.TestCase):
         d = load(p)
         d["rows"][0].pop()
         save(p, d)
-        self.assert_error(r"/results/mc_bench\.json: row 1 has 7 cells for 8 columns")
+        self.assert_error(r"/results/mc_bench\.json: row 1 is not a list of 8 cells")
 
     def test_bad_target(self):
         t = load(self.targets)
