@@ -17,6 +17,18 @@ Results files that are absent leave their tables out (a clone without a
 benchmark run still gets a page); a malformed one is an error naming the file
 (exit 2, nothing written). The page is written to OUT.tmp, then renamed.
 
+bench/targets.json is a list of targets, each {"issue", "family", "text",
+"vars": {name: expression}, "value": expression, "min" and/or "max",
+"measured": a str.format template over the vars and value}: "met" when min <=
+value <= max. Expressions are Python arithmetic (comprehensions, f-strings, no
+attributes) over gb(file, benchmark, counter="ms") (a Google Benchmark median;
+"ms" is its real time), names(file, regex) (the regex's groups of the matching
+benchmark names), column(file, col) and cell(file, first_cell, col) (a
+lockstep-table/1 file), rows(csv_file, column=value...) (a CSV's rows as dicts
+of strings), painter() (raster_study.csv's painter summary) and min, max, sum,
+len, zip, sorted, float, int, abs, round, all, any. A target whose data is
+absent is stated "not measured", never met.
+
 A lockstep-table/1 file (bench/results/*.json with "schema": "lockstep-table/1")
 is rendered as a section: {"title", "command", "date", "machine", "note",
 "columns": [...], "rows": [[...]], "targets": [{"text", "measured", "met"}]};
