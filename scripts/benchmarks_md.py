@@ -533,7 +533,8 @@ for vertex (`Agreement.marching_cubes__simd`)."""
 MC_STUDY_NOTE = """`./build/props/lockstep_mc_study > bench/results/mc_study.csv && python3 scripts/mc_chart.py bench/results/mc_study.csv bench/charts`
 (`ctest -R mc_study` checks its claims up to n = 64). The sphere |p| = 0.5 and
 the torus of radii 0.5 and 0.25 sampled on [-1, 1]^3 at n samples a side, h =
-2 / (n - 1); time per extraction on one thread, and the two-sided Hausdorff
+2 / (n - 1); time per extraction on one thread (the least of three runs of
+best of 5: single measurements, noisier than the tables above), and the two-sided Hausdorff
 distance to the analytic surface; c = distance R / h^2 (R the sphere's radius,
 the torus's tube radius): the error falls as h^2 while the time grows as n^3."""
 
