@@ -1,6 +1,7 @@
 // lockstep pairs: the ray-tracing family's rows (see pairs/ray_trace.h).
 #include "pairs/ray_trace.h"
 
+#include <limits>
 #include <string>
 
 #include "core/output_image.h"
@@ -14,14 +15,16 @@ namespace lockstep {
 namespace {
 
 // Agreement of a frame with the reference's: a pixel agrees within 1/255 per
-// channel, as in ray casting; the share of pixels that must is looser, because
-// a ray tree can diverge where one implementation's decision sits within its
-// rounding of the other's (a grazing hit, a shadow ray that grazes an
-// occluder, total internal reflection at the critical angle) and then a
-// whole subtree differs. Measured on the corpus cases (BENCHMARKS.md is not
-// ours to edit; the commit message has the numbers).
+// channel, as in ray casting, on 99.9% of the pixels. A pixel whose ray tree
+// diverges (a decision within one implementation's rounding of the other's:
+// a shadow ray grazing an occluder at a hard shadow's edge, a light grazing
+// the tangent plane, TIR at the critical angle) can differ by its whole value,
+// so there is no hard limit on one pixel's error (NaN still fails). Measured
+// on the corpus cases (128x128): balls-2 depth 3 0.031% of pixels over 1/255,
+// shells-1 depth 4 0.006%, glass-checker depth 5 0.018% (worst 0.51: the edge
+// of the ball's shadow, a shadow ray tangent to the ball).
 constexpr double kColorAbs = 1.0 / 255;
-constexpr double kPixelFraction = 0.995;
+constexpr double kPixelFraction = 0.999;
 
 constexpr Impl<TracerFns> kImpls[] = {
     {"reference", {ref::trace_render, ref::trace_pixel}, 0},
@@ -75,6 +78,7 @@ Family ray_trace_family() {
   f.kind = &image_kind();
   f.tol.abs = kRow.tol.color_abs;
   f.tol.fraction = kRow.tol.pixel_fraction;
+  f.tol.hard = std::numeric_limits<double>::max();  // see kPixelFraction
   f.load = load_nff;
   for (const auto& i : kRow.impls) {
     TypedImpl<Scene> t{i.name, i.fn.render, i.accuracy, i.known};
