@@ -65,6 +65,11 @@ TraceSettings trace_settings(const Params& params, const std::string& source) {
   return s;
 }
 
+Vec3 outward_normal(const Scene& scene, uint32_t prim, const Vec3& p) {
+  if (prim < scene.sphere_count()) return normalize(p - scene.sphere_center[prim]);
+  return scene.poly_plane[prim - scene.sphere_count()].n;
+}
+
 const char* ray_kind_name(RayKind k) {
   switch (k) {
     case RayKind::kPrimary:

@@ -101,6 +101,19 @@ struct RayTree {
   std::vector<RayNode> nodes;
 };
 
+// Appends node to *tree and returns its index; -1 (nothing kept) when tree is null.
+inline int record(RayTree* tree, const RayNode& node) {
+  if (!tree) return -1;
+  tree->nodes.push_back(node);
+  return int(tree->nodes.size()) - 1;
+}
+
+// The outward unit geometric normal at p on prim: a sphere's (p - c) / |p - c|
+// (whatever the radius' sign: spheres are solids here), a polygon's plane
+// normal (its front). It says which side a ray comes from (entering or
+// leaving) and where rays that leave p start.
+Vec3 outward_normal(const Scene& scene, uint32_t prim, const Vec3& p);
+
 // ---------------------------------------------------------------- the laws
 // Mirror reflection of unit d about unit n: r = d - 2 (d.n) n (unit, the same
 // angle on the other side of n, in the plane of d and n).
@@ -137,6 +150,16 @@ inline Vec3f offset_robust(const Vec3f& p, const Vec3f& n) {
     out[a] = std::fabs(p[a]) < kOrigin ? p[a] + kFloatScale * n[a] : std::bit_cast<float>(bits);
   }
   return out;
+}
+
+// Where a ray leaving the hit p in direction dir starts: p moved off the
+// surface along the outward geometric normal ng, to dir's side, by eps
+// (Offset::kFixed) or by offset_robust (Offset::kRobust; p and ng rounded to
+// float first, as the chapter works). The caller resolves Offset::kOwn.
+inline Vec3 ray_start(const Vec3& p, const Vec3& ng, const Vec3& dir, const TraceSettings& s) {
+  const Vec3 side = dot(dir, ng) >= 0 ? ng : -ng;
+  if (s.offset == Offset::kRobust) return Vec3(offset_robust(Vec3f(p), Vec3f(side)));
+  return p + s.eps * side;
 }
 
 // ---------------------------------------------------------------- the entry points

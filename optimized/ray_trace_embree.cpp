@@ -94,24 +94,11 @@ struct Tracer {
     return r.tfar < 0;  // Embree's "occluded": tfar = -inf
   }
 
-  // Where a ray leaving the frame point q in direction dir starts.
-  Vec3 start(const Vec3& q, const Vec3& ng, const Vec3& dir) const {
-    const Vec3 side = dot(dir, ng) >= 0 ? ng : -ng;
-    if (settings.offset == Offset::kRobust) return Vec3(offset_robust(Vec3f(q), Vec3f(side)));
-    return q + settings.eps * side;
-  }
-
-  int record(const RayNode& node) {
-    if (!tree) return -1;
-    tree->nodes.push_back(node);
-    return int(tree->nodes.size()) - 1;
-  }
-
   Vec3 trace(const Vec3& o, const Vec3& d, double tnear, RayKind kind, int depth, double weight, int parent,
              bool entering) {
     ++rays;
     const int me =
-        record(RayNode{kind, parent, depth, world(o), d, kInfinity, {}, weight, {}, 0, false, false, entering});
+        record(tree, RayNode{kind, parent, depth, world(o), d, kInfinity, {}, weight, {}, 0, false, false, entering});
     const Hit hit = nearest(o, d, tnear);
     const Vec3 c = hit.hit() ? shade(o, d, hit, depth, weight, me) : scene.background;
     if (tree) {
@@ -125,8 +112,7 @@ struct Tracer {
     const Vec3 q = o + hit.t * d;  // frame
     const Vec3 p = world(q);
     const Vec3 n = surface_normal(scene, hit.prim, hit.tri, p, d);
-    const Vec3 ng = hit.prim < scene.sphere_count() ? normalize(p - scene.sphere_center[hit.prim])
-                                                    : scene.poly_plane[hit.prim - scene.sphere_count()].n;
+    const Vec3 ng = outward_normal(scene, hit.prim, p);
     const Material& m = scene.material_of_prim(hit.prim);
     Vec3 color = kAmbient * (m.kd * m.color);
     for (uint32_t k = 0; k < scene.lights.size(); ++k) {
@@ -134,12 +120,12 @@ struct Tracer {
       if (dot(n, ls.l) <= 0) continue;
       const Vec3 term = phong_light(m, n, -d, ls);
       if (settings.shadows) {
-        const Vec3 so = start(q, ng, ls.l);
+        const Vec3 so = ray_start(q, ng, ls.l, settings);
         const Vec3 to_light = (scene.lights[k].position - es.frame.origin) - so;
         const double dist = length(to_light);
         ++rays;
         const bool dark = occluded(so, to_light / dist, dist);
-        record(RayNode{RayKind::kShadow, me, depth, world(so), to_light / dist, dist, {}, weight,
+        record(tree, RayNode{RayKind::kShadow, me, depth, world(so), to_light / dist, dist, {}, weight,
                        dark ? Vec3{} : term, k, dark});
         if (dark) continue;
       }
@@ -149,16 +135,16 @@ struct Tracer {
     const double kr = std::min(1.0, m.ks);
     if (kr > 0 && weight * kr >= settings.cutoff) {
       const Vec3 r = reflect(d, n);
-      color += kr * trace(start(q, ng, r), r, 0.0, RayKind::kReflect, depth + 1, weight * kr, me, false);
+      color += kr * trace(ray_start(q, ng, r, settings), r, 0.0, RayKind::kReflect, depth + 1, weight * kr, me, false);
     }
     const double kt = std::min(1.0, m.transmittance);
     if (kt > 0 && weight * kt >= settings.cutoff) {
       const bool entering = dot(d, ng) < 0;
       Vec3 t;
       if (refract(d, n, entering ? 1.0 / m.ior : m.ior, t))
-        color += kt * trace(start(q, ng, t), t, 0.0, RayKind::kRefract, depth + 1, weight * kt, me, entering);
+        color += kt * trace(ray_start(q, ng, t, settings), t, 0.0, RayKind::kRefract, depth + 1, weight * kt, me, entering);
       else
-        record(RayNode{RayKind::kRefract, me, depth + 1, p, d, kInfinity, {}, weight * kt, {}, 0, false, true,
+        record(tree, RayNode{RayKind::kRefract, me, depth + 1, p, d, kInfinity, {}, weight * kt, {}, 0, false, true,
                        entering});
     }
     return color;

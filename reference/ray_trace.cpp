@@ -4,7 +4,8 @@
 // Sources: T. Whitted, "An Improved Illumination Model for Shaded Display",
 // CACM 23(6), 1980; Glassner (ed.), "An Introduction to Ray Tracing", 1989:
 // ch. 1 (Glassner) for the recursion, ch. 2 (Haines) for the intersections
-// (reused from ray casting: reference/ray_sphere.h, reference/ray_polygon.h),
+// (ray casting's brute-force nearest hit, reference/ray_cast.h, with solid
+// spheres; reference/ray_sphere.h and reference/ray_polygon.h for shadows),
 // ch. 5 (Heckbert) for the reflected and refracted directions (core/ray_trace.h:
 // reflect, refract); R. Hall and D. Greenberg, "A Testbed for Realistic Image
 // Synthesis", IEEE CG&A 3(8), 1983, for the adaptive cut-off on a ray's weight.
@@ -33,40 +34,13 @@
 
 #include "core/camera.h"
 #include "core/shading.h"
+#include "reference/ray_cast.h"
 #include "reference/ray_polygon.h"
 #include "reference/ray_sphere.h"
 
 namespace lockstep::ref {
 
 namespace {
-
-// The nearest hit along ray in (tmin, tmax): spheres are solids (the first root
-// in range, from inside or outside), polygons are seen from their visible side
-// only (NFF: the front, both sides when they transmit).
-Hit nearest_hit(const Scene& scene, const Ray& ray) {
-  Hit best;
-  best.t = ray.tmax;
-  for (uint32_t s = 0; s < scene.sphere_count(); ++s) {
-    double t0, t1;
-    if (!sphere_roots<double>(ray.o, ray.d, scene.sphere_center[s], scene.sphere_radius[s], t0, t1)) continue;
-    const double t = t0 > ray.tmin ? t0 : t1;  // the nearer root, unless it is behind the start
-    if (t > ray.tmin && t < best.t) {
-      best.t = t;
-      best.prim = s;
-    }
-  }
-  for (uint32_t p = 0; p < scene.polygon_count(); ++p) {
-    const uint32_t prim = scene.sphere_count() + p;
-    if (!visible_side(scene, prim, dot(ray.d, scene.poly_plane[p].n))) continue;
-    const double t = ray_polygon_t(Ray{ray.o, ray.d, ray.tmin, best.t}, scene, p);
-    if (t < best.t) {
-      best.t = t;
-      best.prim = prim;
-    }
-  }
-  if (!best.hit()) best.t = kInfinity;
-  return best;
-}
 
 // The shadow test: is any surface, of either side, on the ray in (tmin, tmax)?
 // The first blocker found goes into *blocker.
@@ -96,24 +70,10 @@ struct Tracer {
   RayTree* tree = nullptr;
   uint64_t rays = 0;
 
-  // Where a ray leaving p in direction dir starts: p moved off the surface
-  // along the geometric normal ng, to dir's side.
-  Vec3 start(const Vec3& p, const Vec3& ng, const Vec3& dir) const {
-    const Vec3 side = dot(dir, ng) >= 0 ? ng : -ng;
-    if (settings.offset == Offset::kRobust) return Vec3(offset_robust(Vec3f(p), Vec3f(side)));
-    return p + settings.eps * side;
-  }
-
-  int record(const RayNode& node) {
-    if (!tree) return -1;
-    tree->nodes.push_back(node);
-    return int(tree->nodes.size()) - 1;
-  }
-
   Vec3 trace(const Ray& ray, RayKind kind, int depth, double weight, int parent, bool entering) {
     ++rays;
-    const int me = record(RayNode{kind, parent, depth, ray.o, ray.d, ray.tmax, {}, weight, {}, 0, false, false, entering});
-    const Hit hit = nearest_hit(scene, ray);
+    const int me = record(tree, RayNode{kind, parent, depth, ray.o, ray.d, ray.tmax, {}, weight, {}, 0, false, false, entering});
+    const Hit hit = nearest_hit(scene, ray, SphereSides::kSolid);
     const Vec3 c = hit.hit() ? shade(ray, hit, depth, weight, me) : scene.background;
     if (tree) {
       tree->nodes[me].hit = hit;
@@ -127,8 +87,7 @@ struct Tracer {
     const Vec3& d = ray.d;
     const Vec3 n = surface_normal(scene, hit.prim, hit.tri, p, d);  // faces the incoming ray
     // The outward geometric normal: which side the ray comes from, where new rays start.
-    const Vec3 ng = hit.prim < scene.sphere_count() ? normalize(p - scene.sphere_center[hit.prim])
-                                                    : scene.poly_plane[hit.prim - scene.sphere_count()].n;
+    const Vec3 ng = outward_normal(scene, hit.prim, p);
     const Material& m = scene.material_of_prim(hit.prim);
 
     // Local illumination: ambient, plus every light a shadow ray reaches.
@@ -138,14 +97,14 @@ struct Tracer {
       if (dot(n, ls.l) <= 0) continue;  // the light is behind the surface: nothing to test
       const Vec3 term = phong_light(m, n, -d, ls);
       if (settings.shadows) {
-        const Vec3 o = start(p, ng, ls.l);
+        const Vec3 o = ray_start(p, ng, ls.l, settings);
         const Vec3 to_light = scene.lights[k].position - o;
         const double dist = length(to_light);
         const Ray shadow{o, to_light / dist, 0.0, dist};
         ++rays;
         Hit blocker;
         const bool dark = blocked(scene, shadow, &blocker);
-        record(RayNode{RayKind::kShadow, me, depth, shadow.o, shadow.d, dist, blocker, weight,
+        record(tree, RayNode{RayKind::kShadow, me, depth, shadow.o, shadow.d, dist, blocker, weight,
                        dark ? Vec3{} : term, k, dark});
         if (dark) continue;
       }
@@ -157,7 +116,7 @@ struct Tracer {
     const double kr = std::min(1.0, m.ks);
     if (kr > 0 && weight * kr >= settings.cutoff) {
       const Vec3 r = reflect(d, n);
-      color += kr * trace(Ray{start(p, ng, r), r}, RayKind::kReflect, depth + 1, weight * kr, me, false);
+      color += kr * trace(Ray{ray_start(p, ng, r, settings), r}, RayKind::kReflect, depth + 1, weight * kr, me, false);
     }
     // Refraction: Snell's law, entering or leaving by the side the ray comes from.
     const double kt = std::min(1.0, m.transmittance);
@@ -166,9 +125,9 @@ struct Tracer {
       const double eta = entering ? 1.0 / m.ior : m.ior;
       Vec3 t;
       if (refract(d, n, eta, t)) {
-        color += kt * trace(Ray{start(p, ng, t), t}, RayKind::kRefract, depth + 1, weight * kt, me, entering);
+        color += kt * trace(Ray{ray_start(p, ng, t, settings), t}, RayKind::kRefract, depth + 1, weight * kt, me, entering);
       } else {
-        record(RayNode{RayKind::kRefract, me, depth + 1, p, d, kInfinity, {}, weight * kt, {}, 0, false, true, entering});
+        record(tree, RayNode{RayKind::kRefract, me, depth + 1, p, d, kInfinity, {}, weight * kt, {}, 0, false, true, entering});
       }
     }
     return color;

@@ -71,6 +71,7 @@
 #include "props/gen/case_text.h"
 #include "props/gen/numbers.h"
 #include "props/property.h"
+#include "reference/ray_cast.h"
 #include "reference/ray_polygon.h"
 #include "reference/ray_sphere.h"
 
@@ -570,23 +571,7 @@ bool reference_agrees_with(const Scene& scene, const RayNode& n) {
     return !n.blocked;
   }
   // Nearest: spheres as solids, polygons NFF-sided (core/ray_trace.h).
-  const double tmin = 0;
-  Hit best;
-  best.t = kInfinity;
-  for (uint32_t s = 0; s < scene.sphere_count(); ++s) {
-    double t0, t1;
-    if (!ref::sphere_roots<double>(n.origin, n.direction, scene.sphere_center[s], scene.sphere_radius[s], t0, t1))
-      continue;
-    const double t = t0 > tmin ? t0 : t1;
-    if (t > tmin && t < best.t) best = Hit{t, s};
-  }
-  for (uint32_t p = 0; p < scene.polygon_count(); ++p) {
-    const uint32_t prim = scene.sphere_count() + p;
-    if (!visible_side(scene, prim, dot(n.direction, scene.poly_plane[p].n))) continue;
-    const double t = ref::ray_polygon_t(Ray{n.origin, n.direction, tmin, best.t}, scene, p);
-    if (t < best.t) best = Hit{t, prim};
-  }
-  return best.prim == n.hit.prim;
+  return ref::nearest_hit(scene, Ray{n.origin, n.direction}, ref::SphereSides::kSolid).prim == n.hit.prim;
 }
 
 bool same_decisions(const RayNode& a, const RayNode& b) {
