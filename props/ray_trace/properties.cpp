@@ -17,9 +17,10 @@
 //       rounding through sqrt's conditioning).
 //   Slab.raytrace__<impl>          (part "slab") a glass slab (two parallel
 //       transmitting quads of half-size 20, T = 1, Ks = 0, random ior,
-//       thickness 1e-2..10, orientation,
+//       thickness 1e-2..2, orientation,
 //       view direction at up to 78 degrees from its normal): the ray leaving
-//       the slab runs parallel to the primary ray, within 1e-12.
+//       the slab runs parallel to the primary ray, within 1e-13 (measured
+//       1e-14 over 3000 cases).
 //   Tir.raytrace__<impl>           (part "tir") the eye inside a glass ball
 //       (or under a glass plane) looks out at normal incidence or within
 //       1e-12..1e-3 of the critical angle: the implementation's TIR decision
@@ -217,8 +218,10 @@ rc::Gen<TraceCase> gen_slab() {
     if (dot(w, a) < 0.2) w = normalize(w + (0.2 - dot(w, a) + 0.01) * a);
     // Faces of half-size 20 and thickness >= 1e-2: the embree row holds its
     // triangles in float, whose vertices at 1e3 would move the faces' planes
-    // by 1e-4 -- more than a thin slab's thickness.
-    const double h = *gen::log_uniform(1e-2, 10), ior = *gen::uniform(1.01, 2.5);
+    // by 1e-4 -- more than a thin slab's thickness. Thickness <= 2: inside,
+    // the ray runs at most tan(acos 0.2) ~ 4.9 times the thickness sideways,
+    // which must stay on the back face.
+    const double h = *gen::log_uniform(1e-2, 2), ior = *gen::uniform(1.01, 2.5);
     const Vec3 p0 = *box(-1, 1);
     c.nff = "b 0 0 0\n" + view_text(p0 - 5.0 * w, p0, some_up(w), 30, 9, 9) + material({1, 1, 1}, 0, 0, 1, 1, ior) +
             quad(p0, -a, 20) + quad(p0 + h * a, a, 20);
@@ -458,11 +461,11 @@ Verdict check_slab(const TracerFns& fn, const TraceCase& c) {
   } else {
     o.err = length(out->direction - t.nodes[0].direction);
     o.measured = true;
-    if (!(o.err <= 1e-12)) {
+    if (!(o.err <= 1e-13)) {
       o.kind = Outcome::unexplained;
       o.label = "not_parallel";
       o.detail = "primary " + node_text(t.nodes[0]) + "\nleaving " + node_text(*out) + "\nerror " +
-                 std::to_string(o.err) + " > 1e-12";
+                 std::to_string(o.err) + " > 1e-13";
     }
   }
   v.rays.push_back(o);
@@ -688,7 +691,7 @@ FamilyProperties properties(const Family& family) {
     const std::string name(impl.name);
     if (family.has_property("slab"))
       out.properties.push_back(property<TraceCase>(
-          family, impl.name, "Slab", "slab", "glass_slab", gen_slab(), 1e-12,
+          family, impl.name, "Slab", "slab", "glass_slab", gen_slab(), 1e-13,
           [fn](const TraceCase& c) { return check_slab(fn, c); }, write_case, read_case, "cases"));
     if (family.has_property("tir"))
       out.properties.push_back(property<TraceCase>(
