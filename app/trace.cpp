@@ -27,15 +27,16 @@ void print_help(const Family& f) {
       "  --size WxH      the image it belongs to (default: the scene's resolution)\n"
       "  --impl NAME     reference (default) or embree\n");
   for (const ParamSpec& p : f.params) {
-    // Appended piece by piece: `"--" + std::string(...)` trips GCC 12's -Wrestrict (a false positive).
+    // Appended piece by piece: `"--" + std::string(...)` trips GCC 12's -Wrestrict (a false
+    // positive).
     std::string left = "--";
     left += p.name;
     if (!p.flag) {
       left += ' ';
       left += p.values;
     }
-    std::printf("  %-26s %s%s%s\n", left.c_str(), std::string(p.help).c_str(), p.def.empty() ? "" : "; default ",
-                std::string(p.def).c_str());
+    std::printf("  %-26s %s%s%s\n", left.c_str(), std::string(p.help).c_str(),
+                p.def.empty() ? "" : "; default ", std::string(p.def).c_str());
   }
   std::printf("\nExit codes: 0 ok, 2 bad usage or bad input.\n");
 }
@@ -67,7 +68,8 @@ void print_tree(const Scene& scene, const RayTree& tree) {
       if (n.blocked) {
         line += "blocked";
         if (n.hit.hit()) {
-          std::snprintf(b, sizeof b, " by %s at t %.9g", prim_name(scene, n.hit.prim).c_str(), n.hit.t);
+          std::snprintf(b, sizeof b, " by %s at t %.9g", prim_name(scene, n.hit.prim).c_str(),
+                        n.hit.t);
           line += b;
         }
       } else {
@@ -106,14 +108,17 @@ int trace_main(Args args) {
       const size_t comma = value.find(',');
       if (comma == std::string::npos) throw UsageError("--pixel must be X,Y, got '" + value + "'");
       px = parse_long("--pixel X", std::string_view(value).substr(0, comma), 0, kMaxResolution - 1);
-      py = parse_long("--pixel Y", std::string_view(value).substr(comma + 1), 0, kMaxResolution - 1);
+      py =
+          parse_long("--pixel Y", std::string_view(value).substr(comma + 1), 0, kMaxResolution - 1);
     } else if (take_option(args, i, "--size", value)) {
       parse_size(value, width, height);
     } else if (take_option(args, i, "--impl", value)) {
       impl_name = value;
     } else if (const ParamSpec* p = find_param(family, a)) {
-      if (p->flag) params.set(std::string(p->name), "1");
-      else if (take_option(args, i, a, value)) params.set(std::string(p->name), value);
+      if (p->flag)
+        params.set(std::string(p->name), "1");
+      else if (take_option(args, i, a, value))
+        params.set(std::string(p->name), value);
     } else if (is_option(a)) {
       unknown_option(a);
     } else if (in_path.empty()) {
@@ -125,7 +130,8 @@ int trace_main(Args args) {
   if (in_path.empty()) throw UsageError("missing SCENE");
   if (px < 0) throw UsageError("missing --pixel X,Y");
   const Impl<TracerFns>* impl = ray_trace_row().find(impl_name);
-  if (!impl) throw UsageError("--impl: '" + impl_name + "' is not one of " + impl_names(family, "|"));
+  if (!impl)
+    throw UsageError("--impl: '" + impl_name + "' is not one of " + impl_names(family, "|"));
   TraceSettings settings;
   try {
     settings = trace_settings(params, "settings");
@@ -135,13 +141,15 @@ int trace_main(Args args) {
   const Scene scene = read_nff(in_path);
   if (width == 0) width = scene.view.xres, height = scene.view.yres;
   if (px >= width || py >= height)
-    throw UsageError("--pixel " + std::to_string(px) + "," + std::to_string(py) + " is outside the " +
-                     std::to_string(width) + "x" + std::to_string(height) + " image");
+    throw UsageError("--pixel " + std::to_string(px) + "," + std::to_string(py) +
+                     " is outside the " + std::to_string(width) + "x" + std::to_string(height) +
+                     " image");
   RayTree tree;
   const Vec3 c = impl->fn.pixel(scene, settings, width, height, int(px), int(py), &tree);
-  std::printf("%s pixel %ld,%ld of %dx%d, %s, depth %d, shadows %s, cutoff %g: colour %s, %zu rays\n",
-              in_path.c_str(), px, py, width, height, impl_name.c_str(), settings.max_depth,
-              settings.shadows ? "rays" : "none", settings.cutoff, vec(c).c_str(), tree.nodes.size());
+  std::printf(
+      "%s pixel %ld,%ld of %dx%d, %s, depth %d, shadows %s, cutoff %g: colour %s, %zu rays\n",
+      in_path.c_str(), px, py, width, height, impl_name.c_str(), settings.max_depth,
+      settings.shadows ? "rays" : "none", settings.cutoff, vec(c).c_str(), tree.nodes.size());
   print_tree(scene, tree);
   return kExitOk;
 }

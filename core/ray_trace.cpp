@@ -11,8 +11,8 @@ namespace lockstep {
 
 namespace {
 
-double number_in(const std::string& source, const std::string& name, const std::string& value, double lo,
-                 double hi) {
+double number_in(const std::string& source, const std::string& name, const std::string& value,
+                 double lo, double hi) {
   char* end = nullptr;
   const double x = std::strtod(value.c_str(), &end);
   if (value.empty() || end != value.c_str() + value.size() || !std::isfinite(x) || x < lo || x > hi)
@@ -27,11 +27,15 @@ double number_in(const std::string& source, const std::string& name, const std::
 std::vector<ParamSpec> trace_params() {
   return {
       {"depth", "N in 1..32", "5", "ray-tree depth: 1 = primary rays and their shadow rays only"},
-      {"shadows", "rays|none", "rays", "rays: a shadow ray per light at every hit; none: every light reaches"},
+      {"shadows", "rays|none", "rays",
+       "rays: a shadow ray per light at every hit; none: every light reaches"},
       {"eps", "E in (0, 1]", "",
-       "fixed self-intersection offset along the normal, world units (default: the reference 1e-6, embree robust)"},
-      {"robust", "", "", "Waechter-Binder integer-ulp offset (Ray Tracing Gems ch. 6) in every implementation", true},
-      {"cutoff", "W in [0, 1]", "0.00390625", "rays whose accumulated weight is below W are not traced"},
+       "fixed self-intersection offset along the normal, world units (default: the reference 1e-6, "
+       "embree robust)"},
+      {"robust", "", "",
+       "Waechter-Binder integer-ulp offset (Ray Tracing Gems ch. 6) in every implementation", true},
+      {"cutoff", "W in [0, 1]", "0.00390625",
+       "rays whose accumulated weight is below W are not traced"},
   };
 }
 
@@ -52,12 +56,15 @@ TraceSettings trace_settings(const Params& params, const std::string& source) {
       if (!(s.eps > 0)) throw InputError(source, 0, "eps: must be above 0");
       eps = true;
     } else if (name == "robust") {
-      if (value != "0" && value != "1") throw InputError(source, 0, "robust: '" + value + "' is not one of 0|1");
+      if (value != "0" && value != "1")
+        throw InputError(source, 0, "robust: '" + value + "' is not one of 0|1");
       robust = value == "1";
     } else if (name == "cutoff") {
       s.cutoff = number_in(source, name, value, 0, 1);
     } else {
-      throw InputError(source, 0, "'" + name + "' is not a ray-tracing setting (depth, shadows, eps, robust, cutoff)");
+      throw InputError(
+          source, 0,
+          "'" + name + "' is not a ray-tracing setting (depth, shadows, eps, robust, cutoff)");
     }
   }
   if (eps && robust) throw InputError(source, 0, "give eps or robust, not both");

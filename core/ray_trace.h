@@ -29,7 +29,8 @@
 // is air (index 1), so eta = 1/ior entering and ior leaving (no nested media).
 // Snell's law in Heckbert's vector form (refract() below); when it has no
 // solution the ray is totally internally reflected: no refracted ray, and the
-// ray-tree node says so (tir).
+// ray-tree node says so (tir). Its weight kt is then lost: Whitted's model has
+// fixed coefficients, no Fresnel terms, so the reflected ray keeps its kr.
 //
 // Depth: the primary ray is depth 1; a ray at depth k spawns reflected and
 // refracted rays only when k < max_depth (max_depth 1: primary rays and their
@@ -84,17 +85,18 @@ const char* ray_kind_name(RayKind k);
 // One ray of a pixel's tree, in the order they were traced (parents first).
 struct RayNode {
   RayKind kind = RayKind::kPrimary;
-  int parent = -1;       // index in RayTree::nodes; -1 for the primary ray
-  int depth = 1;         // primary 1; a shadow ray has its parent's depth
-  Vec3 origin, direction;  // world space; direction unit length
-  double tmax = kInfinity; // shadow rays: the distance to the light
-  Hit hit;               // nearest hit (shadow rays: the first blocker found, if any)
-  double weight = 1;     // accumulated kr / kt product: what this ray's colour is multiplied by in the pixel
-  Vec3 color;            // what the ray returns (shadow: the light's diffuse + specular term, 0 when blocked)
-  uint32_t light = 0;    // shadow rays: which light
-  bool blocked = false;  // shadow rays: something lies between the hit and the light
-  bool tir = false;      // refracted ray that total internal reflection turned away: not traced
-  bool entering = false; // refracted rays: into the surface's medium
+  int parent = -1;          // index in RayTree::nodes; -1 for the primary ray
+  int depth = 1;            // primary 1; a shadow ray has its parent's depth
+  Vec3 origin, direction;   // world space; direction unit length
+  double tmax = kInfinity;  // shadow rays: the distance to the light
+  Hit hit;                  // nearest hit (shadow rays: the first blocker found, if any)
+  double weight =
+      1;       // accumulated kr / kt product: what this ray's colour is multiplied by in the pixel
+  Vec3 color;  // what the ray returns (shadow: the light's diffuse + specular term, 0 when blocked)
+  uint32_t light = 0;     // shadow rays: which light
+  bool blocked = false;   // shadow rays: something lies between the hit and the light
+  bool tir = false;       // refracted ray that total internal reflection turned away: not traced
+  bool entering = false;  // refracted rays: into the surface's medium
 };
 
 struct RayTree {
@@ -168,7 +170,7 @@ inline Vec3 ray_start(const Vec3& p, const Vec3& ng, const Vec3& dir, const Trac
 using TraceRenderFn = Image (*)(const Scene& scene, const FrameOptions& opts, FrameStats* stats);
 // One pixel's colour and, when tree is not null, its ray tree (the same
 // computation the frame does for that pixel).
-using TracePixelFn = Vec3 (*)(const Scene& scene, const TraceSettings& settings, int width, int height, int x,
-                              int y, RayTree* tree);
+using TracePixelFn = Vec3 (*)(const Scene& scene, const TraceSettings& settings, int width,
+                              int height, int x, int y, RayTree* tree);
 
 }  // namespace lockstep

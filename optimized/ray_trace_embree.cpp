@@ -94,11 +94,22 @@ struct Tracer {
     return r.tfar < 0;  // Embree's "occluded": tfar = -inf
   }
 
-  Vec3 trace(const Vec3& o, const Vec3& d, double tnear, RayKind kind, int depth, double weight, int parent,
-             bool entering) {
+  Vec3 trace(const Vec3& o, const Vec3& d, double tnear, RayKind kind, int depth, double weight,
+             int parent, bool entering) {
     ++rays;
-    const int me =
-        record(tree, RayNode{kind, parent, depth, world(o), d, kInfinity, {}, weight, {}, 0, false, false, entering});
+    const int me = record(tree, RayNode{kind,
+                                        parent,
+                                        depth,
+                                        world(o),
+                                        d,
+                                        kInfinity,
+                                        {},
+                                        weight,
+                                        {},
+                                        0,
+                                        false,
+                                        false,
+                                        entering});
     const Hit hit = nearest(o, d, tnear);
     const Vec3 c = hit.hit() ? shade(o, d, hit, depth, weight, me) : scene.background;
     if (tree) {
@@ -125,8 +136,17 @@ struct Tracer {
         const double dist = length(to_light);
         ++rays;
         const bool dark = occluded(so, to_light / dist, dist);
-        record(tree, RayNode{RayKind::kShadow, me, depth, world(so), to_light / dist, dist, {}, weight,
-                       dark ? Vec3{} : term, k, dark});
+        record(tree, RayNode{RayKind::kShadow,
+                             me,
+                             depth,
+                             world(so),
+                             to_light / dist,
+                             dist,
+                             {},
+                             weight,
+                             dark ? Vec3{} : term,
+                             k,
+                             dark});
         if (dark) continue;
       }
       color += term;
@@ -135,17 +155,30 @@ struct Tracer {
     const double kr = std::min(1.0, m.ks);
     if (kr > 0 && weight * kr >= settings.cutoff) {
       const Vec3 r = reflect(d, n);
-      color += kr * trace(ray_start(q, ng, r, settings), r, 0.0, RayKind::kReflect, depth + 1, weight * kr, me, false);
+      color += kr * trace(ray_start(q, ng, r, settings), r, 0.0, RayKind::kReflect, depth + 1,
+                          weight * kr, me, false);
     }
     const double kt = std::min(1.0, m.transmittance);
     if (kt > 0 && weight * kt >= settings.cutoff) {
       const bool entering = dot(d, ng) < 0;
       Vec3 t;
       if (refract(d, n, entering ? 1.0 / m.ior : m.ior, t))
-        color += kt * trace(ray_start(q, ng, t, settings), t, 0.0, RayKind::kRefract, depth + 1, weight * kt, me, entering);
+        color += kt * trace(ray_start(q, ng, t, settings), t, 0.0, RayKind::kRefract, depth + 1,
+                            weight * kt, me, entering);
       else
-        record(tree, RayNode{RayKind::kRefract, me, depth + 1, p, d, kInfinity, {}, weight * kt, {}, 0, false, true,
-                       entering});
+        record(tree, RayNode{RayKind::kRefract,
+                             me,
+                             depth + 1,
+                             p,
+                             d,
+                             kInfinity,
+                             {},
+                             weight * kt,
+                             {},
+                             0,
+                             false,
+                             true,
+                             entering});
     }
     return color;
   }
@@ -170,8 +203,8 @@ std::unique_ptr<EmbreeScene> build(const Scene& scene, const Camera& cam, int th
 
 }  // namespace
 
-Vec3 trace_pixel(const Scene& scene, const TraceSettings& settings, int width, int height, int x, int y,
-                 RayTree* tree) {
+Vec3 trace_pixel(const Scene& scene, const TraceSettings& settings, int width, int height, int x,
+                 int y, RayTree* tree) {
   const Camera cam = Camera::from_view(scene.view, width, height);
   const auto es = build(scene, cam, 1);
   const TraceSettings s = resolved(settings);
@@ -189,12 +222,13 @@ Image trace_render(const Scene& scene, const FrameOptions& opts, FrameStats* sta
   const double build_seconds = build_timer.seconds();
   Image image(opts.width, opts.height);
   std::atomic<uint64_t> rays{0};
-  parallel_tiles(opts.width, opts.height, 16, 16, opts.threads, opts.progress, [&](int x0, int y0, int x1, int y1) {
-    Tracer tracer(scene, *es, settings, nullptr);
-    for (int j = y0; j < y1; ++j)
-      for (int i = x0; i < x1; ++i) image.set(i, j, tracer.pixel(cam, i, j));
-    rays += tracer.rays;
-  });
+  parallel_tiles(opts.width, opts.height, 16, 16, opts.threads, opts.progress,
+                 [&](int x0, int y0, int x1, int y1) {
+                   Tracer tracer(scene, *es, settings, nullptr);
+                   for (int j = y0; j < y1; ++j)
+                     for (int i = x0; i < x1; ++i) image.set(i, j, tracer.pixel(cam, i, j));
+                   rays += tracer.rays;
+                 });
   es->device.check("rtcIntersect1");
   if (stats) {
     stats->build_seconds = build_seconds;

@@ -47,7 +47,8 @@ namespace {
 bool blocked(const Scene& scene, const Ray& ray, Hit* blocker) {
   for (uint32_t s = 0; s < scene.sphere_count(); ++s) {
     double t0, t1;
-    if (!sphere_roots<double>(ray.o, ray.d, scene.sphere_center[s], scene.sphere_radius[s], t0, t1)) continue;
+    if (!sphere_roots<double>(ray.o, ray.d, scene.sphere_center[s], scene.sphere_radius[s], t0, t1))
+      continue;
     for (double t : {t0, t1})
       if (t > ray.tmin && t < ray.tmax) {
         *blocker = Hit{t, s};
@@ -72,7 +73,19 @@ struct Tracer {
 
   Vec3 trace(const Ray& ray, RayKind kind, int depth, double weight, int parent, bool entering) {
     ++rays;
-    const int me = record(tree, RayNode{kind, parent, depth, ray.o, ray.d, ray.tmax, {}, weight, {}, 0, false, false, entering});
+    const int me = record(tree, RayNode{kind,
+                                        parent,
+                                        depth,
+                                        ray.o,
+                                        ray.d,
+                                        ray.tmax,
+                                        {},
+                                        weight,
+                                        {},
+                                        0,
+                                        false,
+                                        false,
+                                        entering});
     const Hit hit = nearest_hit(scene, ray, SphereSides::kSolid);
     const Vec3 c = hit.hit() ? shade(ray, hit, depth, weight, me) : scene.background;
     if (tree) {
@@ -105,7 +118,7 @@ struct Tracer {
         Hit blocker;
         const bool dark = blocked(scene, shadow, &blocker);
         record(tree, RayNode{RayKind::kShadow, me, depth, shadow.o, shadow.d, dist, blocker, weight,
-                       dark ? Vec3{} : term, k, dark});
+                             dark ? Vec3{} : term, k, dark});
         if (dark) continue;
       }
       color += term;
@@ -116,7 +129,8 @@ struct Tracer {
     const double kr = std::min(1.0, m.ks);
     if (kr > 0 && weight * kr >= settings.cutoff) {
       const Vec3 r = reflect(d, n);
-      color += kr * trace(Ray{ray_start(p, ng, r, settings), r}, RayKind::kReflect, depth + 1, weight * kr, me, false);
+      color += kr * trace(Ray{ray_start(p, ng, r, settings), r}, RayKind::kReflect, depth + 1,
+                          weight * kr, me, false);
     }
     // Refraction: Snell's law, entering or leaving by the side the ray comes from.
     const double kt = std::min(1.0, m.transmittance);
@@ -125,9 +139,22 @@ struct Tracer {
       const double eta = entering ? 1.0 / m.ior : m.ior;
       Vec3 t;
       if (refract(d, n, eta, t)) {
-        color += kt * trace(Ray{ray_start(p, ng, t, settings), t}, RayKind::kRefract, depth + 1, weight * kt, me, entering);
+        color += kt * trace(Ray{ray_start(p, ng, t, settings), t}, RayKind::kRefract, depth + 1,
+                            weight * kt, me, entering);
       } else {
-        record(tree, RayNode{RayKind::kRefract, me, depth + 1, p, d, kInfinity, {}, weight * kt, {}, 0, false, true, entering});
+        record(tree, RayNode{RayKind::kRefract,
+                             me,
+                             depth + 1,
+                             p,
+                             d,
+                             kInfinity,
+                             {},
+                             weight * kt,
+                             {},
+                             0,
+                             false,
+                             true,
+                             entering});
       }
     }
     return color;
@@ -140,8 +167,8 @@ TraceSettings resolved(TraceSettings s) {
   return s;
 }
 
-Vec3 pixel(const Scene& scene, const TraceSettings& settings, const Camera& camera, int x, int y, RayTree* tree,
-           uint64_t* rays) {
+Vec3 pixel(const Scene& scene, const TraceSettings& settings, const Camera& camera, int x, int y,
+           RayTree* tree, uint64_t* rays) {
   Tracer tracer{scene, settings, tree};
   const Vec3 c = tracer.trace(camera.primary(x, y), RayKind::kPrimary, 1, 1.0, -1, false);
   if (rays) *rays += tracer.rays;
@@ -150,9 +177,10 @@ Vec3 pixel(const Scene& scene, const TraceSettings& settings, const Camera& came
 
 }  // namespace
 
-Vec3 trace_pixel(const Scene& scene, const TraceSettings& settings, int width, int height, int x, int y,
-                 RayTree* tree) {
-  return pixel(scene, resolved(settings), Camera::from_view(scene.view, width, height), x, y, tree, nullptr);
+Vec3 trace_pixel(const Scene& scene, const TraceSettings& settings, int width, int height, int x,
+                 int y, RayTree* tree) {
+  return pixel(scene, resolved(settings), Camera::from_view(scene.view, width, height), x, y, tree,
+               nullptr);
 }
 
 Image trace_render(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
@@ -161,7 +189,8 @@ Image trace_render(const Scene& scene, const FrameOptions& opts, FrameStats* sta
   Image image(opts.width, opts.height);
   uint64_t rays = 0;
   for (int j = 0; j < opts.height; ++j) {
-    for (int i = 0; i < opts.width; ++i) image.set(i, j, pixel(scene, settings, camera, i, j, nullptr, &rays));
+    for (int i = 0; i < opts.width; ++i)
+      image.set(i, j, pixel(scene, settings, camera, i, j, nullptr, &rays));
     if (opts.progress) opts.progress(double(j + 1) / opts.height);
   }
   if (stats) stats->items = rays;

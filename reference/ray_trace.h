@@ -6,6 +6,6 @@
 
 namespace lockstep::ref {
 Image trace_render(const Scene& scene, const FrameOptions& opts, FrameStats* stats);
-Vec3 trace_pixel(const Scene& scene, const TraceSettings& settings, int width, int height, int x, int y,
-                 RayTree* tree);
+Vec3 trace_pixel(const Scene& scene, const TraceSettings& settings, int width, int height, int x,
+                 int y, RayTree* tree);
 }  // namespace lockstep::ref
