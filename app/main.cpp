@@ -39,6 +39,8 @@ void print_help() {
       "      extract an isosurface by marching cubes (.nrrd/.nhdr volume or .field) into a mesh\n"
       "  lockstep volume VOLUME --tf TF [--algo raycast|splat|iso] [--step DT] [--view AZ,EL] -o IMAGE\n"
       "      render a volume: ray casting, splatting, or the isosurface ray cast\n"
+      "  lockstep trace SCENE --pixel X,Y [--depth N] [--impl reference|embree]\n"
+      "      print the ray tree of one pixel as the ray tracer (render --algo raytrace) traces it\n"
       "  lockstep diff A B [--fail T] [--failpercent P] [--warn W] [--heatmap OUT]\n"
       "      compare two images (idiff style); exit 0 when they agree, 1 when not\n"
       "  lockstep verify [CORPUS_DIR] [--report DIR] [--impl NAME]... [--filter SUBSTR]\n"
@@ -108,6 +110,7 @@ int run(int argc, char** argv, std::string& sub) {
   if (first == "composite") return cli::composite_main(rest);
   if (first == "isosurface") return cli::isosurface_main(rest);
   if (first == "volume") return cli::volume_main(rest);
+  if (first == "trace") return cli::trace_main(rest);
   sub.clear();
   if (cli::is_option(first)) cli::unknown_option(first);
   throw cli::UsageError("unknown subcommand '" + std::string(first) + "' (render, composite, isosurface, volume, diff or verify)");

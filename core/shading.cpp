@@ -88,25 +88,26 @@ LightSample light_at(const Scene& scene, const Light& light, const Vec3& p) {
   return s;
 }
 
-Vec3 phong(const Scene& scene, const Material& m, const Vec3& p, const Vec3& n, const Vec3& v, Specular specular) {
-  const Vec3 kd_c = m.kd * m.color;
-  Vec3 c = kAmbient * kd_c;
-  for (const Light& light : scene.lights) {
-    const auto [l, ip] = light_at(scene, light, p);
-    const double n_dot_l = dot(n, l);
-    if (n_dot_l <= 0) continue;  // light behind the surface
-    double spec = 0;
-    if (m.ks > 0) {
-      if (specular == Specular::kPhong) {
-        const Vec3 r = 2.0 * n_dot_l * n - l;  // L mirrored about N
-        spec = m.ks * std::pow(std::max(0.0, dot(r, v)), m.shine);
-      } else {
-        const Vec3 h = normalize(l + v);  // halfway between light and viewer
-        spec = m.ks * std::pow(std::max(0.0, dot(n, h)), m.shine);
-      }
+Vec3 phong_light(const Material& m, const Vec3& n, const Vec3& v, const LightSample& light, Specular specular) {
+  const auto& [l, ip] = light;
+  const double n_dot_l = dot(n, l);
+  if (n_dot_l <= 0) return {};  // light behind the surface
+  double spec = 0;
+  if (m.ks > 0) {
+    if (specular == Specular::kPhong) {
+      const Vec3 r = 2.0 * n_dot_l * n - l;  // L mirrored about N
+      spec = m.ks * std::pow(std::max(0.0, dot(r, v)), m.shine);
+    } else {
+      const Vec3 h = normalize(l + v);  // halfway between light and viewer
+      spec = m.ks * std::pow(std::max(0.0, dot(n, h)), m.shine);
     }
-    c += mul(ip, n_dot_l * kd_c + Vec3{spec, spec, spec});
   }
+  return mul(ip, n_dot_l * (m.kd * m.color) + Vec3{spec, spec, spec});
+}
+
+Vec3 phong(const Scene& scene, const Material& m, const Vec3& p, const Vec3& n, const Vec3& v, Specular specular) {
+  Vec3 c = kAmbient * (m.kd * m.color);
+  for (const Light& light : scene.lights) c += phong_light(m, n, v, light_at(scene, light, p), specular);
   return c;
 }
 

@@ -62,6 +62,13 @@ double spot_factor(const Light& light, const Vec3& l);
 // every implementation draws the cone's edge from the same number.
 double spot_cos_cutoff(const Light& light);
 
+// One light's diffuse + specular term at a point with unit normal n and unit
+// direction to the viewer v (0 when the light is behind the surface): what a
+// shadow ray can take away (core/ray_trace.h). phong() is the ambient term
+// plus this for every light.
+Vec3 phong_light(const Material& m, const Vec3& n, const Vec3& v, const LightSample& light,
+                 Specular specular = Specular::kPhong);
+
 // Phong (or Blinn-Phong) at p with unit normal n and unit direction to the viewer v.
 Vec3 phong(const Scene& scene, const Material& m, const Vec3& p, const Vec3& n, const Vec3& v,
            Specular specular = Specular::kPhong);

@@ -4,6 +4,7 @@
 #include "pairs/composite.h"
 #include "pairs/marching_cubes.h"
 #include "pairs/ray_cast.h"
+#include "pairs/ray_trace.h"
 #include "pairs/raster.h"
 #include "pairs/volume.h"
 
@@ -20,6 +21,7 @@ const Registry& registry() {
       volume_family(),
       splat_family(),
       volume_iso_family(),
+      ray_trace_family(),
   }};
   return r;
 }

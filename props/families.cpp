@@ -22,6 +22,9 @@ FamilyProperties properties(const Family&);
 namespace volume {
 FamilyProperties properties(const Family&);
 }
+namespace ray_trace {
+FamilyProperties properties(const Family&);
+}
 
 const std::vector<ProviderRow>& property_providers() {
   static const std::vector<ProviderRow> rows = {
@@ -34,6 +37,7 @@ const std::vector<ProviderRow>& property_providers() {
       {"volume", volume::properties},
       {"volume_iso", volume::properties},
       {"splat", volume::properties},
+      {"raytrace", ray_trace::properties},
   };
   return rows;
 }

@@ -13,21 +13,19 @@
 
 namespace lockstep::ref {
 
-namespace {
-
-// Nearest visible hit along one ray.
-Hit nearest_hit(const Scene& scene, const Ray& ray) {
+Hit nearest_hit(const Scene& scene, const Ray& ray, SphereSides sides) {
   Hit best;
   best.t = ray.tmax;
   // Spheres: try the roots in order; a root counts only if it is in range and
-  // its side of the sphere is the visible one (NFF: outside, or inside for r < 0).
+  // its side of the sphere is the visible one (NFF: outside, or inside for r <
+  // 0), or, for solid spheres, whatever its side.
   for (uint32_t s = 0; s < scene.sphere_count(); ++s) {
     double t0, t1;
     if (!sphere_roots<double>(ray.o, ray.d, scene.sphere_center[s], scene.sphere_radius[s], t0, t1)) continue;
     for (double t : {t0, t1}) {
       if (!(t > ray.tmin && t < best.t)) continue;
       const Vec3 outward = ray.o + t * ray.d - scene.sphere_center[s];
-      if (!visible_side(scene, s, dot(ray.d, outward))) continue;
+      if (sides == SphereSides::kNff && !visible_side(scene, s, dot(ray.d, outward))) continue;
       best.t = t;
       best.prim = s;
       break;
@@ -46,8 +44,6 @@ Hit nearest_hit(const Scene& scene, const Ray& ray) {
   if (!best.hit()) best.t = kInfinity;
   return best;
 }
-
-}  // namespace
 
 void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, FrameStats* stats) {
   for (size_t i = 0; i < rays.size(); ++i) hits[i] = nearest_hit(scene, rays[i]);

@@ -23,6 +23,13 @@ void ray_polygon(std::span<const Ray> rays, const Scene& scene, uint32_t poly, s
 void ray_sphere_f32(std::span<const Ray> rays, const Sphere& sphere, std::span<double> t);
 void ray_plane_f32(std::span<const Ray> rays, const Plane& plane, std::span<double> t);
 void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, FrameStats* stats);
+// The nearest visible hit along one ray by brute force over every primitive
+// (what trace() does per ray). Spheres follow NFF's sidedness (seen from
+// outside, from inside for r < 0), or are solids: the first root in range,
+// whatever its side (ray tracing: a refracted ray leaves a glass ball through
+// its far wall; core/ray_trace.h). Polygons follow NFF's sidedness either way.
+enum class SphereSides : uint8_t { kNff, kSolid };
+Hit nearest_hit(const Scene& scene, const Ray& ray, SphereSides sides = SphereSides::kNff);
 Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats);
 }  // namespace ref
 

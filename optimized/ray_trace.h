@@ -1,0 +1,13 @@
+// lockstep optimized: ray tracing, the contract of core/ray_trace.h, fast.
+//
+//   opt::embree   optimized/ray_trace_embree.cpp  Embree 3 for every ray, TBB tiles,
+//                 the robust self-intersection offset (Ray Tracing Gems ch. 6)
+#pragma once
+
+#include "core/ray_trace.h"
+
+namespace lockstep::opt::embree {
+Image trace_render(const Scene& scene, const FrameOptions& opts, FrameStats* stats);
+Vec3 trace_pixel(const Scene& scene, const TraceSettings& settings, int width, int height, int x,
+                 int y, RayTree* tree);
+}  // namespace lockstep::opt::embree
