@@ -22,6 +22,10 @@
 
 namespace cli = lockstep::cli;
 
+namespace lockstep::cli {
+int spd_main(Args args);  // app/spd.cpp
+}  // namespace lockstep::cli
+
 namespace {
 
 void print_help() {
@@ -46,6 +50,8 @@ void print_help() {
       "  lockstep verify [CORPUS_DIR] [--report DIR] [--impl NAME]... [--filter SUBSTR]\n"
       "      render every corpus case with every implementation, check against the reference,\n"
       "      the golden images and analytic judges, and write a report\n"
+      "  lockstep spd NAME [--size N] [--tess] -o FILE.nff\n"
+      "      write one of Eric Haines' SPD scenes (balls, gears, mount, teapot, ...) as NFF\n"
       "\n"
       "families and implementations (pairs/registry.h): %s\n"
       "\n"
@@ -111,6 +117,7 @@ int run(int argc, char** argv, std::string& sub) {
   if (first == "isosurface") return cli::isosurface_main(rest);
   if (first == "volume") return cli::volume_main(rest);
   if (first == "trace") return cli::trace_main(rest);
+  if (first == "spd") return cli::spd_main(rest);
   sub.clear();
   if (cli::is_option(first)) cli::unknown_option(first);
   throw cli::UsageError("unknown subcommand '" + std::string(first) + "' (render, composite, isosurface, volume, diff or verify)");

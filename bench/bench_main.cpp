@@ -38,6 +38,7 @@
 #include "core/error.h"
 #include "core/output.h"
 #include "core/timer.h"
+#include "pairs/loaders.h"
 #include "pairs/registry.h"
 
 namespace lockstep {
@@ -217,6 +218,16 @@ int main(int argc, char** argv) {
   // (core/image.h), which the compositor's speed depends on.
   mallopt(M_MMAP_MAX, 0);
   mallopt(M_TRIM_THRESHOLD, std::numeric_limits<int>::max());
+  // Inputs that live beside the repository: the SPD scenes are generated when
+  // absent (pairs/loaders.h); the real volumes cannot be, and their frames go.
+  if (!std::filesystem::is_directory(lockstep::spd_dir()))
+    std::fprintf(stderr, "lockstep_bench: note: no %s: SPD scenes are generated (lockstep spd)\n",
+                 lockstep::spd_dir().c_str());
+  if (!lockstep::have_real_volumes())
+    std::fprintf(stderr,
+                 "lockstep_bench: note: cthead.nhdr or ch2.nhdr not in %s: frames of a missing volume "
+                 "are skipped (the analytic fields run)\n",
+                 lockstep::volumes_dir().c_str());
   try {
     lockstep::register_kernels(lockstep::registry());
     lockstep::register_frames(lockstep::registry());
