@@ -3,7 +3,8 @@
 // JUnit (--junit FILE): the format Jenkins, GitLab, GitHub Actions' test
 // reporters and Buildkite read: <testsuites> with one <testsuite> per family
 // and one <testcase> per (case, implementation) row, classname
-// "lockstep.<family>", name "<case>.<impl>", time in seconds; a failing row
+// "lockstep.<family>", name "<case>.<impl>", time in seconds (fixed point,
+// as junit-10.xsd wants: tests/schemas/junit-10.xsd); a failing row
 // carries <failure message="..."> with the row's note, its error figures and
 // the report's pictures (paths relative to the report folder).
 //
@@ -73,6 +74,14 @@ std::string xml(const std::string& s) {
     }
   }
   return o;
+}
+
+// JUnit times: fixed-point seconds, never an exponent (junit-10.xsd's
+// Surefire pattern, which suites and the root are held to, allows none).
+std::string junit_time(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6f", std::isfinite(x) && x > 0 ? x : 0.0);
+  return buf;
 }
 
 std::string failure_text(const Row& r) {
@@ -148,7 +157,7 @@ void write_junit(const fs::path& path, const std::vector<Row>& rows) {
   std::ostringstream s;
   s << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
   s << "<testsuites name=\"lockstep verify\" tests=\"" << rows.size() << "\" failures=\"" << failures
-    << "\" errors=\"0\" time=\"" << json_number(total) << "\">\n";
+    << "\" errors=\"0\" time=\"" << junit_time(total) << "\">\n";
   for (const std::string& fam : families) {
     const auto& rs = by_family[fam];
     long f = 0;
@@ -158,10 +167,10 @@ void write_junit(const fs::path& path, const std::vector<Row>& rows) {
       t += r->seconds;
     }
     s << "  <testsuite name=\"lockstep." << xml(fam) << "\" tests=\"" << rs.size() << "\" failures=\"" << f
-      << "\" errors=\"0\" skipped=\"0\" time=\"" << json_number(t) << "\">\n";
+      << "\" errors=\"0\" skipped=\"0\" time=\"" << junit_time(t) << "\">\n";
     for (const Row* r : rs) {
       s << "    <testcase classname=\"lockstep." << xml(fam) << "\" name=\"" << xml(r->case_name + "." + r->impl)
-        << "\" time=\"" << json_number(r->seconds) << "\"";
+        << "\" time=\"" << junit_time(r->seconds) << "\"";
       if (r->pass) {
         s << "/>\n";
         continue;
