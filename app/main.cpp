@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "app/cli.h"
+#include "app/verify.h"  // merge_reports_main
 
 namespace cli = lockstep::cli;
 
@@ -44,6 +45,8 @@ void print_help() {
       "  lockstep verify [CORPUS_DIR] [--report DIR] [--impl NAME]... [--filter SUBSTR]\n"
       "      render every corpus case with every implementation, check against the reference,\n"
       "      the golden images and analytic judges, and write a report\n"
+      "  lockstep merge-reports OUT_DIR REPORT_DIR...\n"
+      "      join the reports of a sharded verify run (--shard K/N) into one page, JSON and JUnit\n"
       "\n"
       "families and implementations (pairs/registry.h): %s\n"
       "\n"
@@ -105,6 +108,7 @@ int run(int argc, char** argv, std::string& sub) {
   if (first == "render") return cli::render_main(rest);
   if (first == "diff") return cli::diff_main(rest);
   if (first == "verify") return cli::verify_main(rest);
+  if (first == "merge-reports") return cli::merge_reports_main(rest);
   if (first == "composite") return cli::composite_main(rest);
   if (first == "isosurface") return cli::isosurface_main(rest);
   if (first == "volume") return cli::volume_main(rest);

@@ -92,6 +92,7 @@ async function main() {
   let printed = null;
   if (reportDir) {
     reportDir = path.resolve(reportDir);
+    fs.mkdirSync(out, { recursive: true });
   } else {
     const r = makeReport();
     reportDir = path.resolve(r.report);
