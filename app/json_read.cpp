@@ -19,7 +19,9 @@ struct Parser {
   int line = 1;
   int depth = 0;
 
-  [[noreturn]] void error(const std::string& what) const { throw InputError(path, line, "not valid JSON: " + what); }
+  [[noreturn]] void error(const std::string& what) const {
+    throw InputError(path, line, "not valid JSON: " + what);
+  }
 
   void space() {
     while (i < s.size() && (s[i] == ' ' || s[i] == '\t' || s[i] == '\n' || s[i] == '\r')) {
@@ -56,10 +58,14 @@ struct Parser {
     for (int k = 0; k < 4; ++k) {
       const char c = s[i++];
       v <<= 4;
-      if (c >= '0' && c <= '9') v |= unsigned(c - '0');
-      else if (c >= 'a' && c <= 'f') v |= unsigned(c - 'a' + 10);
-      else if (c >= 'A' && c <= 'F') v |= unsigned(c - 'A' + 10);
-      else error("bad \\u escape");
+      if (c >= '0' && c <= '9')
+        v |= unsigned(c - '0');
+      else if (c >= 'a' && c <= 'f')
+        v |= unsigned(c - 'a' + 10);
+      else if (c >= 'A' && c <= 'F')
+        v |= unsigned(c - 'A' + 10);
+      else
+        error("bad \\u escape");
     }
     return v;
   }
@@ -77,14 +83,30 @@ struct Parser {
       }
       if (i >= s.size()) error("unterminated string");
       switch (s[i++]) {
-        case '"': out += '"'; break;
-        case '\\': out += '\\'; break;
-        case '/': out += '/'; break;
-        case 'b': out += '\b'; break;
-        case 'f': out += '\f'; break;
-        case 'n': out += '\n'; break;
-        case 'r': out += '\r'; break;
-        case 't': out += '\t'; break;
+        case '"':
+          out += '"';
+          break;
+        case '\\':
+          out += '\\';
+          break;
+        case '/':
+          out += '/';
+          break;
+        case 'b':
+          out += '\b';
+          break;
+        case 'f':
+          out += '\f';
+          break;
+        case 'n':
+          out += '\n';
+          break;
+        case 'r':
+          out += '\r';
+          break;
+        case 't':
+          out += '\t';
+          break;
         case 'u': {
           unsigned cp = hex4();
           if (cp >= 0xD800 && cp < 0xDC00 && s.compare(i, 2, "\\u") == 0) {
@@ -96,7 +118,8 @@ struct Parser {
           utf8(out, cp);
           break;
         }
-        default: error("bad escape in a string");
+        default:
+          error("bad escape in a string");
       }
     }
   }
@@ -216,12 +239,15 @@ JsonValue read_json_file(const std::string& path) {
 
 std::string to_json(const JsonValue& v) {
   switch (v.type) {
-    case JsonValue::Type::kNull: return "null";
-    case JsonValue::Type::kBool: return v.boolean ? "true" : "false";
+    case JsonValue::Type::kNull:
+      return "null";
+    case JsonValue::Type::kBool:
+      return v.boolean ? "true" : "false";
     case JsonValue::Type::kNumber:
       if (v.integer && std::fabs(v.number) < 9e15) return std::to_string((long long)v.number);
       return json_number(v.number);
-    case JsonValue::Type::kString: return json_string(v.string);
+    case JsonValue::Type::kString:
+      return json_string(v.string);
     case JsonValue::Type::kArray: {
       std::string o = "[";
       for (size_t k = 0; k < v.array.size(); ++k) o += (k ? ", " : "") + to_json(v.array[k]);

@@ -52,9 +52,10 @@ struct Shard {
   JsonValue doc;
 };
 
-const JsonValue& member(const JsonValue& obj, const std::string& key, JsonValue::Type type, const std::string& file,
-                        const std::string& where) {
-  static const char* kNames[] = {"null", "a boolean", "a number", "a string", "an array", "an object"};
+const JsonValue& member(const JsonValue& obj, const std::string& key, JsonValue::Type type,
+                        const std::string& file, const std::string& where) {
+  static const char* kNames[] = {"null",     "a boolean", "a number",
+                                 "a string", "an array",  "an object"};
   const JsonValue* v = obj.find(key);
   if (!v) throw InputError(file, obj.line, where + ": no \"" + key + "\"");
   if (v->type != type && !(type == JsonValue::Type::kNumber && v->type == JsonValue::Type::kNull))
@@ -63,12 +64,14 @@ const JsonValue& member(const JsonValue& obj, const std::string& key, JsonValue:
 }
 
 // A number; null (written for infinite values) reads back as infinity.
-double number(const JsonValue& obj, const std::string& key, const std::string& file, const std::string& where) {
+double number(const JsonValue& obj, const std::string& key, const std::string& file,
+              const std::string& where) {
   const JsonValue& v = member(obj, key, JsonValue::Type::kNumber, file, where);
   return v.type == JsonValue::Type::kNull ? kInfinity : v.number;
 }
 
-long count(const JsonValue& obj, const std::string& key, const std::string& file, const std::string& where) {
+long count(const JsonValue& obj, const std::string& key, const std::string& file,
+           const std::string& where) {
   const JsonValue& v = member(obj, key, JsonValue::Type::kNumber, file, where);
   if (v.type == JsonValue::Type::kNull || !v.integer || v.number < 0)
     throw InputError(file, v.line, where + ": \"" + key + "\" is not a count");
@@ -130,10 +133,13 @@ int merge_reports_main(Args args) {
     if (fs::equivalent(fs::path(d), out, ec))
       throw UsageError("OUT_DIR '" + out.string() + "' is also an input report");
     s.doc = read_json_file(s.file);
-    if (s.doc.type != JsonValue::Type::kObject) throw InputError(s.file, s.doc.line, "not a JSON object");
+    if (s.doc.type != JsonValue::Type::kObject)
+      throw InputError(s.file, s.doc.line, "not a JSON object");
     const JsonValue* schema = s.doc.find("schema");
-    if (!schema || schema->type != JsonValue::Type::kString || schema->string != "lockstep-report/1")
-      throw InputError(s.file, schema ? schema->line : 1, "not a lockstep report (schema is not \"lockstep-report/1\")");
+    if (!schema || schema->type != JsonValue::Type::kString ||
+        schema->string != "lockstep-report/1")
+      throw InputError(s.file, schema ? schema->line : 1,
+                       "not a lockstep report (schema is not \"lockstep-report/1\")");
     shards.push_back(std::move(s));
   }
   using T = JsonValue::Type;
@@ -150,24 +156,29 @@ int merge_reports_main(Args args) {
       const auto key = std::make_pair(r.case_name, r.impl);
       if (auto it = row_from.find(key); it != row_from.end())
         throw InputError(s.file, rs.array[k].line,
-                         "row (" + r.case_name + ", " + r.impl + ") is in " + it->second + " too: a shard merged twice?");
+                         "row (" + r.case_name + ", " + r.impl + ") is in " + it->second +
+                             " too: a shard merged twice?");
       row_from[key] = s.file;
       rows.push_back(std::move(r));
     }
     const JsonValue& ci = member(s.doc, "case_info", T::kArray, s.file, "report");
     for (size_t k = 0; k < ci.array.size(); ++k) {
       const std::string where = "case_info[" + std::to_string(k) + "]";
-      if (ci.array[k].type != T::kObject) throw InputError(s.file, ci.array[k].line, where + ": not an object");
+      if (ci.array[k].type != T::kObject)
+        throw InputError(s.file, ci.array[k].line, where + ": not an object");
       const std::string name = member(ci.array[k], "case", T::kString, s.file, where).string;
-      if (name.empty() || name.find('/') != std::string::npos || name.find("..") != std::string::npos)
+      if (name.empty() || name.find('/') != std::string::npos ||
+          name.find("..") != std::string::npos)
         throw InputError(s.file, ci.array[k].line, where + ": bad case name '" + name + "'");
       if (auto it = case_from.find(name); it != case_from.end())
-        throw InputError(s.file, ci.array[k].line, "case " + name + " is in " + it->second + " too");
+        throw InputError(s.file, ci.array[k].line,
+                         "case " + name + " is in " + it->second + " too");
       case_from[name] = s.file;
       case_names.push_back(name);
       case_info.push_back(to_json(ci.array[k]));
       if (!fs::is_directory(s.dir / name))
-        throw InputError((s.dir / name).string(), 0, "the case folder is missing (report.json names it)");
+        throw InputError((s.dir / name).string(), 0,
+                         "the case folder is missing (report.json names it)");
     }
     for (const JsonValue& v : member(s.doc, "verdicts", T::kArray, s.file, "report").array) {
       if (v.type != T::kString) throw InputError(s.file, v.line, "verdicts: not a string");
@@ -176,12 +187,14 @@ int merge_reports_main(Args args) {
   }
   for (const Row& r : rows)
     if (!case_from.count(r.case_name))
-      throw InputError(row_from[{r.case_name, r.impl}], 0, "row of case " + r.case_name + " has no case_info");
+      throw InputError(row_from[{r.case_name, r.impl}], 0,
+                       "row of case " + r.case_name + " has no case_info");
 
   // 2. Build OUT_DIR.partial, then rename it into place.
   std::error_code ec;
   if (fs::exists(out) && !fs::exists(out / "report.json") && !fs::is_empty(out, ec))
-    throw InputError(out.string(), 0, "exists and is not a report folder (no report.json): not replacing it");
+    throw InputError(out.string(), 0,
+                     "exists and is not a report folder (no report.json): not replacing it");
   const fs::path partial = out.string() + ".partial";
   fs::remove_all(partial, ec);
   fs::create_directories(partial, ec);
@@ -191,7 +204,9 @@ int merge_reports_main(Args args) {
       for (const JsonValue& ci : s.doc.find("case_info")->array) {
         const std::string name = ci.find("case")->string;
         fs::copy(s.dir / name, partial / name, fs::copy_options::recursive, ec);
-        if (ec) throw InputError((s.dir / name).string(), 0, "cannot copy to " + (partial / name).string() + ": " + ec.message());
+        if (ec)
+          throw InputError((s.dir / name).string(), 0,
+                           "cannot copy to " + (partial / name).string() + ": " + ec.message());
       }
     bool all = true;
     for (const Row& r : rows) all = all && r.pass;
@@ -199,15 +214,18 @@ int merge_reports_main(Args args) {
     const JsonValue* threads = shards.front().doc.find("threads");
     std::ostringstream d;
     d << "{\n  \"schema\": \"lockstep-report/1\",\n  \"lockstep\": "
-      << json_string(version && version->type == T::kString ? version->string : std::string(LOCKSTEP_VERSION))
-      << ",\n  \"threads\": " << (threads && threads->type == T::kNumber ? long(threads->number) : 0)
+      << json_string(version && version->type == T::kString ? version->string
+                                                            : std::string(LOCKSTEP_VERSION))
+      << ",\n  \"threads\": "
+      << (threads && threads->type == T::kNumber ? long(threads->number) : 0)
       << ",\n  \"cases\": " << cases << ",\n  \"pass\": " << (all ? "true" : "false")
       << ",\n  \"merged_from\": " << shards.size() << ",\n  \"rows\": [";
     for (size_t i = 0; i < rows.size(); ++i) d << (i ? ",\n    " : "\n    ") << row_json(rows[i]);
     d << "\n  ],\n  \"case_info\": [";
     for (size_t i = 0; i < case_info.size(); ++i) d << (i ? ",\n    " : "\n    ") << case_info[i];
     d << "\n  ],\n  \"verdicts\": [";
-    for (size_t i = 0; i < verdicts.size(); ++i) d << (i ? ",\n    " : "\n    ") << json_string(verdicts[i]);
+    for (size_t i = 0; i < verdicts.size(); ++i)
+      d << (i ? ",\n    " : "\n    ") << json_string(verdicts[i]);
     d << "\n  ]\n}\n";
     // The shards' pixels.js came with their case folders.
     write_page(partial, d.str(), {});
@@ -216,7 +234,9 @@ int merge_reports_main(Args args) {
     if (fs::exists(out)) fs::remove_all(out, ec);
     if (ec) throw InputError(out.string(), 0, "cannot replace: " + ec.message());
     fs::rename(partial, out, ec);
-    if (ec) throw InputError(out.string(), 0, "cannot rename " + partial.string() + " to it: " + ec.message());
+    if (ec)
+      throw InputError(out.string(), 0,
+                       "cannot rename " + partial.string() + " to it: " + ec.message());
     long failed = 0;
     for (const Row& r : rows) failed += r.pass ? 0 : 1;
     std::printf("%ld cases, %zu rows from %zu reports: %s\n", cases, rows.size(), shards.size(),

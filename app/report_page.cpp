@@ -17,15 +17,16 @@
 //            "size" (in the kind's words), "tolerance" (in words), "judge",
 //            "golden" (the golden's picture, relative to DIR; "" when none): string }
 //
-// DIR/<case>/pixels.js: lockstepPixels("<case>", {"<case>/<file>.png": "data:image/png;base64,...", ...})
-// with every PNG of the case folder, for the page's pixel readout (images read
-// from file:// taint a canvas; data: URIs loaded by a script do not).
+// DIR/<case>/pixels.js: lockstepPixels("<case>", {"<case>/<file>.png": "data:image/png;base64,...",
+// ...}) with every PNG of the case folder, for the page's pixel readout (images read from file://
+// taint a canvas; data: URIs loaded by a script do not).
+#include "app/report_page.h"
+
 #include <algorithm>
 #include <fstream>
 #include <sstream>
 #include <thread>
 
-#include "app/report_page.h"
 #include "app/verify.h"
 
 namespace lockstep::cli {
@@ -35,12 +36,14 @@ namespace fs = std::filesystem;
 namespace {
 
 std::string base64(const std::string& bytes) {
-  static constexpr char kDigits[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  static constexpr char kDigits[] =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
   std::string out;
   out.reserve((bytes.size() + 2) / 3 * 4);
   size_t i = 0;
   for (; i + 2 < bytes.size(); i += 3) {
-    const unsigned v = (unsigned char)bytes[i] << 16 | (unsigned char)bytes[i + 1] << 8 | (unsigned char)bytes[i + 2];
+    const unsigned v = (unsigned char)bytes[i] << 16 | (unsigned char)bytes[i + 1] << 8 |
+                       (unsigned char)bytes[i + 2];
     out += {kDigits[v >> 18], kDigits[v >> 12 & 63], kDigits[v >> 6 & 63], kDigits[v & 63]};
   }
   if (i + 1 == bytes.size()) {
@@ -71,8 +74,8 @@ void write_pixels(const fs::path& dir, const std::string& name) {
   std::sort(pngs.begin(), pngs.end());
   std::string js = "lockstepPixels(" + json_string(name) + ", {";
   for (size_t i = 0; i < pngs.size(); ++i)
-    js += (i ? ",\n  " : "\n  ") + json_string(name + "/" + pngs[i].filename().string()) + ": \"data:image/png;base64," +
-          base64(read_bytes(pngs[i])) + "\"";
+    js += (i ? ",\n  " : "\n  ") + json_string(name + "/" + pngs[i].filename().string()) +
+          ": \"data:image/png;base64," + base64(read_bytes(pngs[i])) + "\"";
   js += "\n});\n";
   write_whole(case_dir / "pixels.js", js);
 }
@@ -86,7 +89,8 @@ std::string report_data(const std::vector<Case>& cases, const std::vector<Row>& 
   std::ostringstream s;
   s << "{\n  \"schema\": \"lockstep-report/1\",\n  \"lockstep\": " << json_string(LOCKSTEP_VERSION)
     << ",\n  \"threads\": " << (threads > 0 ? threads : int(std::thread::hardware_concurrency()))
-    << ",\n  \"cases\": " << cases.size() << ",\n  \"pass\": " << (all ? "true" : "false") << ",\n  \"rows\": [";
+    << ",\n  \"cases\": " << cases.size() << ",\n  \"pass\": " << (all ? "true" : "false")
+    << ",\n  \"rows\": [";
   for (size_t i = 0; i < rows.size(); ++i) s << (i ? ",\n    " : "\n    ") << row_json(rows[i]);
   s << "\n  ],\n  \"case_info\": [";
   for (size_t i = 0; i < cases.size(); ++i) {
@@ -96,21 +100,25 @@ std::string report_data(const std::vector<Case>& cases, const std::vector<Row>& 
     for (const Row& r : rows)
       if (r.case_name == c.name && !r.golden.empty()) golden = r.golden;
     s << (i ? ",\n    " : "\n    ") << "{\"case\": " << json_string(c.name)
-      << ", \"family\": " << json_string(std::string(c.family->name)) << ", \"kind\": " << json_string(std::string(k.name))
+      << ", \"family\": " << json_string(std::string(c.family->name))
+      << ", \"kind\": " << json_string(std::string(k.name))
       << ", \"legend\": " << json_string(std::string(k.legend))
       << ", \"input\": " << json_string(fs::path(c.input_path).filename().string())
-      << ", \"size\": " << json_string(std::to_string(c.frame_width()) + "x" + std::to_string(c.frame_height()))
-      << ", \"tolerance\": " << json_string(k.describe_tolerance(c.tol))
-      << ", \"judge\": " << json_string(c.judge ? std::string(c.judge->name) : std::string("reference"))
+      << ", \"size\": "
+      << json_string(std::to_string(c.frame_width()) + "x" + std::to_string(c.frame_height()))
+      << ", \"tolerance\": " << json_string(k.describe_tolerance(c.tol)) << ", \"judge\": "
+      << json_string(c.judge ? std::string(c.judge->name) : std::string("reference"))
       << ", \"golden\": " << json_string(golden) << "}";
   }
   s << "\n  ],\n  \"verdicts\": [";
-  for (size_t i = 0; i < verdicts.size(); ++i) s << (i ? ",\n    " : "\n    ") << json_string(verdicts[i]);
+  for (size_t i = 0; i < verdicts.size(); ++i)
+    s << (i ? ",\n    " : "\n    ") << json_string(verdicts[i]);
   s << "\n  ]\n}\n";
   return s.str();
 }
 
-void write_page(const fs::path& dir, const std::string& data, const std::vector<std::string>& case_names) {
+void write_page(const fs::path& dir, const std::string& data,
+                const std::vector<std::string>& case_names) {
   for (const std::string& name : case_names) write_pixels(dir, name);
   // Inside <script>, "</" could end the block: JSON allows "<\/" for it.
   std::string safe;
