@@ -363,8 +363,9 @@ function pictureList(name) {
     if (r.view) out.push({ path: r.view, label: r.impl, group: 'views', impl: r.impl });
   }
   for (const r of caseRows(name)) {
-    if (r.difference) out.push({ path: r.difference, label: r.impl + (r.impl === 'reference' ? ' vs golden' : ' vs reference'),
-                                 group: 'heat', impl: r.impl });
+    // The failure map's count in its caption: samples over the case's threshold.
+    if (r.difference) out.push({ path: r.difference, label: r.impl + (r.impl === 'reference' ? ' vs golden' : ' vs reference') +
+                                 (r.samples > 0 ? `: ${r.over} of ${r.samples} over` : ''), group: 'heat', impl: r.impl });
   }
   for (const r of caseRows(name)) if (r.judged) out.push({ path: r.judged, label: r.impl + ' judged', group: 'judge', impl: r.impl });
   return out;

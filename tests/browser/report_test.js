@@ -107,6 +107,7 @@ async function main() {
     executablePath: chromium, headless: true, args: ['--no-sandbox', '--headless=new', '--allow-file-access-from-files=false'],
   });
   const problems = [];
+  let failure = null;
   try {
     const page = await browser.newPage();
     await page.setViewport({ width: 1400, height: 1000 });
@@ -222,15 +223,38 @@ async function main() {
     check(mv.length > 0 && mv.every((v) => v.w > 0), `mesh case ${mesh.case}: ${JSON.stringify(mv)}`);
     check((await page.$eval('#v-info', (e) => e.textContent)).includes('mesh'), 'mesh case info');
 
+    // The row that differs most from its reference, opened on its own row, at 2x:
+    // the screenshot README shows (report-diff.png).
+    const differs = data.rows.filter((r) => r.impl !== 'reference' && r.samples > 0)
+      .sort((a, b) => b.over / b.samples - a.over / a.samples || (b.worst || 0) - (a.worst || 0))[0];
+    if (differs) {
+      await page.click(`#rows tbody tr[data-case="${differs.case}"][data-impl="${differs.impl}"]`);
+      await page.waitForFunction(() => [...document.querySelectorAll('#viewer img.px')].every((i) => i.complete && i.naturalWidth > 0));
+      check(await page.$eval('#cmp-a', (s) => s.value) === differs.view, 'compare A is not the row clicked');
+      await page.click('#zoom-1');
+      await page.click('#zoom-in');
+      const pic = await page.$(`#g-views img[data-path="${differs.view}"]`);
+      const pb = await pic.boundingBox();
+      for (let i = 0; i < 30; ++i) {
+        await page.mouse.move(pb.x + pb.width * 0.45 + (i % 2), pb.y + pb.height * 0.5);
+        if (/\|error\| \d+/.test(await page.$eval('#readout', (e) => e.textContent))) break;
+        await new Promise((r) => setTimeout(r, 100));
+      }
+      await page.screenshot({ path: path.join(out, 'report-diff.png') });
+    }
+
     check(problems.length === 0, problems.join('\n'));
     console.log(`ok: ${expected.length} rows (${nfail} failing), ${families.length} families filtered, ` +
                 `case ${name}: ${views.length} pictures, readout ${JSON.stringify(text.slice(0, 60))}; mesh ${mesh.case}; ` +
                 `screenshots in ${out}`);
   } catch (e) {
-    if (problems.length) console.error(problems.join('\n'));
-    fail(e.message);
+    failure = e.message;
   } finally {
-    await browser.close();
+    await browser.close();  // before exiting: no browser left behind
+  }
+  if (failure) {
+    if (problems.length) console.error(problems.join('\n'));
+    fail(failure);
   }
 }
 
