@@ -109,7 +109,7 @@ inline constexpr std::string_view kReportPage = R"lockstep_page(<!DOCTYPE html>
   <div id="g-judge-wrap"><h3>Judge masks</h3><div class="gallery" id="g-judge"></div></div>
   <h3>Compare</h3>
   <div class="toolbar">A <select id="cmp-a"></select> B <select id="cmp-b"></select>
-    wipe <input type="range" id="wipe" min="0" max="100" value="50"> <button id="flip">flip A/B (<kbd>f</kbd>)</button>
+    wipe <input type="range" id="wipe" min="0" max="100" value="50"> <button id="flip">flip A/B (<kbd>f</kbd>)</button> <button id="peek" title="hover: B alone">hover for B</button>
     <span id="flip-state" class="muted"></span></div>
   <div class="frame" id="cmp-frame"><div class="compare" id="compare">
     <img class="px" id="cmp-img-b" alt="B"><img class="px top" id="cmp-img-a" alt="A"><div class="wipe-line" id="wipe-line"></div>
@@ -474,6 +474,10 @@ $('cmp-b').addEventListener('change', setCompare);
 $('wipe').addEventListener('input', placeWipe);
 function flip() { $('wipe').value = Number($('wipe').value) === 100 ? 0 : 100; placeWipe(); }
 $('flip').addEventListener('click', flip);
+// Hovering "hover for B" shows B alone while the pointer stays, then the wipe as it was.
+let peekSaved = null;
+$('peek').addEventListener('mouseenter', () => { peekSaved = $('wipe').value; $('wipe').value = 0; placeWipe(); });
+$('peek').addEventListener('mouseleave', () => { if (peekSaved !== null) $('wipe').value = peekSaved; peekSaved = null; placeWipe(); });
 $('zoom-in').addEventListener('click', () => setZoom(zoom * 2));
 $('zoom-out').addEventListener('click', () => setZoom(zoom / 2));
 $('zoom-1').addEventListener('click', () => setZoom(1));

@@ -15,14 +15,17 @@
 //   * no console error, page error or failed request;
 //   * the table has one row per row printed on stdout (case, impl, verdict),
 //     or per row of the JSON; failures first;
-//   * the family filter (every family) and the verdict filter show exactly the
-//     JSON's rows of that family / verdict; sorting by time sorts;
+//   * the family filter (every family), the implementation filter (every
+//     implementation) and the verdict filter show exactly the JSON's rows of
+//     that family / implementation / verdict; sorting by time sorts;
 //   * opening a case shows its pictures (naturalWidth > 0), golden included;
 //     the mouse over a picture gives a pixel readout with numbers; zoom doubles
-//     the pictures' size; the flip key shows A then B;
+//     the pictures' size (image-rendering: pixelated); the flip key shows A then
+//     B; the wipe clips A at the slider; hovering "hover for B" shows B alone;
 //   * a mesh case shows its rendered previews;
 //   * the three charts have their marks.
-// Saves OUT_DIR/report-table.png and OUT_DIR/report-case.png. Exits 1 on the
+// Saves OUT_DIR/report-table.png, OUT_DIR/report-case.png and OUT_DIR/report-diff.png
+// (the row that differs most from its reference, at 2x). Exits 1 on the
 // first failed check (a missing puppeteer-core or chromium is a failure too).
 'use strict';
 const fs = require('fs');
@@ -138,6 +141,14 @@ async function main() {
       check(shown.length === want && shown.every((d) => d.family === f), `family ${f}: ${shown.length} rows shown, JSON has ${want}`);
     }
     await page.select('#f-family', '');
+    // The implementation filter, every implementation.
+    for (const i of [...new Set(data.rows.map((r) => r.impl))]) {
+      await page.select('#f-impl', i);
+      const shown = await visible();
+      const want = data.rows.filter((r) => r.impl === i).length;
+      check(shown.length === want && shown.every((d) => d.impl === i), `impl ${i}: ${shown.length} rows shown, JSON has ${want}`);
+    }
+    await page.select('#f-impl', '');
     await page.select('#f-verdict', 'FAIL');
     check((await visible()).length === nfail, 'verdict filter FAIL');
     await page.select('#f-verdict', '');
@@ -207,6 +218,13 @@ async function main() {
     const s2 = await page.$eval('#flip-state', (e) => e.textContent);
     check(s1 === 'showing A' && s2 === 'showing B', `flip: ${s1} / ${s2}`);
     await page.$eval('#wipe', (w) => { w.value = 50; w.dispatchEvent(new Event('input')); });
+    // The wipe clips A at the slider; hovering "hover for B" shows B alone, then the wipe again.
+    check(await page.$eval('#cmp-img-a', (i) => i.style.clipPath) === 'inset(0px 50% 0px 0px)', 'wipe does not clip A at 50%');
+    await page.hover('#peek');
+    const peek = await page.$eval('#flip-state', (e) => e.textContent);
+    await page.mouse.move(0, 0);
+    const after50 = await page.$eval('#flip-state', (e) => e.textContent);
+    check(peek === 'showing B' && after50.includes('50%'), `hover flip: ${peek} / ${after50}`);
     const cmp = await page.$$eval('#compare img', (imgs) => imgs.map((i) => i.naturalWidth));
     check(cmp.every((w) => w > 0), 'compare pictures not loaded');
     // The screenshot at 4x, the cursor over the middle of the picture.
