@@ -14,7 +14,8 @@ invalid: each file must NOT validate (the validators can fail).
 JUnit: `xmllint --noout --schema tests/schemas/junit-10.xsd` (Debian's
 libxml2-utils), the Jenkins xUnit plugin's junit-10.xsd. JSON:
 tests/schemas/lockstep-verify-1.schema.json (draft 2020-12) with Debian's
-python3-jsonschema. A missing xmllint or jsonschema is a failure, not a skip.
+python3-jsonschema; a file named report.json (the report page's data) against
+tests/schemas/lockstep-report-1.schema.json. A missing xmllint or jsonschema is a failure, not a skip.
 """
 import json
 import os
@@ -25,6 +26,7 @@ import xml.etree.ElementTree as ET
 HERE = os.path.dirname(os.path.abspath(__file__))
 XSD = os.path.join(HERE, "junit-10.xsd")
 JSON_SCHEMA = os.path.join(HERE, "lockstep-verify-1.schema.json")
+REPORT_SCHEMA = os.path.join(HERE, "lockstep-report-1.schema.json")
 
 
 def fail(msg):
@@ -47,13 +49,18 @@ def junit_errors(path):
 
 
 def json_errors(path):
-    schema = json.load(open(JSON_SCHEMA))
-    jsonschema.Draft202012Validator.check_schema(schema)
+    """lockstep-verify/1 (--json, verify.json) or, for report.json, lockstep-report/1 (whose rows are verify's)."""
+    verify = json.load(open(JSON_SCHEMA))
+    report = json.load(open(REPORT_SCHEMA))
+    for sch in (verify, report):
+        jsonschema.Draft202012Validator.check_schema(sch)
     try:
         doc = json.load(open(path))
     except ValueError as e:
         return [f"not JSON: {e}"]
-    v = jsonschema.Draft202012Validator(schema)
+    schema = report if os.path.basename(path) == "report.json" else verify
+    resolver = jsonschema.RefResolver.from_schema(schema, store={verify["$id"]: verify, report["$id"]: report})
+    v = jsonschema.Draft202012Validator(schema, resolver=resolver)
     return [f"{'/'.join(map(str, e.absolute_path)) or '(root)'}: {e.message}" for e in v.iter_errors(doc)]
 
 
