@@ -14,7 +14,8 @@
 //     "merged_from": integer      (merged pages only: how many reports) }
 //   CASE = { "case", "family", "kind" (the output kind: "image", "mesh"),
 //            "legend" (what the kind's pictures show), "input" (file name),
-//            "size" (in the kind's words), "tolerance" (in words), "judge",
+//            "size" (WxH rendered, or what the reference produced in the kind's
+//            samples, "2256 vertices"; "" when unknown), "tolerance" (in words), "judge",
 //            "golden" (the golden's picture, relative to DIR; "" when none): string }
 //
 // DIR/<case>/pixels.js: lockstepPixels("<case>", {"<case>/<file>.png": "data:image/png;base64,...",
@@ -97,15 +98,23 @@ std::string report_data(const std::vector<Case>& cases, const std::vector<Row>& 
     const Case& c = cases[i];
     const OutputKind& k = *c.family->kind;
     std::string golden;
-    for (const Row& r : rows)
-      if (r.case_name == c.name && !r.golden.empty()) golden = r.golden;
+    // Sized families (images) render at WxH; the others' size is what the
+    // reference produced, in the kind's samples ("2256 vertices").
+    std::string size =
+        c.family->sized ? std::to_string(c.frame_width()) + "x" + std::to_string(c.frame_height())
+                        : "";
+    for (const Row& r : rows) {
+      if (r.case_name != c.name) continue;
+      if (!r.golden.empty()) golden = r.golden;
+      if (!c.family->sized && r.impl == c.family->reference().name && r.err.samples > 0)
+        size = std::to_string(r.err.samples) + " " + std::string(k.samples);
+    }
     s << (i ? ",\n    " : "\n    ") << "{\"case\": " << json_string(c.name)
       << ", \"family\": " << json_string(std::string(c.family->name))
       << ", \"kind\": " << json_string(std::string(k.name))
       << ", \"legend\": " << json_string(std::string(k.legend))
       << ", \"input\": " << json_string(fs::path(c.input_path).filename().string())
-      << ", \"size\": "
-      << json_string(std::to_string(c.frame_width()) + "x" + std::to_string(c.frame_height()))
+      << ", \"size\": " << json_string(size)
       << ", \"tolerance\": " << json_string(k.describe_tolerance(c.tol)) << ", \"judge\": "
       << json_string(c.judge ? std::string(c.judge->name) : std::string("reference"))
       << ", \"golden\": " << json_string(golden) << "}";

@@ -309,6 +309,8 @@ function drawTime() {
   cases.forEach((c, i) => {
     const cy = T + i * row + row / 2;
     const label = sv('text', { x: L - 6, y: cy + 4, 'text-anchor': 'end' }, c);
+    const ci = info.get(c);
+    if (ci && ci.size) label.append(sv('title', {}, `${c}: ${ci.size}`));
     label.style.cursor = 'pointer'; label.addEventListener('click', () => openCase(c));
     svg.append(label);
     svg.append(sv('line', { class: 'grid', x1: L, x2: W - 6, y1: cy, y2: cy }));
@@ -392,7 +394,7 @@ function openCase(name, impl) {
   $('viewer').hidden = false;
   $('v-title').textContent = name;
   $('v-info').textContent = ci ? `${ci.family} (${ci.kind}${ci.kind === 'mesh' ? ': pictures are rendered previews' : ''}), ` +
-      `input ${ci.input}, ${ci.size}, ${ci.tolerance}; judge ${ci.judge}.` : '';
+      `input ${ci.input}` + (ci.size ? `, ${ci.size}` : '') + `, ${ci.tolerance}; judge ${ci.judge}.` : '';
   const mini = $('v-rows'); mini.replaceChildren();
   const head = el('tr'); for (const k of ['impl', 'max err', '% over', 'score', 'time s', 'speedup', 'verdict', 'note']) head.append(el('th', { text: k }));
   mini.append(head);
