@@ -8,7 +8,9 @@
 // written -- then builds OUT_DIR beside it as OUT_DIR.partial (the case folders
 // copied, report.json, index.html, verify.json as --json writes it, verify.xml
 // as --junit writes it) and renames it to OUT_DIR, replacing an OUT_DIR that
-// is a report folder (has report.json) or empty.
+// is a report folder (has report.json) or empty. An input FILE.json is a
+// shard's `verify --json` file (lockstep-verify/1): its rows join without
+// pictures (the merged rows name none), its cases with nothing but their family.
 #include <cstdio>
 #include <map>
 #include <set>
@@ -25,14 +27,16 @@ namespace {
 
 void print_help() {
   std::printf(
-      "usage: lockstep merge-reports OUT_DIR REPORT_DIR...\n"
+      "usage: lockstep merge-reports OUT_DIR REPORT_DIR|FILE.json...\n"
       "\n"
       "Joins the reports of a sharded run into one: each REPORT_DIR is the --report folder\n"
       "of one `lockstep verify --shard K/N --report REPORT_DIR` (any number, any order).\n"
       "Writes OUT_DIR/index.html (the page, as verify writes it, over every shard's rows),\n"
       "OUT_DIR/report.json (its data, lockstep-report/1), OUT_DIR/verify.json (the rows as\n"
       "--json writes them, lockstep-verify/1), OUT_DIR/verify.xml (as --junit writes them),\n"
-      "and copies each shard's case folders (pictures) into OUT_DIR.\n"
+      "and copies each shard's case folders (pictures) into OUT_DIR. An input ending in .json\n"
+      "is a shard's `verify --json FILE` (lockstep-verify/1, e.g. from --no-report runs): its\n"
+      "rows are merged without pictures (their picture paths are dropped).\n"
       "\n"
       "Every REPORT_DIR/report.json is read and checked before anything is written; OUT_DIR\n"
       "is built as OUT_DIR.partial and renamed into place, replacing an earlier report there.\n"
@@ -47,9 +51,10 @@ void print_help() {
 }
 
 struct Shard {
-  std::string file;  // REPORT_DIR/report.json
+  std::string file;  // REPORT_DIR/report.json, or the --json file itself
   fs::path dir;
   JsonValue doc;
+  bool rows_only = false;  // a --json file (lockstep-verify/1): rows, no pictures
 };
 
 const JsonValue& member(const JsonValue& obj, const std::string& key, JsonValue::Type type,
@@ -128,7 +133,8 @@ int merge_reports_main(Args args) {
   for (const std::string& d : dirs) {
     Shard s;
     s.dir = d;
-    s.file = (fs::path(d) / "report.json").string();
+    s.rows_only = fs::path(d).extension() == ".json";
+    s.file = s.rows_only ? d : (fs::path(d) / "report.json").string();
     std::error_code ec;
     if (fs::equivalent(fs::path(d), out, ec))
       throw UsageError("OUT_DIR '" + out.string() + "' is also an input report");
@@ -136,10 +142,12 @@ int merge_reports_main(Args args) {
     if (s.doc.type != JsonValue::Type::kObject)
       throw InputError(s.file, s.doc.line, "not a JSON object");
     const JsonValue* schema = s.doc.find("schema");
-    if (!schema || schema->type != JsonValue::Type::kString ||
-        schema->string != "lockstep-report/1")
-      throw InputError(s.file, schema ? schema->line : 1,
-                       "not a lockstep report (schema is not \"lockstep-report/1\")");
+    const std::string want = s.rows_only ? "lockstep-verify/1" : "lockstep-report/1";
+    if (!schema || schema->type != JsonValue::Type::kString || schema->string != want)
+      throw InputError(
+          s.file, schema ? schema->line : 1,
+          std::string(s.rows_only ? "not a verify --json file" : "not a lockstep report") +
+              " (schema is not \"" + want + "\")");
     shards.push_back(std::move(s));
   }
   using T = JsonValue::Type;
@@ -153,6 +161,8 @@ int merge_reports_main(Args args) {
     const JsonValue& rs = member(s.doc, "rows", T::kArray, s.file, "report");
     for (size_t k = 0; k < rs.array.size(); ++k) {
       Row r = row_of(rs.array[k], s.file, "rows[" + std::to_string(k) + "]");
+      // A --json file brings no pictures: its rows name none in the merged report.
+      if (s.rows_only) r.view = r.difference = r.judged = "";
       const auto key = std::make_pair(r.case_name, r.impl);
       if (auto it = row_from.find(key); it != row_from.end())
         throw InputError(s.file, rs.array[k].line,
@@ -160,6 +170,24 @@ int merge_reports_main(Args args) {
                              " too: a shard merged twice?");
       row_from[key] = s.file;
       rows.push_back(std::move(r));
+    }
+    if (s.rows_only) {
+      // Its cases, as the rows name them, with nothing else known.
+      for (size_t k = 0; k < rs.array.size(); ++k) {
+        const Row& r = rows[rows.size() - rs.array.size() + k];
+        if (case_from.count(r.case_name)) {
+          if (case_from[r.case_name] == s.file) continue;
+          throw InputError(s.file, rs.array[k].line,
+                           "case " + r.case_name + " is in " + case_from[r.case_name] + " too");
+        }
+        case_from[r.case_name] = s.file;
+        case_names.push_back(r.case_name);
+        case_info.push_back("{\"case\": " + json_string(r.case_name) +
+                            ", \"family\": " + json_string(r.family) +
+                            ", \"kind\": \"?\", \"legend\": \"\", \"input\": \"\", \"size\": \"\", "
+                            "\"tolerance\": \"\", \"judge\": \"?\", \"golden\": \"\"}");
+      }
+      continue;
     }
     const JsonValue& ci = member(s.doc, "case_info", T::kArray, s.file, "report");
     for (size_t k = 0; k < ci.array.size(); ++k) {
@@ -200,7 +228,8 @@ int merge_reports_main(Args args) {
   fs::create_directories(partial, ec);
   if (ec) throw InputError(partial.string(), 0, "cannot create: " + ec.message());
   try {
-    for (const Shard& s : shards)
+    for (const Shard& s : shards) {
+      if (s.rows_only) continue;  // no pictures to copy
       for (const JsonValue& ci : s.doc.find("case_info")->array) {
         const std::string name = ci.find("case")->string;
         fs::copy(s.dir / name, partial / name, fs::copy_options::recursive, ec);
@@ -208,6 +237,7 @@ int merge_reports_main(Args args) {
           throw InputError((s.dir / name).string(), 0,
                            "cannot copy to " + (partial / name).string() + ": " + ec.message());
       }
+    }
     bool all = true;
     for (const Row& r : rows) all = all && r.pass;
     const JsonValue* version = shards.front().doc.find("lockstep");

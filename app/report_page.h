@@ -393,7 +393,8 @@ function openCase(name, impl) {
   current = name;
   $('viewer').hidden = false;
   $('v-title').textContent = name;
-  $('v-info').textContent = ci ? `${ci.family} (${ci.kind}${ci.kind === 'mesh' ? ': pictures are rendered previews' : ''}), ` +
+  $('v-info').textContent = ci && ci.kind === '?' ? `${ci.family}; merged from a verify --json file: no pictures or case details.` :
+    ci ? `${ci.family} (${ci.kind}${ci.kind === 'mesh' ? ': pictures are rendered previews' : ''}), ` +
       `input ${ci.input}` + (ci.size ? `, ${ci.size}` : '') + `, ${ci.tolerance}; judge ${ci.judge}.` : '';
   const mini = $('v-rows'); mini.replaceChildren();
   const head = el('tr'); for (const k of ['impl', 'max err', '% over', 'score', 'time s', 'speedup', 'verdict', 'note']) head.append(el('th', { text: k }));
@@ -416,7 +417,7 @@ function openCase(name, impl) {
   if (b) $('cmp-b').value = b.path;
   setCompare();
   for (const r of rows) r.tr.classList.toggle('current', r.case === name);
-  if (!requested.has(name)) {
+  if (!requested.has(name) && pictures.length) {  // merged --json shards have no pictures
     requested.add(name);
     const sc = el('script', { src: encodeURI(name) + '/pixels.js' });
     sc.onerror = () => { $('readout').textContent = 'no pixel data (' + name + '/pixels.js did not load)'; };

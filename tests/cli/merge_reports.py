@@ -13,8 +13,11 @@ OUT/shard-K), merges the shards into OUT/merged and checks:
     classname, name, failure or not), and suites whose counts add up;
   * OUT/merged/report.json has every case once, and every picture a row or
     a case names exists in OUT/merged (the shards' case folders were copied);
+  * the shards' --json files (lockstep-verify/1) merged give the same rows
+    but for the picture paths (none), and the same JUnit testcases;
   * errors: a missing shard, a malformed report.json (cut short), the same
-    shard twice, each exit 2 with one line naming the file, and write nothing
+    shard twice (also once as a folder, once as its --json), a report.json
+    given where a --json file is expected, each exit 2 with one line naming the file, and write nothing
     (OUT_DIR is not created, no OUT_DIR.partial is left); an existing
     OUT_DIR that is not a report is not replaced.
 Leaves OUT/merged for the tests that validate it (schemas.merged) and open it
@@ -71,7 +74,7 @@ def main():
         fail(f"verify exit {whole.returncode}\n{whole.stderr[-1500:]}")
     shards = [p(f"shard-{k}") for k in range(4)]
     for k, d in enumerate(shards):
-        r = run([lockstep, "verify", corpus, "--shard", f"{k}/4", "--report", d] + extra)
+        r = run([lockstep, "verify", corpus, "--shard", f"{k}/4", "--report", d, "--json", d + ".json"] + extra)
         if r.returncode not in (0, 1):
             fail(f"shard {k}: exit {r.returncode}\n{r.stderr[-1500:]}")
     merged = p("merged")
@@ -96,6 +99,17 @@ def main():
     if missing or not os.path.isfile(os.path.join(merged, "index.html")):
         fail(f"merged report lacks {len(missing)} of {len(files)} files: {missing[:3]}")
 
+    # The shards' --json files merge into the same rows, without pictures.
+    mj = p("merged-json")
+    run([lockstep, "merge-reports", mj] + [d + ".json" for d in shards], expect=whole.returncode)
+    c = json.load(open(os.path.join(mj, "verify.json")))
+    nopics = lambda rows: untimed([dict(r, view="", difference="", judged="") for r in rows])
+    if c["cases"] != a["cases"] or nopics(a["rows"]) != nopics(c["rows"]) or any(
+            r["view"] or r["difference"] or r["judged"] for r in c["rows"]):
+        fail("the shards' --json files merged differ from one run's rows (pictures aside)")
+    if testcases(os.path.join(mj, "verify.xml")) != ta:
+        fail("the shards' --json files merged: JUnit testcases differ")
+
     # Errors: exit 2, one line naming the file, nothing written.
     bad = p("broken")
     shutil.copytree(shards[1], bad)
@@ -103,7 +117,10 @@ def main():
     open(os.path.join(bad, "report.json"), "w").write(text[: len(text) // 2])
     for what, inputs, named in [("missing shard", [shards[0], p("no-such-shard")], p("no-such-shard", "report.json")),
                                 ("malformed report.json", [shards[0], bad], os.path.join(bad, "report.json") + ":"),
-                                ("same shard twice", [shards[0], shards[0]], "too")]:
+                                ("same shard twice", [shards[0], shards[0]], "too"),
+                                ("a shard as report and as --json", [shards[0], shards[0] + ".json"], "too"),
+                                ("a report given as --json", [shards[0], os.path.join(shards[1], "report.json")],
+                                 "not a verify --json file")]:
         target = p("bad-out")
         r = run([lockstep, "merge-reports", target] + inputs, expect=2)
         lines = r.stderr.strip().splitlines()
