@@ -258,6 +258,8 @@ function logScale(lo, hi, a, b) {  // whole decades, so every tick is inside
   return f;
 }
 function tickLabel(v) { const e = Math.round(Math.log10(v)); return e >= -2 && e <= 3 ? String(v) : '1e' + e; }
+// Every tick gets a grid line; labels only every n-th so that at most `most` show (no overlap).
+const labelled = (ticks, i, most) => i % Math.ceil(ticks.length / most) === 0;
 function legend(svg, items, x, y) {
   items.forEach(([name, colour], i) => {
     svg.append(sv('circle', { cx: x, cy: y + i * 14, r: 4, fill: colour }));
@@ -274,10 +276,10 @@ function drawSpeed() {
   if (!pts.length) { svg.append(sv('text', { x: 10, y: 20 }, 'no compared rows')); return; }
   const x = logScale(xs.length ? Math.min(...xs) : 1e-6, xs.length ? Math.max(...xs) : 1e-5, L + 36, W - 6);
   const y = logScale(Math.min(...ys), Math.max(...ys), H - B - 8, T);
-  for (const t of x.ticks) { const p = x(t); svg.append(sv('line', { class: 'grid', x1: p, x2: p, y1: T, y2: H - B }));
-    svg.append(sv('text', { x: p, y: H - B + 14, 'text-anchor': 'middle' }, tickLabel(t))); }
-  for (const t of y.ticks) { const p = y(t); svg.append(sv('line', { class: 'grid', x1: L, x2: W - 6, y1: p, y2: p }));
-    svg.append(sv('text', { x: L - 4, y: p + 4, 'text-anchor': 'end' }, tickLabel(t) + '\u00d7')); }
+  x.ticks.forEach((t, i) => { const p = x(t); svg.append(sv('line', { class: 'grid', x1: p, x2: p, y1: T, y2: H - B }));
+    if (labelled(x.ticks, i, 6)) svg.append(sv('text', { x: p, y: H - B + 14, 'text-anchor': 'middle' }, tickLabel(t))); });
+  y.ticks.forEach((t, i) => { const p = y(t); svg.append(sv('line', { class: 'grid', x1: L, x2: W - 6, y1: p, y2: p }));
+    if (labelled(y.ticks, i, 10)) svg.append(sv('text', { x: L - 4, y: p + 4, 'text-anchor': 'end' }, tickLabel(t) + '\u00d7')); });
   svg.append(sv('line', { class: 'axis', x1: L, x2: W - 6, y1: H - B, y2: H - B }));
   svg.append(sv('line', { class: 'axis', x1: L, x2: L, y1: T, y2: H - B }));
   svg.append(sv('text', { x: L + 8, y: H - B + 14, 'text-anchor': 'middle' }, '0'));
@@ -303,8 +305,8 @@ function drawTime() {
   svg.setAttribute('height', H); svg.setAttribute('width', W + 130);
   const ts = rows.map((r) => r.seconds).filter((t) => t > 0);
   const x = logScale(ts.length ? Math.min(...ts) : 1e-4, ts.length ? Math.max(...ts) : 1, L, W - 6);
-  for (const t of x.ticks) { const p = x(t); svg.append(sv('line', { class: 'grid', x1: p, x2: p, y1: T, y2: H - 26 }));
-    svg.append(sv('text', { x: p, y: H - 14, 'text-anchor': 'middle' }, tickLabel(t))); }
+  x.ticks.forEach((t, i) => { const p = x(t); svg.append(sv('line', { class: 'grid', x1: p, x2: p, y1: T, y2: H - 26 }));
+    if (labelled(x.ticks, i, 6)) svg.append(sv('text', { x: p, y: H - 14, 'text-anchor': 'middle' }, tickLabel(t))); });
   svg.append(sv('text', { x: (L + W) / 2, y: H - 2, 'text-anchor': 'middle' }, 'seconds'));
   cases.forEach((c, i) => {
     const cy = T + i * row + row / 2;
