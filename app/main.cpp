@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "app/cli.h"
+#include "app/verify.h"  // merge_reports_main
 
 namespace cli = lockstep::cli;
 
@@ -45,17 +46,21 @@ void print_help() {
       "      render a volume: ray casting, splatting, or the isosurface ray cast\n"
       "  lockstep trace SCENE --pixel X,Y [--depth N] [--impl reference|embree]\n"
       "      print the ray tree of one pixel as the ray tracer (render --algo raytrace) traces it\n"
-      "  lockstep diff A B [--fail T] [--failpercent P] [--warn W] [--heatmap OUT]\n"
-      "      compare two images (idiff style); exit 0 when they agree, 1 when not\n"
+      "  lockstep diff A B | DIR_A DIR_B | --list FILE [--fail T] [--failpercent P] [--warn W] [--heatmap OUT]\n"
+      "      compare two images (idiff style), or many pairs in one call; exit 0 when all agree, 1 when not\n"
       "  lockstep verify [CORPUS_DIR] [--report DIR] [--impl NAME]... [--filter SUBSTR]\n"
       "      render every corpus case with every implementation, check against the reference,\n"
       "      the golden images and analytic judges, and write a report\n"
       "  lockstep spd NAME [--size N] [--tess] -o FILE.nff\n"
       "      write one of Eric Haines' SPD scenes (balls, gears, mount, teapot, ...) as NFF\n"
+      "  lockstep merge-reports OUT_DIR REPORT_DIR...\n"
+      "      join the reports of a sharded verify run (--shard K/N) into one page, JSON and JUnit\n"
       "\n"
       "families and implementations (pairs/registry.h): %s\n"
       "\n"
       "options: --help (also after a subcommand), --version\n"
+      "environment: LOCKSTEP_SPD_DIR, LOCKSTEP_VOLUMES_DIR (data beside the repository; SPD scenes are\n"
+      "  generated when absent), LOCKSTEP_PEER_DIR (where the peer rows' modules lockstep_peer_*.so are)\n"
       "exit codes: 0 ok, 1 differences/failures, 2 bad usage or bad input, 3 internal error\n",
       LOCKSTEP_VERSION, cli::all_impl_names().c_str());
 }
@@ -97,7 +102,7 @@ void print_version() {
 
 int run(int argc, char** argv, std::string& sub) {
   std::vector<std::string_view> args(argv + 1, argv + argc);
-  if (args.empty()) throw cli::UsageError("missing subcommand (render, composite, isosurface, volume, diff or verify)");
+  if (args.empty()) throw cli::UsageError("missing subcommand (render, composite, isosurface, volume, trace, diff, verify, merge-reports or spd)");
   const std::string_view first = args.front();
   if (first == "--help" || first == "-h" || first == "help") {
     print_help();
@@ -120,6 +125,7 @@ int run(int argc, char** argv, std::string& sub) {
   if (first == "render") return cli::render_main(rest);
   if (first == "diff") return cli::diff_main(rest);
   if (first == "verify") return cli::verify_main(rest);
+  if (first == "merge-reports") return cli::merge_reports_main(rest);
   if (first == "composite") return cli::composite_main(rest);
   if (first == "isosurface") return cli::isosurface_main(rest);
   if (first == "volume") return cli::volume_main(rest);
@@ -127,7 +133,7 @@ int run(int argc, char** argv, std::string& sub) {
   if (first == "spd") return cli::spd_main(rest);
   sub.clear();
   if (cli::is_option(first)) cli::unknown_option(first);
-  throw cli::UsageError("unknown subcommand '" + std::string(first) + "' (render, composite, isosurface, volume, diff or verify)");
+  throw cli::UsageError("unknown subcommand '" + std::string(first) + "' (render, composite, isosurface, volume, trace, diff, verify, merge-reports or spd)");
 }
 
 }  // namespace

@@ -29,7 +29,10 @@ void print_help() {
       "    implementation, the reference included, against the closed-form answer: the\n"
       "    optimized ones must match it; the reference must do what the manifest expects.\n"
       "Prints one row per case and implementation; writes each output as people look at it\n"
-      "(PNGs for images), its difference from the reference (heat maps) and report.md.\n"
+      "(PNGs for images), its difference from the reference (heat maps), report.md and\n"
+      "index.html (one page that opens from the file system: the table sortable and\n"
+      "filterable, each case's pictures side by side with zoom, A/B flip, wipe and the pixel\n"
+      "under the cursor, and charts; its data in report.json, see app/report_page.cpp).\n"
       "\n"
       "families (pairs/registry.h):\n",
       LOCKSTEP_CORPUS_DIR, kGoldenTolerance);
@@ -173,11 +176,15 @@ int verify_main(Args args) {
   const bool all_pass = failed == 0;
   std::printf("%zu cases, %zu rows: %s\n", cases.size(), rows.size(),
               all_pass ? "all PASS" : (std::to_string(failed) + " FAIL").c_str());
-  if (!json.empty()) write_json(json, cases, rows);
+  if (!json.empty()) write_json(json, cases.size(), rows);
   if (!junit.empty()) write_junit(junit, rows);
   if (!o.no_report) {
     write_report(o.report_dir, cases, rows, verdicts, all_pass, o.threads);
-    std::fprintf(stderr, "lockstep verify: report in %s\n", (o.report_dir / "report.md").string().c_str());
+    std::vector<std::string> names;
+    for (const Case& c : cases) names.push_back(c.name);
+    write_page(o.report_dir, report_data(cases, rows, verdicts, o.threads), names);
+    std::fprintf(stderr, "lockstep verify: report in %s and %s\n", (o.report_dir / "index.html").string().c_str(),
+                 (o.report_dir / "report.md").string().c_str());
   }
   return all_pass ? kExitOk : kExitFail;
 }

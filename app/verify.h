@@ -51,6 +51,7 @@ struct Row {
   bool pass = false;
   std::string note;
   std::string view, difference, judged;  // report files (output, difference, judge picture), relative to the report folder
+  std::string golden;                    // the reference row only: the golden's picture (report file), "" when none
 };
 
 struct VerifyOptions {
@@ -79,8 +80,27 @@ std::string fmt(const char* f, double v);
 
 // app/verify_export.cpp: the rows for CI dashboards (formats there); each file
 // written whole or not at all (InputError naming it).
-void write_json(const std::filesystem::path& path, const std::vector<Case>& cases, const std::vector<Row>& rows);
+void write_json(const std::filesystem::path& path, size_t cases, const std::vector<Row>& rows);
 void write_junit(const std::filesystem::path& path, const std::vector<Row>& rows);
+// One row as a lockstep-verify/1 row object (one line); JSON pieces.
+std::string row_json(const Row& r);
+std::string json_string(const std::string& s);
+std::string json_number(double x);  // null when not finite
+// text to path.tmp, renamed to path (InputError naming path).
+void write_whole(const std::filesystem::path& path, const std::string& text);
+
+// app/report_page.cpp: DIR/index.html, the page people look at (template in
+// app/report_page.h), filled from DIR/report.json (schema lockstep-report/1,
+// documented there); each case folder gets pixels.js, its PNGs as data: URIs
+// for the page's pixel readout.
+std::string report_data(const std::vector<Case>& cases, const std::vector<Row>& rows,
+                        const std::vector<std::string>& verdicts, int threads);
+// Writes DIR/report.json (data as given), DIR/index.html, and DIR/<case>/pixels.js
+// for every case of data's rows.
+void write_page(const std::filesystem::path& dir, const std::string& data, const std::vector<std::string>& case_names);
+
+// app/merge_reports.cpp
+int merge_reports_main(Args args);
 
 // app/verify_shard.cpp: splitting the cases over machines.
 // CORPUS/costs.txt: 'case seconds' per line ('#' comments), the measured cost of

@@ -90,6 +90,7 @@ std::vector<Row> verify_case(const Case& c, const VerifyOptions& o, std::vector<
               : rr.pass          ? "= golden (within " + fmt("%g", kGoldenTolerance) + ")"
                                  : "differs from golden (tolerance " + fmt("%g", kGoldenTolerance) + ")";
     if (rr.err.comparable) rr.difference = difference(golden, r_ref.out, golden_tol, "reference-heat");
+    rr.golden = view(golden, "golden");
   }
   if (r_ref.ok) rr.view = view(r_ref.out, "reference");
 

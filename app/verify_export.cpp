@@ -3,7 +3,8 @@
 // JUnit (--junit FILE): the format Jenkins, GitLab, GitHub Actions' test
 // reporters and Buildkite read: <testsuites> with one <testsuite> per family
 // and one <testcase> per (case, implementation) row, classname
-// "lockstep.<family>", name "<case>.<impl>", time in seconds; a failing row
+// "lockstep.<family>", name "<case>.<impl>", time in seconds (fixed point,
+// as junit-10.xsd wants: tests/schemas/junit-10.xsd); a failing row
 // carries <failure message="..."> with the row's note, its error figures and
 // the report's pictures (paths relative to the report folder).
 //
@@ -27,8 +28,6 @@
 namespace lockstep::cli {
 
 namespace fs = std::filesystem;
-
-namespace {
 
 std::string json_string(const std::string& s) {
   std::string o = "\"";
@@ -58,6 +57,8 @@ std::string json_number(double x) {
   return buf;
 }
 
+namespace {
+
 std::string xml(const std::string& s) {
   std::string o;
   for (const unsigned char ch : s) {
@@ -74,6 +75,24 @@ std::string xml(const std::string& s) {
   }
   return o;
 }
+
+// JUnit times: fixed-point seconds, never an exponent (junit-10.xsd's
+// Surefire pattern, which suites and the root are held to, allows none).
+std::string junit_time(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6f", std::isfinite(x) && x > 0 ? x : 0.0);
+  return buf;
+}
+
+std::string failure_text(const Row& r) {
+  std::ostringstream m;
+  m << (r.note.empty() ? std::string(r.ran ? "differs" : "did not run") : r.note);
+  if (r.err.samples > 0)
+    m << " (worst " << json_number(r.err.worst) << ", " << r.err.over << " of " << r.err.samples << " over)";
+  return m.str();
+}
+
+}  // namespace
 
 void write_whole(const fs::path& path, const std::string& text) {
   const fs::path tmp = path.string() + ".tmp";
@@ -94,33 +113,28 @@ void write_whole(const fs::path& path, const std::string& text) {
   }
 }
 
-std::string failure_text(const Row& r) {
-  std::ostringstream m;
-  m << (r.note.empty() ? std::string(r.ran ? "differs" : "did not run") : r.note);
-  if (r.err.samples > 0)
-    m << " (worst " << json_number(r.err.worst) << ", " << r.err.over << " of " << r.err.samples << " over)";
-  return m.str();
+std::string row_json(const Row& r) {
+  std::ostringstream s;
+  s << "{\"case\": " << json_string(r.case_name) << ", \"family\": " << json_string(r.family)
+    << ", \"impl\": " << json_string(r.impl) << ", \"ran\": " << (r.ran ? "true" : "false")
+    << ", \"pass\": " << (r.pass ? "true" : "false") << ", \"samples\": " << r.err.samples
+    << ", \"over\": " << r.err.over << ", \"over_hard\": " << r.err.over_hard
+    << ", \"worst\": " << json_number(r.err.worst) << ", \"score\": " << json_number(r.err.score)
+    << ", \"seconds\": " << json_number(r.seconds) << ", \"speedup\": " << json_number(r.speedup)
+    << ", \"note\": " << json_string(r.note) << ", \"detail\": " << json_string(r.err.detail)
+    << ", \"view\": " << json_string(r.view) << ", \"difference\": " << json_string(r.difference)
+    << ", \"judged\": " << json_string(r.judged) << "}";
+  return s.str();
 }
 
-}  // namespace
-
-void write_json(const fs::path& path, const std::vector<Case>& cases, const std::vector<Row>& rows) {
+void write_json(const fs::path& path, size_t cases, const std::vector<Row>& rows) {
   std::ostringstream s;
   bool all = true;
   for (const Row& r : rows) all = all && r.pass;
-  s << "{\n  \"schema\": \"lockstep-verify/1\",\n  \"cases\": " << cases.size() << ",\n  \"pass\": "
+  s << "{\n  \"schema\": \"lockstep-verify/1\",\n  \"cases\": " << cases << ",\n  \"pass\": "
     << (all ? "true" : "false") << ",\n  \"rows\": [";
   for (size_t i = 0; i < rows.size(); ++i) {
-    const Row& r = rows[i];
-    s << (i ? ",\n" : "\n") << "    {\"case\": " << json_string(r.case_name) << ", \"family\": " << json_string(r.family)
-      << ", \"impl\": " << json_string(r.impl) << ", \"ran\": " << (r.ran ? "true" : "false")
-      << ", \"pass\": " << (r.pass ? "true" : "false") << ", \"samples\": " << r.err.samples
-      << ", \"over\": " << r.err.over << ", \"over_hard\": " << r.err.over_hard
-      << ", \"worst\": " << json_number(r.err.worst) << ", \"score\": " << json_number(r.err.score)
-      << ", \"seconds\": " << json_number(r.seconds) << ", \"speedup\": " << json_number(r.speedup)
-      << ", \"note\": " << json_string(r.note) << ", \"detail\": " << json_string(r.err.detail)
-      << ", \"view\": " << json_string(r.view) << ", \"difference\": " << json_string(r.difference)
-      << ", \"judged\": " << json_string(r.judged) << "}";
+    s << (i ? ",\n" : "\n") << "    " << row_json(rows[i]);
   }
   s << "\n  ]\n}\n";
   write_whole(path, s.str());
@@ -143,7 +157,7 @@ void write_junit(const fs::path& path, const std::vector<Row>& rows) {
   std::ostringstream s;
   s << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
   s << "<testsuites name=\"lockstep verify\" tests=\"" << rows.size() << "\" failures=\"" << failures
-    << "\" errors=\"0\" time=\"" << json_number(total) << "\">\n";
+    << "\" errors=\"0\" time=\"" << junit_time(total) << "\">\n";
   for (const std::string& fam : families) {
     const auto& rs = by_family[fam];
     long f = 0;
@@ -153,10 +167,10 @@ void write_junit(const fs::path& path, const std::vector<Row>& rows) {
       t += r->seconds;
     }
     s << "  <testsuite name=\"lockstep." << xml(fam) << "\" tests=\"" << rs.size() << "\" failures=\"" << f
-      << "\" errors=\"0\" skipped=\"0\" time=\"" << json_number(t) << "\">\n";
+      << "\" errors=\"0\" skipped=\"0\" time=\"" << junit_time(t) << "\">\n";
     for (const Row* r : rs) {
       s << "    <testcase classname=\"lockstep." << xml(fam) << "\" name=\"" << xml(r->case_name + "." + r->impl)
-        << "\" time=\"" << json_number(r->seconds) << "\"";
+        << "\" time=\"" << junit_time(r->seconds) << "\"";
       if (r->pass) {
         s << "/>\n";
         continue;

@@ -24,7 +24,11 @@ packages=(
   python3-skimage  # tests/topology_skimage.py: marching cubes against Lewiner's MC33 (scikit-image), run with /usr/bin/python3
   libteem-dev zlib1g-dev  # volumes: Teem's nrrd library reads NRRD (core/volume_io.cpp); zlib writes the tests' gzip files
   libvolpack1-dev  # the volume family's volpack row (VolPack shear-warp; optional, as OSMesa)
+  chromium nodejs  # tests/browser: the report page in a real browser (report.browser), driven by puppeteer-core
+  libxml2-utils python3-jsonschema  # tests/schemas: xmllint validates --junit, jsonschema validates --json
 )
+# npm comes with NodeSource's nodejs; Debian's nodejs needs Debian's npm.
+command -v npm >/dev/null || packages+=(npm)
 
 if ((peers)); then
   packages+=(libvtk9-dev)  # vtkFlyingEdges3D (optimized/marching_cubes_vtk.cpp)
@@ -38,13 +42,23 @@ done
 
 if ((${#missing[@]} == 0)); then
   echo "setup: all ${#packages[@]} packages present"
-  exit 0
+else
+  echo "setup: installing ${missing[*]}"
+  SUDO=""
+  if [[ $(id -u) -ne 0 ]]; then SUDO="sudo"; fi
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
-echo "setup: installing ${missing[*]}"
-SUDO=""
-if [[ $(id -u) -ne 0 ]]; then SUDO="sudo"; fi
-export DEBIAN_FRONTEND=noninteractive
-$SUDO apt-get update -qq
-$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+# puppeteer-core (pinned in tests/browser/package-lock.json) drives Debian's
+# chromium for report.browser; installed into the git-ignored
+# tests/browser/node_modules, skipped when that version is there already.
+browser="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/tests/browser"
+want=$(sed -n 's/.*"puppeteer-core": "\(.*\)".*/\1/p' "$browser/package.json")
+have=$(sed -n 's/^  "version": "\(.*\)",$/\1/p' "$browser/node_modules/puppeteer-core/package.json" 2>/dev/null || true)
+if [[ "$have" != "$want" ]]; then
+  echo "setup: npm ci puppeteer-core@$want into tests/browser/node_modules"
+  (cd "$browser" && npm ci --no-audit --no-fund --loglevel=error >/dev/null)
+fi
 echo "setup: done"
