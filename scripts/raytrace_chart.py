@@ -100,18 +100,20 @@ def write_json(rows, path):
         "machine": machine(),
         "issue": 22,
         "note": (f"Shadow rays only, depth 1: a tilted lit ground square with a ball and a thin occluder 0.01 above "
-                 f"it (facing down, so invisible to the eye), translated to D (1,1,1)/sqrt(3); {n} ground samples "
-                 f"(pixels, 160 x 160) per frame against a long-double analytic oracle, samples within 1e-4 of a "
-                 f"shadow boundary left out. Cells: wrong answers in % of the samples (acne/leaks). embree traces "
-                 f"in float in the eye's frame, so its failures do not move with D: a fixed eps up to 1e-7 gives "
-                 f"acne (12-43%) at every D. The reference (double, world coordinates) gets acne at tiny eps only "
-                 f"where its rounding of the hit falls below the plane, and then on most samples at once (D = 1e6: "
-                 f"eps up to 1e-10; 1e4: up to 1e-12; 1e3: 1e-14; none at 1e5 and 1e7 in this scene): an eps right "
-                 f"at D = 1 is wrong further out. Any eps at or above the occluder's 0.01 leaks, at every D. The "
-                 f"reference's robust=1 rounds world coordinates to float before its 256-ulp step, so from D = 1e3 "
-                 f"the step exceeds the 0.01 gap and it leaks (every shadowed sample from D = 1e5): the robust "
-                 f"method belongs in the intersector's own float frame, which is embree's. The study's claims run "
-                 f"in the ctest raytrace_study.quick; raytrace_study.mutant shows a zero offset is caught."),
+                 f"it (facing down, so invisible to the eye), moved to D (1,1,1)/sqrt(3); {n} samples per frame "
+                 f"(pixels, 160 x 160, on the ground and on the ball's lit side) against a long-double analytic "
+                 f"oracle, samples within 1e-4 of a shadow boundary or the terminator left out. Cells: wrong answers "
+                 f"in % of the samples (acne/leaks). embree traces in float in the eye's frame, so its failures do "
+                 f"not move with D: a fixed eps up to 1e-7 gives acne (12-46%) at every D. The reference (double, "
+                 f"world coordinates) gets acne on the ball, where the rounded hit falls inside half the time, for "
+                 f"eps up to about 1e-17 D (1e-14 at D = 1e3 .. 1e-10 at D = 1e7): an eps right at D = 1 is wrong "
+                 f"further out; on the tilted plane its rounding leans one way per D, so acne there comes all at "
+                 f"once or not at all (28% at D = 1e4, 25% at 1e6, none at 1e5 and 1e7). Any eps at or above the "
+                 f"occluder's 0.01 leaks, at every D. The reference's robust=1 rounds world coordinates to float "
+                 f"before its 256-ulp step, so from D = 1e3 the step exceeds the 0.01 gap and it leaks (every "
+                 f"shadowed sample from D = 1e5): the robust method belongs in the intersector's own float frame, "
+                 f"which is embree's. The study's claims run in the ctest raytrace_study.quick; "
+                 f"raytrace_study.mutant shows that a zero offset is caught."),
         "chart": ["raytrace_acne.png", "shadow acne and light leaking against eps and distance"],
         "columns": cols,
         "rows": body,
@@ -164,12 +166,12 @@ def main():
         return ", ".join(f"'{dat}' index {i} using 1:2 with linespoints title 'D = {d:.0e}'"
                          for i, (im, d) in enumerate(series) if im == impl)
 
-    subprocess.run(["gnuplot"], text=True, check=True, input=f"""set terminal pngcairo size 1500,480
+    subprocess.run(["gnuplot"], text=True, check=True, input=f"""set terminal pngcairo size 1500,600
 set output '{out}/raytrace_acne.png'
 set multiplot layout 1,3 title "Shadow acne + light leaking: wrong shadow-ray answers (fraction; 1e-5 = none)"
 set logscale xy; set grid; set format x "%.0e"; set format y "%.0e"; set yrange [{floor / 2}:1]
 set xlabel "fixed offset eps (world units)"; set ylabel "wrong answers (acne + leaks)"
-set key top left font ",8"
+set key below maxrows 2 font ",8"
 set title "embree (float, eye frame), fixed eps"
 plot {panel("embree")}
 set title "reference (double, world), fixed eps"

@@ -6,30 +6,33 @@
 // does not hold), so the ctest raytrace_study.quick keeps them true;
 // scripts/raytrace_chart.py draws the chart and writes the table.
 //
-// The scene (local coordinates, then translated by D (1,1,1)/sqrt(3), so that
-// every coordinate grows with D): a lit ground square z = 0 (facing up, seen
-// by an eye 3 above it), a ball of radius 0.3 above it, and a thin square
-// occluder at height h = 0.01 facing down (one-sided, NFF: invisible to the
-// eye, but it blocks shadow rays from either side, core/ray_trace.h), under a
-// point light low at one side so that both shadows are in view. Each pixel is
-// one sample: its primary ray (core/camera.h, the ray both implementations
-// trace) meets the ground at a point p, and the shadow-ray answer is read off
-// the frame at depth 1: lit when the pixel equals the frame rendered with
-// shadows=none (the light's term is at least 0.1 everywhere in view),
-// shadowed otherwise.
+// The scene (local coordinates, turned so that no surface is axis-aligned,
+// then moved by D (1,1,1)/sqrt(3), so that every coordinate grows with D): a
+// lit ground square z = 0 (facing up, seen by an eye 3 above it), a ball of
+// radius 0.3 above it, and a thin square occluder at height h = 0.01 facing
+// down (one-sided, NFF: invisible to the eye, but it blocks shadow rays from
+// either side, core/ray_trace.h), under a point light low at one side so that
+// both shadows are in view. Each pixel is one sample: its primary ray
+// (core/camera.h, the ray both implementations trace) meets the ground or the
+// ball at a point p, and the shadow-ray answer is read off the frame at depth
+// 1: lit when the pixel is bit for bit the frame rendered with shadows=none
+// (the same operations on the same values), shadowed otherwise.
 //
-// The oracle, in long double from the scene's own double coordinates: p is
-// the exact hit of that double primary ray on the ground's plane; p is in
-// shadow when the segment p -> light meets the ball (distance from its centre
-// below r) or crosses the occluder's plane inside the square. A sample is
-// left out (ambiguous, never counted) when the primary ray passes within m =
-// 1e-4 of the ball, or the segment passes within m of the ball's surface or of
-// the square's edges: the hit points of both implementations are double
-// accurate (embree refines its t in double, optimized/refine.h), so nothing
-// further than m from a boundary can be decided either way by rounding (long
-// double's error here is below 1e-12 at D = 1e7). Every answer then is right,
-// acne (a lit point reported shadowed: the ray met its own surface, or any
-// other wrong "shadowed") or a leak (a shadowed point reported lit: the
+// The oracle, in long double, in local coordinates (the scene's doubles are
+// the local scene to within their rounding, below 1e-8 at D = 1e7): p is the
+// exact hit of that double primary ray. On the ground, p is in shadow when the
+// segment p -> light meets the ball (distance from its centre below r) or
+// crosses the occluder's plane inside the square. On the ball, a point whose
+// normal faces the light (n.l > m) is lit (the light is above everything: no
+// other surface can shadow it); the dark side has no shadow ray and is not a
+// sample. A sample is left out (ambiguous, never counted) when the primary ray
+// passes within m = 1e-4 of the ball's silhouette, n.l is within m of 0, or
+// the segment passes within m of the ball's surface or of the square's edges:
+// the hit points of both implementations are double accurate (embree refines
+// its t in double, optimized/refine.h), so nothing further than m from a
+// boundary can be decided either way by rounding. Every counted answer then
+// is right, acne (a lit point reported shadowed: the ray met its own surface,
+// or any other wrong "shadowed") or a leak (a shadowed point reported lit: the
 // offset pushed the ray's origin past the occluder).
 //
 // Rows: impl (reference: double, world coordinates; embree: float, in the
@@ -38,8 +41,8 @@
 // 1 .. 1e7. Claims (full and quick):
 //   * embree's robust offset (its default): zero acne and zero leaks at every D;
 //   * some fixed eps fails at every D, in each implementation (the map has a
-//     failure to show), and in double a fixed eps that is right near the origin
-//     fails far from it;
+//     failure to show), and in double a fixed eps that is right at D = 1 fails
+//     further out;
 //   * --mutant: the robust row is replaced by a fixed offset of 1e-300 (no
 //     offset at all: 0 ulps) and the first claim must fail (ctest
 //     raytrace_study.mutant, WILL_FAIL): the check can catch a bad offset.
@@ -148,7 +151,10 @@ std::string scene_text(const Frame& fr, int size) {
 
 LD dot3(const LD* a, const LD* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
-enum Truth : int8_t { kAmbiguous, kLit, kShadow, kOff };
+// kBallLit: a point on the ball's lit side (n.l > 0), which no other surface
+// shadows (the light is above everything): a sample for acne on a curved
+// surface, where the rounding of the hit falls inside the ball half the time.
+enum Truth : int8_t { kAmbiguous, kLit, kShadow, kOff, kBallLit };
 
 // The exact answer for pixel (i, j) (see the header), in local coordinates:
 // the scene's doubles differ from the local scene by rounding (below 1e-8 at
@@ -162,7 +168,19 @@ Truth oracle(const Frame& fr, const Camera& cam, int i, int j) {
   const LD oc[3] = {kBall[0] - o[0], kBall[1] - o[1], kBall[2] - o[2]};
   const LD tc = dot3(oc, dir) / dot3(dir, dir);
   const LD near[3] = {oc[0] - tc * dir[0], oc[1] - tc * dir[1], oc[2] - tc * dir[2]};
-  if (std::sqrt(dot3(near, near)) < kRadius + kMargin) return kAmbiguous;
+  const LD miss = std::sqrt(dot3(near, near));
+  if (miss < kRadius - kMargin) {
+    // The near root, then the cosine of the light at the hit; the terminator
+    // band |n.l| < m is left out, the dark side has no shadow ray to test.
+    const LD th = tc - std::sqrt(kRadius * kRadius - miss * miss) / std::sqrt(dot3(dir, dir));
+    const LD p[3] = {o[0] + th * dir[0], o[1] + th * dir[1], o[2] + th * dir[2]};
+    const LD n[3] = {(p[0] - kBall[0]) / kRadius, (p[1] - kBall[1]) / kRadius,
+                     (p[2] - kBall[2]) / kRadius};
+    const LD l[3] = {kLight[0] - p[0], kLight[1] - p[1], kLight[2] - p[2]};
+    const LD cosine = dot3(n, l) / std::sqrt(dot3(l, l));
+    return cosine > kMargin ? kBallLit : cosine < -kMargin ? kOff : kAmbiguous;
+  }
+  if (miss < kRadius + kMargin) return kAmbiguous;
   // The ground z = 0.
   if (!(dir[2] < 0)) return kOff;
   const LD t = -o[2] / dir[2];
@@ -189,6 +207,7 @@ Truth oracle(const Frame& fr, const Camera& cam, int i, int j) {
 
 struct Count {
   int samples = 0, acne = 0, leak = 0, shadowed = 0;
+  int ball = 0, ball_acne = 0;  // of which on the ball
   int wrong() const { return acne + leak; }
 };
 
@@ -211,13 +230,17 @@ Count classify(const Scene& sc, const Image& lit, const Image& shad,
   for (int j = 0; j < size; ++j)
     for (int i = 0; i < size; ++i) {
       const Truth t = truth[size_t(j) * size + i];
-      if (t != kLit && t != kShadow) continue;
+      if (t != kLit && t != kShadow && t != kBallLit) continue;
+      // Lit, the frame computes exactly what it does with shadows=none (the
+      // same operations on the same values): any difference is a shadow.
       const float* a = lit.pixel(i, j);
       const float* b = shad.pixel(i, j);
-      const bool dark = (a[0] + a[1] + a[2]) - (b[0] + b[1] + b[2]) > 1e-4f;
+      const bool dark = a[0] != b[0] || a[1] != b[1] || a[2] != b[2];
       ++c.samples;
       c.shadowed += t == kShadow;
-      if (dark && t == kLit) ++c.acne;
+      c.ball += t == kBallLit;
+      if (dark && t != kShadow) ++c.acne;
+      if (dark && t == kBallLit) ++c.ball_acne;
       if (!dark && t == kShadow) ++c.leak;
     }
   (void)sc;
@@ -239,7 +262,9 @@ int run(Options& o) {
 
   // The reference's fixed eps: right at D = 1, wrong at some larger D.
   std::map<double, bool> near_ok, far_bad;
-  std::printf("impl,offset,eps,distance,samples,shadowed,acne,leak,wrong_fraction\n");
+  std::printf(
+      "impl,offset,eps,distance,samples,shadowed,acne,leak,wrong_fraction,ball_samples,ball_"
+      "acne\n");
   for (const double d : distances) {
     const Frame fr(d);
     const Scene sc = parse_nff(scene_text(fr, size), "acne-" + num(d));
@@ -253,9 +278,9 @@ int run(Options& o) {
       const Image lit = frame(im.fn, sc, size, none);
       bool fixed_fails = false;
       auto emit = [&](const char* offset, double e, const Count& c) {
-        std::printf("%s,%s,%s,%s,%d,%d,%d,%d,%.6g\n", im.name, offset, e > 0 ? num(e).c_str() : "",
-                    num(d).c_str(), c.samples, c.shadowed, c.acne, c.leak,
-                    c.samples ? double(c.wrong()) / c.samples : 0.0);
+        std::printf("%s,%s,%s,%s,%d,%d,%d,%d,%.6g,%d,%d\n", im.name, offset,
+                    e > 0 ? num(e).c_str() : "", num(d).c_str(), c.samples, c.shadowed, c.acne,
+                    c.leak, c.samples ? double(c.wrong()) / c.samples : 0.0, c.ball, c.ball_acne);
       };
       for (const double e : eps) {
         Params p;
