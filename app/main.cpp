@@ -22,6 +22,10 @@
 
 namespace cli = lockstep::cli;
 
+namespace lockstep::cli {
+int spd_main(Args args);  // app/spd.cpp
+}  // namespace lockstep::cli
+
 namespace {
 
 void print_help() {
@@ -46,6 +50,8 @@ void print_help() {
       "  lockstep verify [CORPUS_DIR] [--report DIR] [--impl NAME]... [--filter SUBSTR]\n"
       "      render every corpus case with every implementation, check against the reference,\n"
       "      the golden images and analytic judges, and write a report\n"
+      "  lockstep spd NAME [--size N] [--tess] -o FILE.nff\n"
+      "      write one of Eric Haines' SPD scenes (balls, gears, mount, teapot, ...) as NFF\n"
       "\n"
       "families and implementations (pairs/registry.h): %s\n"
       "\n"
@@ -58,26 +64,33 @@ void print_version() {
   std::printf("lockstep %s (simd: Highway target %s; embree %d.%d.%d; OpenImageIO %s)\n", LOCKSTEP_VERSION,
               lockstep::opt::simd::target_name(), RTC_VERSION_MAJOR, RTC_VERSION_MINOR, RTC_VERSION_PATCH,
               OIIO_VERSION_STRING);
-  // The zbuffer family's peer row exists only where OSMesa was found at configure time.
-  if (lockstep::opt::llvmpipe::available())
-    std::printf("  llvmpipe row: built (OSMesa: %s)\n", lockstep::opt::llvmpipe::version().c_str());
-  else
-    std::printf("  llvmpipe row: not built (no OSMesa at configure time; scripts/setup.sh installs libosmesa6-dev)\n");
-  // The marching_cubes family's peer row exists only where VTK was found at configure time.
-  if (lockstep::opt::vtk::available())
-    std::printf("  vtk row: built (%s)\n", lockstep::opt::vtk::version().c_str());
-  else
-    std::printf("  vtk row: not built (no VTK at configure time; scripts/setup.sh --peers installs libvtk9-dev)\n");
-  // The volume family's peer row exists only where VolPack was found at configure time.
-  if (lockstep::opt::volpack::available())
-    std::printf("  volpack row: built (%s)\n", lockstep::opt::volpack::version().c_str());
-  else
-    std::printf("  volpack row: not built (no VolPack at configure time; scripts/setup.sh installs libvolpack1-dev)\n");
+  // Peer rows: each is a module beside the binary (optimized/peer_module.h),
+  // built only where its library was found at configure time. Their versions
+  // were recorded when the modules were built: nothing here loads a peer library.
+  auto peer_line = [](const char* row, bool available, const std::string& version,
+                      const char* module, const char* install) {
+    if (available)
+      std::printf("  %s row: built (%s; module %s)\n", row, version.c_str(), module);
+    else
+      std::printf(
+          "  %s row: not built (no %s found beside the binary: built only where cmake found its "
+          "library; %s)\n",
+          row, module, install);
+  };
+  peer_line(
+      "llvmpipe", lockstep::opt::llvmpipe::available(),
+      lockstep::opt::llvmpipe::available() ? "OSMesa: " + lockstep::opt::llvmpipe::version() : "",
+      "lockstep_peer_llvmpipe.so", "scripts/setup.sh installs libosmesa6-dev");
+  peer_line("vtk", lockstep::opt::vtk::available(), lockstep::opt::vtk::version(),
+            "lockstep_peer_vtk.so", "scripts/setup.sh --peers installs libvtk9-dev");
+  peer_line("volpack", lockstep::opt::volpack::available(), lockstep::opt::volpack::version(),
+            "lockstep_peer_volpack.so", "scripts/setup.sh installs libvolpack1-dev");
   // Every family and implementation built into this binary; peers are production libraries.
   for (const lockstep::Family& f : lockstep::registry().families) {
     std::printf("  %-10s", std::string(f.name).c_str());
     for (const lockstep::FamilyImpl& i : f.impls)
-      std::printf(" %s%s", std::string(i.name).c_str(), i.peer.empty() ? "" : (" [peer: " + std::string(i.peer) + "]").c_str());
+      std::printf(" %s%s", std::string(i.name).c_str(),
+                  i.peer.empty() ? "" : (" [peer: " + std::string(i.peer) + "]").c_str());
     std::printf("\n");
   }
 }
@@ -111,6 +124,7 @@ int run(int argc, char** argv, std::string& sub) {
   if (first == "isosurface") return cli::isosurface_main(rest);
   if (first == "volume") return cli::volume_main(rest);
   if (first == "trace") return cli::trace_main(rest);
+  if (first == "spd") return cli::spd_main(rest);
   sub.clear();
   if (cli::is_option(first)) cli::unknown_option(first);
   throw cli::UsageError("unknown subcommand '" + std::string(first) + "' (render, composite, isosurface, volume, diff or verify)");

@@ -38,6 +38,7 @@
 #include "core/error.h"
 #include "core/output.h"
 #include "core/timer.h"
+#include "pairs/loaders.h"
 #include "pairs/registry.h"
 
 namespace lockstep {
@@ -139,9 +140,22 @@ struct Holder {
 // run, once per benchmark before its first timed batch: malloc_trim(0) first
 // hands the heap's free pages back to the kernel, so the output is fresh pages
 // (first touch) and the run includes the thread arena's start.
+//
+// Rows with a session (FamilyImpl::session: llvmpipe keeps its GL context and
+// compiled shaders, as an application does) run every frame of a benchmark in
+// one session: first_ms is then the session's first frame (context creation,
+// shader compilation), the timed loop its later frames. One session is alive
+// at a time (a benchmark's own, made at its cold run), as one input is.
+using RunFn = std::function<Output(const Input&, const FrameOptions&, FrameStats*)>;
+struct SessionCache {
+  const void* owner = nullptr;  // the benchmark whose session run holds
+  RunFn run;
+};
+
 void register_frames(const Registry& reg) {
   const int all_threads = int(std::max(1u, std::thread::hardware_concurrency()));
   auto cache = std::make_shared<Cache>(nullptr, std::nullopt);
+  auto sessions = std::make_shared<SessionCache>();
   for (const Family& fam : reg.families) {
     if (!fam.bench) continue;
     for (const BenchInput& in : fam.bench()) {
@@ -159,10 +173,16 @@ void register_frames(const Registry& reg) {
           const int div = &impl == &fam.reference() && in.heavy_for_reference ? 4 : 1;
           const std::string bname = base + "/" + std::string(impl.name) + "/threads:" + std::to_string(threads);
           auto cold = std::make_shared<double>(-1);  // seconds of the cold run, once per benchmark
-          benchmark::RegisterBenchmark(bname.c_str(), [input, div, threads, cold, sized = fam.sized, fn = impl.run,
-                                                       kind = fam.kind,
+          benchmark::RegisterBenchmark(bname.c_str(), [input, div, threads, cold, sized = fam.sized, run = impl.run,
+                                                       session = impl.session, sessions, kind = fam.kind,
                                                        unit = std::string(fam.unit), bname](benchmark::State& st) {
             const Input& in = input->get();
+            if (session && sessions->owner != cold.get()) {
+              sessions->run = nullptr;  // the previous benchmark's session (its context) goes first
+              sessions->run = session();
+              sessions->owner = cold.get();
+            }
+            const RunFn& fn = session ? sessions->run : run;
             FrameOptions opts;
             opts.width = input->meta.width / div;
             opts.height = input->meta.height / div;
@@ -217,6 +237,16 @@ int main(int argc, char** argv) {
   // (core/image.h), which the compositor's speed depends on.
   mallopt(M_MMAP_MAX, 0);
   mallopt(M_TRIM_THRESHOLD, std::numeric_limits<int>::max());
+  // Inputs that live beside the repository: the SPD scenes are generated when
+  // absent (pairs/loaders.h); the real volumes cannot be, and their frames go.
+  if (!std::filesystem::is_directory(lockstep::spd_dir()))
+    std::fprintf(stderr, "lockstep_bench: note: no %s: SPD scenes are generated (lockstep spd)\n",
+                 lockstep::spd_dir().c_str());
+  if (!lockstep::have_real_volumes())
+    std::fprintf(stderr,
+                 "lockstep_bench: note: cthead.nhdr or ch2.nhdr not in %s: frames of a missing volume "
+                 "are skipped (the analytic fields run)\n",
+                 lockstep::volumes_dir().c_str());
   try {
     lockstep::register_kernels(lockstep::registry());
     lockstep::register_frames(lockstep::registry());

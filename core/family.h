@@ -196,6 +196,13 @@ struct FamilyImpl {
   // tolerance() too (none does yet). Empty: Family::tol.
   std::optional<Tolerance> agree;
 
+  // A run that keeps its state across frames, as the library's users keep it
+  // (llvmpipe: its GL context and compiled shaders): each call of session()
+  // returns a run whose closure owns a fresh state, made on its first frame
+  // (the cold one) and reused by the next. The benchmarks time a session's
+  // frames, the first apart (first_ms). Empty: run keeps nothing, use it.
+  std::function<std::function<Output(const Input&, const FrameOptions&, FrameStats*)>()> session;
+
   // The tolerance this row is held to against the reference.
   const Tolerance& tolerance(const Tolerance& family_tol) const { return agree ? *agree : family_tol; }
 

@@ -30,114 +30,34 @@
 
 #ifdef LOCKSTEP_HAVE_VTK
 
-#include <SMP/Common/vtkSMPToolsAPI.h>
-#include <vtkCellArray.h>
-#include <vtkDataArray.h>
-#include <vtkFloatArray.h>
-#include <vtkFlyingEdges3D.h>
-#include <vtkImageData.h>
-#include <vtkNew.h>
-#include <vtkPointData.h>
-#include <vtkPoints.h>
-#include <vtkPolyData.h>
-#include <vtkTypeInt32Array.h>
-#include <vtkTypeInt64Array.h>
-#include <vtkVersion.h>
-
-#include <cstring>
+#include "optimized/peer_module.h"
 
 namespace lockstep::opt::vtk {
 
-namespace {
+bool available() { return !peer::find_module("vtk").empty(); }
 
-// vtkSMPTools.h does not compile as C++20 (GCC 12 rejects its constructors
-// declared with a template-id, DR 2237), so this uses the object vtkSMPTools
-// forwards to, as vtkSMPTools::LocalScope does: the thread count for one
-// call, the previous one restored afterwards (it is process-wide state).
-class SmpThreads {
- public:
-  explicit SmpThreads(int threads) : old_(api().GetInternalDesiredNumberOfThread()) {
-    api().Initialize(threads);
-  }
-  ~SmpThreads() { api().Initialize(old_); }
-  SmpThreads(const SmpThreads&) = delete;
-  SmpThreads& operator=(const SmpThreads&) = delete;
-  static ::vtk::detail::smp::vtkSMPToolsAPI& api() {
-    return ::vtk::detail::smp::vtkSMPToolsAPI::GetInstance();
-  }
-
- private:
-  int old_;
-};
-
-// VTK's connectivity (32- or 64-bit ids) as our triangles, orientation flipped.
-template <class Array>
-void copy_triangles(Array* conn, Mesh& m) {
-  const vtkIdType n = conn->GetNumberOfValues() / 3;
-  m.triangles.resize(size_t(n));
-  const auto* p = conn->GetPointer(0);
-  for (vtkIdType t = 0; t < n; ++t)
-    m.triangles[size_t(t)] = {uint32_t(p[3 * t]), uint32_t(p[3 * t + 2]), uint32_t(p[3 * t + 1])};
-}
-
-}  // namespace
-
-bool available() { return true; }
-
+// Recorded beside the module when it was built (tools/peer_version.cpp), so
+// that --version does not load VTK.
 std::string version() {
-  return std::string("VTK ") + vtkVersion::GetVTKVersion() + ", SMP backend " +
-         SmpThreads::api().GetBackend();
+  const std::string v = peer::recorded_version("vtk");
+  return v.empty()
+             ? "version not recorded (" + peer::module_file("vtk") + " has no .version beside it)"
+             : v;
 }
 
 Mesh marching_cubes(const Volume& v, const FrameOptions& options, FrameStats* stats) {
   const mc::Settings s = mc::settings(options.params, v.source);
   Mesh m;
   if (v.cells() > 0) {
-    vtkNew<vtkFloatArray> scalars;
-    scalars->SetNumberOfComponents(1);
-    scalars->SetArray(const_cast<float*>(v.data.data()), vtkIdType(v.data.size()), 1);
-    vtkNew<vtkImageData> image;
-    image->SetDimensions(v.nx, v.ny, v.nz);
-    image->SetSpacing(v.spacing.x, v.spacing.y, v.spacing.z);
-    image->SetOrigin(v.origin.x, v.origin.y, v.origin.z);
-    image->GetPointData()->SetScalars(scalars);
-
-    vtkNew<vtkFlyingEdges3D> fe;
-    fe->SetInputData(image);
-    fe->SetNumberOfContours(1);
-    fe->SetValue(0, s.iso);
-    fe->ComputeNormalsOff();
-    fe->ComputeGradientsOff();
-    fe->ComputeScalarsOff();
-    fe->InterpolateAttributesOff();
-    {
-      const SmpThreads scope(options.threads);
-      fe->Update();
-    }
-
-    vtkPolyData* out = fe->GetOutput();
-    if (vtkPoints* pts = out->GetPoints(); pts && pts->GetNumberOfPoints() > 0) {
-      const vtkIdType np = pts->GetNumberOfPoints();
-      m.vertices.resize(size_t(np));
-      if (auto* f = vtkFloatArray::SafeDownCast(pts->GetData())) {
-        static_assert(sizeof(Vec3f) == 3 * sizeof(float));
-        std::memcpy(static_cast<void*>(m.vertices.data()), f->GetPointer(0),
-                    size_t(np) * sizeof(Vec3f));
-      } else {
-        for (vtkIdType i = 0; i < np; ++i) {
-          double p[3];
-          pts->GetPoint(i, p);
-          m.vertices[size_t(i)] = Vec3f(float(p[0]), float(p[1]), float(p[2]));
-        }
-      }
-      vtkCellArray* polys = out->GetPolys();
-      if (polys->GetNumberOfConnectivityIds() != 3 * polys->GetNumberOfCells())
-        throw std::logic_error("vtkFlyingEdges3D returned polygons that are not triangles");
-      if (polys->IsStorage64Bit())
-        copy_triangles(polys->GetConnectivityArray64(), m);
-      else
-        copy_triangles(polys->GetConnectivityArray32(), m);
-    }
+    const auto* api = static_cast<const ModuleApi*>(peer::open_api("vtk", kAbi));
+    Request r;
+    r.samples = v.data.data();
+    r.nx = v.nx, r.ny = v.ny, r.nz = v.nz;
+    r.spacing = v.spacing;
+    r.origin = v.origin;
+    r.iso = s.iso;
+    r.threads = options.threads;
+    api->marching_cubes(r, m);
   }
   if (stats) {
     stats->items = v.cells();

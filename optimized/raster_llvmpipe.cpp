@@ -36,12 +36,21 @@
 // environment already has it; a later request for another count is reported
 // in FrameStats::notes. So threads=1 and threads=2 need separate processes.
 //
-// Cost: a context per call (no state outlives zbuffer()), so every call pays
-// context creation and LLVM's compilation of the shader variants for this
-// state (FrameStats::build_seconds: about 11 ms in the benchmark, 20-50 ms
-// cold), and the float colour buffer costs a fixed ~7 ms a frame at 1024^2
+// Cost: zbuffer() makes a context per call, so every call pays context
+// creation and LLVM's compilation of the shader variants for this state
+// (FrameStats::build_seconds: about 11 ms in the benchmark, 20-50 ms cold).
+// A Session keeps its context across frames, as an application keeps its GL
+// context: only its first frame pays that (the row's FamilyImpl::session, so
+// the benchmarks time llvmpipe as its users run it, its cold first frame in
+// first_ms). The float colour buffer costs a fixed ~7 ms a frame at 1024^2
 // (clear, and OSMesa's copy into the image). tools/llvmpipe_check.cpp
 // `time` separates the phases.
+//
+// Module: the GL calls are in optimized/raster_llvmpipe_module.cpp, built as
+// lockstep_peer_llvmpipe.so and opened by the first Context of the process
+// (optimized/peer_module.h); the rest of the binary does not link libOSMesa.
+#include "optimized/raster_llvmpipe.h"
+
 #include "core/error.h"
 #include "optimized/raster.h"
 
@@ -76,19 +85,13 @@ std::string unsupported(const Params& params) {
 
 #ifdef LOCKSTEP_HAVE_OSMESA
 
-// glClampColor is GL 3.0: its prototype comes from GL/glext.h, which GL/gl.h
-// (included by osmesa.h) includes; libOSMesa exports it.
-#define GL_GLEXT_PROTOTYPES 1
-#include <GL/osmesa.h>
-
 #include <cmath>
 #include <cstdlib>
-#include <cstring>
-#include <limits>
 #include <stdexcept>
 #include <thread>
 
 #include "core/timer.h"
+#include "optimized/peer_module.h"
 #include "optimized/raster_llvmpipe.h"
 
 namespace lockstep::opt::llvmpipe {
@@ -121,17 +124,11 @@ double depth_step(double z, double near_z, double far_z) {
   return 0x1p-24 * z * z * (f - n) / (n * f);
 }
 
-struct Context::State {
-  OSMesaContext ctx = nullptr;
-  int width = 0, height = 0;
-  bool compiled = false;                // the first draw has been warmed up
-  std::vector<float> vertices, colors;  // the arrays GL reads (client-side vertex arrays)
-  std::vector<float> window_depth;      // glReadPixels' depth, bottom row first
-};
-
 Context::Context(int width, int height, int threads, std::vector<std::string>* notes)
-    : st_(new State) {
+    : width_(width), height_(height) {
   const Stopwatch clock;
+  // Opening the module (libOSMesa, LLVM) is part of the context's one-shot cost.
+  api_ = static_cast<const ModuleApi*>(peer::open_api("llvmpipe", kAbi));
   // The thread count must be in the environment before llvmpipe's screen exists.
   const std::string want = lp_threads_for(threads);
   const char* have = std::getenv("LP_NUM_THREADS");
@@ -146,171 +143,78 @@ Context::Context(int width, int height, int threads, std::vector<std::string>* n
         std::to_string(threads) + " (LP_NUM_THREADS=" + want + "); run it in a process of its own");
   }
   threads_ = have ? have : "";
-
-  st_->width = width;
-  st_->height = height;
-  // RGBA, 24 depth bits, no stencil, no accumulation buffer.
-  st_->ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, nullptr);
-  if (st_->ctx == nullptr) throw std::runtime_error("llvmpipe: OSMesaCreateContextExt failed");
+  handle_ = api_->create(width, height);
   create_seconds_ = clock.seconds();
 }
 
 Context::~Context() {
-  if (st_->ctx) OSMesaDestroyContext(st_->ctx);
+  if (handle_) api_->destroy(handle_);
 }
 
 void Context::draw(const ScreenMesh& mesh, const Vec3& background, const RasterSettings& s,
                    Image& img, DrawTimes* times) {
-  State& st = *st_;
-  DrawTimes t;
-  const int W = st.width, H = st.height;
-  if (mesh.width != W || mesh.height != H)
+  if (mesh.width != width_ || mesh.height != height_)
     throw std::logic_error("llvmpipe: mesh size differs from the context's");
-
-  // Colour goes straight into the image: float RGBA, row 0 at the top
-  // (OSMESA_Y_UP = 0), colours neither clamped on the vertices nor in the buffer.
-  if (img.width != W || img.height != H || img.rgba.size() != size_t(W) * size_t(H) * 4)
-    img = Image::uninitialized(W, H);
-  if (!OSMesaMakeCurrent(st.ctx, img.rgba.data(), GL_FLOAT, W, H))
-    throw std::runtime_error("llvmpipe: OSMesaMakeCurrent (float RGBA) failed");
-  OSMesaPixelStore(OSMESA_Y_UP, 0);
-  glClampColor(GL_CLAMP_VERTEX_COLOR, GL_FALSE);
-  glClampColor(GL_CLAMP_FRAGMENT_COLOR, GL_FALSE);
-  glClampColor(GL_CLAMP_READ_COLOR, GL_FALSE);
-  glDisable(GL_DITHER);
-  glDisable(GL_LIGHTING);   // the colours are lit already
-  glDisable(GL_CULL_FACE);  // view_scene culled per RasterSettings::cull; what is left is all drawn
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glDepthRange(0.0, 1.0);
-  glClearDepth(1.0);
-  glClearColor(GLfloat(background.x), GLfloat(background.y), GLfloat(background.z), 1.0f);
-  glViewport(0, 0, W, H);
-
-  // Projection: the frustum of core/camera.h's pixel centres (see the header comment).
-  const Camera& cam = mesh.camera;
-  const double n = near_plane(mesh.near_z);
-  const double f = far_plane(mesh.near_z, mesh.far_z);
-  const double half_w = n * cam.pitch * 0.5 * W, half_h = n * cam.pitch * 0.5 * H;
-  glMatrixMode(GL_PROJECTION);
-  glLoadIdentity();
-  glFrustum(-half_w, half_w, -half_h, half_h, n, f);
-  // Modelview: the look-at rotation; GL's eye looks down -z. Column-major.
-  // clang-format off
-  const GLdouble look[16] = {cam.right.x, cam.up.x, -cam.forward.x, 0,
-                             cam.right.y, cam.up.y, -cam.forward.y, 0,
-                             cam.right.z, cam.up.z, -cam.forward.z, 0,
-                             0,           0,        0,              1};
-  // clang-format on
-  glMatrixMode(GL_MODELVIEW);
-  glLoadMatrixd(look);
-
-  // Shading: flat takes the provoking (last) vertex's colour, which is the
-  // triangle's flat_color on all three; Gouraud interpolates the vertex colours.
-  glShadeModel(s.shading == Shading::kFlat ? GL_FLAT : GL_SMOOTH);
-
-  // The vertex arrays: positions relative to the eye (double, then float).
-  Stopwatch clock;
-  const size_t nv = mesh.tris.size() * 3;
-  st.vertices.resize(nv * 3);
-  st.colors.resize(nv * 3);
-  float* p = st.vertices.data();
-  float* c = st.colors.data();
-  for (const ScreenTri& tri : mesh.tris) {
-    for (const ScreenVertex& v : tri.v) {
-      const Vec3 e = v.world - cam.eye;
-      const Vec3& col = s.shading == Shading::kFlat ? tri.flat_color : v.color;
-      *p++ = float(e.x), *p++ = float(e.y), *p++ = float(e.z);
-      *c++ = float(col.x), *c++ = float(col.y), *c++ = float(col.z);
-    }
-  }
-  glEnableClientState(GL_VERTEX_ARRAY);
-  glEnableClientState(GL_COLOR_ARRAY);
-  glVertexPointer(3, GL_FLOAT, 0, st.vertices.data());
-  glColorPointer(3, GL_FLOAT, 0, st.colors.data());
-  t.upload = clock.seconds();
-
-  // The first draw of a context compiles llvmpipe's shader variants for this
-  // state (LLVM, tens of milliseconds): one triangle, then cleared again.
-  if (!st.compiled && nv > 0) {
-    clock.restart();
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    glDrawArrays(GL_TRIANGLES, 0, 3);
-    glFinish();
-    t.compile = clock.seconds();
-    st.compiled = true;
-  }
-
-  clock.restart();
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  if (nv > 0) glDrawArrays(GL_TRIANGLES, 0, GLsizei(nv));
-  glFinish();  // OSMesa copies the colour buffer into img here
-  t.draw = clock.seconds();
-
-  // Depth: window depth back to eye z (+inf where nothing was drawn), flipped
-  // to row 0 at the top.
-  clock.restart();
-  st.window_depth.resize(size_t(W) * size_t(H));
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, W, H, GL_DEPTH_COMPONENT, GL_FLOAT, st.window_depth.data());
-  img.depth.resize(size_t(W) * size_t(H));
-  const double k = f - n;
-  for (int y = 0; y < H; ++y) {
-    const float* src = st.window_depth.data() + size_t(H - 1 - y) * size_t(W);
-    float* dst = img.depth.data() + size_t(y) * size_t(W);
-    for (int x = 0; x < W; ++x) {
-      const double d = src[x];
-      dst[x] = d >= 1.0 ? std::numeric_limits<float>::infinity() : float(n * f / (f - d * k));
-    }
-  }
-  t.readback = clock.seconds();
-
-  const GLenum err = glGetError();
-  // Release the context: OSMesa would otherwise write into img's pixels again
-  // when it is next made current or destroyed, perhaps after img is gone.
-  OSMesaMakeCurrent(nullptr, nullptr, GL_FLOAT, 0, 0);
-  if (err != GL_NO_ERROR) throw std::runtime_error("llvmpipe: GL error " + std::to_string(err));
-  if (times) *times = t;
+  if (img.width != width_ || img.height != height_ ||
+      img.rgba.size() != size_t(width_) * size_t(height_) * 4)
+    img = Image::uninitialized(width_, height_);
+  DrawSetup setup;
+  setup.near_plane = near_plane(mesh.near_z);
+  setup.far_plane = far_plane(mesh.near_z, mesh.far_z);
+  setup.flat = s.shading == Shading::kFlat;
+  api_->draw(handle_, mesh, background, setup, img, times);
 }
 
-std::string Context::renderer() {
-  std::vector<float> px(4);
-  if (!OSMesaMakeCurrent(st_->ctx, px.data(), GL_FLOAT, 1, 1))
-    return "llvmpipe: OSMesaMakeCurrent failed";
-  auto str = [](GLenum name) {
-    const GLubyte* v = glGetString(name);
-    return v ? std::string(reinterpret_cast<const char*>(v)) : std::string("?");
-  };
-  const std::string r = str(GL_RENDERER) + ", OpenGL " + str(GL_VERSION);
-  OSMesaMakeCurrent(nullptr, nullptr, GL_FLOAT, 0, 0);
-  return r;
-}
+std::string Context::renderer() { return api_->renderer(handle_); }
 
-bool available() { return true; }
+bool available() { return !peer::find_module("llvmpipe").empty(); }
 
 std::string version() {
-  // The strings need a current context. It makes llvmpipe's screen, with all
-  // cores unless LP_NUM_THREADS says otherwise (the CLI's --version is a process of its own).
-  Context ctx(1, 1, 0, nullptr);
-  return ctx.renderer() + ", LP_NUM_THREADS=" + ctx.thread_count();
+  // Recorded beside the module when it was built (tools/peer_version.cpp): the
+  // module is not opened here, so --version does not load Mesa and LLVM.
+  std::string v = peer::recorded_version("llvmpipe");
+  if (v.empty())
+    v = "version not recorded (" + peer::module_file("llvmpipe") + " has no .version beside it)";
+  const char* lp = std::getenv("LP_NUM_THREADS");
+  return v + ", LP_NUM_THREADS=" + (lp ? lp : "unset (all cores)");
 }
 
-Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
-  const RasterSettings s = frame_settings(scene, opts);  // as every raster row: at most 2^25 samples
+namespace {
+
+// One frame through ctx, made (or remade for another size) when needed.
+Image draw_frame(std::unique_ptr<Context>& ctx, const Scene& scene, const FrameOptions& opts,
+                 FrameStats* stats) {
+  const RasterSettings s =
+      frame_settings(scene, opts);  // as every raster row: at most 2^25 samples
   if (const std::string why = unsupported(s); !why.empty()) throw InputError(scene.source, 0, why);
   const ScreenMesh mesh = view_scene(scene, opts.width, opts.height, s);
   std::vector<std::string> notes;
-  Context ctx(opts.width, opts.height, opts.threads, &notes);
+  double create = 0;
+  if (!ctx || ctx->width() != opts.width || ctx->height() != opts.height) {
+    ctx.reset();
+    ctx = std::make_unique<Context>(opts.width, opts.height, opts.threads, &notes);
+    create = ctx->create_seconds();
+  }
   DrawTimes t;
   Image img;
-  ctx.draw(mesh, scene.background, s, img, &t);
+  ctx->draw(mesh, scene.background, s, img, &t);
   if (stats) {
-    stats->build_seconds = ctx.create_seconds() + t.compile;
+    stats->build_seconds = create + t.compile;          // 0 on a kept context's later frames
     stats->items = mesh.scene_tris + mesh.sphere_tris;  // as the reference counts
-
     for (std::string& line : notes) stats->notes.push_back(std::move(line));
   }
   return img;
+}
+
+}  // namespace
+
+Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
+  std::unique_ptr<Context> ctx;
+  return draw_frame(ctx, scene, opts, stats);
+}
+
+Image Session::zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
+  return draw_frame(ctx_, scene, opts, stats);
 }
 
 }  // namespace lockstep::opt::llvmpipe
@@ -326,6 +230,9 @@ std::string version() { return {}; }
 Image zbuffer(const Scene& scene, const FrameOptions&, FrameStats*) {
   throw InputError(scene.source, 0,
                    "llvmpipe: this build has no OSMesa (install libosmesa6-dev and re-run cmake)");
+}
+Image Session::zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
+  return llvmpipe::zbuffer(scene, opts, stats);
 }
 
 }  // namespace lockstep::opt::llvmpipe

@@ -1,14 +1,23 @@
 // lockstep optimized: the llvmpipe row's OpenGL context (only built where
 // libOSMesa is found: LOCKSTEP_HAVE_OSMESA). opt::llvmpipe::zbuffer
-// (optimized/raster.h) is one Context and one draw(); the hand-run timing tool
-// (tools/llvmpipe_check.cpp, `time`) keeps one Context and draws many times, to
-// separate the one-shot costs (context, LLVM shader compilation) from the frame.
+// (optimized/raster.h) is one Context and one draw(); a Session keeps one
+// Context across frames, as an application keeps its GL context (the row's
+// FamilyImpl::session, used by the benchmarks' frame loop), and the hand-run
+// timing tool (tools/llvmpipe_check.cpp, `time`) keeps one Context and draws
+// many times, to separate the one-shot costs (context, LLVM shader
+// compilation) from the frame.
+//
+// The GL code lives in the module lockstep_peer_llvmpipe.so
+// (optimized/raster_llvmpipe_module.cpp, the only code linked against
+// libOSMesa), opened on the first Context (optimized/peer_module.h); its table
+// of functions is ModuleApi below.
 #pragma once
 
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "core/family.h"
 #include "core/image.h"
 #include "core/raster.h"
 
@@ -32,6 +41,8 @@ struct DrawTimes {
   double draw = 0;      // glClear + glDrawArrays + glFinish (llvmpipe's binning and rasterisation)
   double readback = 0;  // colour rows flipped into the image, depth read and turned into eye z
 };
+
+struct ModuleApi;  // below
 
 // One OSMesa context (Mesa's gallium frontend, driver llvmpipe unless
 // GALLIUM_DRIVER says otherwise) with a width x height float RGBA colour buffer
@@ -62,12 +73,44 @@ class Context {
   // llvmpipe's rasteriser threads in this process (LP_NUM_THREADS; 0: the
   // calling thread rasterises), as the environment said when the screen was made.
   std::string thread_count() const { return threads_; }
+  int width() const { return width_; }
+  int height() const { return height_; }
 
  private:
-  struct State;
-  std::unique_ptr<State> st_;
+  const ModuleApi* api_ = nullptr;
+  void* handle_ = nullptr;  // the module's context
+  int width_ = 0, height_ = 0;
   double create_seconds_ = 0;
   std::string threads_;
 };
+
+// Frames drawn by one Context, made on the first frame (the cold one: context,
+// LLVM's compilation of the shader variants) and kept while the size stays.
+// Not thread-safe: one Session per thread.
+class Session {
+ public:
+  Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats);
+
+ private:
+  std::unique_ptr<Context> ctx_;
+};
+
+// The module's table (lockstep_peer_api() in lockstep_peer_llvmpipe.so). Host
+// and module come from one build: abi must match kAbi.
+struct DrawSetup {
+  double near_plane = 0, far_plane = 0;  // near_plane(), far_plane() of the mesh
+  bool flat = true;                      // Shading::kFlat (else Gouraud)
+};
+struct ModuleApi {
+  int abi;
+  // A context of width x height; throws std::runtime_error.
+  void* (*create)(int width, int height);
+  void (*destroy)(void* ctx);
+  // Context::draw with img already width x height.
+  void (*draw)(void* ctx, const ScreenMesh& mesh, const Vec3& background, const DrawSetup& setup,
+               Image& img, DrawTimes* times);
+  std::string (*renderer)(void* ctx);
+};
+inline constexpr int kAbi = 1;
 
 }  // namespace lockstep::opt::llvmpipe

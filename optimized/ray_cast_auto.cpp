@@ -10,7 +10,7 @@
 // The crossover, measured: 512 x 512, one thread (FrameOptions.threads = 1),
 // wall time of the whole render call including Embree's device and BVH build,
 // best of 7, AVX-512 machine (Highway target AVX3), Embree 3.13.5. SPD scenes
-// from /work/shared/spd; the last four are SPD scenes cut short (the first N
+// from ../shared/spd (or `lockstep spd`); the last four are SPD scenes cut short (the first N
 // spheres of balls-4, the first polygons of lattice-2-tess and gears-2) to fill
 // the gap between sizes.
 //

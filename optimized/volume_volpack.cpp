@@ -54,8 +54,6 @@
 
 #ifdef LOCKSTEP_HAVE_VOLPACK
 
-#include <volpack.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -66,24 +64,11 @@
 #include "core/error.h"
 #include "core/timer.h"
 #include "core/volume_render.h"
+#include "optimized/peer_module.h"
 
 namespace lockstep::opt::volpack {
 
 namespace {
-
-struct ContextDeleter {
-  void operator()(vpContext* c) const { vpDestroyContext(c); }
-};
-using ContextPtr = std::unique_ptr<vpContext, ContextDeleter>;
-
-// Every VolPack call goes through check: an error becomes an exception naming
-// the call and VolPack's own words.
-void check(vpResult r, const char* call) {
-  if (r == VP_OK) return;
-  const char* s = vpGetErrorString(r);
-  throw std::runtime_error(std::string("VolPack: ") + call + " failed: " + (s ? s : "unknown error") + " (code " +
-                           std::to_string(r) + ")");
-}
 
 // The volume's values as 16-bit indices, and what each index stands for.
 struct Quantized {
@@ -153,18 +138,23 @@ void inverse_prematrix(const Volume& v, double m[4][4]) {
 
 }  // namespace
 
-bool available() { return true; }
+bool available() { return !peer::find_module("volpack").empty(); }
 
-// volpack.h's own version string (Debian 12's libvolpack1-dev 1.0b3 says "1.1").
-std::string version() { return std::string("VolPack, volpack.h VP_VERSION ") + VP_VERSION; }
+// Recorded beside the module when it was built (tools/peer_version.cpp), so
+// that --version does not load VolPack.
+std::string version() {
+  const std::string v = peer::recorded_version("volpack");
+  return v.empty() ? "version not recorded (" + peer::module_file("volpack") + " has no .version beside it)" : v;
+}
 
 Image render_path(const Volume& volume, const FrameOptions& options, Path path, Times* times) {
   const vr::Settings s = vr::settings(options.params, volume.source, vr::Mode::kRaycast);
   const vr::View view = vr::make_view(volume, s, options.width, options.height);
   const int W = options.width, H = options.height;
-  if (std::max({volume.nx, volume.ny, volume.nz}) > VP_MAX_VOLUME_DIM)
+  const auto* api = static_cast<const ModuleApi*>(peer::open_api("volpack", kAbi));
+  if (std::max({volume.nx, volume.ny, volume.nz}) > api->max_volume_dim)
     throw InputError(volume.source, 0,
-                     "volpack: VolPack takes at most " + std::to_string(VP_MAX_VOLUME_DIM) + " samples per side, got " +
+                     "volpack: VolPack takes at most " + std::to_string(api->max_volume_dim) + " samples per side, got " +
                          std::to_string(volume.nx) + "x" + std::to_string(volume.ny) + "x" + std::to_string(volume.nz));
   if (volume.nx < 2 || volume.ny < 2 || volume.nz < 2)
     throw InputError(volume.source, 0, "volpack: the volume needs at least 2 samples per side");
@@ -179,31 +169,6 @@ Image render_path(const Volume& volume, const FrameOptions& options, Path path, 
   Tables tables = make_tables(s, qz, r);
   const double prepare_seconds = clock.seconds();
   std::vector<unsigned char> pixels(size_t(W) * size_t(H) * 4);
-
-  ContextPtr ctx(vpCreateContext());
-  if (!ctx) throw std::runtime_error("VolPack: vpCreateContext failed");
-  vpContext* c = ctx.get();
-  check(vpSetVolumeSize(c, volume.nx, volume.ny, volume.nz), "vpSetVolumeSize");
-  check(vpSetVoxelSize(c, int(sizeof(uint16_t)), 1, 1, 1), "vpSetVoxelSize");
-  check(vpSetVoxelField(c, 0, int(sizeof(uint16_t)), 0, qz.qmax), "vpSetVoxelField");
-  check(vpSetRawVoxels(c, const_cast<uint16_t*>(qz.q.data()), int(qz.q.size() * sizeof(uint16_t)), int(sizeof(uint16_t)),
-                       int(sizeof(uint16_t)) * volume.nx, int(sizeof(uint16_t)) * volume.nx * volume.ny),
-        "vpSetRawVoxels");
-  check(vpSetClassifierTable(c, 0, 0, tables.opacity.data(), int(tables.opacity.size() * sizeof(float))),
-        "vpSetClassifierTable");
-  check(vpSetLookupShader(c, 3, 1, 0, tables.colour.data(), int(tables.colour.size() * sizeof(float)), 0, nullptr, 0),
-        "vpSetLookupShader");
-  check(vpSetd(c, VP_MIN_VOXEL_OPACITY, 0.0), "vpSetd(VP_MIN_VOXEL_OPACITY)");
-  clock.restart();
-  if (path == Path::kClassified) check(vpClassifyVolume(c), "vpClassifyVolume");
-  if (path == Path::kRawOctree) {
-    // Nodes of 4^3 voxels, one range of 16-bit values per node treated as
-    // uniform: 1/64 of the value range (the user's guide's advice: small
-    // against the transfer function's detail).
-    check(vpMinMaxOctreeThreshold(c, 0, std::max(1, qz.qmax / 64)), "vpMinMaxOctreeThreshold");
-    check(vpCreateMinMaxOctree(c, 0, 4), "vpCreateMinMaxOctree");
-  }
-  const double classify_seconds = clock.seconds();
 
   // The view: voxel index -> VolPack clip coordinates. x_c = 2 (u - 1/2) / W - 1,
   // y_c = 2 (H - v - 1/2) / H - 1 with (u, v) our continuous pixel coordinates
@@ -235,20 +200,19 @@ Image render_path(const Volume& volume, const FrameOptions& options, Path path, 
       M[i][j] = 0;
       for (int k = 0; k < 4; ++k) M[i][j] += A[i][k] * P[k][j];
     }
-  check(vpCurrentMatrix(c, VP_PROJECT), "vpCurrentMatrix(VP_PROJECT)");
-  check(vpIdentityMatrix(c), "vpIdentityMatrix");
-  check(vpCurrentMatrix(c, VP_VIEW), "vpCurrentMatrix(VP_VIEW)");
-  check(vpIdentityMatrix(c), "vpIdentityMatrix");
-  check(vpCurrentMatrix(c, VP_MODEL), "vpCurrentMatrix(VP_MODEL)");
-  check(vpSetMatrix(c, M), "vpSetMatrix");
-  check(vpSetd(c, VP_MAX_RAY_OPACITY, s.eps > 0 ? 1 - s.eps : 1.0), "vpSetd(VP_MAX_RAY_OPACITY)");
-  check(vpSetImage(c, pixels.data(), W, H, W * 4, VP_RGBA), "vpSetImage");
-  clock.restart();
-  if (path == Path::kClassified)
-    check(vpRenderClassifiedVolume(c), "vpRenderClassifiedVolume");
-  else
-    check(vpRenderRawVolume(c), "vpRenderRawVolume");
-  const double render_seconds = clock.seconds();
+  Request q;
+  q.voxels = qz.q.data();
+  q.nx = volume.nx, q.ny = volume.ny, q.nz = volume.nz;
+  q.qmax = qz.qmax;
+  q.opacity = tables.opacity.data();
+  q.colour = tables.colour.data();
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) q.model[i][j] = M[i][j];
+  q.max_ray_opacity = s.eps > 0 ? 1 - s.eps : 1.0;
+  q.width = W, q.height = H;
+  q.path = path;
+  double classify_seconds = 0, render_seconds = 0;
+  api->render(q, pixels.data(), &classify_seconds, &render_seconds);
 
   // VolPack's rows run bottom-up; its bytes were truncated (see the top).
   Image image = Image::uninitialized(W, H);

@@ -2,10 +2,14 @@
 // and Levoy, "Fast Volume Rendering Using a Shear-Warp Factorization of the
 // Viewing Transformation", SIGGRAPH 1994; Debian libvolpack1-dev), built only
 // where CMake finds it (LOCKSTEP_HAVE_VOLPACK). VolPack's header is included
-// by optimized/volume_volpack.cpp alone. See that file for what the row does
-// and how it differs from the reference's ray casting.
+// by optimized/volume_volpack_module.cpp alone, built as the module
+// lockstep_peer_volpack.so and opened when the row runs
+// (optimized/peer_module.h). See optimized/volume_volpack.cpp (the host side:
+// quantization, tables, view) for what the row does and how it differs from
+// the reference's ray casting.
 #pragma once
 
+#include <cstdint>
 #include <string>
 
 #include "core/family.h"
@@ -14,7 +18,8 @@
 
 namespace lockstep::opt::volpack {
 
-// True when this build has the VolPack row; version() then names VolPack's version.
+// True when this build has the VolPack row (and its module is beside the
+// binary); version() then names VolPack's version, as recorded beside the module.
 bool available();
 std::string version();
 
@@ -36,5 +41,27 @@ struct Times {
   double render = 0;    // vpRenderClassifiedVolume or vpRenderRawVolume
 };
 Image render_path(const Volume& volume, const FrameOptions& options, Path path, Times* times);
+
+// The module's table (lockstep_peer_api() in lockstep_peer_volpack.so); abi must match kAbi.
+struct Request {
+  const uint16_t* voxels = nullptr;  // nx ny nz quantized values, x fastest
+  int nx = 0, ny = 0, nz = 0;
+  int qmax = 0;                    // largest value
+  const float* opacity = nullptr;  // qmax + 1 classifier entries
+  const float* colour = nullptr;   // (qmax + 1) x 3, 0..255
+  double model[4][4] = {};     // voxel index -> VolPack's clip coordinates, its prematrix undone
+  double max_ray_opacity = 1;  // VP_MAX_RAY_OPACITY
+  int width = 0, height = 0;
+  Path path = Path::kClassified;
+};
+struct ModuleApi {
+  int abi;
+  int max_volume_dim;  // VP_MAX_VOLUME_DIM
+  // Draws into pixels (width x height x 4 bytes, VolPack's rows bottom-up);
+  // classify and render: seconds of those phases. Throws std::runtime_error
+  // naming the VolPack call that failed.
+  void (*render)(const Request& request, unsigned char* pixels, double* classify, double* render);
+};
+inline constexpr int kAbi = 1;
 
 }  // namespace lockstep::opt::volpack

@@ -6,6 +6,7 @@
 
 #include "core/nff.h"
 #include "core/volume_io.h"
+#include "spd/spd.h"
 
 namespace lockstep {
 
@@ -32,8 +33,21 @@ std::string volumes_dir() {
 
 std::optional<Input> load_spd(std::string_view name) {
   const std::string path = spd_dir() + "/" + std::string(name) + ".nff";
-  if (!std::filesystem::exists(path)) return std::nullopt;
-  return load_nff(path);
+  if (std::filesystem::exists(path)) return load_nff(path);
+  const std::optional<spd::Request> r = spd::parse_stem(name);
+  if (!r) return std::nullopt;
+  // Named as the file would be, marked generated, for messages and reports.
+  const std::string label = std::string(name) + ".nff (generated: lockstep spd)";
+  Scene s = parse_nff(spd::generate(r->name, r->size, r->tess), label);
+  const int w = s.view.xres, h = s.view.yres;
+  const Vec3 bg = s.background;
+  return make_input<Scene>(std::move(s), label, w, h, bg);
+}
+
+bool have_real_volumes() {
+  const std::string dir = volumes_dir();
+  return std::filesystem::exists(dir + "/cthead.nhdr") &&
+         std::filesystem::exists(dir + "/ch2.nhdr");
 }
 
 }  // namespace lockstep

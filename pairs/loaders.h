@@ -28,8 +28,16 @@ std::string volumes_dir();
 // Throws InputError naming file and line.
 Input load_volume(const std::string& path, int width = 0, int height = 0);
 
-// The SPD scene `name` (e.g. "balls-3"), loaded, or nothing when it is not
-// there (benchmarks time the scenes that are present).
+// The SPD scene `name` (e.g. "balls-3", "tree-2-tess"): spd_dir()/name.nff
+// when that file exists, else generated in memory by spd/ (the same text the
+// SPD programs write: tests/spd checks it against ../shared/spd), so a clone
+// without ../shared runs every benchmark. Nothing when the name is neither a
+// file there nor a scene spd/ can make.
 std::optional<Input> load_spd(std::string_view name);
+
+// Whether the real CT and MRI volumes (cthead.nhdr, ch2.nhdr) are in
+// volumes_dir(). They cannot be generated: benchmarks and tests that need
+// them skip them when this is false (the analytic fields still run).
+bool have_real_volumes();
 
 }  // namespace lockstep
