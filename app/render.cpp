@@ -3,11 +3,13 @@
 // the one whose files end in the input's extension (pairs/registry.h).
 #include <algorithm>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "app/cli.h"
 #include "app/run.h"
+#include "optimized/tiling.h"
 
 namespace lockstep::cli {
 
@@ -196,7 +198,12 @@ int render_as(const std::string& who, const std::string& forced_algo, Args args)
   // Everything that can be wrong with the input is found before rendering, so
   // an error never leaves an output behind.
   family.kind->check_path(out_path);
+  // TBB starts while the input loads (our rows run on it; a peer's own
+  // threads do not, and it costs them only a spare thread for a few ms).
+  std::optional<opt::ThreadPoolStart> pool;
+  if (impl.peer.empty()) pool.emplace();
   const Input input = family.load(in_path);
+  pool.reset();
 
   FrameOptions opts;
   opts.width = width > 0 ? width : input.width;
