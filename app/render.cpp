@@ -21,7 +21,7 @@ void print_help() {
       "\n"
       "Renders INPUT with one implementation of the family that reads it and writes the\n"
       "image; the format follows OUT's extension (.exr and .tif keep float values, .png\n"
-      "clamps to 8 bits).\n"
+      "clamps to 8 bits). .exr is written lossless with fast zlib (OpenEXR \"zips\", level 1).\n"
       "\n");
   for (const Family& f : registry().families)
     std::printf("  %-10s %s from %s; --impl %s (default: %.*s)\n", std::string(f.name).c_str(),
