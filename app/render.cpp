@@ -3,11 +3,13 @@
 // the one whose files end in the input's extension (pairs/registry.h).
 #include <algorithm>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "app/cli.h"
 #include "app/run.h"
+#include "optimized/tiling.h"
 
 namespace lockstep::cli {
 
@@ -19,7 +21,7 @@ void print_help() {
       "\n"
       "Renders INPUT with one implementation of the family that reads it and writes the\n"
       "image; the format follows OUT's extension (.exr and .tif keep float values, .png\n"
-      "clamps to 8 bits).\n"
+      "clamps to 8 bits). .exr is written lossless with fast zlib (OpenEXR \"zips\", level 1).\n"
       "\n");
   for (const Family& f : registry().families)
     std::printf("  %-10s %s from %s; --impl %s (default: %.*s)\n", std::string(f.name).c_str(),
@@ -196,7 +198,12 @@ int render_as(const std::string& who, const std::string& forced_algo, Args args)
   // Everything that can be wrong with the input is found before rendering, so
   // an error never leaves an output behind.
   family.kind->check_path(out_path);
+  // TBB starts while the input loads (our rows run on it; a peer's own
+  // threads do not, and it costs them only a spare thread for a few ms).
+  std::optional<opt::ThreadPoolStart> pool;
+  if (impl.peer.empty()) pool.emplace();
   const Input input = family.load(in_path);
+  pool.reset();
 
   FrameOptions opts;
   opts.width = width > 0 ? width : input.width;

@@ -38,7 +38,7 @@ Image read_image(const std::string& path) {
   return img;
 }
 
-void write_image(const Image& image, const std::string& path) { write_image(image, path, "zip"); }
+void write_image(const Image& image, const std::string& path) { write_image(image, path, "zips:1"); }
 
 void write_image(const Image& image, const std::string& path, const std::string& exr_compression) {
   namespace fs = std::filesystem;

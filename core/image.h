@@ -130,7 +130,11 @@ struct Image {
 // accepted: grey is replicated, a missing alpha is 1.
 Image read_image(const std::string& path);
 // Throws InputError when the file cannot be written; nothing is left behind then.
-// .exr files are zip-compressed (lossless).
+// .exr files are zlib-compressed (lossless) one scanline per block at zlib level
+// 1 ("zips:1"): on a 1024^2 float RGBA z-buffer frame OpenEXR writes it 1.5-3x
+// faster than the default "zip" (16 scanlines, level 6), the file 3.5 MB
+// against 2.9 MB (issue #21, one-shot cost; the writer was most of a one-shot
+// render's own time). Any OpenEXR reader reads both.
 void write_image(const Image& image, const std::string& path);
 // The same with another OpenEXR compression for .exr files, e.g. "pxr24" (lossy:
 // floats rounded to 24 bits, relative error <= 2^-16; the golden images use it,

@@ -8,8 +8,24 @@
 #include <algorithm>
 #include <atomic>
 #include <mutex>
+#include <system_error>
 
 namespace lockstep::opt {
+
+ThreadPoolStart::ThreadPoolStart() {
+  try {
+    thread_ = std::thread([] {
+      tbb::task_arena arena(std::max(1, tbb::this_task_arena::max_concurrency()));
+      arena.execute([] { tbb::parallel_for(0, 2, [](int) {}); });
+    });
+  } catch (const std::system_error&) {
+    // No thread to spare: TBB starts at the first frame, as before.
+  }
+}
+
+ThreadPoolStart::~ThreadPoolStart() {
+  if (thread_.joinable()) thread_.join();
+}
 
 int resolve_threads(int threads) {
   return threads > 0 ? threads : tbb::this_task_arena::max_concurrency();

@@ -18,6 +18,7 @@
 #pragma once
 
 #include <functional>
+#include <thread>
 
 namespace lockstep::opt {
 
@@ -28,5 +29,23 @@ void parallel_tiles(int width, int height, int tile_w, int tile_h, int threads,
 
 // The number of threads parallel_tiles runs for `threads` (0: all cores).
 int resolve_threads(int threads);
+
+// Starts TBB on a thread of its own while the caller does something else
+// (loads its input): TBB's first arena costs a few ms once per process (its
+// scheduler, worker threads, the topology library it opens), which otherwise
+// fell into the first frame (issue #21: zbuffer's cold first frame 13-19 ms
+// against 3.5-4.2 warm, one thread; 7-11 ms with TBB started beforehand).
+// The destructor waits for it. Only what TBB would do anyway at its first
+// frame: nothing is left behind but TBB's own process-wide state.
+class ThreadPoolStart {
+ public:
+  ThreadPoolStart();
+  ~ThreadPoolStart();
+  ThreadPoolStart(const ThreadPoolStart&) = delete;
+  ThreadPoolStart& operator=(const ThreadPoolStart&) = delete;
+
+ private:
+  std::thread thread_;
+};
 
 }  // namespace lockstep::opt
