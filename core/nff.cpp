@@ -241,8 +241,11 @@ void read_cone(Lines& in, Scene& scene, uint32_t material) {
   const bool inside = r[0] < 0;
   if (inside) r[0] = -r[0], r[1] = -r[1];
   if (r[1] < 0)
-    in.fail("cone radii of mixed signs (" + std::to_string(inside ? -r[0] : r[0]) + ", " +
-            std::to_string(inside ? -r[1] : r[1]) + "): both negative means inside-visible, mixed means nothing");
+  {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "cone radii of mixed signs (%g, %g)", inside ? -r[0] : r[0], inside ? -r[1] : r[1]);
+    in.fail(std::string(buf) + ": both negative means only the inside is visible, mixed means nothing");
+  }
   if (r[0] == 0 && r[1] == 0) in.fail("cone with both radii 0");
   if (end[0].x == end[1].x && end[0].y == end[1].y && end[0].z == end[1].z)
     in.fail("cone with a zero-length axis (base and apex coincide)");

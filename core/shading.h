@@ -78,6 +78,9 @@ Vec3 phong(const Scene& scene, const Material& m, const Vec3& p, const Vec3& n, 
 // gives k/(bands-1)), no specular; ambient as in phong.
 Vec3 toon(const Scene& scene, const Material& m, const Vec3& p, const Vec3& n, int bands);
 
+// The unit outward normal of cone c (not prim) at a point p on its side.
+Vec3 cone_outward_normal(const Scene& scene, uint32_t c, const Vec3& p);
+
 // The colour seen along ray: background on a miss, else Phong at the hit.
 Vec3 shade(const Scene& scene, const Ray& ray, const Hit& hit);
 

@@ -17,7 +17,10 @@
 // the infinite cylinder); no caps (NFF's cones are open).
 //
 // cone_roots_textbook: the formula as written, any precision T.
-// cone_roots_stable: double; the half-B form, the root that does not cancel
+// cone_roots_stable: double; the ray's origin first moved along the ray to
+//   the point nearest the cone's centre (so that far origins do not swamp the
+//   pieces above with rounding: q, C and rho would be ~|o|, |o|^2; the same
+//   move as the Hearn-Baker sphere form), then the half-B form, the root that does not cancel
 //   computed first and the other from the product of the roots (C / A), each
 //   then refined by one Newton step on the quadric itself (which repairs what
 //   the rounding of A, B, C cost), as reference/ray_sphere's stable form does.
@@ -98,7 +101,8 @@ inline double cone_residual(const ConeQuadric<double>& c, double t, double& slop
   return dot(w, w) - r * r;
 }
 
-// The careful form (see the top of the file).
+// The careful form (see the top of the file), from the pieces of a quadric set
+// up with an origin near the cone (cone_roots_careful does that).
 inline bool cone_roots_stable(const ConeQuadric<double>& c, double& t0, double& t1) {
   const double A = c.A, b = c.half_B, C = c.C;
   if (A == 0) {
@@ -128,6 +132,20 @@ inline bool cone_roots_stable(const ConeQuadric<double>& c, double& t0, double& 
     }
   }
   if (t0 > t1) std::swap(t0, t1);
+  return true;
+}
+
+// Both roots t0 <= t1 (not yet clipped to the height) along o + t d, the careful
+// way; c is left holding the quadric about the moved origin o + shift d, and
+// the roots returned are along the original ray (shift added back).
+inline bool cone_roots_careful(const Vec3& o, const Vec3& d, const Vec3& base, double r0, const Vec3& apex,
+                               double r1, ConeQuadric<double>& c, double& shift, double& t0, double& t1) {
+  const Vec3 mid = 0.5 * (base + apex);
+  shift = dot(mid - o, d) / dot(d, d);
+  c = cone_quadric<double>(o + shift * d, d, base, r0, apex, r1);
+  if (!cone_roots_stable(c, t0, t1)) return false;
+  t0 += shift;
+  t1 += shift;
   return true;
 }
 
