@@ -23,7 +23,8 @@
 //   move as the Hearn-Baker sphere form), then the half-B form, the root that does not cancel
 //   computed first and the other from the product of the roots (C / A), each
 //   then refined by one Newton step on the quadric itself (which repairs what
-//   the rounding of A, B, C cost), as reference/ray_sphere's stable form does.
+//   the rounding of A, B, C cost); the spirit of the stable sphere form that
+//   optimized/refine.h uses.
 #pragma once
 
 #include <algorithm>
@@ -71,8 +72,8 @@ bool cone_in_height(const ConeQuadric<T>& c, T t) {
 }
 
 // The textbook: both roots t0 <= t1 of the quadric (not yet clipped to the
-// height); false when the line misses it. n is the number of roots (1 when the
-// ray is parallel to a side line: A = 0).
+// height); false when the line misses it. When the ray is parallel to a side
+// line (A = 0) the one root is returned twice.
 template <typename T>
 bool cone_roots_textbook(const ConeQuadric<T>& c, T& t0, T& t1) {
   const T A = c.A;
