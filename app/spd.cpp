@@ -28,7 +28,7 @@ void print_help() {
   std::printf(
       "  --size N        the size factor, the SPD's -s (default: the SPD program's default)\n"
       "  --tess          polygonalize spheres, cylinders and cones into `pp` triangle patches\n"
-      "                  with vertex normals, the SPD's -t (lockstep's NFF reader has no cones)\n"
+      "                  with vertex normals, the SPD's -t (only the reference ray casters draw cones)\n"
       "  -o, --output F  the file to write (required); written whole, then renamed into place\n"
       "\n"
       "Example: lockstep spd balls --size 3 -o balls-3.nff\n"

@@ -206,6 +206,53 @@ void read_view(Lines& in, View& v) {
   validate_view(v, in.name(), v_line);
 }
 
+// A cone or cylinder: 'c' then "x y z r" for the base and the apex on lines of
+// their own (the NFF spec), or all eight numbers on the 'c' line (what the SPD
+// programs write: ../shared/spd/README.md). Both radii negative means only the
+// inside is visible (the spec; as a sphere's negative radius): a negative base
+// radius negates both, and a sign left negative after that is an error (mixed
+// signs mean nothing in NFF). Radii both 0 or a zero-length axis leave no surface.
+void read_cone(Lines& in, Scene& scene, uint32_t material) {
+  const int c_line = in.line();
+  Vec3 end[2];
+  double r[2];
+  if (in.words().size() == 9) {
+    for (int k = 0; k < 2; ++k) {
+      end[k] = in.vec3(1 + 4 * k);
+      r[k] = in.number(4 + 4 * k);
+    }
+  } else {
+    if (in.words().size() != 1)
+      in.fail("expected 'c' alone (base and apex on the next two lines) or 'c bx by bz br ax ay az ar', got " +
+              std::to_string(in.words().size() - 1) + " numbers");
+    const char* which[2] = {"base", "apex"};
+    for (int k = 0; k < 2; ++k) {
+      if (!in.next())
+        in.fail_at_end(std::string("file ends early: expected the ") + which[k] + " 'x y z r' of the cone on line " +
+                       std::to_string(c_line));
+      if (in.words()[0] == kExtension) misplaced_extension(in);
+      in.expect_count(4, k == 0 ? "base x y z radius" : "apex x y z radius");
+      end[k] = in.vec3(0);
+      r[k] = in.number(3);
+    }
+  }
+  // Errors about the radii and the axis name the 'c' line when all is on it, else
+  // the apex line (the last one read).
+  const bool inside = r[0] < 0;
+  if (inside) r[0] = -r[0], r[1] = -r[1];
+  if (r[1] < 0)
+  {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "cone radii of mixed signs (%g, %g)", inside ? -r[0] : r[0], inside ? -r[1] : r[1]);
+    in.fail(std::string(buf) + ": both negative means only the inside is visible, mixed means nothing");
+  }
+  if (r[0] == 0 && r[1] == 0) in.fail("cone with both radii 0");
+  if (end[0].x == end[1].x && end[0].y == end[1].y && end[0].z == end[1].z)
+    in.fail("cone with a zero-length axis (base and apex coincide)");
+  if (!std::isfinite(length(end[1] - end[0]))) in.fail("cone axis too long (overflow)");
+  add_cone(scene, end[0], r[0] == 0 ? 0.0 : r[0], end[1], r[1] == 0 ? 0.0 : r[1], inside, material);
+}
+
 }  // namespace
 
 void validate_view(const View& v, const std::string& file, int line) {
@@ -313,7 +360,7 @@ Scene parse_nff(std::string_view text, const std::string& name) {
       }
       add_polygon(scene, verts, normals, current_material());
     } else if (e == "c") {
-      in.fail("unsupported entity 'c' (cone/cylinder): lockstep does not ray cast cones yet");
+      read_cone(in, scene, current_material());
     } else {
       std::string shown(e.substr(0, 32));
       for (char& ch : shown)

@@ -1,7 +1,7 @@
 // lockstep core: the NFF (Neutral File Format) reader.
 //
 // Format: ../shared/spd/README.md (Eric Haines' SPD). Entities v, b, l, f, s, p,
-// pp are read; 'c' (cone/cylinder) is rejected as unsupported. Any error throws
+// pp are read; 'c' (open cone/cylinder, both layouts: core/nff.cpp read_cone) too. Any error throws
 // InputError naming the file and line: unknown entity, missing or non-numeric
 // fields, NaN or Inf, bad resolution, a polygon with fewer than 3 vertices, a
 // truncated file, a degenerate camera.

@@ -6,6 +6,7 @@
 #include <cstdlib>
 
 #include "core/error.h"
+#include "core/shading.h"
 
 namespace lockstep {
 
@@ -74,6 +75,7 @@ TraceSettings trace_settings(const Params& params, const std::string& source) {
 
 Vec3 outward_normal(const Scene& scene, uint32_t prim, const Vec3& p) {
   if (prim < scene.sphere_count()) return normalize(p - scene.sphere_center[prim]);
+  if (prim >= scene.cone_first_prim()) return cone_outward_normal(scene, prim - scene.cone_first_prim(), p);
   return scene.poly_plane[prim - scene.sphere_count()].n;
 }
 

@@ -16,6 +16,16 @@ void add_sphere(Scene& scene, const Vec3& center, double radius, uint32_t materi
   scene.sphere_material.push_back(material);
 }
 
+void add_cone(Scene& scene, const Vec3& base, double r0, const Vec3& apex, double r1, bool inside,
+              uint32_t material) {
+  scene.cone_base.push_back(base);
+  scene.cone_apex.push_back(apex);
+  scene.cone_r0.push_back(r0);
+  scene.cone_r1.push_back(r1);
+  scene.cone_inside.push_back(inside ? 1 : 0);
+  scene.cone_material.push_back(material);
+}
+
 namespace {
 
 // Newell's method: the normal of a (possibly concave, possibly slightly
@@ -137,6 +147,12 @@ void scene_bounds(const Scene& scene, Vec3& lo, Vec3& hi) {
   for (uint32_t i = 0; i < scene.sphere_count(); ++i)
     grow(scene.sphere_center[i], std::abs(scene.sphere_radius[i]));
   for (const Vec3& v : scene.vertex) grow(v, 0);
+  // A cone lies in the convex hull of its two end discs; each disc lies in the
+  // ball of its radius (loose by up to the radius along the axis, never short).
+  for (uint32_t i = 0; i < scene.cone_count(); ++i) {
+    grow(scene.cone_base[i], scene.cone_r0[i]);
+    grow(scene.cone_apex[i], scene.cone_r1[i]);
+  }
 }
 
 }  // namespace lockstep

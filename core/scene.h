@@ -4,7 +4,10 @@
 // structure-of-arrays form so that kernels can stream them; polygons are kept as
 // polygons (with their plane) for the textbook point-in-polygon test, and also
 // as a triangulation for kernels that only know triangles. Primitive ids run over
-// spheres first, then polygons: prim < sphere_count() is a sphere.
+// spheres first, then polygons, then cones: prim < sphere_count() is a sphere,
+// prim >= cone_first_prim() a cone. Only the reference ray caster and ray tracer
+// draw cones; every other implementation refuses a scene that has any
+// (pairs/loaders.h refuse_cones), so none drops them silently.
 #pragma once
 
 #include <array>
@@ -97,18 +100,32 @@ struct Scene {
   // Triangles of polygon p are tri_vertex[poly_tri_first[p] .. poly_tri_first[p+1]).
   std::vector<uint32_t> poly_tri_first{0};
 
+  // Cones ('c'): open-ended truncated cones, cylinders when the radii are equal,
+  // from cone_base (radius cone_r0) to cone_apex (radius cone_r1). Radii are
+  // stored >= 0 and not both 0; the axis is not of zero length. cone_inside is
+  // NFF's "both radii negative": only the inside is visible (as a sphere's
+  // negative radius).
+  std::vector<Vec3> cone_base, cone_apex;
+  std::vector<double> cone_r0, cone_r1;
+  std::vector<uint8_t> cone_inside;
+  std::vector<uint32_t> cone_material;
+
   // Where it came from, for messages.
   std::string source = "<memory>";
 
   uint32_t sphere_count() const { return uint32_t(sphere_center.size()); }
   uint32_t polygon_count() const { return uint32_t(poly_plane.size()); }
-  uint32_t prim_count() const { return sphere_count() + polygon_count(); }
+  uint32_t cone_count() const { return uint32_t(cone_base.size()); }
+  uint32_t cone_first_prim() const { return sphere_count() + polygon_count(); }
+  uint32_t prim_count() const { return sphere_count() + polygon_count() + cone_count(); }
   uint32_t triangle_count() const { return uint32_t(tri_vertex.size()); }
   std::span<const Vec3> polygon_vertices(uint32_t p) const {
     return {vertex.data() + poly_first[p], poly_first[p + 1] - poly_first[p]};
   }
   uint32_t material_id_of_prim(uint32_t prim) const {
-    return prim < sphere_count() ? sphere_material[prim] : poly_material[prim - sphere_count()];
+    if (prim < sphere_count()) return sphere_material[prim];
+    if (prim < cone_first_prim()) return poly_material[prim - sphere_count()];
+    return cone_material[prim - cone_first_prim()];
   }
   const Material& material_of_prim(uint32_t prim) const {
     return materials[material_id_of_prim(prim)];
@@ -118,6 +135,9 @@ struct Scene {
 // Appends a material and returns its index.
 uint32_t add_material(Scene& scene, const Material& m);
 void add_sphere(Scene& scene, const Vec3& center, double radius, uint32_t material);
+// Appends a cone; radii >= 0, not both 0, base != apex (the NFF reader checks).
+void add_cone(Scene& scene, const Vec3& base, double r0, const Vec3& apex, double r1, bool inside,
+              uint32_t material);
 // Appends a polygon: computes its plane (Newell's method; the facing follows the
 // counter-clockwise vertex order, as NFF prescribes) and triangulates it by ear
 // clipping so that concave polygons come out right. normals is empty for 'p' and
@@ -131,7 +151,8 @@ void add_polygon(Scene& scene, std::span<const Vec3> vertices, std::span<const V
 // (zero-area) polygons give no triangles.
 std::vector<std::array<uint32_t, 3>> triangulate(std::span<const Vec3> vertices, const Vec3& normal);
 
-// Axis-aligned bounds of everything in the scene (spheres by |radius|).
+// Axis-aligned bounds of everything in the scene (spheres by |radius|, cones by
+// the boxes of their end discs).
 void scene_bounds(const Scene& scene, Vec3& lo, Vec3& hi);
 
 }  // namespace lockstep

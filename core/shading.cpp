@@ -20,10 +20,25 @@ void barycentric(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p, con
 
 }  // namespace
 
+Vec3 cone_outward_normal(const Scene& scene, uint32_t c, const Vec3& p) {
+  // The cone's gradient (reference/ray_cone.h): w_perp - r(s) k u.
+  const Vec3 axis = scene.cone_apex[c] - scene.cone_base[c];
+  const double h = length(axis);
+  const Vec3 u = axis / h;
+  const double k = (scene.cone_r1[c] - scene.cone_r0[c]) / h;
+  const Vec3 w = p - scene.cone_base[c];
+  const double s = dot(w, u);
+  const Vec3 g = (w - s * u) - (scene.cone_r0[c] + k * s) * k * u;
+  // At a pointed tip (radius 0) the gradient vanishes: the axis, away from the cone.
+  return length(g) > 0 ? normalize(g) : (k > 0 ? -u : u);
+}
+
 Vec3 surface_normal(const Scene& scene, uint32_t prim, uint32_t tri, const Vec3& p, const Vec3& d) {
   Vec3 n;
   if (prim < scene.sphere_count()) {
     n = (p - scene.sphere_center[prim]) / scene.sphere_radius[prim];
+  } else if (prim >= scene.cone_first_prim()) {
+    n = cone_outward_normal(scene, prim - scene.cone_first_prim(), p);
   } else {
     const uint32_t poly = prim - scene.sphere_count();
     n = scene.poly_plane[poly].n;

@@ -78,15 +78,20 @@ Vec3 phong(const Scene& scene, const Material& m, const Vec3& p, const Vec3& n, 
 // gives k/(bands-1)), no specular; ambient as in phong.
 Vec3 toon(const Scene& scene, const Material& m, const Vec3& p, const Vec3& n, int bands);
 
+// The unit outward normal of cone c (not prim) at a point p on its side.
+Vec3 cone_outward_normal(const Scene& scene, uint32_t c, const Vec3& p);
+
 // The colour seen along ray: background on a miss, else Phong at the hit.
 Vec3 shade(const Scene& scene, const Ray& ray, const Hit& hit);
 
 // Whether a hit with unit-or-not direction d on prim with (unnormalised) outward
 // geometric normal n is visible under NFF's sidedness rules: spheres are seen from
-// outside (from inside when the radius is negative), polygons from their front
+// outside (from inside when the radius is negative), cones likewise, polygons from their front
 // (counter-clockwise) side unless the material transmits (T > 0).
 inline bool visible_side(const Scene& scene, uint32_t prim, double d_dot_n) {
   if (prim < scene.sphere_count()) return scene.sphere_radius[prim] > 0 ? d_dot_n < 0 : d_dot_n > 0;
+  if (prim >= scene.cone_first_prim())
+    return scene.cone_inside[prim - scene.cone_first_prim()] ? d_dot_n > 0 : d_dot_n < 0;
   if (scene.materials[scene.poly_material[prim - scene.sphere_count()]].two_sided()) return true;
   return d_dot_n < 0;
 }

@@ -1,10 +1,13 @@
 // lockstep pairs: inputs shared by families (see pairs/loaders.h).
 #include "pairs/loaders.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 
+#include "core/error.h"
 #include "core/nff.h"
+#include "core/scene.h"
 #include "core/volume_io.h"
 #include "spd/spd.h"
 
@@ -15,6 +18,20 @@ Input load_nff(const std::string& path) {
   const int w = s.view.xres, h = s.view.yres;
   const Vec3 bg = s.background;
   return make_input<Scene>(std::move(s), path, w, h, bg);
+}
+
+void refuse_cones(Family& f, std::initializer_list<std::string_view> draws_cones) {
+  for (FamilyImpl& impl : f.impls) {
+    if (std::find(draws_cones.begin(), draws_cones.end(), impl.name) != draws_cones.end()) continue;
+    std::string why = std::string(f.name) + " --impl " + std::string(impl.name) +
+                      " does not draw cones yet (only the reference ray caster and ray tracer do)";
+    impl.run = [run = std::move(impl.run), why](const Input& in, const FrameOptions& o, FrameStats* s) {
+      const Scene& scene = input_as<Scene>(in);
+      if (scene.cone_count() > 0)
+        throw InputError(scene.source, 0, std::to_string(scene.cone_count()) + " cones ('c'): " + why);
+      return run(in, o, s);
+    };
+  }
 }
 
 Input load_volume(const std::string& path, int width, int height) {

@@ -3,6 +3,7 @@
 // scenes; the SPD scenes they benchmark live beside the repository).
 #pragma once
 
+#include <initializer_list>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -14,6 +15,12 @@ namespace lockstep {
 // An NFF scene (core/nff.h) as a family's Input: its own resolution and
 // background. Throws InputError naming file and line.
 Input load_nff(const std::string& path);
+
+// Cones ('c') are drawn only by the reference ray caster and ray tracer for
+// now. Wraps every implementation of f except those named in `draws_cones` so
+// that a scene with cones is refused (InputError naming the file, the count and
+// the row; exit 2) instead of drawn without them.
+void refuse_cones(Family& f, std::initializer_list<std::string_view> draws_cones);
 
 // Where Eric Haines' SPD scenes are: $LOCKSTEP_SPD_DIR, else ../shared/spd
 // beside the source tree (as configured at build time).

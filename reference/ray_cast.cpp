@@ -41,6 +41,14 @@ Hit nearest_hit(const Scene& scene, const Ray& ray, SphereSides sides) {
       best.prim = prim;
     }
   }
+  // Cones: the nearest visible root on the finite part (reference/ray_cone.cpp).
+  for (uint32_t c = 0; c < scene.cone_count(); ++c) {
+    const double t = ray_cone_t(scene, c, ray, best.t, sides);
+    if (t < best.t) {
+      best.t = t;
+      best.prim = scene.cone_first_prim() + c;
+    }
+  }
   if (!best.hit()) best.t = kInfinity;
   return best;
 }

@@ -4,6 +4,7 @@
 //   ray_sphere   reference/ray_sphere.cpp   (Glassner ch. 2, the quadratic)
 //   ray_plane    reference/ray_plane.cpp
 //   ray_polygon  reference/ray_polygon.cpp  (plane, then the crossings test)
+//   ray_cone_t   reference/ray_cone.cpp     (the cone's quadric, reference/ray_cone.h)
 //   trace/render reference/ray_cast.cpp     (brute force over every primitive)
 #pragma once
 
@@ -29,7 +30,13 @@ void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, F
 // whatever its side (ray tracing: a refracted ray leaves a glass ball through
 // its far wall; core/ray_trace.h). Polygons follow NFF's sidedness either way.
 enum class SphereSides : uint8_t { kNff, kSolid };
+// Cones follow the same rule as spheres (NFF: the outside, or the inside when
+// the file's radii were negative; kSolid: either side).
 Hit nearest_hit(const Scene& scene, const Ray& ray, SphereSides sides = SphereSides::kNff);
+// The nearest root of cone `cone` in (ray.tmin, tmax) on its visible side (as
+// above), kInfinity if none; the stable form, or the textbook one.
+double ray_cone_t(const Scene& scene, uint32_t cone, const Ray& ray, double tmax, SphereSides sides,
+                  bool textbook = false);
 Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats);
 }  // namespace ref
 

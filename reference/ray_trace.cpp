@@ -62,6 +62,13 @@ bool blocked(const Scene& scene, const Ray& ray, Hit* blocker) {
       return true;
     }
   }
+  for (uint32_t c = 0; c < scene.cone_count(); ++c) {
+    const double t = ray_cone_t(scene, c, ray, ray.tmax, SphereSides::kSolid);
+    if (t < ray.tmax) {
+      *blocker = Hit{t, scene.cone_first_prim() + c};
+      return true;
+    }
+  }
   return false;
 }
 
