@@ -103,6 +103,21 @@ struct RayTree {
   std::vector<RayNode> nodes;
 };
 
+// The node a refracted ray leaves in the tree when total internal reflection
+// turns it away (not traced): from p along the incoming d, with its weight.
+inline RayNode tir_node(int parent, int depth, const Vec3& p, const Vec3& d, double weight, bool entering) {
+  RayNode n;
+  n.kind = RayKind::kRefract;
+  n.parent = parent;
+  n.depth = depth;
+  n.origin = p;
+  n.direction = d;
+  n.weight = weight;
+  n.tir = true;
+  n.entering = entering;
+  return n;
+}
+
 // Appends node to *tree and returns its index; -1 (nothing kept) when tree is null.
 inline int record(RayTree* tree, const RayNode& node) {
   if (!tree) return -1;

@@ -166,19 +166,7 @@ struct Tracer {
         color += kt * trace(ray_start(q, ng, t, settings), t, 0.0, RayKind::kRefract, depth + 1,
                             weight * kt, me, entering);
       else
-        record(tree, RayNode{RayKind::kRefract,
-                             me,
-                             depth + 1,
-                             p,
-                             d,
-                             kInfinity,
-                             {},
-                             weight * kt,
-                             {},
-                             0,
-                             false,
-                             true,
-                             entering});
+        record(tree, tir_node(me, depth + 1, p, d, weight * kt, entering));
     }
     return color;
   }
