@@ -16,7 +16,9 @@
 //            "legend" (what the kind's pictures show), "input" (file name),
 //            "size" (WxH rendered, or what the reference produced in the kind's
 //            samples, "2256 vertices"; "" when unknown), "tolerance" (in words), "judge",
-//            "golden" (the golden's picture, relative to DIR; "" when none): string }
+//            "golden" (the golden's picture, relative to DIR; "" when none): string,
+//            "work": integer (what the reference run did, in "unit": FrameStats::items; 0 when
+//            not counted), "unit": the family's unit ("rays", "triangles", "pixels", "cubes") }
 //
 // DIR/<case>/pixels.js: lockstepPixels("<case>", {"<case>/<file>.png": "data:image/png;base64,...",
 // ...}) with every PNG of the case folder, for the page's pixel readout (images read from file://
@@ -98,6 +100,7 @@ std::string report_data(const std::vector<Case>& cases, const std::vector<Row>& 
     const Case& c = cases[i];
     const OutputKind& k = *c.family->kind;
     std::string golden;
+    uint64_t work = 0;
     // Sized families (images) render at WxH; the others' size is what the
     // reference produced, in the kind's samples ("2256 vertices").
     std::string size =
@@ -106,6 +109,7 @@ std::string report_data(const std::vector<Case>& cases, const std::vector<Row>& 
     for (const Row& r : rows) {
       if (r.case_name != c.name) continue;
       if (!r.golden.empty()) golden = r.golden;
+      if (r.impl == c.family->reference().name) work = r.items;
       if (!c.family->sized && r.impl == c.family->reference().name && r.err.samples > 0)
         size = std::to_string(r.err.samples) + " " + std::string(k.samples);
     }
@@ -117,7 +121,8 @@ std::string report_data(const std::vector<Case>& cases, const std::vector<Row>& 
       << ", \"size\": " << json_string(size)
       << ", \"tolerance\": " << json_string(k.describe_tolerance(c.tol)) << ", \"judge\": "
       << json_string(c.judge ? std::string(c.judge->name) : std::string("reference"))
-      << ", \"golden\": " << json_string(golden) << "}";
+      << ", \"golden\": " << json_string(golden) << ", \"work\": " << work
+      << ", \"unit\": " << json_string(std::string(c.family->unit)) << "}";
   }
   s << "\n  ],\n  \"verdicts\": [";
   for (size_t i = 0; i < verdicts.size(); ++i)

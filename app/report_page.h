@@ -83,6 +83,9 @@ inline constexpr std::string_view kReportPage = R"lockstep_page(<!DOCTYPE html>
     <svg id="chart-speed" width="460" height="330"></svg></figure>
   <figure><figcaption>Time per case (each row's seconds, log axis)</figcaption>
     <div class="scroll"><svg id="chart-time" width="520" height="100"></svg></div></figure>
+  <figure><figcaption>Time against work (log axes; k: time &prop; work<sup>k</sup>)</figcaption>
+    <div class="toolbar">family: <select id="size-family"></select></div>
+    <svg id="chart-size" width="460" height="330"></svg></figure>
   <figure><figcaption>Verdicts per family</figcaption>
     <svg id="chart-fail" width="360" height="100"></svg></figure>
 </section>
@@ -324,6 +327,55 @@ function drawTime() {
   });
   legend(svg, impls.map((i) => [i, implColour.get(i)]), W + 12, T + 6);
 }
+// Time against work: one family at a time (units differ between families).
+const workOf = (r) => { const ci = info.get(r.case); return ci && ci.work > 0 ? ci.work : 0; };
+const sized = families.filter((f) => rows.some((r) => r.family === f && r.seconds > 0 && workOf(r) > 0));
+for (const f of sized) $('size-family').append(el('option', { value: f, text: f }));
+// The family shown first: the one whose cases span the widest range of work.
+const span = (f) => { const w = rows.filter((r) => r.family === f && workOf(r) > 0).map(workOf);
+                      return Math.max(...w) / Math.min(...w); };
+if (sized.length) $('size-family').value = sized.reduce((a, b) => span(b) > span(a) ? b : a);
+// Least-squares slope of log(seconds) against log(work); null with fewer than two distinct works.
+function slope(pts) {
+  const xs = pts.map((p) => Math.log(p[0])), ys = pts.map((p) => Math.log(p[1]));
+  const n = xs.length, mx = xs.reduce((a, b) => a + b, 0) / n, my = ys.reduce((a, b) => a + b, 0) / n;
+  let sxx = 0, sxy = 0;
+  for (let i = 0; i < n; ++i) { sxx += (xs[i] - mx) ** 2; sxy += (xs[i] - mx) * (ys[i] - my); }
+  return sxx > 1e-9 ? sxy / sxx : null;
+}
+function drawSize() {
+  const svg = $('chart-size'); svg.replaceChildren();
+  const fam = $('size-family').value;
+  const pts = rows.filter((r) => r.family === fam && r.seconds > 0 && workOf(r) > 0);
+  if (!pts.length) { svg.append(sv('text', { x: 10, y: 20 }, 'no timed rows with counted work')); return; }
+  const W = 330, H = 330, L = 46, T = 10, B = 36;
+  const unit = info.get(pts[0].case).unit || 'work';
+  const x = logScale(Math.min(...pts.map(workOf)), Math.max(...pts.map(workOf)), L + 6, W - 6);
+  const y = logScale(Math.min(...pts.map((r) => r.seconds)), Math.max(...pts.map((r) => r.seconds)), H - B - 8, T);
+  x.ticks.forEach((t, i) => { const p = x(t); svg.append(sv('line', { class: 'grid', x1: p, x2: p, y1: T, y2: H - B }));
+    if (labelled(x.ticks, i, 6)) svg.append(sv('text', { x: p, y: H - B + 14, 'text-anchor': 'middle' }, tickLabel(t))); });
+  y.ticks.forEach((t, i) => { const p = y(t); svg.append(sv('line', { class: 'grid', x1: L, x2: W - 6, y1: p, y2: p }));
+    if (labelled(y.ticks, i, 10)) svg.append(sv('text', { x: L - 4, y: p + 4, 'text-anchor': 'end' }, tickLabel(t))); });
+  svg.append(sv('line', { class: 'axis', x1: L, x2: W - 6, y1: H - B, y2: H - B }));
+  svg.append(sv('line', { class: 'axis', x1: L, x2: L, y1: T, y2: H - B }));
+  svg.append(sv('text', { x: (L + W) / 2, y: H - 4, 'text-anchor': 'middle' }, `${unit} (the reference's count)`));
+  svg.append(sv('text', { x: 12, y: T + (H - B) / 2, transform: `rotate(-90 12 ${T + (H - B) / 2})`, 'text-anchor': 'middle' },
+                'seconds'));
+  const famImpls = uniq(pts.map((r) => r.impl));
+  for (const r of pts) {
+    const c = sv('circle', { cx: x(workOf(r)), cy: y(r.seconds), r: 4, fill: implColour.get(r.impl), 'fill-opacity': 0.75,
+                             stroke: r.pass ? 'none' : '#cf222e', 'stroke-width': 2 });
+    c.append(sv('title', {}, `${r.case} ${r.impl}: ${workOf(r)} ${unit}, ${r.seconds.toFixed(4)} s`));
+    c.style.cursor = 'pointer'; c.addEventListener('click', () => openCase(r.case, r.impl));
+    svg.append(c);
+  }
+  svg.setAttribute('width', W + 150);
+  legend(svg, famImpls.map((i) => {
+    const k = slope(pts.filter((r) => r.impl === i).map((r) => [workOf(r), r.seconds]));
+    return [k === null ? i : `${i} (k ${k.toFixed(2)})`, implColour.get(i)];
+  }), W + 14, T + 6);
+}
+$('size-family').addEventListener('change', drawSize);
 function drawFail() {
   const svg = $('chart-fail'); svg.replaceChildren();
   const L = 110, W = 300, T = 6, row = 18, H = T + families.length * row + 24;
@@ -498,7 +550,7 @@ document.addEventListener('keydown', (e) => {
 });
 
 render();
-drawSpeed(); drawTime(); drawFail();
+drawSpeed(); drawTime(); drawSize(); drawFail();
 const m = /^#case=(.+)$/.exec(location.hash);
 if (m && info.has(decodeURIComponent(m[1]))) openCase(decodeURIComponent(m[1]));
 </script>

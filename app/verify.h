@@ -48,6 +48,7 @@ struct Row {
   bool ran = false;  // ran without throwing
   Agreement err;     // against the reference (the golden for the reference row); samples 0: not compared
   double seconds = 0, speedup = 0;
+  uint64_t items = 0;  // the work the run did (FrameStats::items, in its family's unit); 0: not counted
   bool pass = false;
   std::string note;
   std::string view, difference, judged;  // report files (output, difference, judge picture), relative to the report folder

@@ -65,6 +65,7 @@ std::vector<Row> verify_case(const Case& c, const VerifyOptions& o, std::vector<
   rr.impl = std::string(ref.name);
   rr.ran = r_ref.ok;
   rr.seconds = r_ref.seconds;
+  rr.items = r_ref.stats.items;
   rr.speedup = 1.0;
   if (!r_ref.ok) {
     rr.note = r_ref.error;
@@ -149,6 +150,7 @@ std::vector<Row> verify_case(const Case& c, const VerifyOptions& o, std::vector<
     row.impl = name;
     row.ran = r.ok;
     row.seconds = r.seconds;
+    row.items = r.stats.items;
     row.speedup = r.seconds > 0 ? r_ref.seconds / r.seconds : 0;
     if (!r.ok) {
       row.note = r.error;

@@ -23,7 +23,7 @@
 //     the pictures' size (image-rendering: pixelated); the flip key shows A then
 //     B; the wipe clips A at the slider; hovering "hover for B" shows B alone;
 //   * a mesh case shows its rendered previews;
-//   * the three charts have their marks.
+//   * the four charts have their marks (the time-against-work chart for every family it offers).
 // Saves OUT_DIR/report-table.png, OUT_DIR/report-case.png and OUT_DIR/report-diff.png
 // (the row that differs most from its reference, at 2x). Exits 1 on the
 // first failed check (a missing puppeteer-core or chromium is a failure too).
@@ -169,6 +169,17 @@ async function main() {
     check(marks.speed === compared, `speed chart: ${marks.speed} marks, ${compared} rows`);
     check(marks.time === data.rows.filter((r) => r.seconds > 0).length, `time chart: ${marks.time} marks`);
     check(marks.fail === families.length, `failure chart: ${marks.fail} bars`);
+    // Time against work: for every family offered, a mark per timed row whose case counted its work.
+    const workOf = (r) => (data.case_info.find((c) => c.case === r.case) || {}).work || 0;
+    const offered = await page.$$eval('#size-family option', (os) => os.map((o) => o.value));
+    const counted = families.filter((f) => data.rows.some((r) => r.family === f && r.seconds > 0 && workOf(r) > 0));
+    check(JSON.stringify(offered) === JSON.stringify(counted), `size chart offers ${offered}, expected ${counted}`);
+    for (const f of offered) {
+      await page.select('#size-family', f);
+      const n = await page.$$eval('#chart-size circle title', (ts) => ts.length);
+      const want = data.rows.filter((r) => r.family === f && r.seconds > 0 && workOf(r) > 0).length;
+      check(n === want, `size chart ${f}: ${n} marks, ${want} rows`);
+    }
     await page.screenshot({ path: path.join(out, 'report-table.png') });
 
     // A case: click its first row (the failing one if any).
