@@ -92,7 +92,8 @@ int square_at(const Scene& s, LD x, LD y) {
     }
     const LD m = kEdgeMargin;
     if (x > lo[0] - m && x < hi[0] + m && y > lo[1] - m && y < hi[1] + m) {
-      if (x < lo[0] + m || x > hi[0] - m || y < lo[1] + m || y > hi[1] - m) return -1;  // on an edge
+      if (x < lo[0] + m || x > hi[0] - m || y < lo[1] + m || y > hi[1] - m)
+        return -1;  // on an edge
       found = int(p);
     }
   }
@@ -106,7 +107,8 @@ struct LensResult {
 };
 
 // n: the index the analytic image point uses (the scene's, unless a test feeds a wrong one).
-LensResult run_lens(const Scene& scene, TracePixelFn pixel, const TraceSettings& ts, int size, double n) {
+LensResult run_lens(const Scene& scene, TracePixelFn pixel, const TraceSettings& ts, int size,
+                    double n) {
   LensResult res;
   const Vec3 c = scene.sphere_center[0];
   const double r = std::abs(scene.sphere_radius[0]);
@@ -128,15 +130,18 @@ LensResult run_lens(const Scene& scene, TracePixelFn pixel, const TraceSettings&
       for (int i = 1; i < int(tree.nodes.size()); ++i) {
         const RayNode& nd = tree.nodes[i];
         if (nd.kind != RayKind::kRefract) continue;
-        if (nd.parent == 0 && in < 0) in = i;
-        else if (in >= 0 && nd.parent == in && out < 0) out = i;
+        if (nd.parent == 0 && in < 0)
+          in = i;
+        else if (in >= 0 && nd.parent == in && out < 0)
+          out = i;
       }
       char where[200];
-      std::snprintf(where, sizeof where, "pixel (%d, %d), image point (%.17g, %.17g)", px, py, double(q[0]),
-                    double(q[1]));
+      std::snprintf(where, sizeof where, "pixel (%d, %d), image point (%.17g, %.17g)", px, py,
+                    double(q[0]), double(q[1]));
       if (out < 0 || tree.nodes[out].tir || !tree.nodes[out].hit.hit()) {
         ++res.no_exit;
-        if (res.first_wrong.empty()) res.first_wrong = std::string(where) + ": no ray left the ball towards the board";
+        if (res.first_wrong.empty())
+          res.first_wrong = std::string(where) + ": no ray left the ball towards the board";
         continue;
       }
       const RayNode& leave = tree.nodes[out];
@@ -146,8 +151,8 @@ LensResult run_lens(const Scene& scene, TracePixelFn pixel, const TraceSettings&
       if (got != want) {
         ++res.wrong_square;
         if (res.first_wrong.empty())
-          res.first_wrong = std::string(where) + ": hit square " + std::to_string(got) + ", analytic " +
-                            std::to_string(want);
+          res.first_wrong = std::string(where) + ": hit square " + std::to_string(got) +
+                            ", analytic " + std::to_string(want);
         continue;
       }
       const double e = double(std::sqrt((h.x - q[0]) * (h.x - q[0]) + (h.y - q[1]) * (h.y - q[1]) +
@@ -209,11 +214,17 @@ TEST(Lens, GlassBallImagePoint) {
     TraceSettings ts;
     ts.offset = b.offset;
     const LensResult r = run_lens(scene, impl->fn.pixel, ts, size, scene.material_of_prim(0).ior);
-    std::printf("lens %-9s offset %-6s: %d pixels checked (%d on square edges skipped), worst %.3g from the "
-                "analytic image point (bound %.3g) at %s; %d wrong squares, %d without an exit ray\n",
-                b.impl, b.offset == Offset::kFixed ? "fixed" : b.offset == Offset::kRobust ? "robust" : "own",
-                r.checked, r.skipped, r.worst, b.bound, r.worst_where.c_str(), r.wrong_square, r.no_exit);
-    EXPECT_GT(r.checked, 1000) << b.impl << ": the ball covers too few pixels for the test to mean much";
+    std::printf(
+        "lens %-9s offset %-6s: %d pixels checked (%d on square edges skipped), worst %.3g from "
+        "the "
+        "analytic image point (bound %.3g) at %s; %d wrong squares, %d without an exit ray\n",
+        b.impl,
+        b.offset == Offset::kFixed    ? "fixed"
+        : b.offset == Offset::kRobust ? "robust"
+                                      : "own",
+        r.checked, r.skipped, r.worst, b.bound, r.worst_where.c_str(), r.wrong_square, r.no_exit);
+    EXPECT_GT(r.checked, 1000) << b.impl
+                               << ": the ball covers too few pixels for the test to mean much";
     EXPECT_EQ(r.wrong_square, 0) << b.impl << ": " << r.first_wrong;
     EXPECT_EQ(r.no_exit, 0) << b.impl << ": " << r.first_wrong;
     EXPECT_LE(r.worst, b.bound) << b.impl << " at " << r.worst_where;
@@ -228,9 +239,10 @@ TEST(Lens, WrongIndexIsCaught) {
   TraceSettings ts;
   ts.offset = Offset::kFixed;
   const LensResult r = run_lens(scene, ray_trace_row().find("reference")->fn.pixel, ts, 128, n);
-  std::printf("lens mutant (index 1%% high): worst %.3g, %d wrong squares of %d\n", r.worst, r.wrong_square,
-              r.checked + r.wrong_square);
-  EXPECT_TRUE(r.wrong_square > 0 || r.worst > 10 * kBounds[0].bound) << "a 1% wrong index went unnoticed";
+  std::printf("lens mutant (index 1%% high): worst %.3g, %d wrong squares of %d\n", r.worst,
+              r.wrong_square, r.checked + r.wrong_square);
+  EXPECT_TRUE(r.wrong_square > 0 || r.worst > 10 * kBounds[0].bound)
+      << "a 1% wrong index went unnoticed";
 }
 
 }  // namespace
