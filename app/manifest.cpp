@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "app/verify.h"
+#include "pairs/loaders.h"
 
 namespace lockstep::cli {
 
@@ -54,6 +55,13 @@ std::vector<Case> read_manifest(const fs::path& dir) {
         ++it;
         continue;
       }
+      if (it->starts_with("beside=")) {
+        c.beside_name = it->substr(7);
+        c.beside = (dir / c.beside_name).string();
+        if (c.beside_name.empty() || !fs::is_regular_file(c.beside)) fail("beside: no such picture '" + c.beside + "'");
+        it = w.erase(it);
+        continue;
+      }
       // '@PATH': a file of the corpus (a transfer function), relative to this folder.
       const std::string value = it->substr(eq + 1);
       c.params.set(it->substr(0, eq), value.starts_with('@') ? (dir / value.substr(1)).string() : value);
@@ -76,7 +84,11 @@ std::vector<Case> read_manifest(const fs::path& dir) {
         fail("case name '" + c.name + "' may only use letters, digits, '-', '_' and '.'");
     for (const Case& other : cases)
       if (other.name == c.name) fail("case '" + c.name + "' given twice (first on line " + std::to_string(other.line) + ")");
-    c.input_path = (dir / w[1]).string();
+    // 'spd:NAME' (e.g. spd:gears-4): an SPD scene, read from ../shared/spd or
+    // generated (`lockstep spd`), for NFF families.
+    c.input_path = w[1].starts_with("spd:") ? w[1] : (dir / w[1]).string();
+    if (w[1].starts_with("spd:") && !fam.reads(".nff"))
+      fail("'" + w[1] + "': SPD scenes are NFF; " + std::string(fam.name) + " does not read NFF");
     c.tol = fam.tol;
     auto given = [&](size_t i) { return w.size() > i && w[i] != "-"; };
     try {
@@ -133,7 +145,13 @@ std::vector<Case> read_manifest(const fs::path& dir) {
 
 void load_inputs(std::vector<Case>& cases) {
   for (Case& c : cases) {
-    c.input = c.family->load(c.input_path);
+    if (c.input_path.starts_with("spd:")) {
+      std::optional<Input> in = load_spd(std::string_view(c.input_path).substr(4));
+      if (!in) throw InputError(c.input_path, 0, "not an SPD scene name (NAME-SIZE[-tess]; see lockstep spd --help)");
+      c.input = std::move(*in);
+    } else {
+      c.input = c.family->load(c.input_path);
+    }
     if (c.family->sized && (c.frame_width() <= 0 || c.frame_height() <= 0))
       throw InputError(c.input_path, 0, "no size: give one in the manifest");
     if (c.judge) c.judge->check(c.input);

@@ -18,7 +18,10 @@
 //            samples, "2256 vertices"; "" when unknown), "tolerance" (in words), "judge",
 //            "golden" (the golden's picture, relative to DIR; "" when none): string,
 //            "work": integer (what the reference run did, in "unit": FrameStats::items; 0 when
-//            not counted), "unit": the family's unit ("rays", "triangles", "pixels", "cubes") }
+//            not counted), "unit": the family's unit ("rays", "triangles", "pixels", "cubes"),
+//            "beside", "beside_from": another renderer's picture of the scene (the case's
+//            folder's beside.png, and the corpus file it was scaled from), never judged;
+//            present only for cases that have one }
 //
 // DIR/<case>/pixels.js: lockstepPixels("<case>", {"<case>/<file>.png": "data:image/png;base64,...",
 // ...}) with every PNG of the case folder, for the page's pixel readout (images read from file://
@@ -122,7 +125,11 @@ std::string report_data(const std::vector<Case>& cases, const std::vector<Row>& 
       << ", \"tolerance\": " << json_string(k.describe_tolerance(c.tol)) << ", \"judge\": "
       << json_string(c.judge ? std::string(c.judge->name) : std::string("reference"))
       << ", \"golden\": " << json_string(golden) << ", \"work\": " << work
-      << ", \"unit\": " << json_string(std::string(c.family->unit)) << "}";
+      << ", \"unit\": " << json_string(std::string(c.family->unit));
+    if (!c.beside.empty())
+      s << ", \"beside\": " << json_string(c.name + "/beside.png")
+        << ", \"beside_from\": " << json_string(c.beside_name);
+    s << "}";
   }
   s << "\n  ],\n  \"verdicts\": [";
   for (size_t i = 0; i < verdicts.size(); ++i)

@@ -418,6 +418,8 @@ function pictureList(name) {
   for (const r of caseRows(name)) {
     if (r.view) out.push({ path: r.view, label: r.impl, group: 'views', impl: r.impl });
   }
+  // Another renderer's picture of the same scene, for the eye (not judged).
+  if (ci && ci.beside) out.push({ path: ci.beside, label: 'beside: ' + ci.beside_from + ' (not judged)', group: 'views', impl: 'beside' });
   for (const r of caseRows(name)) {
     // The failure map's count in its caption: samples over the case's threshold.
     if (r.difference) out.push({ path: r.difference, label: r.impl + (r.impl === 'reference' ? ' vs golden' : ' vs reference') +

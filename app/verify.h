@@ -39,6 +39,10 @@ struct Case {
   std::string ref_reason;  // why the reference is expected to be wrong
   Input input;             // loaded by the family
   Params params;           // the family's settings: the line's name=value fields
+  // beside=FILE: a picture of the same scene made elsewhere (another renderer's),
+  // shown beside the case's outputs in the report, never judged; "" when none.
+  std::string beside;       // resolved against the corpus folder
+  std::string beside_name;  // as the manifest gave it, for captions
   int frame_width() const { return width > 0 ? width : input.width; }
   int frame_height() const { return height > 0 ? height : input.height; }
 };

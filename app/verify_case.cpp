@@ -13,6 +13,11 @@
 //      manifest expects (ref=right / ref=wrong), and a run where it does not
 //      fails. On the samples both show, outputs are compared with the
 //      reference too.
+// A case's `beside` picture (another renderer's image of the scene) is put in
+// its report folder as beside.png, scaled to the frame's size; never judged.
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -23,6 +28,21 @@
 namespace lockstep::cli {
 
 namespace fs = std::filesystem;
+
+namespace {
+
+// c.beside scaled to w x h (a filtered resize), written to case_dir/beside.png.
+void write_beside(const Case& c, const fs::path& case_dir, int w, int h) {
+  OIIO::ImageBuf src(c.beside);
+  if (!src.read(0, 0, true, OIIO::TypeDesc::FLOAT)) throw InputError(c.beside, 0, "cannot read: " + src.geterror());
+  const OIIO::ROI roi(0, w, 0, h, 0, 1, 0, std::min(src.nchannels(), 4));
+  OIIO::ImageBuf dst = src.spec().width == w && src.spec().height == h ? src : OIIO::ImageBufAlgo::resize(src, "", 0, roi);
+  const std::string out = (case_dir / "beside.png").string();
+  if (dst.has_error() || !dst.write(out, OIIO::TypeDesc::UINT8))
+    throw InputError(out, 0, "cannot write the beside picture: " + dst.geterror());
+}
+
+}  // namespace
 
 std::vector<Row> verify_case(const Case& c, const VerifyOptions& o, std::vector<std::string>& verdicts) {
   const Family& fam = *c.family;
@@ -94,6 +114,7 @@ std::vector<Row> verify_case(const Case& c, const VerifyOptions& o, std::vector<
     rr.golden = view(golden, "golden");
   }
   if (r_ref.ok) rr.view = view(r_ref.out, "reference");
+  if (!o.no_report && !c.beside.empty()) write_beside(c, case_dir, w, h);
 
   // The analytic judge, if any: the reference must do what the manifest expects.
   JudgeFrame judge;

@@ -194,7 +194,8 @@ async function main() {
     const name = failing ? failing.case : data.rows[0].case;
     const views = await open(name);
     const info = data.case_info.find((c) => c.case === name);
-    const wantViews = data.rows.filter((r) => r.case === name && r.view).length + (info.golden ? 1 : 0);
+    const wantViews = data.rows.filter((r) => r.case === name && r.view).length + (info.golden ? 1 : 0) +
+                      (info.beside ? 1 : 0);
     check(views.length === wantViews && views.every((v) => v.w > 0 && v.h > 0),
           `case ${name}: pictures ${JSON.stringify(views)}, expected ${wantViews} loaded`);
     check(!info.golden || views.some((v) => v.alt === 'golden'), 'no golden picture');
@@ -246,11 +247,23 @@ async function main() {
     await page.screenshot({ path: path.join(out, 'report-case.png') });
 
     // A mesh case shows its rendered previews.
-    const mesh = data.case_info.find((c) => c.kind === 'mesh');
+    // (Not an empty one: an isosurface that misses every cell has no picture.)
+    const mesh = data.case_info.find((c) => c.kind === 'mesh' && /^[1-9]/.test(c.size));
     check(mesh, 'no mesh case in the report');
     const mv = await open(mesh.case);
     check(mv.length > 0 && mv.every((v) => v.w > 0), `mesh case ${mesh.case}: ${JSON.stringify(mv)}`);
     check((await page.$eval('#v-info', (e) => e.textContent)).includes('mesh'), 'mesh case info');
+
+    // A case with another renderer's picture beside it (the corpus' POV-Ray cases):
+    // the picture is shown, loaded, at the frame's size, labelled as not judged.
+    const beside = data.case_info.find((c) => c.beside);
+    if (beside) {
+      const bv = await open(beside.case);
+      const pic = bv.find((v) => v.alt.startsWith('beside'));
+      const ref = bv.find((v) => v.alt === 'reference');
+      check(pic && pic.w > 0 && ref && pic.w === ref.w && pic.h === ref.h && pic.alt.includes('not judged'),
+            `case ${beside.case}: beside picture ${JSON.stringify(pic)}, reference ${JSON.stringify(ref)}`);
+    }
 
     // The row that differs most from its reference, opened on its own row, at 2x:
     // the screenshot README shows (report-diff.png).
@@ -275,6 +288,7 @@ async function main() {
     check(problems.length === 0, problems.join('\n'));
     console.log(`ok: ${expected.length} rows (${nfail} failing), ${families.length} families filtered, ` +
                 `case ${name}: ${views.length} pictures, readout ${JSON.stringify(text.slice(0, 60))}; mesh ${mesh.case}; ` +
+                (beside ? `beside ${beside.case}; ` : '') +
                 `screenshots in ${out}`);
   } catch (e) {
     failure = e.message;
