@@ -5,6 +5,7 @@
 
 #include "app/verify.h"
 #include "pairs/loaders.h"
+#include "spd/spd.h"
 
 namespace lockstep::cli {
 
@@ -89,6 +90,8 @@ std::vector<Case> read_manifest(const fs::path& dir) {
     c.input_path = w[1].starts_with("spd:") ? w[1] : (dir / w[1]).string();
     if (w[1].starts_with("spd:") && !fam.reads(".nff"))
       fail("'" + w[1] + "': SPD scenes are NFF; " + std::string(fam.name) + " does not read NFF");
+    if (w[1].starts_with("spd:") && !spd::parse_stem(w[1].substr(4)))
+      fail("'" + w[1] + "': not an SPD scene name (NAME-SIZE[-tess]; see lockstep spd --help)");
     c.tol = fam.tol;
     auto given = [&](size_t i) { return w.size() > i && w[i] != "-"; };
     try {
