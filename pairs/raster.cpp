@@ -164,7 +164,8 @@ Family zbuffer_family() {
       };
   // props/raster: the parts that test the z-buffer (the other raster families
   // are checked against it).
-  f.properties = {"cross_check", "culling", "render_agree", "supersampling", "visibility", "llvmpipe", "hidden"};
+  f.properties = {"cross_check", "culling", "render_agree", "supersampling", "visibility", "llvmpipe", "hidden",
+                  "shadow_volume"};
   return f;
 }
 

@@ -129,6 +129,24 @@ std::string occluder_note(const OccluderMesh& occ) {
 
 // ---------------------------------------------------------------- the volume
 
+namespace {
+
+bool lexicographic_less(const Vec3& a, const Vec3& b) {
+  if (a.x != b.x) return a.x < b.x;
+  if (a.y != b.y) return a.y < b.y;
+  return a.z < b.z;
+}
+
+// The same triangle (same orientation) starting at its smallest vertex.
+Tri canonical(const Tri& t) {
+  int m = 0;
+  for (int k = 1; k < 3; ++k)
+    if (lexicographic_less(t[k], t[m])) m = k;
+  return {t[m], t[(m + 1) % 3], t[(m + 2) % 3]};
+}
+
+}  // namespace
+
 double shadow_far(const Scene& scene, const Vec3& light) {
   Vec3 lo, hi;
   scene_bounds(scene, lo, hi);
@@ -144,7 +162,8 @@ double shadow_far(const Scene& scene, const Vec3& light) {
 }
 
 std::vector<Tri> shadow_volume(const OccluderMesh& occ, const Vec3& light, double far, bool caps,
-                               bool silhouette_only_for_open) {
+                               bool silhouette_only_for_open, std::vector<uint8_t>* is_cap) {
+  if (is_cap) is_cap->clear();
   const size_t n = occ.tri.size();
   // Which side of each triangle the light is on: > 0 light-facing.
   std::vector<double> facing(n);
@@ -163,12 +182,25 @@ std::vector<Tri> shadow_volume(const OccluderMesh& occ, const Vec3& light, doubl
     if (caps) {
       out.push_back(v);
       out.push_back({e[0], e[2], e[1]});
+      if (is_cap) is_cap->insert(is_cap->end(), {1, 1});
     }
     for (int k = 0; k < 3; ++k) {
       if (!side(k)) continue;
       const int k1 = (k + 1) % 3;
-      out.push_back({v[k1], v[k], e[k]});
-      out.push_back({v[k1], e[k], e[k1]});
+      const Vec3 &p = v[k], &q = v[k1], &pe = e[k], &qe = e[k1];
+      // The quad (q, p, p', q') split along the diagonal from the smaller
+      // endpoint (by coordinates) to the other's extrusion, each triangle
+      // starting at its smallest vertex: the two per-triangle volumes that
+      // share an edge then give the very same screen triangles, mirrored, so
+      // that they cancel at every sample, rounding included.
+      if (lexicographic_less(p, q)) {
+        out.push_back(canonical({q, p, qe}));
+        out.push_back(canonical({p, pe, qe}));
+      } else {
+        out.push_back(canonical({q, p, pe}));
+        out.push_back(canonical({q, pe, qe}));
+      }
+      if (is_cap) is_cap->insert(is_cap->end(), {0, 0});
     }
   };
   for (uint32_t t = 0; t < n; ++t) {
@@ -253,7 +285,7 @@ std::vector<double> visible_z(const ScreenMesh& mesh, const RasterSettings& s, c
 
 void stencil_counts(const Scene& scene, const ScreenMesh& frame, const RasterSettings& s,
                     const std::vector<Tri>& volume, const std::vector<double>& z_visible,
-                    std::vector<int32_t>& count) {
+                    std::vector<int32_t>& count, const std::vector<uint8_t>* is_cap) {
   count.assign(z_visible.size(), 0);
   // The volume's triangles as polygons of a scene of their own, two-sided so
   // that none is culled, through the z-buffer's viewing pipeline.
@@ -263,7 +295,9 @@ void stencil_counts(const Scene& scene, const ScreenMesh& frame, const RasterSet
   m.transmittance = 1;  // two-sided
   vol.materials.push_back(m);
   std::vector<Vec3> normal;  // per volume polygon: its outward normal
-  for (const Tri& t : volume) {
+  std::vector<uint8_t> cap;  // per volume polygon: a cap
+  for (size_t i = 0; i < volume.size(); ++i) {
+    const Tri& t = volume[i];
     const Vec3 n = cross(t[1] - t[0], t[2] - t[0]);
     const double len = length(n);
     if (!(len > 0)) continue;  // no area: covers nothing
@@ -280,6 +314,7 @@ void stencil_counts(const Scene& scene, const ScreenMesh& frame, const RasterSet
     vol.tri_poly.push_back(uint32_t(vol.poly_plane.size() - 1));
     vol.poly_tri_first.push_back(uint32_t(vol.tri_vertex.size()));
     normal.push_back(n);
+    cap.push_back(is_cap ? (*is_cap)[i] : 0);
   }
   ScreenMesh vm;
   vm.camera = frame.camera;
@@ -302,16 +337,20 @@ void stencil_counts(const Scene& scene, const ScreenMesh& frame, const RasterSet
     // z-pass: +1 entering (front) in front of the surface, -1 leaving;
     // z-fail: +1 leaving (back) behind it, -1 entering.
     const int32_t step = s.zfail ? (front ? -1 : 1) : (front ? 1 : -1);
+    const bool is_a_cap = cap[t.source_tri];
     for_samples(t, vm.width, vm.height, offsets, [&](size_t index, double z) {
       const double zv = z_visible[index];
       if (zv == kInfinity) return;
-      // A face at exactly the visible depth is the visible triangle's own cap.
+      // A cap at exactly the visible depth is the visible triangle's own.
       // Counting it or not is the count just before or just after the surface
       // along the view ray; shadow rays leave from the surface's light side,
       // which is the eye's side when the cap (outward = towards the light)
       // faces the eye, and the far side when it does not. So an equal front
-      // face is behind the surface, an equal back face in front of it.
-      const bool in_front = z < zv || (z == zv && !front);
+      // cap is behind the surface, an equal back cap in front of it. A side
+      // at the visible depth (the sample on the silhouette edge it rises
+      // from) is behind, whichever way it faces, so that the two coincident
+      // sides of an edge shared by two per-triangle volumes cancel.
+      const bool in_front = z < zv || (z == zv && is_a_cap && !front);
       if (in_front != s.zfail) count[index] += step;
     });
   }
@@ -326,9 +365,16 @@ ShadowMasks shadow_masks(const Scene& scene, const ScreenMesh& frame, const Rast
   std::vector<int32_t> count;
   for (uint32_t k = 0; k < masks.lights; ++k) {
     const Vec3 light = scene.lights[k].position;
-    const std::vector<Tri> volume = shadow_volume(occ, light, shadow_far(scene, light), s.zfail);
+    // Capped for z-pass too: a front cap is where the view ray enters a
+    // volume through its occluder, which counts when the occluder is not
+    // drawn (a back face culled from the eye still casts a shadow) and at a
+    // visible cap itself (a smooth-shaded triangle facing away from the light
+    // but lit by its normal: stencil_counts' equal-depth rule). The back cap
+    // lies beyond the scene and the eye, never in front of a visible point.
+    std::vector<uint8_t> is_cap;
+    const std::vector<Tri> volume = shadow_volume(occ, light, shadow_far(scene, light), true, false, &is_cap);
     masks.volume_tris += volume.size();
-    stencil_counts(scene, frame, s, volume, z, count);
+    stencil_counts(scene, frame, s, volume, z, count, &is_cap);
     for (size_t i = 0; i < count.size(); ++i) masks.lit[i * masks.lights + k] = count[i] == 0;
   }
   return masks;

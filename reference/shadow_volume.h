@@ -15,8 +15,14 @@
 // (winding number) of the visible point: a light contributes where it is 0.
 //
 // Z-pass counts from the eye, so it is wrong when the eye itself is inside a
-// volume (the volume faces it is inside of were clipped at the hither plane);
+// volume (the volume faces it is inside of were clipped at the hither plane;
+// precisely: wherever the hither plane's point on the view ray is in shadow);
 // z-fail counts from beyond the scene, where every volume is closed, and is not.
+// Heidmann's z-pass draws no caps, relying on the occluder itself to be drawn
+// where a view ray enters a volume through it; here z-pass draws the caps too,
+// since an occluder may be culled from the eye (a one-sided back face still
+// casts a shadow; corpus/scenes/clip-tris.nff has one) and with smooth normals
+// a visible triangle may face away from the light yet be lit.
 //
 // Exactness: the volume faces go through the z-buffer's own pipeline
 // (view_polygons: the same camera, hither clipping, snapping to 1/256 pixel,
@@ -83,9 +89,10 @@ OccluderMesh occluder_mesh(std::vector<std::array<Vec3, 3>> tris);
 // triangles each) extruded to distance `far` from the light, and with caps the
 // front and back caps. silhouette_only_for_open: the textbook silhouette rule
 // even for components that are not closed (wrong; the tests show why the check
-// matters).
+// matters). is_cap, when given, gets 1 per cap triangle and 0 per side.
 std::vector<std::array<Vec3, 3>> shadow_volume(const OccluderMesh& occ, const Vec3& light, double far, bool caps,
-                                               bool silhouette_only_for_open = false);
+                                               bool silhouette_only_for_open = false,
+                                               std::vector<uint8_t>* is_cap = nullptr);
 
 // The eye depth z of each visible sample (Visibility's triangle at the
 // sample), +inf where nothing is drawn: computed by the very function that
@@ -95,15 +102,17 @@ std::vector<double> visible_z(const ScreenMesh& mesh, const RasterSettings& s, c
 // The stencil count of every sample (index (j * width + i) * spp + k, as
 // Visibility) for one light's volume: z-pass (faces nearer than the visible
 // eye depth z_visible, +1 front-facing, -1 back-facing) or z-fail (faces at or
-// behind it, +1 back-facing, -1 front-facing; s.zfail). Samples with
+// behind it, +1 back-facing, -1 front-facing; s.zfail). A face at exactly
+// the visible depth counts as behind, except a cap (is_cap) seen from its
+// back, which counts as in front (see shadow_volume.cpp). Samples with
 // z_visible = +inf (nothing drawn) stay 0.
 void stencil_counts(const Scene& scene, const ScreenMesh& frame, const RasterSettings& s,
                     const std::vector<std::array<Vec3, 3>>& volume, const std::vector<double>& z_visible,
-                    std::vector<int32_t>& count);
+                    std::vector<int32_t>& count, const std::vector<uint8_t>* is_cap = nullptr);
 
 // Per sample and light (index sample * lights + k): 1 where the light
 // reaches the visible point (count 0), for the frame's visible samples;
-// volumes extruded to shadow_far, capped for z-fail.
+// volumes extruded to shadow_far, capped for both rules.
 struct ShadowMasks {
   uint32_t lights = 0;
   std::vector<uint8_t> lit;

@@ -35,26 +35,36 @@ struct Look {
   uint64_t lit = 0;  // bit k: light k contributes (lights beyond 64 are not looked at)
 };
 
-// Any surface on the shadow ray in (0, tmax)? (reference/ray_trace.cpp's blocked)
-inline bool blocked(const Scene& scene, const Ray& ray) {
+// Any surface but prim `skip` on the shadow ray in (0, tmax)?
+// (reference/ray_trace.cpp's blocked)
+inline bool blocked(const Scene& scene, const Ray& ray, uint32_t skip = 0xffffffffu) {
   for (uint32_t s = 0; s < scene.sphere_count(); ++s) {
     double t0, t1;
-    if (!ref::sphere_roots<double>(ray.o, ray.d, scene.sphere_center[s], scene.sphere_radius[s], t0, t1)) continue;
+    if (s == skip ||
+        !ref::sphere_roots<double>(ray.o, ray.d, scene.sphere_center[s], scene.sphere_radius[s], t0, t1))
+      continue;
     for (double t : {t0, t1})
       if (t > ray.tmin && t < ray.tmax) return true;
   }
   for (uint32_t p = 0; p < scene.polygon_count(); ++p)
-    if (ref::ray_polygon_t(ray, scene, p) < ray.tmax) return true;
+    if (scene.sphere_count() + p != skip && ref::ray_polygon_t(ray, scene, p) < ray.tmax) return true;
   return false;
+}
+
+// The view ray through screen position (px, py), unit direction, and the
+// length of its direction with forward component 1.
+inline Ray view_ray(const Camera& cam, double px, double py, double* len_out = nullptr) {
+  const Vec3 d0 = cam.forward + ((px - 0.5 * cam.width) * cam.pitch) * cam.right +
+                  ((0.5 * cam.height - py) * cam.pitch) * cam.up;
+  const double len = length(d0);
+  if (len_out) *len_out = len;
+  return Ray{cam.eye, d0 / len, cam.hither * len, kInfinity};
 }
 
 // The visible surface through screen position (px, py) (pixels, y down; pixel
 // (i, j)'s centre is (i + 1/2, j + 1/2)) and which lights reach it.
 inline Look look(const Scene& scene, const Camera& cam, double px, double py) {
-  const Vec3 d0 = cam.forward + ((px - 0.5 * cam.width) * cam.pitch) * cam.right +
-                  ((0.5 * cam.height - py) * cam.pitch) * cam.up;
-  const double len = length(d0);
-  const Ray ray{cam.eye, d0 / len, cam.hither * len, kInfinity};
+  const Ray ray = view_ray(cam, px, py);
   const Hit hit = ref::nearest_hit(scene, ray, ref::SphereSides::kSolid);
   Look out;
   if (!hit.hit()) return out;
@@ -95,6 +105,48 @@ inline double edge_radius(const Scene& scene, const Camera& cam, double px, doub
   for (double r : {1.0 / 4096, 1.0 / 1024, 1.0 / 256, 1.0 / 64, 1.0 / 16})
     if (near_edge(scene, cam, px, py, r)) return r;
   return 0;
+}
+
+// Contact: whether another surface passes within delta of the visible point
+// along its normal, so that the shadow ray's answer depends on which side of
+// the surface it starts (the fixed-eps offset decides; the volume's answer
+// comes from depths that differ in the last bits): shadow rays from
+// p + delta n and p - delta n (n the geometric normal), ignoring the visible
+// primitive itself, disagree for some light. Coplanar overlapping triangles
+// (the flat handle of the SPD teapot at size 1) and objects resting on others.
+inline bool contact(const Scene& scene, const Camera& cam, double px, double py, double delta) {
+  const Ray ray = view_ray(cam, px, py);
+  const Hit hit = ref::nearest_hit(scene, ray, ref::SphereSides::kSolid);
+  if (!hit.hit()) return false;
+  const Vec3 p = ray.o + hit.t * ray.d;
+  const Vec3 ng = normalize(outward_normal(scene, hit.prim, p));
+  for (const Light& light : scene.lights) {
+    bool answer[2];
+    for (int side = 0; side < 2; ++side) {
+      const Vec3 o = p + (side ? delta : -delta) * ng;
+      const Vec3 to_light = light.position - o;
+      const double dist = length(to_light);
+      answer[side] = blocked(scene, Ray{o, to_light / dist, 0.0, dist}, hit.prim);
+    }
+    if (answer[0] != answer[1]) return true;
+  }
+  return false;
+}
+
+// Z-pass counts the volume faces between the hither plane and the visible
+// point, so it is off wherever the hither plane's point on the view ray lies
+// in a shadow (the eye in shadow, as hither goes to 0): whether it does, for
+// some light (shadow rays from that point).
+inline bool hither_in_shadow(const Scene& scene, const Camera& cam, double px, double py, double hither) {
+  double len = 0;
+  const Ray ray = view_ray(cam, px, py, &len);
+  const Vec3 q = ray.o + (hither * len) * ray.d;
+  for (const Light& light : scene.lights) {
+    const Vec3 to_light = light.position - q;
+    const double dist = length(to_light);
+    if (blocked(scene, Ray{q, to_light / dist, 0.0, dist})) return true;
+  }
+  return false;
 }
 
 }  // namespace lockstep::shadow_oracle
