@@ -99,8 +99,21 @@ OccluderMesh occluder_mesh(std::vector<Tri> tris) {
       m.adj[uses[1].tri][uses[1].edge] = uses[0].tri;
     }
   }
-  // A component that touches an edge with a single use elsewhere is open as
-  // well: edges were checked per edge, components take the verdict above.
+  // A closed component turned inside out (all its faces inward, as NFF allows
+  // for one-sided polygons) is turned outward for the volume: the silhouette
+  // method sweeps the occluder's inside with it, which only an outward
+  // orientation gives (its inner faces may be seen through its culled outer
+  // ones, and are in its shadow). The sign of the enclosed volume (the
+  // divergence theorem: the sum of a . (b x c) / 6 over the faces) tells.
+  std::vector<double> volume(m.closed.size(), 0.0);
+  for (uint32_t t = 0; t < n; ++t)
+    volume[m.component[t]] += dot(m.tri[t][0], cross(m.tri[t][1], m.tri[t][2]));
+  for (uint32_t t = 0; t < n; ++t)
+    if (m.closed[m.component[t]] && volume[m.component[t]] < 0) {
+      std::swap(m.tri[t][1], m.tri[t][2]);  // edges a->c, c->b, b->a: the old 2, 1, 0 reversed
+      std::swap(m.adj[t][0], m.adj[t][2]);
+    }
+  for (uint32_t c = 0; c < m.closed.size(); ++c) m.inverted_components += m.closed[c] && volume[c] < 0 ? 1 : 0;
   for (uint32_t t = 0; t < n; ++t)
     if (!m.closed[m.component[t]]) ++m.open_tris;
   for (uint8_t c : m.closed) m.open_components += c ? 0 : 1;

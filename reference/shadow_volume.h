@@ -42,7 +42,8 @@
 // closed, consistently oriented meshes: occluder_mesh() splits the triangles
 // into edge-connected components and checks that every edge is shared by
 // exactly two triangles of the component, traversed in opposite directions
-// (vertices matched by exact position). A component that fails (open, e.g. a
+// (vertices matched by exact position); a closed one turned inside out is
+// turned outward (its triangles reversed). A component that fails (open, e.g. a
 // floor or a single polygon, or inconsistently oriented, or with T-junctions)
 // is not refused: each of its triangles gets a volume of its own (its three
 // edges extruded, turned to face the light, capped), which is exact for any
@@ -76,6 +77,7 @@ struct OccluderMesh {
   std::vector<uint8_t> closed;           // per component: closed and consistently oriented
   uint64_t open_tris = 0;                // triangles of components that are not
   uint32_t open_components = 0;
+  uint32_t inverted_components = 0;      // closed but inside out: turned outward (their tri reversed)
 };
 
 // Scene triangles (scene order) after the spheres' tessellations (as

@@ -206,6 +206,17 @@ TEST(Occluders, ClosedCubeIsClosed) {
   EXPECT_EQ(ref::occluder_note(m), "");
 }
 
+TEST(Occluders, InsideOutCubeIsTurnedOutward) {
+  std::vector<Tri> in = cube({0, 0, 0}, {1, 1, 1});
+  for (Tri& t : in) std::swap(t[1], t[2]);
+  const ref::OccluderMesh m = ref::occluder_mesh(in);
+  ASSERT_EQ(m.closed.size(), 1u);
+  EXPECT_TRUE(m.closed[0]);
+  EXPECT_EQ(m.inverted_components, 1u);
+  const std::vector<Tri> out = cube({0, 0, 0}, {1, 1, 1});
+  for (size_t t = 0; t < out.size(); ++t) EXPECT_EQ(m.tri[t][1].x, out[t][1].x);
+}
+
 TEST(Occluders, OpenAndInconsistentMeshesAreDetected) {
   std::vector<Tri> open = cube({0, 0, 0}, {1, 1, 1});
   open.pop_back();  // one face half missing: 3 edges used once
