@@ -30,7 +30,8 @@ struct Components {
 
 // The sphere tessellations the z-buffer draws (view_spheres: the same rings,
 // positions and winding), for every sphere, on screen or not.
-void add_spheres(const Scene& scene, const ScreenMesh& frame, const RasterSettings& s, std::vector<Tri>& out) {
+void add_spheres(const Scene& scene, const ScreenMesh& frame, const RasterSettings& s,
+                 std::vector<Tri>& out) {
   const Camera& cam = frame.camera;
   for (uint32_t k = 0; k < scene.sphere_count(); ++k) {
     const Vec3 c = scene.sphere_center[k];
@@ -59,7 +60,8 @@ OccluderMesh occluder_mesh(std::vector<Tri> tris) {
   for (size_t t = 0; t < n; ++t)
     for (int k = 0; k < 3; ++k) {
       const Vec3& p = m.tri[t][k];
-      vid[t][k] = ids.emplace(std::array<double, 3>{p.x, p.y, p.z}, uint32_t(ids.size())).first->second;
+      vid[t][k] =
+          ids.emplace(std::array<double, 3>{p.x, p.y, p.z}, uint32_t(ids.size())).first->second;
     }
   // Every undirected edge: which triangles use it, in which direction.
   struct Use {
@@ -113,7 +115,8 @@ OccluderMesh occluder_mesh(std::vector<Tri> tris) {
       std::swap(m.tri[t][1], m.tri[t][2]);  // edges a->c, c->b, b->a: the old 2, 1, 0 reversed
       std::swap(m.adj[t][0], m.adj[t][2]);
     }
-  for (uint32_t c = 0; c < m.closed.size(); ++c) m.inverted_components += m.closed[c] && volume[c] < 0 ? 1 : 0;
+  for (uint32_t c = 0; c < m.closed.size(); ++c)
+    m.inverted_components += m.closed[c] && volume[c] < 0 ? 1 : 0;
   for (uint32_t t = 0; t < n; ++t)
     if (!m.closed[m.component[t]]) ++m.open_tris;
   for (uint8_t c : m.closed) m.open_components += c ? 0 : 1;
@@ -135,9 +138,11 @@ OccluderMesh occluder_mesh(const Scene& scene, const ScreenMesh& frame, const Ra
 
 std::string occluder_note(const OccluderMesh& occ) {
   if (occ.open_tris == 0) return "";
-  return "shadow volumes: " + std::to_string(occ.open_tris) + " of " + std::to_string(occ.tri.size()) +
-         " occluder triangles (" + std::to_string(occ.open_components) +
-         " meshes) are not closed and consistently oriented: each casts a volume of its own (exact, more fill)";
+  return "shadow volumes: " + std::to_string(occ.open_tris) + " of " +
+         std::to_string(occ.tri.size()) + " occluder triangles (" +
+         std::to_string(occ.open_components) +
+         " meshes) are not closed and consistently oriented: each casts a volume of its own "
+         "(exact, more fill)";
 }
 
 // ---------------------------------------------------------------- the volume
@@ -190,7 +195,8 @@ std::vector<Tri> shadow_volume(const OccluderMesh& occ, const Vec3& light, doubl
   // cap (a', c', b'), and the side quad (b, a, a', b') over each edge a -> b
   // that is a silhouette edge (`side(k)`); all outward-facing.
   auto emit = [&](const Tri& v, auto side) {
-    if (v[0] == light || v[1] == light || v[2] == light) return;  // a corner at the light: no volume
+    if (v[0] == light || v[1] == light || v[2] == light)
+      return;  // a corner at the light: no volume
     const Tri e{away(v[0]), away(v[1]), away(v[2])};
     if (caps) {
       out.push_back(v);
@@ -255,15 +261,16 @@ bool owns(int64_t e, bool is_top_left) { return e > 0 || (e == 0 && is_top_left)
 [[gnu::noinline]] double depth_at(const ScreenTri& t, int64_t e0, int64_t e1, int64_t e2) {
   const ScreenVertex &v0 = t.v[0], &v1 = t.v[1], &v2 = t.v[2];
   const int64_t area = edge(v0, v1, v2.x, v2.y);
-  const double l0 = double(e0) / double(area), l1 = double(e1) / double(area), l2 = double(e2) / double(area);
+  const double l0 = double(e0) / double(area), l1 = double(e1) / double(area),
+               l2 = double(e2) / double(area);
   const double inv_z = l0 / v0.z + l1 / v1.z + l2 / v2.z;
   return 1 / inv_z;
 }
 
 // Every sample of triangle t (the z-buffer's loop): visit(index, z).
 template <class Visit>
-void for_samples(const ScreenTri& t, int w, int h, const std::vector<std::array<int32_t, 2>>& offsets,
-                 Visit visit) {
+void for_samples(const ScreenTri& t, int w, int h,
+                 const std::vector<std::array<int32_t, 2>>& offsets, Visit visit) {
   const ScreenVertex &v0 = t.v[0], &v1 = t.v[1], &v2 = t.v[2];
   const bool tl0 = top_left(v1, v2), tl1 = top_left(v2, v0), tl2 = top_left(v0, v1);
   const int32_t xmin = std::min({v0.x, v1.x, v2.x}), xmax = std::max({v0.x, v1.x, v2.x});
@@ -278,7 +285,8 @@ void for_samples(const ScreenTri& t, int w, int h, const std::vector<std::array<
       for (int k = 0; k < spp; ++k) {
         const int64_t px = int64_t(i) * kSubpixel + offsets[k][0];
         const int64_t py = int64_t(j) * kSubpixel + offsets[k][1];
-        const int64_t e0 = edge(v1, v2, px, py), e1 = edge(v2, v0, px, py), e2 = edge(v0, v1, px, py);
+        const int64_t e0 = edge(v1, v2, px, py), e1 = edge(v2, v0, px, py),
+                      e2 = edge(v0, v1, px, py);
         if (!owns(e0, tl0) || !owns(e1, tl1) || !owns(e2, tl2)) continue;
         visit((size_t(j) * w + i) * spp + k, depth_at(t, e0, e1, e2));
       }
@@ -286,7 +294,8 @@ void for_samples(const ScreenTri& t, int w, int h, const std::vector<std::array<
 
 }  // namespace
 
-std::vector<double> visible_z(const ScreenMesh& mesh, const RasterSettings& s, const Visibility& vis) {
+std::vector<double> visible_z(const ScreenMesh& mesh, const RasterSettings& s,
+                              const Visibility& vis) {
   std::vector<double> z(vis.tri.size(), kInfinity);
   const auto offsets = sample_offsets(s);
   for (uint32_t ti = 0; ti < mesh.tris.size(); ++ti)
@@ -385,7 +394,8 @@ ShadowMasks shadow_masks(const Scene& scene, const ScreenMesh& frame, const Rast
     // but lit by its normal: stencil_counts' equal-depth rule). The back cap
     // lies beyond the scene and the eye, never in front of a visible point.
     std::vector<uint8_t> is_cap;
-    const std::vector<Tri> volume = shadow_volume(occ, light, shadow_far(scene, light), true, false, &is_cap);
+    const std::vector<Tri> volume =
+        shadow_volume(occ, light, shadow_far(scene, light), true, false, &is_cap);
     masks.volume_tris += volume.size();
     stencil_counts(scene, frame, s, volume, z, count, &is_cap);
     for (size_t i = 0; i < count.size(); ++i) masks.lit[i * masks.lights + k] = count[i] == 0;
@@ -395,14 +405,15 @@ ShadowMasks shadow_masks(const Scene& scene, const ScreenMesh& frame, const Rast
 
 // ---------------------------------------------------------------- shading
 
-Vec3 shade_fragment_lit(const Scene& scene, const ScreenMesh& mesh, const RasterSettings& s, const Fragment& f,
-                        const uint8_t* lit) {
+Vec3 shade_fragment_lit(const Scene& scene, const ScreenMesh& mesh, const RasterSettings& s,
+                        const Fragment& f, const uint8_t* lit) {
   // shade_fragment's Phong (core/raster_shading.cpp), the light sum of phong()
   // (core/shading.cpp) restricted to the lights that reach the point.
   const ScreenTri& t = mesh.tris[f.tri];
   const Camera& cam = mesh.camera;
   const Material& m = scene.material_of_prim(t.prim);
-  const double cx = (f.sx - 0.5 * mesh.width) * cam.pitch, cy = (0.5 * mesh.height - f.sy) * cam.pitch;
+  const double cx = (f.sx - 0.5 * mesh.width) * cam.pitch,
+               cy = (0.5 * mesh.height - f.sy) * cam.pitch;
   const Vec3 dir = cam.forward + cx * cam.right + cy * cam.up;
   const Vec3 v = -normalize(dir);
   Vec3 n = f.b[0] * t.v[0].normal + f.b[1] * t.v[1].normal + f.b[2] * t.v[2].normal;

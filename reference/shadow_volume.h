@@ -74,10 +74,10 @@ struct OccluderMesh {
   // that edge (by position), or kNone when the edge has not exactly two.
   std::vector<std::array<uint32_t, 3>> adj;
   static constexpr uint32_t kNone = 0xffffffffu;
-  std::vector<uint8_t> closed;           // per component: closed and consistently oriented
-  uint64_t open_tris = 0;                // triangles of components that are not
+  std::vector<uint8_t> closed;  // per component: closed and consistently oriented
+  uint64_t open_tris = 0;       // triangles of components that are not
   uint32_t open_components = 0;
-  uint32_t inverted_components = 0;      // closed but inside out: turned outward (their tri reversed)
+  uint32_t inverted_components = 0;  // closed but inside out: turned outward (their tri reversed)
 };
 
 // Scene triangles (scene order) after the spheres' tessellations (as
@@ -92,14 +92,16 @@ OccluderMesh occluder_mesh(std::vector<std::array<Vec3, 3>> tris);
 // front and back caps. silhouette_only_for_open: the textbook silhouette rule
 // even for components that are not closed (wrong; the tests show why the check
 // matters). is_cap, when given, gets 1 per cap triangle and 0 per side.
-std::vector<std::array<Vec3, 3>> shadow_volume(const OccluderMesh& occ, const Vec3& light, double far, bool caps,
+std::vector<std::array<Vec3, 3>> shadow_volume(const OccluderMesh& occ, const Vec3& light,
+                                               double far, bool caps,
                                                bool silhouette_only_for_open = false,
                                                std::vector<uint8_t>* is_cap = nullptr);
 
 // The eye depth z of each visible sample (Visibility's triangle at the
 // sample), +inf where nothing is drawn: computed by the very function that
 // gives the volume faces' depths, so that a front cap equals its triangle.
-std::vector<double> visible_z(const ScreenMesh& mesh, const RasterSettings& s, const Visibility& vis);
+std::vector<double> visible_z(const ScreenMesh& mesh, const RasterSettings& s,
+                              const Visibility& vis);
 
 // The stencil count of every sample (index (j * width + i) * spp + k, as
 // Visibility) for one light's volume: z-pass (faces nearer than the visible
@@ -109,8 +111,9 @@ std::vector<double> visible_z(const ScreenMesh& mesh, const RasterSettings& s, c
 // back, which counts as in front (see shadow_volume.cpp). Samples with
 // z_visible = +inf (nothing drawn) stay 0.
 void stencil_counts(const Scene& scene, const ScreenMesh& frame, const RasterSettings& s,
-                    const std::vector<std::array<Vec3, 3>>& volume, const std::vector<double>& z_visible,
-                    std::vector<int32_t>& count, const std::vector<uint8_t>* is_cap = nullptr);
+                    const std::vector<std::array<Vec3, 3>>& volume,
+                    const std::vector<double>& z_visible, std::vector<int32_t>& count,
+                    const std::vector<uint8_t>* is_cap = nullptr);
 
 // Per sample and light (index sample * lights + k): 1 where the light
 // reaches the visible point (count 0), for the frame's visible samples;
@@ -132,7 +135,7 @@ std::string occluder_note(const OccluderMesh& occ);
 
 // shade_fragment's Phong (or Blinn-Phong) with only the lights whose lit[k] is
 // set: the ray tracer's local term at depth 1 with shadow rays.
-Vec3 shade_fragment_lit(const Scene& scene, const ScreenMesh& mesh, const RasterSettings& s, const Fragment& f,
-                        const uint8_t* lit);
+Vec3 shade_fragment_lit(const Scene& scene, const ScreenMesh& mesh, const RasterSettings& s,
+                        const Fragment& f, const uint8_t* lit);
 
 }  // namespace lockstep::ref

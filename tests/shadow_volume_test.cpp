@@ -18,6 +18,8 @@
 // pixels, z-fail on none. Occluders that are not closed and consistently
 // oriented: detected, counted, and drawn with per-triangle volumes (exact);
 // the silhouette rule applied to them anyway gives wrong shadows.
+#include "reference/shadow_volume.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -31,7 +33,6 @@
 #include "props/raster/shadow_oracle.h"
 #include "reference/raster.h"
 #include "reference/ray_trace.h"
-#include "reference/shadow_volume.h"
 #include "spd/spd.h"
 
 namespace lockstep {
@@ -43,7 +44,8 @@ struct Tally {
   std::vector<std::pair<int, int>> wrong_at;
 };
 
-Image zbuffer(const Scene& scene, int w, int h, const std::string& shadows, bool zfail, FrameStats* stats = nullptr) {
+Image zbuffer(const Scene& scene, int w, int h, const std::string& shadows, bool zfail,
+              FrameStats* stats = nullptr) {
   FrameOptions o;
   o.width = w;
   o.height = h;
@@ -68,7 +70,8 @@ constexpr double kContact = 1e-6;
 
 bool differs(const Image& a, const Image& b, int i, int j) {
   const float *p = a.pixel(i, j), *q = b.pixel(i, j);
-  return std::max({std::abs(p[0] - q[0]), std::abs(p[1] - q[1]), std::abs(p[2] - q[2])}) > 1.0f / 255;
+  return std::max({std::abs(p[0] - q[0]), std::abs(p[1] - q[1]), std::abs(p[2] - q[2])}) >
+         1.0f / 255;
 }
 
 Tally agree(const Scene& scene, int w, int h, bool zfail) {
@@ -110,15 +113,18 @@ Tally agree(const Scene& scene, int w, int h, bool zfail) {
 std::string report(const std::string& name, const char* rule, const Tally& t) {
   char line[512];
   std::snprintf(line, sizeof line,
-                "%-22s %-6s %6llu px: differ %5llu = visibility %5llu + shadow edge %4llu (r<=1/4096:%llu 1/1024:%llu "
+                "%-22s %-6s %6llu px: differ %5llu = visibility %5llu + shadow edge %4llu "
+                "(r<=1/4096:%llu 1/1024:%llu "
                 "1/256:%llu 1/64:%llu) + contact %llu + hither in shadow %llu + wrong %llu",
                 name.c_str(), rule, (unsigned long long)t.pixels, (unsigned long long)t.differ,
-                (unsigned long long)t.visibility, (unsigned long long)t.edge, (unsigned long long)t.by_radius[0],
-                (unsigned long long)t.by_radius[1], (unsigned long long)t.by_radius[2],
-                (unsigned long long)t.by_radius[3], (unsigned long long)t.contact, (unsigned long long)t.hither,
+                (unsigned long long)t.visibility, (unsigned long long)t.edge,
+                (unsigned long long)t.by_radius[0], (unsigned long long)t.by_radius[1],
+                (unsigned long long)t.by_radius[2], (unsigned long long)t.by_radius[3],
+                (unsigned long long)t.contact, (unsigned long long)t.hither,
                 (unsigned long long)t.wrong);
   std::string s = line;
-  for (const auto& [i, j] : t.wrong_at) s += " (" + std::to_string(i) + "," + std::to_string(j) + ")";
+  for (const auto& [i, j] : t.wrong_at)
+    s += " (" + std::to_string(i) + "," + std::to_string(j) + ")";
   return s;
 }
 
@@ -155,9 +161,10 @@ TEST_P(Agreement, VolumesEqualShadowRays) {
 INSTANTIATE_TEST_SUITE_P(
     Corpus, Agreement,
     ::testing::Values(Case{"clip-tris", 256}, Case{"concave", 256}, Case{"gears-2", 128},
-                      Case{"painter-cycle", 256}, Case{"painter-interpenetrate", 256}, Case{"painter-plain", 256},
-                      Case{"patches", 256}, Case{"spot-patches", 256}, Case{"teapot-2", 256}, Case{"tetra-3", 256},
-                      Case{"tree-2-tess", 128}, Case{"watertight-cube", 129}, Case{"watertight-octahedron", 129},
+                      Case{"painter-cycle", 256}, Case{"painter-interpenetrate", 256},
+                      Case{"painter-plain", 256}, Case{"patches", 256}, Case{"spot-patches", 256},
+                      Case{"teapot-2", 256}, Case{"tetra-3", 256}, Case{"tree-2-tess", 128},
+                      Case{"watertight-cube", 129}, Case{"watertight-octahedron", 129},
                       Case{"zfight-pair", 256}, Case{"spd:tetra-4", 256}, Case{"spd:gears-1", 256},
                       Case{"spd:mount-2-tess", 256}, Case{"spd:teapot-1", 256}),
     [](const ::testing::TestParamInfo<Case>& info) {
@@ -188,8 +195,11 @@ using Tri = std::array<Vec3, 3>;
 
 // A unit cube's 12 triangles, counter-clockwise seen from outside.
 std::vector<Tri> cube(const Vec3& lo, const Vec3& hi) {
-  auto p = [&](int k) { return Vec3{(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z}; };
-  const int quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+  auto p = [&](int k) {
+    return Vec3{(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z};
+  };
+  const int quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                           {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
   std::vector<Tri> out;
   for (const auto& q : quads) {
     out.push_back({p(q[0]), p(q[1]), p(q[2])});
@@ -221,7 +231,9 @@ TEST(Occluders, OpenAndInconsistentMeshesAreDetected) {
   std::vector<Tri> open = cube({0, 0, 0}, {1, 1, 1});
   open.pop_back();  // one face half missing: 3 edges used once
   std::vector<Tri> flipped = cube({3, 0, 0}, {4, 1, 1});
-  std::swap(flipped[5][1], flipped[5][2]);  // one triangle turned over: its edges run the same way as the neighbours'
+  std::swap(
+      flipped[5][1],
+      flipped[5][2]);  // one triangle turned over: its edges run the same way as the neighbours'
   std::vector<Tri> both = open;
   both.insert(both.end(), flipped.begin(), flipped.end());
   const std::vector<Tri> good = cube({6, 0, 0}, {7, 1, 1});
@@ -240,8 +252,10 @@ TEST(Occluders, OpenAndInconsistentMeshesAreDetected) {
 // A scene: a floor, a light, and the given triangles as one 'p 3' each.
 Scene scene_with(const std::vector<Tri>& tris) {
   std::string nff =
-      "v\nfrom 2 6 9\nat 0.5 0 0.5\nup 0 1 0\nangle 40\nhither 0.01\nresolution 96 96\nb 0 0 0\nl 1.3 5 0.2\n"
-      "f 0.8 0.8 0.8 0.9 0.2 20 0 1\np 4\n-6 0 6\n6 0 6\n6 0 -6\n-6 0 -6\nf 0.9 0.3 0.2 0.8 0.3 30 0 1\n";
+      "v\nfrom 2 6 9\nat 0.5 0 0.5\nup 0 1 0\nangle 40\nhither 0.01\nresolution 96 96\nb 0 0 0\nl "
+      "1.3 5 0.2\n"
+      "f 0.8 0.8 0.8 0.9 0.2 20 0 1\np 4\n-6 0 6\n6 0 6\n6 0 -6\n-6 0 -6\nf 0.9 0.3 0.2 0.8 0.3 30 "
+      "0 1\n";
   char buf[256];
   for (const Tri& t : tris) {
     nff += "p 3\n";
@@ -266,8 +280,8 @@ uint64_t wrong_decisions(const Scene& scene, bool silhouette_only_for_open) {
   const std::vector<double> z = ref::visible_z(mesh, s, vis);
   const Vec3 light = scene.lights[0].position;
   std::vector<uint8_t> is_cap;
-  const auto volume =
-      ref::shadow_volume(occ, light, ref::shadow_far(scene, light), true, silhouette_only_for_open, &is_cap);
+  const auto volume = ref::shadow_volume(occ, light, ref::shadow_far(scene, light), true,
+                                         silhouette_only_for_open, &is_cap);
   std::vector<int32_t> count;
   ref::stencil_counts(scene, mesh, s, volume, z, count, &is_cap);
   uint64_t wrong = 0;
@@ -276,7 +290,8 @@ uint64_t wrong_decisions(const Scene& scene, bool silhouette_only_for_open) {
       const size_t k = size_t(j) * w + i;
       if (vis.tri[k] == Visibility::kNone) continue;
       const shadow_oracle::Look o = shadow_oracle::look(scene, mesh.camera, i + 0.5, j + 0.5);
-      if (!o.hit || shadow_oracle::near_edge(scene, mesh.camera, i + 0.5, j + 0.5, shadow_oracle::kEdgeRadius))
+      if (!o.hit || shadow_oracle::near_edge(scene, mesh.camera, i + 0.5, j + 0.5,
+                                             shadow_oracle::kEdgeRadius))
         continue;
       // Only where the light faces the surface does the shadow ray decide.
       const ScreenTri& t = mesh.tris[vis.tri[k]];
@@ -308,7 +323,8 @@ TEST(Occluders, FallbackIsExactAndTheSilhouetteRuleIsNotOnBrokenMeshes) {
   FrameStats stats;
   zbuffer(scene, 96, 96, "volume", true, &stats);
   ASSERT_EQ(stats.notes.size(), 1u);
-  EXPECT_NE(stats.notes[0].find("24 of 24 occluder triangles (3 meshes)"), std::string::npos) << stats.notes[0];
+  EXPECT_NE(stats.notes[0].find("24 of 24 occluder triangles (3 meshes)"), std::string::npos)
+      << stats.notes[0];
   const Tally t = agree(scene, 96, 96, true);
   std::printf("%s\n", report("broken-occluders", "z-fail", t).c_str());
   EXPECT_EQ(t.wrong, 0u);

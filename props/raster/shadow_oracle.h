@@ -40,14 +40,15 @@ struct Look {
 inline bool blocked(const Scene& scene, const Ray& ray, uint32_t skip = 0xffffffffu) {
   for (uint32_t s = 0; s < scene.sphere_count(); ++s) {
     double t0, t1;
-    if (s == skip ||
-        !ref::sphere_roots<double>(ray.o, ray.d, scene.sphere_center[s], scene.sphere_radius[s], t0, t1))
+    if (s == skip || !ref::sphere_roots<double>(ray.o, ray.d, scene.sphere_center[s],
+                                                scene.sphere_radius[s], t0, t1))
       continue;
     for (double t : {t0, t1})
       if (t > ray.tmin && t < ray.tmax) return true;
   }
   for (uint32_t p = 0; p < scene.polygon_count(); ++p)
-    if (scene.sphere_count() + p != skip && ref::ray_polygon_t(ray, scene, p) < ray.tmax) return true;
+    if (scene.sphere_count() + p != skip && ref::ray_polygon_t(ray, scene, p) < ray.tmax)
+      return true;
   return false;
 }
 
@@ -137,7 +138,8 @@ inline bool contact(const Scene& scene, const Camera& cam, double px, double py,
 // point, so it is off wherever the hither plane's point on the view ray lies
 // in a shadow (the eye in shadow, as hither goes to 0): whether it does, for
 // some light (shadow rays from that point).
-inline bool hither_in_shadow(const Scene& scene, const Camera& cam, double px, double py, double hither) {
+inline bool hither_in_shadow(const Scene& scene, const Camera& cam, double px, double py,
+                             double hither) {
   double len = 0;
   const Ray ray = view_ray(cam, px, py, &len);
   const Vec3 q = ray.o + (hither * len) * ray.d;

@@ -39,28 +39,31 @@ rc::Gen<RasterCase> shadow_scene() {
     c.width = *rc::gen::inRange(24, 65);
     c.height = *rc::gen::inRange(24, 65);
     const Vec3 from{*gen::uniform(-7, 7), *gen::uniform(0.5, 8), *gen::uniform(5, 12)};
-    std::string s = "v\nfrom " + vec(from) + "\nat " + num(*gen::uniform(-1, 1)) + " " + num(*gen::uniform(0, 1)) +
-                    " 0\nup 0 1 0\nangle " + num(*gen::uniform(30, 70)) + "\nhither 0.01\nresolution " +
-                    std::to_string(c.width) + " " + std::to_string(c.height) + "\nb 0.1 0.2 0.3\n";
+    std::string s = "v\nfrom " + vec(from) + "\nat " + num(*gen::uniform(-1, 1)) + " " +
+                    num(*gen::uniform(0, 1)) + " 0\nup 0 1 0\nangle " + num(*gen::uniform(30, 70)) +
+                    "\nhither 0.01\nresolution " + std::to_string(c.width) + " " +
+                    std::to_string(c.height) + "\nb 0.1 0.2 0.3\n";
     const int lights = *rc::gen::inRange(1, 4);
     for (int k = 0; k < lights; ++k)
       s += "l " + vec({*gen::uniform(-8, 8), *gen::uniform(4, 14), *gen::uniform(-8, 8)}) + "\n";
     s += "f 0.8 0.8 0.7 0.9 0.2 20 0 1\np 4\n-9 0 9\n9 0 9\n9 0 -9\n-9 0 -9\n";
     const int occluders = *rc::gen::inRange(1, 5);
     for (int k = 0; k < occluders; ++k) {
-      s += "f " + num(*gen::uniform(0.2, 1)) + " " + num(*gen::uniform(0.2, 1)) + " " + num(*gen::uniform(0.2, 1)) +
-           " 0.8 0.3 20 0 1\n";
+      s += "f " + num(*gen::uniform(0.2, 1)) + " " + num(*gen::uniform(0.2, 1)) + " " +
+           num(*gen::uniform(0.2, 1)) + " 0.8 0.3 20 0 1\n";
       const Vec3 centre{*gen::uniform(-4, 4), *gen::uniform(0.3, 4), *gen::uniform(-4, 4)};
       const double size = *gen::uniform(0.3, 1.5);
       // Outward-facing triangles of a box or a tetrahedron; then maybe
       // inside out (all reversed: still consistent), one flipped, one dropped.
       std::vector<std::array<Vec3, 3>> tris;
       if (*rc::gen::inRange(0, 2) == 0) {
-        const Vec3 h{size * *gen::uniform(0.3, 1), size * *gen::uniform(0.3, 1), size * *gen::uniform(0.3, 1)};
+        const Vec3 h{size * *gen::uniform(0.3, 1), size * *gen::uniform(0.3, 1),
+                     size * *gen::uniform(0.3, 1)};
         auto p = [&](int b) {
           return centre + Vec3{(b & 1) ? h.x : -h.x, (b & 2) ? h.y : -h.y, (b & 4) ? h.z : -h.z};
         };
-        const int quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+        const int quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                                 {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
         for (const auto& q : quads) {
           tris.push_back({p(q[0]), p(q[1]), p(q[2])});
           tris.push_back({p(q[0]), p(q[2]), p(q[3])});
@@ -68,7 +71,8 @@ rc::Gen<RasterCase> shadow_scene() {
       } else {
         Vec3 v[4];
         for (Vec3& x : v)
-          x = centre + size * Vec3{*gen::uniform(-1, 1), *gen::uniform(-1, 1), *gen::uniform(-1, 1)};
+          x = centre +
+              size * Vec3{*gen::uniform(-1, 1), *gen::uniform(-1, 1), *gen::uniform(-1, 1)};
         const int faces[4][3] = {{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}};
         const Vec3 mid = (v[0] + v[1] + v[2] + v[3]) / 4.0;
         for (const auto& f : faces) {
@@ -88,7 +92,10 @@ rc::Gen<RasterCase> shadow_scene() {
     for (int k = 0; k < loose; ++k) {
       s += "f 0.6 0.6 0.9 0.8 0.3 20 " + num(*rc::gen::element(0.0, 0.5)) + " 1\n";
       const Vec3 centre{*gen::uniform(-4, 4), *gen::uniform(0.3, 5), *gen::uniform(-4, 4)};
-      auto corner = [&] { return centre + Vec3{*gen::uniform(-1.5, 1.5), *gen::uniform(-1.5, 1.5), *gen::uniform(-1.5, 1.5)}; };
+      auto corner = [&] {
+        return centre +
+               Vec3{*gen::uniform(-1.5, 1.5), *gen::uniform(-1.5, 1.5), *gen::uniform(-1.5, 1.5)};
+      };
       s += tri(corner(), corner(), corner());
     }
     c.nff = s;
@@ -125,7 +132,8 @@ Verdict shadow_case(const FamilyImpl& impl, const RasterCase& c) {
   const double delta = 1e-6 * length(hi - lo);
   auto differs = [](const Image& a, const Image& b, int i, int j) {
     const float *p = a.pixel(i, j), *q = b.pixel(i, j);
-    return std::max({std::abs(p[0] - q[0]), std::abs(p[1] - q[1]), std::abs(p[2] - q[2])}) > 1.0f / 255;
+    return std::max({std::abs(p[0] - q[0]), std::abs(p[1] - q[1]), std::abs(p[2] - q[2])}) >
+           1.0f / 255;
   };
   Verdict v;
   for (int j = 0; j < c.height; ++j)
@@ -151,7 +159,8 @@ Verdict shadow_case(const FamilyImpl& impl, const RasterCase& c) {
         o.kind = Outcome::unexplained;
         o.label = "wrong";
         o.detail = "pixel (" + std::to_string(i) + ", " + std::to_string(j) + "): shadow volume (" +
-                   (zfail ? "z-fail" : "z-pass") + ") and shadow rays disagree away from any shadow edge";
+                   (zfail ? "z-fail" : "z-pass") +
+                   ") and shadow rays disagree away from any shadow edge";
       }
       v.rays.push_back(o);
     }
@@ -164,8 +173,9 @@ void shadow_volume_part(const Family& family, FamilyProperties& out) {
   const FamilyImpl* reference = family.find("reference");
   if (!reference) return;
   const FamilyImpl impl = *reference;
-  out.properties.push_back(case_property(family, *reference, "ShadowVolumes", "shadow_scene", shadow_scene(), 0,
-                                         "pixels", [impl](const RasterCase& c) { return shadow_case(impl, c); }));
+  out.properties.push_back(
+      case_property(family, *reference, "ShadowVolumes", "shadow_scene", shadow_scene(), 0,
+                    "pixels", [impl](const RasterCase& c) { return shadow_case(impl, c); }));
 }
 
 }  // namespace lockstep::props::raster
