@@ -79,6 +79,10 @@ enum class SampleGrid : uint8_t {
 // buffers every way): kAuto, front to back where the mesh comes back to front.
 enum class DrawOrder : uint8_t { kAuto, kMesh, kReverse };
 
+// Shadows from the scene's point lights (issue #22): none, two-pass shadow maps,
+// or shadow volumes (reference/shadow_volume.h: Crow 1977, stencil counting).
+enum class ShadowMode : uint8_t { kNone, kMap, kVolume };
+
 enum class DepthFormat : uint8_t {
   kFloat,     // window depth d = (1/n - 1/z) / (1/n - 1/f) in [0, 1], as a float; nearer = smaller
   kReversed,  // reversed-Z: d = n / z as a float (infinite far plane); nearer = larger
@@ -100,6 +104,8 @@ struct RasterSettings {
   bool perspective = true;     // perspective-correct interpolation (false: affine, for the tests)
   bool skip_hidden = true;     // opt::simd::zbuffer: leave out what nearer spheres hide (same image)
   DrawOrder order = DrawOrder::kAuto;  // opt::simd's tiles: their triangles' order (same buffers)
+  ShadowMode shadows = ShadowMode::kNone;
+  bool zfail = false;          // shadow volumes: z-fail with capped volumes (Carmack; Everitt-Kilgard) instead of z-pass
 };
 
 // Reads a family's Params (shading, cull, silhouette, spp, grid, split,

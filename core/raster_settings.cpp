@@ -46,6 +46,7 @@ constexpr std::string_view kDepths = "float|reversed|fixed24|double";
 constexpr std::string_view kInterps = "perspective|affine";
 constexpr std::string_view kHidden = "skip|draw";
 constexpr std::string_view kOrders = "auto|mesh|reverse";
+constexpr std::string_view kShadows = "none|map|volume";
 
 }  // namespace
 
@@ -65,6 +66,10 @@ std::vector<ParamSpec> raster_params() {
       {"order", kOrders, "auto",
        "simd z-buffer: tiles draw in mesh order or reversed, ties then winning (auto: front to back "
        "where the mesh comes back to front; same image)"},
+      {"shadows", kShadows, "none",
+       "point-light shadows: map (two-pass z-buffer) or volume (stencil counts; reference zbuffer only)"},
+      {"zfail", "", "", "shadow volumes: z-fail with capped volumes (right with the eye in shadow; default z-pass)",
+       true},
   };
 }
 
@@ -97,6 +102,10 @@ RasterSettings raster_settings(const Params& params, const std::string& source) 
       s.order = DrawOrder(choose(source, name, value, kOrders));
     } else if (name == "hidden") {
       s.skip_hidden = choose(source, name, value, kHidden) == 0;
+    } else if (name == "shadows") {
+      s.shadows = ShadowMode(choose(source, name, value, kShadows));
+    } else if (name == "zfail") {
+      s.zfail = flag(source, name, value);
     } else {
       std::string known;
       for (const ParamSpec& p : raster_params()) known += (known.empty() ? "" : ", ") + std::string(p.name);

@@ -3,6 +3,7 @@
 
 #include <string>
 
+#include "core/error.h"
 #include "core/output_image.h"
 #include "optimized/painter.h"
 #include "optimized/raster.h"
@@ -39,6 +40,31 @@ std::vector<BenchInput> spd_frames() {
     add(name, "flat");
   for (const char* name : {"sombrero-2", "balls-3"}) add(name, "phong");
   return out;
+}
+
+// Shadows (issue #22): only the reference z-buffer draws shadows=volume; every
+// other row says so (verify skips it, a render exits 2) rather than drawing an
+// unshadowed image.
+std::string no_shadow_volumes(const Params& p) {
+  if (p.get("shadows", "none") == "volume")
+    return "shadows=volume: only zbuffer --impl reference counts shadow-volume stencils (not this row yet)";
+  return "";
+}
+std::string llvmpipe_unsupported(const Params& p) {
+  std::string why = no_shadow_volumes(p);
+  return why.empty() ? opt::llvmpipe::unsupported(p) : why;
+}
+void refuse_shadow_volumes(Family& f) {
+  for (FamilyImpl& impl : f.impls) {
+    if (f.name == "zbuffer" && impl.name == "reference") continue;
+    if (!impl.unsupported) impl.unsupported = no_shadow_volumes;
+    std::string who = std::string(f.name) + " --impl " + std::string(impl.name) + ": ";
+    impl.run = [run = std::move(impl.run), who](const Input& in, const FrameOptions& o, FrameStats* st) {
+      if (const std::string why = no_shadow_volumes(o.params); !why.empty())
+        throw InputError(input_as<Scene>(in).source, 0, who + why);
+      return run(in, o, st);
+    };
+  }
 }
 
 // A raster family over NFF scenes: the shared loader, settings and checks.
@@ -121,9 +147,10 @@ Family zbuffer_family() {
   //   Gouraud, over hard_abs), and depth by up to 2.0e-3 relative.
   if (opt::llvmpipe::available())
     impls.push_back({"llvmpipe", opt::llvmpipe::zbuffer, 0, {"coverage", 3e-5, "pixel"}, "Mesa llvmpipe (OSMesa)",
-                     true, opt::llvmpipe::unsupported});
+                     true, llvmpipe_unsupported});
   f.impls = erase_all<Scene>(impls);
   refuse_cones(f, {});  // no rasterizer tessellates cones yet
+  refuse_shadow_volumes(f);
   // The benchmarks time llvmpipe with its context kept across frames, as an
   // application keeps its GL context (the first frame, context and shader
   // compilation, is their first_ms); `render` and `verify` draw one frame.
@@ -137,7 +164,8 @@ Family zbuffer_family() {
       };
   // props/raster: the parts that test the z-buffer (the other raster families
   // are checked against it).
-  f.properties = {"cross_check", "culling", "render_agree", "supersampling", "visibility", "llvmpipe", "hidden"};
+  f.properties = {"cross_check", "culling", "render_agree", "supersampling", "visibility", "llvmpipe", "hidden",
+                  "shadow_volume"};
   return f;
 }
 
@@ -160,6 +188,7 @@ Family scanline_family() {
   };
   f.impls = erase_all<Scene>(impls);
   refuse_cones(f, {});  // no rasterizer tessellates cones yet
+  refuse_shadow_volumes(f);
   f.properties = {"cross_check", "supersampling", "scanline", "interpolation"};
   return f;
 }
@@ -180,6 +209,7 @@ Family painter_family() {
   };
   f.impls = erase_all<Scene>(impls);
   refuse_cones(f, {});  // no rasterizer tessellates cones yet
+  refuse_shadow_volumes(f);
   f.properties = {"painter"};
   f.default_impl = "simd";
   return f;

@@ -14,6 +14,7 @@
 
 #include "core/error.h"
 #include "reference/raster.h"
+#include "reference/shadow_volume.h"
 
 namespace lockstep {
 
@@ -124,10 +125,28 @@ Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   const double samples = double(opts.width) * opts.height * s.spp;
   const ScreenMesh mesh = view_scene(scene, opts.width, opts.height, s);
   Visibility vis;
+  // Shadows: the visible samples first, then per light the stencil counts of
+  // its shadow volume there (reference/shadow_volume.h); the colour pass below
+  // lights each sample with the lights its counts left at 0.
+  ShadowMasks masks;
+  if (s.shadows == ShadowMode::kMap)
+    throw InputError(scene.source, 0, "shadows=map: two-pass shadow maps are not in this build (shadows=volume is)");
+  if (s.shadows == ShadowMode::kVolume) {
+    if (s.shading != Shading::kPhong && s.shading != Shading::kBlinn)
+      throw InputError(scene.source, 0,
+                       "shadows=volume needs per-sample lighting: shading phong or blinn, not " +
+                           opts.params.get("shading", "phong"));
+    zbuffer_loop(mesh, s, vis, {}, [](size_t, const Fragment&) {});
+    const OccluderMesh occ = occluder_mesh(scene, mesh, s);
+    masks = shadow_masks(scene, mesh, s, occ, vis);
+    if (stats && occ.open_tris) stats->notes.push_back(occluder_note(occ));
+  }
   std::vector<Vec3f> sample_color(size_t(samples), Vec3f(scene.background));
   std::vector<float> sample_z(sample_color.size(), float(kInfinity));
   zbuffer_loop(mesh, s, vis, opts.progress, [&](size_t index, const Fragment& f) {
-    sample_color[index] = Vec3f(shade_fragment(scene, mesh, s, f));
+    // An overdrawn fragment may get the final sample's lights; the visible one, written last, is right.
+    sample_color[index] = Vec3f(masks.lights ? shade_fragment_lit(scene, mesh, s, f, &masks.lit[index * masks.lights])
+                                             : shade_fragment(scene, mesh, s, f));
     sample_z[index] = float(f.z);
   });
   // Resolve: the box filter over each pixel's samples; depth is the nearest sample's.

@@ -74,4 +74,7 @@ struct PainterMapCase {
 std::vector<PainterMapCase> painter_failure_map(const FamilyImpl& impl, const std::string& kind,
                                                 int cases, uint64_t seed);
 
+// Shadow volumes against shadow rays on random triangle scenes (shadow_volume.cpp).
+void shadow_volume_part(const Family& family, FamilyProperties& out);
+
 }  // namespace lockstep::props::raster

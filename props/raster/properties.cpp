@@ -233,6 +233,7 @@ FamilyProperties properties(const Family& family) {
       {"llvmpipe", llvmpipe_part},
       {"painter", painter_part},
       {"hidden", hidden_part},
+      {"shadow_volume", shadow_volume_part},
   };
   FamilyProperties out;
   for (const Named& n : kParts)
