@@ -131,7 +131,7 @@ struct Tracer {
       if (dot(n, ls.l) <= 0) continue;
       const Vec3 term = phong_light(m, n, -d, ls);
       if (settings.shadows) {
-        const Vec3 so = ray_start(q, ng, ls.l, settings);
+        const Vec3 so = ray_start(q, ng, ls.l, settings, Arith::kFloat);
         const Vec3 to_light = (scene.lights[k].position - es.frame.origin) - so;
         const double dist = length(to_light);
         ++rays;
@@ -155,16 +155,16 @@ struct Tracer {
     const double kr = std::min(1.0, m.ks);
     if (kr > 0 && weight * kr >= settings.cutoff) {
       const Vec3 r = reflect(d, n);
-      color += kr * trace(ray_start(q, ng, r, settings), r, 0.0, RayKind::kReflect, depth + 1,
-                          weight * kr, me, false);
+      color += kr * trace(ray_start(q, ng, r, settings, Arith::kFloat), r, 0.0, RayKind::kReflect,
+                          depth + 1, weight * kr, me, false);
     }
     const double kt = std::min(1.0, m.transmittance);
     if (kt > 0 && weight * kt >= settings.cutoff) {
       const bool entering = dot(d, ng) < 0;
       Vec3 t;
       if (refract(d, n, entering ? 1.0 / m.ior : m.ior, t))
-        color += kt * trace(ray_start(q, ng, t, settings), t, 0.0, RayKind::kRefract, depth + 1,
-                            weight * kt, me, entering);
+        color += kt * trace(ray_start(q, ng, t, settings, Arith::kFloat), t, 0.0, RayKind::kRefract,
+                            depth + 1, weight * kt, me, entering);
       else
         record(tree, tir_node(me, depth + 1, p, d, weight * kt, entering));
     }

@@ -117,7 +117,7 @@ struct Tracer {
       if (dot(n, ls.l) <= 0) continue;  // the light is behind the surface: nothing to test
       const Vec3 term = phong_light(m, n, -d, ls);
       if (settings.shadows) {
-        const Vec3 o = ray_start(p, ng, ls.l, settings);
+        const Vec3 o = ray_start(p, ng, ls.l, settings, Arith::kDouble);
         const Vec3 to_light = scene.lights[k].position - o;
         const double dist = length(to_light);
         const Ray shadow{o, to_light / dist, 0.0, dist};
@@ -136,8 +136,8 @@ struct Tracer {
     const double kr = std::min(1.0, m.ks);
     if (kr > 0 && weight * kr >= settings.cutoff) {
       const Vec3 r = reflect(d, n);
-      color += kr * trace(Ray{ray_start(p, ng, r, settings), r}, RayKind::kReflect, depth + 1,
-                          weight * kr, me, false);
+      color += kr * trace(Ray{ray_start(p, ng, r, settings, Arith::kDouble), r}, RayKind::kReflect,
+                          depth + 1, weight * kr, me, false);
     }
     // Refraction: Snell's law, entering or leaving by the side the ray comes from.
     const double kt = std::min(1.0, m.transmittance);
@@ -146,8 +146,8 @@ struct Tracer {
       const double eta = entering ? 1.0 / m.ior : m.ior;
       Vec3 t;
       if (refract(d, n, eta, t)) {
-        color += kt * trace(Ray{ray_start(p, ng, t, settings), t}, RayKind::kRefract, depth + 1,
-                            weight * kt, me, entering);
+        color += kt * trace(Ray{ray_start(p, ng, t, settings, Arith::kDouble), t},
+                            RayKind::kRefract, depth + 1, weight * kt, me, entering);
       } else {
         record(tree, tir_node(me, depth + 1, p, d, weight * kt, entering));
       }
