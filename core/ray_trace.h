@@ -84,6 +84,23 @@ std::vector<ParamSpec> trace_params();
 enum class RayKind : uint8_t { kPrimary, kShadow, kReflect, kRefract };
 const char* ray_kind_name(RayKind k);
 
+// Rays traced, by kind (FrameStats::counts: the benchmarks' primary_per_s ...).
+struct RayCounts {
+  uint64_t n[4] = {};
+  void add(RayKind k) { ++n[int(k)]; }
+  uint64_t total() const { return n[0] + n[1] + n[2] + n[3]; }
+  RayCounts& operator+=(const RayCounts& o) {
+    for (int k = 0; k < 4; ++k) n[k] += o.n[k];
+    return *this;
+  }
+  // items = every ray; counts = each kind by name.
+  void report(FrameStats* stats) const {
+    if (!stats) return;
+    stats->items = total();
+    stats->counts = {{"primary", n[0]}, {"shadow", n[1]}, {"reflect", n[2]}, {"refract", n[3]}};
+  }
+};
+
 // One ray of a pixel's tree, in the order they were traced (parents first).
 struct RayNode {
   RayKind kind = RayKind::kPrimary;
