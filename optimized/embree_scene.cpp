@@ -288,7 +288,7 @@ void attach_spheres(EmbreeScene& es, const Scene& scene, const BuildOptions& opt
   }
 }
 
-void attach_triangles(EmbreeScene& es, const Scene& scene) {
+void attach_triangles(EmbreeScene& es, const Scene& scene, const BuildOptions& options) {
   const uint32_t n = scene.triangle_count();
   if (n == 0) return;
   Geometry g(es.device.handle, RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -306,14 +306,25 @@ void attach_triangles(EmbreeScene& es, const Scene& scene) {
   }
   es.triangles.normal.resize(n);
   es.triangles.two_sided.resize(n);
+  // When every ray starts at the frame's origin (eye_reach >= 0: ray casting's
+  // primary rays), a plane's visible side is the same for all of them: the
+  // side the origin is on. If the origin is clearly in front of every one-sided
+  // triangle, no hit can be on a back face and the filter is not needed (the
+  // balls scenes' ground: about 1.3x on balls-1, tools/embree_raw.cpp).
+  bool filter = options.eye_reach < 0;
   for (uint32_t k = 0; k < n; ++k) {
     for (int a = 0; a < 3; ++a) idx[3 * k + a] = scene.tri_vertex[k][a];
     const uint32_t poly = scene.tri_poly[k];
     es.triangles.normal[k] = es.frame.dir(scene.poly_plane[poly].n);
     es.triangles.two_sided[k] = scene.materials[scene.poly_material[poly]].two_sided();
+    if (!filter && !es.triangles.two_sided[k]) {
+      const Vec3 v0 = es.frame.point(scene.vertex[scene.tri_vertex[k][0]]);
+      const double front = -dot(es.triangles.normal[k], v0);  // the origin's signed distance
+      filter = !(front > 1e-6 * (length(v0) + options.eye_reach));
+    }
   }
   rtcSetGeometryUserData(g.handle, &es.triangles);
-  rtcSetGeometryIntersectFilterFunction(g.handle, triangle_filter);
+  if (filter) rtcSetGeometryIntersectFilterFunction(g.handle, triangle_filter);
   rtcCommitGeometry(g.handle);
   rtcAttachGeometryByID(es.scene, g.handle, kTriangleGeom);
   es.device.check("triangles");
@@ -333,7 +344,7 @@ std::unique_ptr<EmbreeScene> build_scene(const Scene& scene, const Frame& frame,
   // Embree does by default (tools/embree_raw.cpp).
   if (scene.triangle_count() > 0) rtcSetSceneFlags(es->scene, RTC_SCENE_FLAG_ROBUST);
   attach_spheres(*es, scene, options);
-  attach_triangles(*es, scene);
+  attach_triangles(*es, scene, options);
   rtcCommitScene(es->scene);  // an empty scene is fine: every ray misses
   es->device.check("rtcCommitScene");
   return es;

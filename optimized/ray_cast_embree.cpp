@@ -199,7 +199,7 @@ Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   return render_frame(scene, opts, stats, Device(), true);
 }
 
-Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats, const Device& device) {
+Image render_with(const Scene& scene, const FrameOptions& opts, FrameStats* stats, const Device& device) {
   return render_frame(scene, opts, stats, device, true);
 }
 

@@ -204,11 +204,11 @@ Vec3 trace_pixel(const Scene& scene, const TraceSettings& settings, int width, i
 }
 
 Image trace_render(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
-  return trace_render(scene, opts, stats, Device());
+  return trace_render_with(scene, opts, stats, Device());
 }
 
-Image trace_render(const Scene& scene, const FrameOptions& opts, FrameStats* stats,
-                   const Device& device) {
+Image trace_render_with(const Scene& scene, const FrameOptions& opts, FrameStats* stats,
+                        const Device& device) {
   const TraceSettings settings = resolved(trace_settings(opts.params));
   const Camera cam = Camera::from_view(scene.view, opts.width, opts.height);
   const Stopwatch build_timer;

@@ -253,7 +253,7 @@ Family ray_cast_family() {
         auto device = std::make_shared<opt::embree::Device>();
         return [device](const Input& in, const FrameOptions& o, FrameStats* stats) {
           if (!device->handle) *device = opt::embree::Device::create();  // the session's first frame
-          return make_output<Image>(opt::embree::render(input_as<Scene>(in), o, stats, *device));
+          return make_output<Image>(opt::embree::render_with(input_as<Scene>(in), o, stats, *device));
         };
       };
   refuse_cones(f, {"reference"});

@@ -112,7 +112,7 @@ Family ray_trace_family() {
           if (!device->handle)
             *device = opt::embree::Device::create();  // the session's first frame
           return make_output<Image>(
-              opt::embree::trace_render(input_as<Scene>(in), o, stats, *device));
+              opt::embree::trace_render_with(input_as<Scene>(in), o, stats, *device));
         };
       };
   refuse_cones(f, {"reference"});

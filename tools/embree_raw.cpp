@@ -3,12 +3,13 @@
 //
 //   lockstep_embree_raw [--size N] [--reps R] SCENE.nff...
 //
-// For each scene (spheres only are compared: the balls scenes), one thread,
+// For each scene (the balls scenes: spheres and a ground polygon), one thread,
 // N x N (default 1024) primary rays, medians of R (default 7) runs, in turn
 // (raw, row, raw, row ...) so that the machine's load falls on both alike:
 //   raw: what Embree gives with nothing of lockstep around it: the spheres as
 //        RTC_GEOMETRY_TYPE_SPHERE_POINT (float4 centre + radius, moved into the
-//        eye's frame), default build quality and scene flags, rtcCommitScene
+//        eye's frame), the polygons' triangles as RTC_GEOMETRY_TYPE_TRIANGLE
+//        (no sidedness filter), default build quality and scene flags, rtcCommitScene
 //        timed alone (build_ms); primary rays in 8-ray packets (rows of 8
 //        pixels, RTC_INTERSECT_CONTEXT_FLAG_COHERENT) through rtcIntersect8,
 //        and one at a time through rtcIntersect1; no shading: the hit's geomID
@@ -73,6 +74,23 @@ void raw_build(Raw& r, const Scene& s, const Camera& cam) {
   rtcCommitGeometry(g);
   rtcAttachGeometry(r.scene, g);
   rtcReleaseGeometry(g);
+  // The polygons' triangles (the balls scenes' ground), as they come: no filter.
+  if (const unsigned nt = s.triangle_count()) {
+    RTCGeometry t = rtcNewGeometry(r.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* tv = static_cast<float*>(rtcSetNewGeometryBuffer(
+        t, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), s.vertex.size()));
+    auto* ti = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+        t, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), nt));
+    for (size_t k = 0; k < s.vertex.size(); ++k) {
+      const Vec3 p = s.vertex[k] - cam.eye;
+      tv[3 * k + 0] = float(p.x), tv[3 * k + 1] = float(p.y), tv[3 * k + 2] = float(p.z);
+    }
+    for (unsigned k = 0; k < nt; ++k)
+      for (int a = 0; a < 3; ++a) ti[3 * k + a] = s.tri_vertex[k][a];
+    rtcCommitGeometry(t);
+    rtcAttachGeometry(r.scene, t);
+    rtcReleaseGeometry(t);
+  }
   const Stopwatch w;
   rtcCommitScene(r.scene);
   r.build_ms = 1e3 * w.seconds();
@@ -186,7 +204,7 @@ int main(int argc, char** argv) {
           bb.push_back(1e3 * st.build_seconds);
           ru.push_back(ms - 1e3 * st.build_seconds);
           w = Stopwatch();
-          opt::embree::render(s, o, &st, device);
+          opt::embree::render_with(s, o, &st, device);
           rs.push_back(1e3 * w.seconds());
         }
         const double rays = double(size) * size;
