@@ -71,9 +71,10 @@ def main():
                  f"once per process; verify and the properties still make one per render), built-in spheres up to 1e6 "
                  f"radii from the eye (was 256: balls-4 and balls-5 went almost whole into a double-precision user "
                  f"geometry), RTC_SCENE_FLAG_ROBUST only with triangles, no sidedness filter on triangles every primary ray "
-                 f"sees from the front (the balls scenes' ground). Noise: this run shared the 2 cores with the full "
-                 f"ctest suite (rates 4x below a quieter run); a quieter run just before the triangle-filter change "
-                 f"gave row / raw8 64% (balls-1) and 76% (balls-3); a 10% target is within this machine's run-to-run "
+                 f"sees from the front (the balls scenes' ground). Noise: this run at load 12 (other helpers' builds); "
+                 f"one beside the full ctest suite (rates 4x lower) gave row / raw8 100 / 88 / 98%, build 1.15x, "
+                 f"one-shot / warm 1.18 / 2.29 / 1.14; one before the triangle-filter change 64% / 76% on balls-1 / "
+                 f"balls-3. A 10% target is within this machine's run-to-run "
                  f"spread under load, so read the ratios as +-15%. What is left on the small scenes is per-ray work "
                  f"outside Embree (the double camera ray, clear_packet, to_hit and the refinement, the image write): "
                  f"balls-1's 10 spheres cost Embree almost nothing to traverse."),
