@@ -87,6 +87,10 @@ struct FrameStats {
   // (painter: the cycles and interpenetrations it could not order); the CLI
   // prints each on stderr, the corpus report beside the case.
   std::vector<std::string> notes;
+  // Items by kind, where the family counts them apart (ray tracing: primary,
+  // shadow, reflect, refract rays; they add up to items); the benchmarks show
+  // each as a rate (<kind>_per_s).
+  std::vector<std::pair<std::string, uint64_t>> counts;
 };
 
 // ---------------------------------------------------------------- known failures
@@ -224,6 +228,7 @@ struct BenchInput {
   std::vector<std::pair<std::string, double>> counters;  // shown beside the rate
   bool heavy_for_reference = false;  // the reference runs this at a quarter of the size per side
   Params params;                     // the family's settings for this input (e.g. shading=flat)
+  bool reference = true;             // false: the reference is not timed on it (it would take minutes)
 };
 
 struct Family {

@@ -34,7 +34,8 @@ std::vector<ParamSpec> trace_params() {
        "fixed self-intersection offset along the normal, world units (default: the reference 1e-6, "
        "embree robust)"},
       {"robust", "", "",
-       "Waechter-Binder integer-ulp offset (Ray Tracing Gems ch. 6) in every implementation", true},
+       "Waechter-Binder integer-ulp offset (Ray Tracing Gems ch. 6) in every implementation, in "
+       "the ulps of its own arithmetic (reference: double; embree: float)", true},
       {"cutoff", "W in [0, 1]", "0.00390625",
        "rays whose accumulated weight is below W are not traced"},
   };

@@ -43,7 +43,9 @@
 // moved off the surface along the geometric normal, to the side the new ray
 // leaves on, and then counts hits from t = 0:
 //   fixed   by eps (world units), the textbook way;
-//   robust  by Waechter and Binder's integer-ulp offset (offset_robust below).
+//   robust  by Waechter and Binder's integer-ulp offset (offset_robust below),
+//           counted in the ulps of the arithmetic the intersector works in
+//           (embree: float, in the eye frame; the reference: double, world).
 // The default is each implementation's own: the reference fixed with eps =
 // 1e-6, embree robust.
 #pragma once
@@ -81,6 +83,23 @@ std::vector<ParamSpec> trace_params();
 // ---------------------------------------------------------------- the ray tree
 enum class RayKind : uint8_t { kPrimary, kShadow, kReflect, kRefract };
 const char* ray_kind_name(RayKind k);
+
+// Rays traced, by kind (FrameStats::counts: the benchmarks' primary_per_s ...).
+struct RayCounts {
+  uint64_t n[4] = {};
+  void add(RayKind k) { ++n[int(k)]; }
+  uint64_t total() const { return n[0] + n[1] + n[2] + n[3]; }
+  RayCounts& operator+=(const RayCounts& o) {
+    for (int k = 0; k < 4; ++k) n[k] += o.n[k];
+    return *this;
+  }
+  // items = every ray; counts = each kind by name.
+  void report(FrameStats* stats) const {
+    if (!stats) return;
+    stats->items = total();
+    stats->counts = {{"primary", n[0]}, {"shadow", n[1]}, {"reflect", n[2]}, {"refract", n[3]}};
+  }
+};
 
 // One ray of a pixel's tree, in the order they were traced (parents first).
 struct RayNode {
@@ -169,13 +188,43 @@ inline Vec3f offset_robust(const Vec3f& p, const Vec3f& n) {
   return out;
 }
 
+// The same method in double, for an intersector that works in double in world
+// coordinates (the reference): its hit points carry rounding errors of a few
+// double ulps of each coordinate, so the step is 256 double ulps of the
+// coordinate (int64 on the bit pattern), and near the origin (|p_i| < 1/32) a
+// fixed n_i 2^-45: the chapter's 2^-16 scaled by the ratio of the two
+// machine epsilons (2^-52 / 2^-23), as the ulp step is. The offset therefore
+// stays below 1e-6 world units up to |p_i| = 2^25 (256 ulps of 2^24 is
+// 2^-20), where the float method's is 0.016 already at |p_i| = 512 and 1 at
+// 2^15: larger than the gaps a double scene out there can hold.
+inline Vec3 offset_robust(const Vec3& p, const Vec3& n) {
+  constexpr double kOrigin = 1.0 / 32, kFloatScale = 0x1p-45, kIntScale = 256;
+  Vec3 out;
+  for (int a = 0; a < 3; ++a) {
+    const int64_t step = int64_t(kIntScale * n[a]);
+    const int64_t bits = std::bit_cast<int64_t>(p[a]) + (p[a] < 0 ? -step : step);
+    out[a] = std::fabs(p[a]) < kOrigin ? p[a] + kFloatScale * n[a] : std::bit_cast<double>(bits);
+  }
+  return out;
+}
+
+// Which arithmetic the intersector that will trace a ray works in, and so
+// which ulps the robust offset counts: float (embree: Embree traverses the
+// float coordinates of the eye frame) or double (the reference, world
+// coordinates).
+enum class Arith : uint8_t { kFloat, kDouble };
+
 // Where a ray leaving the hit p in direction dir starts: p moved off the
 // surface along the outward geometric normal ng, to dir's side, by eps
-// (Offset::kFixed) or by offset_robust (Offset::kRobust; p and ng rounded to
-// float first, as the chapter works). The caller resolves Offset::kOwn.
-inline Vec3 ray_start(const Vec3& p, const Vec3& ng, const Vec3& dir, const TraceSettings& s) {
+// (Offset::kFixed) or by offset_robust (Offset::kRobust) in the intersector's
+// arithmetic (kFloat: p and ng rounded to float first, as the chapter works).
+// The caller resolves Offset::kOwn.
+inline Vec3 ray_start(const Vec3& p, const Vec3& ng, const Vec3& dir, const TraceSettings& s,
+                      Arith arith) {
   const Vec3 side = dot(dir, ng) >= 0 ? ng : -ng;
-  if (s.offset == Offset::kRobust) return Vec3(offset_robust(Vec3f(p), Vec3f(side)));
+  if (s.offset == Offset::kRobust)
+    return arith == Arith::kFloat ? Vec3(offset_robust(Vec3f(p), Vec3f(side)))
+                                  : offset_robust(p, side);
   return p + s.eps * side;
 }
 

@@ -36,16 +36,30 @@ struct ErrorLog {
   std::string first;  // empty: nothing reported
 };
 
+// An Embree device, shared: copies refer to one RTCDevice, released with the
+// last copy. Making one costs about as much as a small scene's BVH (tens of
+// ms in a fresh process: Embree's start-up, its ISA dispatch and TBB's
+// arena; tools/embree_raw.cpp measures it), so a process keeps one and passes
+// it to every build (BuildOptions::device): the benchmarks through the embree
+// rows' sessions (pairs/ray_cast.cpp, pairs/ray_trace.cpp), the CLI by
+// rendering once per process. Default-constructed: no device (build_scene
+// then makes its own, as before).
 struct Device {
-  ErrorLog log;
+  struct State {
+    ErrorLog log;
+    RTCDevice handle = nullptr;
+    ~State() {
+      if (handle) rtcReleaseDevice(handle);
+    }
+  };
+  std::shared_ptr<State> state;
   RTCDevice handle = nullptr;
 
-  Device();  // throws std::runtime_error when Embree cannot make one
-  ~Device() { rtcReleaseDevice(handle); }
-  Device(const Device&) = delete;
-  Device& operator=(const Device&) = delete;
+  // A new device; throws std::runtime_error when Embree cannot make one.
+  static Device create();
 
-  // Throws if the device has reported anything since it was created.
+  // Throws if the device has reported anything since the last check (or its
+  // creation), and forgets it: one bad build does not poison the next.
   void check(const char* during);
 };
 
@@ -92,6 +106,8 @@ struct BuildOptions {
   // Spheres are solids (ray tracing, core/ray_trace.h): no sidedness filter, a
   // ray meets the first root in range from inside or outside.
   bool solid_spheres = false;
+  // The device to build on (a session's, shared across frames); empty: a new one.
+  Device device;
 };
 
 // Device, geometry and BVH for the scene in the given frame. Builds in the

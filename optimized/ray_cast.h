@@ -24,8 +24,16 @@ const char* target_name();
 }  // namespace opt::simd
 
 namespace opt::embree {
+struct Device;  // optimized/embree_scene.h
 void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, FrameStats* stats);
+// Without a device: a new one for this frame (the CLI's one render per process).
 Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats);
+// On a device kept across frames (a session's).
+Image render_with(const Scene& scene, const FrameOptions& opts, FrameStats* stats,
+                  const Device& device);
+// The same traversal with shading off: each pixel's t, grey (tools/embree_raw.cpp).
+Image render_unshaded(const Scene& scene, const FrameOptions& opts, FrameStats* stats,
+                      const Device& device);
 }  // namespace opt::embree
 
 namespace opt::autosel {

@@ -110,7 +110,12 @@ void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, F
   }
 }
 
-Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
+namespace {
+
+// The frame; shade = false: the hits only (tools/embree_raw.cpp compares that
+// with raw Embree), each pixel's refined t written as its grey level.
+Image render_frame(const Scene& scene, const FrameOptions& opts, FrameStats* stats, const Device& device,
+                   bool shade) {
   const Camera cam = Camera::from_view(scene.view, opts.width, opts.height);
   // The camera's own frame: eye at the origin, x right, y up, z forward, so a
   // primary ray is (sx, sy, 1) normalised, with its small components exact.
@@ -125,7 +130,9 @@ Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
     reach = std::max(reach, cam.hither * length(cam.camera_dir(i, j)));
   // The BVH build honours opts.threads too: Embree's TBB tasking builds in the
   // calling thread's arena.
-  tbb::task_arena(resolve_threads(opts.threads)).execute([&] { es = build_scene(scene, frame, {.eye_reach = reach}); });
+  tbb::task_arena(resolve_threads(opts.threads)).execute([&] {
+    es = build_scene(scene, frame, {.eye_reach = reach, .device = device});
+  });
   const double build = build_timer.seconds();
 
   const ShadeScene shading = prepare_shading(scene, frame);
@@ -161,8 +168,16 @@ Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
                         kInfinity};
           Hit h = to_hit(*es, scene, rh, k, 1.0, 0.0);
           refine_far_sphere_hit(scene, ray, h);
+          if (!shade) {
+            {
+              const double g = h.hit() ? h.t : 0.0;
+              image.set(i0 + k, j, Vec3{g, g, g});
+            }
+            continue;
+          }
           fill_lane(scene, frame, ray, h, sp, k);
         }
+        if (!shade) continue;
         for (int k = count; k < kPacket; ++k) sp.hit[k] = 0;
         shade_packet(shading, sp);
         for (int k = 0; k < count; ++k) image.set(i0 + k, j, Vec3{sp.r[k], sp.g[k], sp.b[k]});
@@ -176,6 +191,20 @@ Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
     stats->items = uint64_t(opts.width) * uint64_t(opts.height);
   }
   return image;
+}
+
+}  // namespace
+
+Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
+  return render_frame(scene, opts, stats, Device(), true);
+}
+
+Image render_with(const Scene& scene, const FrameOptions& opts, FrameStats* stats, const Device& device) {
+  return render_frame(scene, opts, stats, device, true);
+}
+
+Image render_unshaded(const Scene& scene, const FrameOptions& opts, FrameStats* stats, const Device& device) {
+  return render_frame(scene, opts, stats, device, false);
 }
 
 }  // namespace lockstep::opt::embree

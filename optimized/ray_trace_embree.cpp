@@ -52,7 +52,7 @@ struct Tracer {
   const EmbreeScene& es;
   const TraceSettings& settings;
   RayTree* tree = nullptr;
-  uint64_t rays = 0;
+  RayCounts rays;
   RTCIntersectContext context;
 
   Tracer(const Scene& s, const EmbreeScene& e, const TraceSettings& t, RayTree* r)
@@ -96,7 +96,7 @@ struct Tracer {
 
   Vec3 trace(const Vec3& o, const Vec3& d, double tnear, RayKind kind, int depth, double weight,
              int parent, bool entering) {
-    ++rays;
+    rays.add(kind);
     const int me = record(tree, RayNode{kind,
                                         parent,
                                         depth,
@@ -131,10 +131,10 @@ struct Tracer {
       if (dot(n, ls.l) <= 0) continue;
       const Vec3 term = phong_light(m, n, -d, ls);
       if (settings.shadows) {
-        const Vec3 so = ray_start(q, ng, ls.l, settings);
+        const Vec3 so = ray_start(q, ng, ls.l, settings, Arith::kFloat);
         const Vec3 to_light = (scene.lights[k].position - es.frame.origin) - so;
         const double dist = length(to_light);
-        ++rays;
+        rays.add(RayKind::kShadow);
         const bool dark = occluded(so, to_light / dist, dist);
         record(tree, RayNode{RayKind::kShadow,
                              me,
@@ -155,16 +155,16 @@ struct Tracer {
     const double kr = std::min(1.0, m.ks);
     if (kr > 0 && weight * kr >= settings.cutoff) {
       const Vec3 r = reflect(d, n);
-      color += kr * trace(ray_start(q, ng, r, settings), r, 0.0, RayKind::kReflect, depth + 1,
-                          weight * kr, me, false);
+      color += kr * trace(ray_start(q, ng, r, settings, Arith::kFloat), r, 0.0, RayKind::kReflect,
+                          depth + 1, weight * kr, me, false);
     }
     const double kt = std::min(1.0, m.transmittance);
     if (kt > 0 && weight * kt >= settings.cutoff) {
       const bool entering = dot(d, ng) < 0;
       Vec3 t;
       if (refract(d, n, entering ? 1.0 / m.ior : m.ior, t))
-        color += kt * trace(ray_start(q, ng, t, settings), t, 0.0, RayKind::kRefract, depth + 1,
-                            weight * kt, me, entering);
+        color += kt * trace(ray_start(q, ng, t, settings, Arith::kFloat), t, 0.0, RayKind::kRefract,
+                            depth + 1, weight * kt, me, entering);
       else
         record(tree, tir_node(me, depth + 1, p, d, weight * kt, entering));
     }
@@ -178,13 +178,14 @@ struct Tracer {
   }
 };
 
-std::unique_ptr<EmbreeScene> build(const Scene& scene, const Camera& cam, int threads) {
+std::unique_ptr<EmbreeScene> build(const Scene& scene, const Camera& cam, int threads,
+                                   const Device& device = Device()) {
   Frame frame;
   frame.origin = cam.eye;
   std::unique_ptr<EmbreeScene> es;
   // Embree's TBB tasking builds in the calling thread's arena.
   tbb::task_arena(resolve_threads(threads)).execute([&] {
-    es = build_scene(scene, frame, {.solid_spheres = true});
+    es = build_scene(scene, frame, {.solid_spheres = true, .device = device});
   });
   return es;
 }
@@ -203,25 +204,30 @@ Vec3 trace_pixel(const Scene& scene, const TraceSettings& settings, int width, i
 }
 
 Image trace_render(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
+  return trace_render_with(scene, opts, stats, Device());
+}
+
+Image trace_render_with(const Scene& scene, const FrameOptions& opts, FrameStats* stats,
+                        const Device& device) {
   const TraceSettings settings = resolved(trace_settings(opts.params));
   const Camera cam = Camera::from_view(scene.view, opts.width, opts.height);
   const Stopwatch build_timer;
-  const auto es = build(scene, cam, opts.threads);
+  const auto es = build(scene, cam, opts.threads, device);
   const double build_seconds = build_timer.seconds();
   Image image(opts.width, opts.height);
-  std::atomic<uint64_t> rays{0};
+  std::atomic<uint64_t> by_kind[4] = {};
   parallel_tiles(opts.width, opts.height, 16, 16, opts.threads, opts.progress,
                  [&](int x0, int y0, int x1, int y1) {
                    Tracer tracer(scene, *es, settings, nullptr);
                    for (int j = y0; j < y1; ++j)
                      for (int i = x0; i < x1; ++i) image.set(i, j, tracer.pixel(cam, i, j));
-                   rays += tracer.rays;
+                   for (int k = 0; k < 4; ++k) by_kind[k] += tracer.rays.n[k];
                  });
   es->device.check("rtcIntersect1");
-  if (stats) {
-    stats->build_seconds = build_seconds;
-    stats->items = rays;
-  }
+  RayCounts rays;
+  for (int k = 0; k < 4; ++k) rays.n[k] = by_kind[k];
+  rays.report(stats);
+  if (stats) stats->build_seconds = build_seconds;
   return image;
 }
 

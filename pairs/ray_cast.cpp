@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/output_image.h"
+#include "optimized/embree_scene.h"
 #include "optimized/ray_cast.h"
 #include "pairs/loaders.h"
 #include "pairs/ray_cast_judges.h"
@@ -244,6 +245,17 @@ Family ray_cast_family() {
     if (i.name == "embree") t.peer = "Embree 3";
     f.impls.push_back(erase(t));
   }
+  // The benchmarks keep one Embree device across frames, as an application
+  // does (optimized/embree_scene.h Device): a session owns it.
+  for (FamilyImpl& impl : f.impls)
+    if (impl.name == "embree")
+      impl.session = [] {
+        auto device = std::make_shared<opt::embree::Device>();
+        return [device](const Input& in, const FrameOptions& o, FrameStats* stats) {
+          if (!device->handle) *device = opt::embree::Device::create();  // the session's first frame
+          return make_output<Image>(opt::embree::render_with(input_as<Scene>(in), o, stats, *device));
+        };
+      };
   refuse_cones(f, {"reference"});
   f.judges = {judge(ray_cast_judges::JudgeKind::kDisk, "disk", "one sphere seen from outside: its exact disk"),
               judge(ray_cast_judges::JudgeKind::kConvex, "convex", "a closed convex solid: slab clipping")};

@@ -76,10 +76,10 @@ struct Tracer {
   const Scene& scene;
   const TraceSettings& settings;
   RayTree* tree = nullptr;
-  uint64_t rays = 0;
+  RayCounts rays;
 
   Vec3 trace(const Ray& ray, RayKind kind, int depth, double weight, int parent, bool entering) {
-    ++rays;
+    rays.add(kind);
     const int me = record(tree, RayNode{kind,
                                         parent,
                                         depth,
@@ -117,11 +117,11 @@ struct Tracer {
       if (dot(n, ls.l) <= 0) continue;  // the light is behind the surface: nothing to test
       const Vec3 term = phong_light(m, n, -d, ls);
       if (settings.shadows) {
-        const Vec3 o = ray_start(p, ng, ls.l, settings);
+        const Vec3 o = ray_start(p, ng, ls.l, settings, Arith::kDouble);
         const Vec3 to_light = scene.lights[k].position - o;
         const double dist = length(to_light);
         const Ray shadow{o, to_light / dist, 0.0, dist};
-        ++rays;
+        rays.add(RayKind::kShadow);
         Hit blocker;
         const bool dark = blocked(scene, shadow, &blocker);
         record(tree, RayNode{RayKind::kShadow, me, depth, shadow.o, shadow.d, dist, blocker, weight,
@@ -136,8 +136,8 @@ struct Tracer {
     const double kr = std::min(1.0, m.ks);
     if (kr > 0 && weight * kr >= settings.cutoff) {
       const Vec3 r = reflect(d, n);
-      color += kr * trace(Ray{ray_start(p, ng, r, settings), r}, RayKind::kReflect, depth + 1,
-                          weight * kr, me, false);
+      color += kr * trace(Ray{ray_start(p, ng, r, settings, Arith::kDouble), r}, RayKind::kReflect,
+                          depth + 1, weight * kr, me, false);
     }
     // Refraction: Snell's law, entering or leaving by the side the ray comes from.
     const double kt = std::min(1.0, m.transmittance);
@@ -146,8 +146,8 @@ struct Tracer {
       const double eta = entering ? 1.0 / m.ior : m.ior;
       Vec3 t;
       if (refract(d, n, eta, t)) {
-        color += kt * trace(Ray{ray_start(p, ng, t, settings), t}, RayKind::kRefract, depth + 1,
-                            weight * kt, me, entering);
+        color += kt * trace(Ray{ray_start(p, ng, t, settings, Arith::kDouble), t},
+                            RayKind::kRefract, depth + 1, weight * kt, me, entering);
       } else {
         record(tree, tir_node(me, depth + 1, p, d, weight * kt, entering));
       }
@@ -163,7 +163,7 @@ TraceSettings resolved(TraceSettings s) {
 }
 
 Vec3 pixel(const Scene& scene, const TraceSettings& settings, const Camera& camera, int x, int y,
-           RayTree* tree, uint64_t* rays) {
+           RayTree* tree, RayCounts* rays) {
   Tracer tracer{scene, settings, tree};
   const Vec3 c = tracer.trace(camera.primary(x, y), RayKind::kPrimary, 1, 1.0, -1, false);
   if (rays) *rays += tracer.rays;
@@ -182,13 +182,13 @@ Image trace_render(const Scene& scene, const FrameOptions& opts, FrameStats* sta
   const TraceSettings settings = resolved(trace_settings(opts.params));
   const Camera camera = Camera::from_view(scene.view, opts.width, opts.height);
   Image image(opts.width, opts.height);
-  uint64_t rays = 0;
+  RayCounts rays;
   for (int j = 0; j < opts.height; ++j) {
     for (int i = 0; i < opts.width; ++i)
       image.set(i, j, pixel(scene, settings, camera, i, j, nullptr, &rays));
     if (opts.progress) opts.progress(double(j + 1) / opts.height);
   }
-  if (stats) stats->items = rays;
+  rays.report(stats);
   return image;
 }
 

@@ -11,7 +11,8 @@ STUDY_CSV is the output of `lockstep_raytrace_study` (props/ray_trace/study.cpp)
                       samples) against the fixed offset eps, one curve per
                       distance D of the scene from the origin; panels: embree
                       (float, eye frame), reference (double, world), and the
-                      robust offset (Waechter-Binder) of both against D
+                      robust offset (Waechter-Binder, in float ulps for embree,
+                      double ulps for the reference) of both against D
 Writes JSON_OUT (a lockstep-table/1 file that BENCHMARKS.md renders) when
 given, through JSON_OUT.tmp and a rename; prints the markdown table.
 """
@@ -87,6 +88,8 @@ def write_json(rows, path):
     ds = sorted({r["d"] for r in rows})
     robust = [r for r in rows if r["impl"] == "embree" and r["offset"] == "robust"]
     wrong = sum(r["acne"] + r["leak"] for r in robust)
+    ref_robust = [r for r in rows if r["impl"] == "reference" and r["offset"] == "robust"]
+    ref_wrong = sum(r["acne"] + r["leak"] for r in ref_robust)
     failing = sorted({r["eps"] for r in rows if r["offset"] == "fixed" and r["acne"] + r["leak"] > 0})
     every_d_fails = all(any(r["d"] == d and r["offset"] == "fixed" and r["acne"] + r["leak"] > 0 for r in rows)
                         for d in ds)
@@ -109,10 +112,12 @@ def write_json(rows, path):
                  f"eps up to about 1e-17 D (1e-14 at D = 1e3 .. 1e-10 at D = 1e7): an eps right at D = 1 is wrong "
                  f"further out; on the tilted plane its rounding leans one way per D, so acne there comes all at "
                  f"once or not at all (28% at D = 1e4, 25% at 1e6, none at 1e5 and 1e7). Any eps at or above the "
-                 f"occluder's 0.01 leaks, at every D. The reference's robust=1 rounds world coordinates to float "
-                 f"before its 256-ulp step, so from D = 1e3 the step exceeds the 0.01 gap and it leaks (every "
-                 f"shadowed sample from D = 1e5): the robust method belongs in the intersector's own float frame, "
-                 f"which is embree's. The study's claims run in the ctest raytrace_study.quick; "
+                 f"occluder's 0.01 leaks, at every D. The robust offset (Waechter-Binder: 256 ulps of each hit coordinate "
+                 f"along the normal) counts ulps of each implementation's own arithmetic (core/ray_trace.h "
+                 f"offset_robust): float in embree's eye frame, double in the reference's world coordinates (robust=1; "
+                 f"until issue #22's fix it rounded world coordinates to float first, so from D = 1e3 its step exceeded "
+                 f"the 0.01 gap and it leaked, every shadowed sample from D = 1e5). Both are right on every sample at "
+                 f"every D, including every D where some fixed eps fails. The study's claims run in the ctest raytrace_study.quick; "
                  f"raytrace_study.mutant shows that a zero offset is caught."),
         "chart": ["raytrace_acne.png", "shadow acne and light leaking against eps and distance"],
         "columns": cols,
@@ -121,6 +126,9 @@ def write_json(rows, path):
             {"text": "robust offset (embree): zero acne and zero leaks at every distance",
              "measured": f"{wrong} wrong answers over D = {ds[0]:.0e} .. {ds[-1]:.0e}" if ds else "no data",
              "met": bool(robust) and wrong == 0},
+            {"text": "robust offset (reference, robust=1, double ulps): zero acne and zero leaks at every distance",
+             "measured": f"{ref_wrong} wrong answers over D = {ds[0]:.0e} .. {ds[-1]:.0e}" if ds else "no data",
+             "met": bool(ref_robust) and ref_wrong == 0},
             {"text": "a fixed eps fails at every distance (the map shows a failure)",
              "measured": f"failing eps: {', '.join(f'{e:.0e}' for e in failing)}",
              "met": every_d_fails},
@@ -176,9 +184,9 @@ set title "embree (float, eye frame), fixed eps"
 plot {panel("embree")}
 set title "reference (double, world), fixed eps"
 plot {panel("reference")}
-set title "robust offset (Waechter-Binder, 256 ulps)"
+set title "robust offset (Waechter-Binder, 256 ulps of each one's arithmetic)"
 set xlabel "distance D of the scene from the origin"; set format x "1e%L"
-plot '{dat}' index {k} using 1:2 with linespoints lw 2 title 'embree robust', '' index {k + 1} using 1:2 with linespoints title 'reference robust=1 (float world coords)'
+plot '{dat}' index {k} using 1:2 with linespoints lw 2 title 'embree robust', '' index {k + 1} using 1:2 with linespoints title 'reference robust=1 (double ulps, world)'
 unset multiplot
 """)
 
