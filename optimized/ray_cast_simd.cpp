@@ -13,6 +13,12 @@
 //    opt::parallel_tiles (optimized/tiling.h), each tile culled to the
 //    primitives its cone of rays can reach (optimized/cone_cull.h), shaded 8 at
 //    a time (optimized/shade_simd.h).
+// NFF cones ('c') are not in the float kernels: after the packet, each ray is
+// tested against every cone in double with the careful root form
+// (optimized/ray_cone.h: a bounding-sphere rejection first), and a nearer cone
+// replaces the kernel's hit. Scalar, per ray, every cone: the SPD scenes have
+// 7 to 54 cones; a scene with thousands would want the cones in the per-tile
+// culling and a SIMD kernel (not done).
 // Preparing the float scene is optimized/simd_scene.cpp.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -24,6 +30,7 @@
 #include "optimized/cone_cull.h"
 #include "optimized/ray_cast.h"
 #include "optimized/ray_cast_simd_kernels.h"
+#include "optimized/ray_cone.h"
 #include "optimized/refine.h"
 #include "optimized/shade_simd.h"
 #include "optimized/simd_scene.h"
@@ -164,6 +171,25 @@ void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, F
                       trace_prepared(s, all, rays.subspan(lo, hi - lo), hits.subspan(lo, hi - lo));
                     });
   for (size_t i = 0; i < rays.size(); ++i) refine_hit(scene, rays[i], hits[i]);
+  // Cones, in double, in world coordinates (the rays' own).
+  if (scene.cone_count() > 0) {
+    const std::vector<ConeShape> cones = cone_shapes(scene, [](const Vec3& p) { return p; });
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 512), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i < r.end(); ++i) {
+        const Ray& ray = rays[i];
+        if (!is_finite(ray.o) || !is_finite(ray.d) || !(length(ray.d) > 0) || std::isnan(ray.tmin)) continue;
+        Hit& h = hits[i];
+        for (uint32_t c = 0; c < cones.size(); ++c) {
+          const double t = cone_nearest(cones[c], ray.o, ray.d, ray.tmin, std::min(ray.tmax, h.t), false);
+          if (t < std::min(ray.tmax, h.t)) {
+            h.t = t;
+            h.prim = scene.cone_first_prim() + c;
+            h.tri = Hit::kNoHit;
+          }
+        }
+      }
+    });
+  }
   if (stats) {
     stats->items = rays.size();
   }
@@ -176,6 +202,8 @@ Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   const SimdScene s = prepare_scene(scene, frame, true);
   const ConeBounds cb = cone_bounds(s);
   const ShadeScene shading = prepare_shading(scene, frame);
+  // Cones in the camera frame, where the primary rays are (0, unit).
+  const std::vector<ConeShape> cones = cone_shapes(scene, [&](const Vec3& q) { return frame.point(q); });
   Image image(opts.width, opts.height);
   constexpr int kTileW = 32, kTileH = 8;
   // One tile: the scratch lives on the stack of the thread that runs it.
@@ -206,6 +234,14 @@ Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
           const Vec3& u = unit[k];
           const Ray ray{cam.eye, u.x * cam.right + u.y * cam.up + u.z * cam.forward, 0.0, kInfinity};
           Hit h = to_hit(s, out.t[k], out.id[k], 1.0);
+          for (uint32_t c = 0; c < cones.size(); ++c) {
+            const double t = cone_nearest(cones[c], Vec3{0, 0, 0}, u, double(p.tmin[k]), h.t, false);
+            if (t < h.t) {
+              h.t = t;
+              h.prim = scene.cone_first_prim() + c;
+              h.tri = Hit::kNoHit;
+            }
+          }
           refine_far_sphere_hit(scene, ray, h);
           fill_lane(scene, frame, ray, h, sp, k);
         }

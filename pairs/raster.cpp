@@ -123,7 +123,6 @@ Family zbuffer_family() {
     impls.push_back({"llvmpipe", opt::llvmpipe::zbuffer, 0, {"coverage", 3e-5, "pixel"}, "Mesa llvmpipe (OSMesa)",
                      true, opt::llvmpipe::unsupported});
   f.impls = erase_all<Scene>(impls);
-  refuse_cones(f, {});  // no rasterizer tessellates cones yet
   // The benchmarks time llvmpipe with its context kept across frames, as an
   // application keeps its GL context (the first frame, context and shader
   // compilation, is their first_ms); `render` and `verify` draw one frame.
@@ -159,7 +158,6 @@ Family scanline_family() {
       {"simd", opt::simd::scanline, 1.0 / 255},
   };
   f.impls = erase_all<Scene>(impls);
-  refuse_cones(f, {});  // no rasterizer tessellates cones yet
   f.properties = {"cross_check", "supersampling", "scanline", "interpolation"};
   return f;
 }
@@ -179,7 +177,6 @@ Family painter_family() {
       {"simd", opt::simd::painter, 0},
   };
   f.impls = erase_all<Scene>(impls);
-  refuse_cones(f, {});  // no rasterizer tessellates cones yet
   f.properties = {"painter"};
   f.default_impl = "simd";
   return f;

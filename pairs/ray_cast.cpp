@@ -244,7 +244,6 @@ Family ray_cast_family() {
     if (i.name == "embree") t.peer = "Embree 3";
     f.impls.push_back(erase(t));
   }
-  refuse_cones(f, {"reference"});
   f.judges = {judge(ray_cast_judges::JudgeKind::kDisk, "disk", "one sphere seen from outside: its exact disk"),
               judge(ray_cast_judges::JudgeKind::kConvex, "convex", "a closed convex solid: slab clipping")};
   f.bench = spd_frames;

@@ -94,7 +94,6 @@ Family ray_trace_family() {
     if (i.name == "embree") t.peer = "Embree 3";
     f.impls.push_back(erase(t));
   }
-  refuse_cones(f, {"reference"});
   f.bench = bench_frames;
   f.properties = {"laws", "slab", "tir", "weights", "hidden", "agree"};
   f.params = trace_params();
