@@ -21,6 +21,7 @@
 //
 // Occlusion (shadow rays) sees every surface from both sides, as the
 // reference ray tracer's shadow test does (reference/ray_trace.cpp).
+#include <algorithm>
 #include <cmath>
 
 #include "optimized/embree_scene.h"
@@ -30,16 +31,27 @@ namespace lockstep::opt::embree {
 
 namespace {
 
-// The bounding sphere's box, padded by a few float ulps of the coordinates'
+// The cone's own box: each end disc of radius r about a unit axis u reaches
+// r sqrt(1 - u_k^2) along axis k, and the side lies in the hull of the two
+// discs (a long thin tube across the axes gets a box far tighter than its
+// bounding sphere's). Padded by a few float ulps of the coordinates'
 // magnitude so that rounding the box to float cannot cut the cone.
 void cone_bounds(const RTCBoundsFunctionArguments* args) {
   const auto& data = *static_cast<const ConeGeomData*>(args->geometryUserPtr);
   const ConeShape& c = data.shape[args->primID];
-  const Vec3& m = c.centre;
-  const double pad = c.bound + 4e-7 * (std::abs(m.x) + std::abs(m.y) + std::abs(m.z) + c.bound) + 1e-30;
+  const Vec3 u = normalize(c.apex - c.base);
+  float lo[3], hi[3];
+  for (int k = 0; k < 3; ++k) {
+    const double reach = std::sqrt(std::max(0.0, 1 - u[k] * u[k]));
+    const double a0 = c.base[k] - c.r0 * reach, a1 = c.apex[k] - c.r1 * reach;
+    const double b0 = c.base[k] + c.r0 * reach, b1 = c.apex[k] + c.r1 * reach;
+    const double pad = 4e-7 * (std::abs(c.base[k]) + std::abs(c.apex[k]) + c.r0 + c.r1) + 1e-30;
+    lo[k] = float(std::min(a0, a1) - pad);
+    hi[k] = float(std::max(b0, b1) + pad);
+  }
   RTCBounds* b = args->bounds_o;
-  b->lower_x = float(m.x - pad), b->lower_y = float(m.y - pad), b->lower_z = float(m.z - pad);
-  b->upper_x = float(m.x + pad), b->upper_y = float(m.y + pad), b->upper_z = float(m.z + pad);
+  b->lower_x = lo[0], b->lower_y = lo[1], b->lower_z = lo[2];
+  b->upper_x = hi[0], b->upper_y = hi[1], b->upper_z = hi[2];
 }
 
 // The nearest visible root of lane i in its (tnear, tfar), from the float ray

@@ -16,9 +16,9 @@
 // NFF cones ('c') are not in the float kernels: after the packet, each ray is
 // tested against every cone in double with the careful root form
 // (optimized/ray_cone.h: a bounding-sphere rejection first), and a nearer cone
-// replaces the kernel's hit. Scalar, per ray, every cone: the SPD scenes have
-// 7 to 54 cones; a scene with thousands would want the cones in the per-tile
-// culling and a SIMD kernel (not done).
+// replaces the kernel's hit. Scalar, per ray; render() tests only the cones
+// whose bounding spheres survive the tile's culling (trace() tests every
+// cone). The SPD scenes have 7 to 54 cones; a SIMD cone kernel is not written.
 // Preparing the float scene is optimized/simd_scene.cpp.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -202,8 +202,14 @@ Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   const SimdScene s = prepare_scene(scene, frame, true);
   const ConeBounds cb = cone_bounds(s);
   const ShadeScene shading = prepare_shading(scene, frame);
-  // Cones in the camera frame, where the primary rays are (0, unit).
+  // Cones in the camera frame, where the primary rays are (0, unit), and their
+  // bounding spheres for the same per-tile culling as the primitives'.
   const std::vector<ConeShape> cones = cone_shapes(scene, [&](const Vec3& q) { return frame.point(q); });
+  SimdScene cone_balls;
+  cone_balls.frame = frame;
+  for (uint32_t c = 0; c < scene.cone_count(); ++c)
+    cone_balls.add_sphere(0.5 * (scene.cone_base[c] + scene.cone_apex[c]), cones[c].bound, c);
+  const ConeBounds cone_cb = cone_bounds(cone_balls);
   Image image(opts.width, opts.height);
   constexpr int kTileW = 32, kTileH = 8;
   // One tile: the scratch lives on the stack of the thread that runs it.
@@ -213,6 +219,8 @@ Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
     ShadePacket sp{};
     Candidates cand;
     cull_tile(s, cb, cam, x0, x1, y0, y1, cand);
+    Candidates cone_cand;  // .spheres: the cones the tile's rays may meet
+    if (!cones.empty()) cull_tile(cone_balls, cone_cb, cam, x0, x1, y0, y1, cone_cand);
     for (int j = y0; j < y1; ++j) {
       for (int i0 = x0; i0 < x1; i0 += kPacket) {
         p.count = std::min(kPacket, opts.width - i0);
@@ -234,7 +242,7 @@ Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
           const Vec3& u = unit[k];
           const Ray ray{cam.eye, u.x * cam.right + u.y * cam.up + u.z * cam.forward, 0.0, kInfinity};
           Hit h = to_hit(s, out.t[k], out.id[k], 1.0);
-          for (uint32_t c = 0; c < cones.size(); ++c) {
+          for (const uint32_t c : cone_cand.spheres) {
             const double t = cone_nearest(cones[c], Vec3{0, 0, 0}, u, double(p.tmin[k]), h.t, false);
             if (t < h.t) {
               h.t = t;
