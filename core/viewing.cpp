@@ -397,8 +397,8 @@ void view_polygons(const Scene& scene, const RasterSettings& s, uint32_t first, 
 // error is at most R (1 - cos(pi / N)), R = max(r0, r1) / (z_near pitch), and
 // N is the smallest count that keeps it below tess_error (3..512: a sphere's
 // 256 rings have 512 meridians).
-int cone_segments(double r0, double r1, double base_z, double apex_z, const Camera& cam, double near_z,
-                  double tess_error) {
+int cone_segments(double r0, double r1, double base_z, double apex_z, const Camera& cam,
+                  double near_z, double tess_error) {
   constexpr int kMin = 3, kMax = 512;
   const double r = std::max(r0, r1);
   const double z_near = std::max(std::min(base_z - r0, apex_z - r1), near_z);
@@ -408,7 +408,8 @@ int cone_segments(double r0, double r1, double base_z, double apex_z, const Came
   return std::clamp(int(std::ceil(M_PI / max_angle)), kMin, kMax);
 }
 
-ConeMesh tessellate_cone(const Vec3& base, double r0, const Vec3& apex, double r1, bool inside, int segments) {
+ConeMesh tessellate_cone(const Vec3& base, double r0, const Vec3& apex, double r1, bool inside,
+                         int segments) {
   ConeMesh m;
   const Vec3 axis = apex - base;
   const double h = length(axis);
@@ -416,7 +417,7 @@ ConeMesh tessellate_cone(const Vec3& base, double r0, const Vec3& apex, double r
   // Two unit vectors across the axis (any pair: the cone is round).
   const Vec3 a = normalize(std::abs(u.x) < 0.9 ? cross(u, Vec3{1, 0, 0}) : cross(u, Vec3{0, 1, 0}));
   const Vec3 b = cross(u, a);
-  const double k = (r1 - r0) / h;   // the slope: the radius grows by k per unit of height
+  const double k = (r1 - r0) / h;  // the slope: the radius grows by k per unit of height
   const double scale = 1 / std::sqrt(1 + k * k);
   // The side's normal at longitude phi is (radial - k u) / sqrt(1 + k^2), the
   // same at every height (core/shading.cpp's cone gradient, normalised).
@@ -453,7 +454,8 @@ ConeMesh tessellate_cone(const Vec3& base, double r0, const Vec3& apex, double r
   return m;
 }
 
-void view_cones(const Scene& scene, const RasterSettings& s, uint32_t first, uint32_t last, ScreenMesh& mesh) {
+void view_cones(const Scene& scene, const RasterSettings& s, uint32_t first, uint32_t last,
+                ScreenMesh& mesh) {
   const Camera& cam = mesh.camera;
   Emitter emit{scene, s, mesh, {mesh.near_z, kGuardBand * cam.pitch}};
   for (uint32_t k = first; k < last; ++k) {
@@ -461,19 +463,21 @@ void view_cones(const Scene& scene, const RasterSettings& s, uint32_t first, uin
     const double r0 = scene.cone_r0[k], r1 = scene.cone_r1[k];
     // Outside the view: the ball around the axis' midpoint that holds both end discs.
     const double half = 0.5 * length(apex - base), rmax = std::max(r0, r1);
-    if (sphere_outside(cam, eye_from_world(cam, 0.5 * (base + apex)), std::sqrt(half * half + rmax * rmax),
-                       mesh.near_z))
+    if (sphere_outside(cam, eye_from_world(cam, 0.5 * (base + apex)),
+                       std::sqrt(half * half + rmax * rmax), mesh.near_z))
       continue;
-    const int n = cone_segments(r0, r1, eye_from_world(cam, base).z, eye_from_world(cam, apex).z, cam, mesh.near_z,
-                                s.tess_error);
+    const int n = cone_segments(r0, r1, eye_from_world(cam, base).z, eye_from_world(cam, apex).z,
+                                cam, mesh.near_z, s.tess_error);
     const ConeMesh cm = tessellate_cone(base, r0, apex, r1, scene.cone_inside[k] != 0, n);
     const uint32_t prim = scene.cone_first_prim() + k;
     const Material& m = scene.materials[scene.cone_material[k]];
     std::vector<EyeVertex> ev;
     ev.reserve(cm.position.size());
     for (size_t i = 0; i < cm.position.size(); ++i) {
-      ev.push_back(EyeVertex{eye_from_world(cam, cm.position[i]), cm.position[i], cm.normal[i], {}});
-      if (s.shading == Shading::kGouraud) ev.back().color = lit(scene, m, cam.eye, ev.back().world, ev.back().normal);
+      ev.push_back(
+          EyeVertex{eye_from_world(cam, cm.position[i]), cm.position[i], cm.normal[i], {}});
+      if (s.shading == Shading::kGouraud)
+        ev.back().color = lit(scene, m, cam.eye, ev.back().world, ev.back().normal);
     }
     for (uint32_t t = 0; t < cm.tri.size(); ++t) {
       const auto& [a, b, c] = cm.tri[t];

@@ -61,7 +61,7 @@ bool cone_hit(const ConeShape& c, bool solid, RTCRayN* ray, unsigned n, unsigned
   const Vec3 d{RTCRayN_dir_x(ray, n, i), RTCRayN_dir_y(ray, n, i), RTCRayN_dir_z(ray, n, i)};
   t = cone_nearest(c, o, d, RTCRayN_tnear(ray, n, i), RTCRayN_tfar(ray, n, i), solid);
   // Embree keeps t in float: the rounded root must still lie in the range.
-  return t < kInfinity && float(t) > RTCRayN_tnear(ray, n, i) && float(t) < RTCRayN_tfar(ray, n, i);
+  return t<kInfinity&& float(t)> RTCRayN_tnear(ray, n, i) && float(t) < RTCRayN_tfar(ray, n, i);
 }
 
 void cone_intersect(const RTCIntersectFunctionNArguments* args) {

@@ -81,7 +81,9 @@ std::string reason(const Scene& scene) {
          // Cones are not weighed: both rows test them in double, scalar per
          // candidate (lattice-2, 54 cylinders: simd 0.14 s, embree 0.15-0.19 s
          // a 512^2 frame on one thread, the machine loaded).
-         (scene.cone_count() > 0 ? "; " + std::to_string(scene.cone_count()) + " cones not weighed" : "") + ")";
+         (scene.cone_count() > 0 ? "; " + std::to_string(scene.cone_count()) + " cones not weighed"
+                                 : "") +
+         ")";
 }
 
 }  // namespace

@@ -174,21 +174,25 @@ void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, F
   // Cones, in double, in world coordinates (the rays' own).
   if (scene.cone_count() > 0) {
     const std::vector<ConeShape> cones = cone_shapes(scene, [](const Vec3& p) { return p; });
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 512), [&](const tbb::blocked_range<size_t>& r) {
-      for (size_t i = r.begin(); i < r.end(); ++i) {
-        const Ray& ray = rays[i];
-        if (!is_finite(ray.o) || !is_finite(ray.d) || !(length(ray.d) > 0) || std::isnan(ray.tmin)) continue;
-        Hit& h = hits[i];
-        for (uint32_t c = 0; c < cones.size(); ++c) {
-          const double t = cone_nearest(cones[c], ray.o, ray.d, ray.tmin, std::min(ray.tmax, h.t), false);
-          if (t < std::min(ray.tmax, h.t)) {
-            h.t = t;
-            h.prim = scene.cone_first_prim() + c;
-            h.tri = Hit::kNoHit;
+    tbb::parallel_for(
+        tbb::blocked_range<size_t>(0, rays.size(), 512), [&](const tbb::blocked_range<size_t>& r) {
+          for (size_t i = r.begin(); i < r.end(); ++i) {
+            const Ray& ray = rays[i];
+            if (!is_finite(ray.o) || !is_finite(ray.d) || !(length(ray.d) > 0) ||
+                std::isnan(ray.tmin))
+              continue;
+            Hit& h = hits[i];
+            for (uint32_t c = 0; c < cones.size(); ++c) {
+              const double t =
+                  cone_nearest(cones[c], ray.o, ray.d, ray.tmin, std::min(ray.tmax, h.t), false);
+              if (t < std::min(ray.tmax, h.t)) {
+                h.t = t;
+                h.prim = scene.cone_first_prim() + c;
+                h.tri = Hit::kNoHit;
+              }
+            }
           }
-        }
-      }
-    });
+        });
   }
   if (stats) {
     stats->items = rays.size();
@@ -204,7 +208,8 @@ Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   const ShadeScene shading = prepare_shading(scene, frame);
   // Cones in the camera frame, where the primary rays are (0, unit), and their
   // bounding spheres for the same per-tile culling as the primitives'.
-  const std::vector<ConeShape> cones = cone_shapes(scene, [&](const Vec3& q) { return frame.point(q); });
+  const std::vector<ConeShape> cones =
+      cone_shapes(scene, [&](const Vec3& q) { return frame.point(q); });
   SimdScene cone_balls;
   cone_balls.frame = frame;
   for (uint32_t c = 0; c < scene.cone_count(); ++c)
@@ -243,7 +248,8 @@ Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
           const Ray ray{cam.eye, u.x * cam.right + u.y * cam.up + u.z * cam.forward, 0.0, kInfinity};
           Hit h = to_hit(s, out.t[k], out.id[k], 1.0);
           for (const uint32_t c : cone_cand.spheres) {
-            const double t = cone_nearest(cones[c], Vec3{0, 0, 0}, u, double(p.tmin[k]), h.t, false);
+            const double t =
+                cone_nearest(cones[c], Vec3{0, 0, 0}, u, double(p.tmin[k]), h.t, false);
             if (t < h.t) {
               h.t = t;
               h.prim = scene.cone_first_prim() + c;

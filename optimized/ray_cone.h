@@ -43,8 +43,8 @@ inline ConeShape cone_shape(const Vec3& base, double r0, const Vec3& apex, doubl
 // The nearest root in (tmin, tmax) of the ray o + t d on the cone's finite
 // part and on its visible side (solid: either side, ray tracing's rule);
 // kInfinity if none. d need not be of unit length.
-inline double cone_nearest(const ConeShape& c, const Vec3& o, const Vec3& d, double tmin, double tmax,
-                           bool solid) {
+inline double cone_nearest(const ConeShape& c, const Vec3& o, const Vec3& d, double tmin,
+                           double tmax, bool solid) {
   // The ray misses the bounding sphere: no work (most rays, most cones).
   const double dd = dot(d, d);
   const Vec3 f = o - c.centre;
@@ -53,7 +53,8 @@ inline double cone_nearest(const ConeShape& c, const Vec3& o, const Vec3& d, dou
   if (dot(perp, perp) > c.bound * c.bound) return kInfinity;
   ref::ConeQuadric<double> q;
   double shift, t0, t1;
-  if (!ref::cone_roots_careful(o, d, c.base, c.r0, c.apex, c.r1, q, shift, t0, t1)) return kInfinity;
+  if (!ref::cone_roots_careful(o, d, c.base, c.r0, c.apex, c.r1, q, shift, t0, t1))
+    return kInfinity;
   for (const double t : {t0, t1}) {
     if (!(t > tmin && t < tmax) || !ref::cone_in_height(q, t - shift)) continue;
     if (!solid) {

@@ -53,8 +53,8 @@ inline void refine_hit(const Scene& scene, const Ray& ray, Hit& hit) {
     const uint32_t c = hit.prim - scene.cone_first_prim();
     ref::ConeQuadric<double> q;
     double shift, t0, t1;
-    if (!ref::cone_roots_careful(ray.o, ray.d, scene.cone_base[c], scene.cone_r0[c], scene.cone_apex[c],
-                                 scene.cone_r1[c], q, shift, t0, t1))
+    if (!ref::cone_roots_careful(ray.o, ray.d, scene.cone_base[c], scene.cone_r0[c],
+                                 scene.cone_apex[c], scene.cone_r1[c], q, shift, t0, t1))
       return;
     hit.t = std::abs(t0 - hit.t) <= std::abs(t1 - hit.t) ? t0 : t1;
   } else {

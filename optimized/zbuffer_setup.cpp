@@ -158,8 +158,10 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
   }
   grow_bounds(scene.vertex.data(), scene.vertex.size(), lo, hi);
   for (uint32_t i = 0; i < scene.cone_count(); ++i)  // as scene_bounds grows by them
-    for (const auto& [p, r] : {std::pair{scene.cone_base[i], scene.cone_r0[i]}, {scene.cone_apex[i], scene.cone_r1[i]}})
-      for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k] - r), hi[k] = std::max(hi[k], p[k] + r);
+    for (const auto& [p, r] :
+         {std::pair{scene.cone_base[i], scene.cone_r0[i]}, {scene.cone_apex[i], scene.cone_r1[i]}})
+      for (int k = 0; k < 3; ++k)
+        lo[k] = std::min(lo[k], p[k] - r), hi[k] = std::max(hi[k], p[k] + r);
   mesh = lockstep::view_frame(scene, width, height, lo, hi);
   const Camera& cam = mesh.camera;
   tbb::task_arena arena(resolve_threads(threads));

@@ -28,9 +28,10 @@ using L = long double;
 // The oracle: the quadric in long double, roots polished by Newton steps in
 // long double (as tests/cones_test.cpp), then NFF's rules: the finite part,
 // the visible side (the sign of f' at the root), the nearest in range.
-L oracle_nearest(const opt::ConeShape& c, const Vec3& o, const Vec3& d, double tmin, double tmax, bool solid) {
-  const ref::ConeQuadric<L> q = ref::cone_quadric<L>(Vec3T<L>(o), Vec3T<L>(d), Vec3T<L>(c.base), L(c.r0),
-                                                     Vec3T<L>(c.apex), L(c.r1));
+L oracle_nearest(const opt::ConeShape& c, const Vec3& o, const Vec3& d, double tmin, double tmax,
+                 bool solid) {
+  const ref::ConeQuadric<L> q = ref::cone_quadric<L>(Vec3T<L>(o), Vec3T<L>(d), Vec3T<L>(c.base),
+                                                     L(c.r0), Vec3T<L>(c.apex), L(c.r1));
   L t0, t1;
   if (!ref::cone_roots_textbook<L>(q, t0, t1)) return L(kInfinity);
   L best = L(kInfinity);
@@ -59,7 +60,8 @@ struct RandomCone {
 RandomCone random_cone(std::mt19937_64& rng) {
   std::uniform_real_distribution<double> u(-1, 1), pos(0.1, 1.0), unit(0, 1);
   Vec3 axis;
-  do axis = {u(rng), u(rng), u(rng)}; while (length(axis) < 0.3);
+  do axis = {u(rng), u(rng), u(rng)};
+  while (length(axis) < 0.3);
   const Vec3 base{u(rng), u(rng), u(rng)};
   const double r0 = unit(rng) < 0.15 ? 0.0 : pos(rng);
   const double r1 = unit(rng) < 0.3 ? (r0 > 0 ? r0 : 0.5) : pos(rng);  // cylinders too
@@ -104,8 +106,8 @@ KernelErrors kernel_errors(double scale, uint64_t seed, bool solid) {
 TEST(OptKernel, CarefulDoubleAgreesWithTheOracle) {
   for (const bool solid : {false, true}) {
     const KernelErrors e = kernel_errors(3.0, 11, solid);
-    std::printf("solid %d: %d rays hit both, worst |t - oracle| %.3g, %d hit/miss disagreements\n", int(solid),
-                e.both, e.worst, e.disagree);
+    std::printf("solid %d: %d rays hit both, worst |t - oracle| %.3g, %d hit/miss disagreements\n",
+                int(solid), e.both, e.worst, e.disagree);
     EXPECT_GT(e.both, 1500);
     // Measured 8.3e-14 for both (seed 11; t ~ 3). The rays are aimed within
     // 0.05 of the side, so some nearly graze it, where the root itself is
@@ -120,8 +122,8 @@ TEST(OptKernel, CarefulDoubleAgreesWithTheOracle) {
 
 TEST(OptKernel, FarOriginsKeepTheirDigits) {
   const KernelErrors e = kernel_errors(1e5, 12, false);
-  std::printf("far: %d rays hit both, worst |t - oracle| %.3g (t ~ 1e5), %d disagreements\n", e.both, e.worst,
-              e.disagree);
+  std::printf("far: %d rays hit both, worst |t - oracle| %.3g (t ~ 1e5), %d disagreements\n",
+              e.both, e.worst, e.disagree);
   EXPECT_GT(e.both, 1500);
   EXPECT_LT(e.worst, 1e-14 * 1e5);
   EXPECT_LE(e.disagree, 2);
@@ -132,17 +134,21 @@ Scene cone_scene(uint64_t seed, int cones) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(-2, 2), pos(0.05, 0.6), unit(0, 1);
   std::string text =
-      "v\nfrom 0 1 8\nat 0 0 0\nup 0 1 0\nangle 45\nhither 0.01\nresolution 96 96\nb 0.1 0.1 0.3\nl 3 5 6\n"
+      "v\nfrom 0 1 8\nat 0 0 0\nup 0 1 0\nangle 45\nhither 0.01\nresolution 96 96\nb 0.1 0.1 "
+      "0.3\nl 3 5 6\n"
       "f 0.8 0.6 0.4 0.7 0.3 10 0 1\np 4\n-4 -2.5 -4\n-4 -2.5 4\n4 -2.5 4\n4 -2.5 -4\n";
   for (int i = 0; i < cones; ++i) {
     char buf[400];
     const double r0 = pos(rng), r1 = unit(rng) < 0.2 ? 0.0 : pos(rng);
     const double sign = unit(rng) < 0.2 ? -1 : 1;
-    std::snprintf(buf, sizeof buf, "f %.3f %.3f 0.5 0.8 0.2 20 0 1\nc %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n",
-                  unit(rng), unit(rng), u(rng), u(rng), u(rng), sign * r0, u(rng), u(rng), u(rng), sign * r1);
+    std::snprintf(
+        buf, sizeof buf,
+        "f %.3f %.3f 0.5 0.8 0.2 20 0 1\nc %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n",
+        unit(rng), unit(rng), u(rng), u(rng), u(rng), sign * r0, u(rng), u(rng), u(rng), sign * r1);
     text += buf;
     if (i % 3 == 0) {
-      std::snprintf(buf, sizeof buf, "s %.17g %.17g %.17g %.17g\n", u(rng), u(rng), u(rng), pos(rng));
+      std::snprintf(buf, sizeof buf, "s %.17g %.17g %.17g %.17g\n", u(rng), u(rng), u(rng),
+                    pos(rng));
       text += buf;
     }
   }
@@ -193,9 +199,11 @@ TEST(Rows, TraceAgreesWithTheReferenceOnConeScenes) {
         (tie || graze ? near_tie : other) += 1;
       }
     }
-    std::printf("%s: %zu rays, %zu on cones (reference), %zu same primitive (worst relative t %.3g), %zu near-ties "
-                "or grazes, %zu other\n",
-                name, rays_total, cone_hits, same, worst_t, near_tie, other);
+    std::printf(
+        "%s: %zu rays, %zu on cones (reference), %zu same primitive (worst relative t %.3g), %zu "
+        "near-ties "
+        "or grazes, %zu other\n",
+        name, rays_total, cone_hits, same, worst_t, near_tie, other);
     EXPECT_GT(cone_hits, rays_total / 10) << "the scenes should put cones in front of many rays";
     EXPECT_EQ(other, 0u) << name;
     EXPECT_LE(near_tie, rays_total / 1000) << name;
@@ -233,7 +241,8 @@ TEST(Tessellation, VerticesNormalsAndTheSilhouetteBound) {
     }
     // Winding: each facet's normal points to the visible side (as its vertices' normals).
     for (const auto& t : m.tri) {
-      const Vec3 fn = cross(m.position[t[1]] - m.position[t[0]], m.position[t[2]] - m.position[t[0]]);
+      const Vec3 fn =
+          cross(m.position[t[1]] - m.position[t[0]], m.position[t[2]] - m.position[t[0]]);
       EXPECT_GT(dot(fn, m.normal[t[0]] + m.normal[t[1]] + m.normal[t[2]]), 0);
     }
   }

@@ -95,7 +95,8 @@ void study(const char* name, int size, int runs, bool quick) {
   const Camera cam = Camera::from_view(scene.view, size, size);
   truth.prim.resize(size_t(size) * size);
   for (int j = 0; j < size; ++j)
-    for (int i = 0; i < size; ++i) truth.prim[size_t(j) * size + i] = ref::nearest_hit(scene, cam.primary(i, j)).prim;
+    for (int i = 0; i < size; ++i)
+      truth.prim[size_t(j) * size + i] = ref::nearest_hit(scene, cam.primary(i, j)).prim;
   auto is_cone = [&](uint32_t p) { return p != Hit::kNoHit && p >= scene.cone_first_prim(); };
 
   for (const char* row : {"simd", "embree"}) {
@@ -110,7 +111,8 @@ void study(const char* name, int size, int runs, bool quick) {
   uint64_t last_cone_tris = 0;
   long first_sil = -1, last_sil = 0;
   const std::vector<double> errors =
-      quick ? std::vector<double>{8.0, 1.0, 0.125} : std::vector<double>{8, 4, 2, 1, 0.5, 0.25, 0.125, 0.0625};
+      quick ? std::vector<double>{8.0, 1.0, 0.125}
+            : std::vector<double>{8, 4, 2, 1, 0.5, 0.25, 0.125, 0.0625};
   for (const double e : errors) {
     FrameOptions zo = fo;
     zo.params.set("shading", "phong");
@@ -128,15 +130,18 @@ void study(const char* name, int size, int runs, bool quick) {
       silhouette += prims[i] != truth.prim[i] && (is_cone(prims[i]) || is_cone(truth.prim[i]));
     }
     const uint64_t tris = mesh.scene_tris + mesh.sphere_tris + mesh.cone_tris;
-    std::printf("%s,adaptive,%g,%llu,%llu,%.3f,%.4f,%ld,%ld\n", name, e, (unsigned long long)mesh.cone_tris,
-                (unsigned long long)tris, 1e3 * t, err.percent_failed(), coverage, silhouette);
-    claim(mesh.cone_tris >= last_cone_tris, std::string(name) + ": a finer tess_error never gives fewer cone triangles");
+    std::printf("%s,adaptive,%g,%llu,%llu,%.3f,%.4f,%ld,%ld\n", name, e,
+                (unsigned long long)mesh.cone_tris, (unsigned long long)tris, 1e3 * t,
+                err.percent_failed(), coverage, silhouette);
+    claim(mesh.cone_tris >= last_cone_tris,
+          std::string(name) + ": a finer tess_error never gives fewer cone triangles");
     last_cone_tris = mesh.cone_tris;
     if (first_sil < 0) first_sil = silhouette;
     last_sil = silhouette;
   }
-  claim(last_sil * 4 < first_sil, std::string(name) + ": the finest tess_error has under a quarter of the cone "
-                                                      "silhouette pixels of tess_error 8");
+  claim(last_sil * 4 < first_sil, std::string(name) +
+                                      ": the finest tess_error has under a quarter of the cone "
+                                      "silhouette pixels of tess_error 8");
 
   // The SPD's own tessellation.
   const std::string tess = std::string(name) + "-tess";
@@ -152,9 +157,11 @@ void study(const char* name, int size, int runs, bool quick) {
   const ImageError err = compare_images(img, truth.image);
   const std::vector<uint32_t> prims = raster_prims(mesh, s);
   long coverage = 0;
-  for (size_t i = 0; i < prims.size(); ++i) coverage += (prims[i] == Hit::kNoHit) != (truth.prim[i] == Hit::kNoHit);
-  std::printf("%s,spd-tess,0,0,%llu,%.3f,%.4f,%ld,-1\n", name, (unsigned long long)(mesh.scene_tris + mesh.sphere_tris),
-              1e3 * t, err.percent_failed(), coverage);
+  for (size_t i = 0; i < prims.size(); ++i)
+    coverage += (prims[i] == Hit::kNoHit) != (truth.prim[i] == Hit::kNoHit);
+  std::printf("%s,spd-tess,0,0,%llu,%.3f,%.4f,%ld,-1\n", name,
+              (unsigned long long)(mesh.scene_tris + mesh.sphere_tris), 1e3 * t,
+              err.percent_failed(), coverage);
 }
 
 }  // namespace
@@ -163,8 +170,11 @@ void study(const char* name, int size, int runs, bool quick) {
 int main(int argc, char** argv) {
   const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
   const int size = quick ? 128 : 512, runs = quick ? 1 : 5;
-  std::printf("# cones: %dx%d, 1 thread, best of %d; truth: the reference ray caster\n", size, size, runs);
-  std::printf("scene,kind,tess_error,cone_tris,triangles,ms,pct_over_1_255,coverage_px,cone_silhouette_px\n");
+  std::printf("# cones: %dx%d, 1 thread, best of %d; truth: the reference ray caster\n", size, size,
+              runs);
+  std::printf(
+      "scene,kind,tess_error,cone_tris,triangles,ms,pct_over_1_255,coverage_px,cone_silhouette_"
+      "px\n");
   try {
     for (const char* name : {"lattice-2", "tree-2"}) lockstep::study(name, size, runs, quick);
   } catch (const std::exception& e) {
