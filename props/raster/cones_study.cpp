@@ -139,6 +139,11 @@ void study(const char* name, int size, int runs, bool quick) {
     if (first_sil < 0) first_sil = silhouette;
     last_sil = silhouette;
   }
+  // Tessellated finely, the cones are where the ray caster sees them: a cone
+  // culled, turned inside out or misplaced would leave thousands (measured:
+  // lattice-2 120 of 262144 pixels at 1/8 px, 512^2; 23 of 16384 at 128^2).
+  claim(double(last_sil) < 0.005 * double(size) * size,
+        std::string(name) + ": at the finest tess_error under 0.5% of the pixels are cone silhouette errors");
   claim(last_sil * 4 < first_sil, std::string(name) +
                                       ": the finest tess_error has under a quarter of the cone "
                                       "silhouette pixels of tess_error 8");
