@@ -20,8 +20,9 @@
 //                         coordinates stay small enough for exact integers)
 //                      -> perspective divide -> screen (pixels)
 //                      -> snapping to 1/256 pixel (kSubpixelBits).
-//                      Spheres become triangles here, adaptively: just enough
-//                      that the silhouette is within tess_error pixels.
+//                      Spheres and cones become triangles here, adaptively:
+//                      just enough that the silhouette is within tess_error
+//                      pixels.
 //   rasterisation      per triangle, per covered sample: edge functions,
 //                      evaluated exactly in integers on the snapped vertices,
 //                      with the top-left fill rule, so that an edge shared by
@@ -99,7 +100,7 @@ struct RasterSettings {
   int spp = 1;                 // samples per pixel: a square n * n, 1..256
   SampleGrid grid = SampleGrid::kRegular;
   bool split = false;          // painter: split polygons along the planes of cycles and interpenetrations
-  double tess_error = 0.25;    // sphere tessellation: silhouette error bound, pixels
+  double tess_error = 0.25;    // sphere and cone tessellation: silhouette error bound, pixels
   DepthFormat depth = DepthFormat::kFloat;
   bool perspective = true;     // perspective-correct interpolation (false: affine, for the tests)
   bool skip_hidden = true;     // opt::simd::zbuffer: leave out what nearer spheres hide (same image)
@@ -154,6 +155,7 @@ struct ScreenMesh {
   // What view_scene did, for the stats line and the tests.
   uint64_t scene_tris = 0;       // polygon triangles in the scene
   uint64_t sphere_tris = 0;      // triangles the spheres were tessellated into
+  uint64_t cone_tris = 0;        // triangles the cones were tessellated into (not in the stats' items)
   uint64_t culled = 0;           // dropped as back faces
   uint64_t clipped = 0;          // triangles that crossed the hither plane or the guard band
   uint64_t degenerate = 0;       // zero area after snapping (edge-on), dropped
@@ -172,6 +174,8 @@ ScreenMesh view_frame(const Scene& scene, int width, int height);
 ScreenMesh view_frame(const Scene& scene, int width, int height, const Vec3& lo, const Vec3& hi);
 void view_spheres(const Scene& scene, const RasterSettings& s, uint32_t first, uint32_t last, ScreenMesh& mesh);
 void view_polygons(const Scene& scene, const RasterSettings& s, uint32_t first, uint32_t last, ScreenMesh& mesh);
+// The triangles of cones [first, last), after the polygons (prim order).
+void view_cones(const Scene& scene, const RasterSettings& s, uint32_t first, uint32_t last, ScreenMesh& mesh);
 
 // The sphere step's pieces. A sphere of centre c and signed radius R becomes the
 // unit sphere of sphere_rings(|R|, ...) rings, positions c + |R| unit, normals
@@ -184,6 +188,18 @@ struct UnitSphere {
 UnitSphere unit_sphere(int rings);
 int sphere_rings(double radius, double centre_z, const Camera& cam, double near_z, double tess_error);
 bool sphere_outside(const Camera& cam, const Vec3& eye_centre, double radius, double near_z);
+
+// The cone step's pieces (core/viewing.cpp). A cone becomes one band of
+// cone_segments(...) facets around its axis between its end circles (open
+// ends, no caps), vertices on the surface, smooth normals of the side (the
+// visible side's: inwards for NFF's negative radii, winding to match).
+struct ConeMesh {
+  std::vector<Vec3> position, normal;
+  std::vector<std::array<uint32_t, 3>> tri;  // counter-clockwise seen from the visible side
+};
+int cone_segments(double r0, double r1, double base_z, double apex_z, const Camera& cam, double near_z,
+                  double tess_error);
+ConeMesh tessellate_cone(const Vec3& base, double r0, const Vec3& apex, double r1, bool inside, int segments);
 
 // The n*n sample positions of a pixel, in 1/256 pixel from its top-left corner
 // (spp = 1: the centre, (128, 128)). Rounded to the snapping grid.

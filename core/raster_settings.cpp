@@ -58,7 +58,7 @@ std::vector<ParamSpec> raster_params() {
       {"spp", "1, 4, 9, ... 256 (n x n)", "1", "samples per pixel, box filtered"},
       {"grid", kGrids, "regular", "sample pattern for spp > 1"},
       {"split", "", "", "painter: split polygons to resolve cycles and interpenetrations", true},
-      {"tess_error", "pixels, 0.01..16", "0.25", "sphere tessellation: silhouette error bound"},
+      {"tess_error", "pixels, 0.01..16", "0.25", "sphere and cone tessellation: silhouette error bound"},
       {"depth", kDepths, "float", "what the z-buffer stores and compares"},
       {"interp", kInterps, "perspective", "attribute interpolation across triangles"},
       {"hidden", kHidden, "skip",

@@ -5,9 +5,10 @@
 // polygons (with their plane) for the textbook point-in-polygon test, and also
 // as a triangulation for kernels that only know triangles. Primitive ids run over
 // spheres first, then polygons, then cones: prim < sphere_count() is a sphere,
-// prim >= cone_first_prim() a cone. Only the reference ray caster and ray tracer
-// draw cones; every other implementation refuses a scene that has any
-// (pairs/loaders.h refuse_cones), so none drops them silently.
+// prim >= cone_first_prim() a cone. The ray casters and tracers intersect cones
+// (reference/ray_cone.h; optimized/ray_cone.h), the rasterizers tessellate them
+// (core/viewing.cpp view_cones); a row that cannot would refuse the scene
+// (pairs/loaders.h refuse_cones) rather than drop them silently.
 #pragma once
 
 #include <array>

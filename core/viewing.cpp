@@ -384,13 +384,127 @@ void view_polygons(const Scene& scene, const RasterSettings& s, uint32_t first, 
   }
 }
 
+// ---------------------------------------------------------------- cones
+
+// How many facets around its axis a cone needs so that the tessellation's
+// silhouette is within tess_error pixels of the true one. The cone's side is a
+// ruled surface: straight along the axis, so one band of facets between the
+// two end circles is exact along it; around it, each end circle becomes a
+// regular N-gon inscribed in it, at most r (1 - cos(pi / N)) from the circle,
+// and every point of the side between is within the larger end's distance.
+// Seen from eye depth z_near (the nearest either end disc can come, not less
+// than hither) one unit is at most 1 / (z_near pitch) pixels, so the screen
+// error is at most R (1 - cos(pi / N)), R = max(r0, r1) / (z_near pitch), and
+// N is the smallest count that keeps it below tess_error (3..512: a sphere's
+// 256 rings have 512 meridians).
+int cone_segments(double r0, double r1, double base_z, double apex_z, const Camera& cam,
+                  double near_z, double tess_error) {
+  constexpr int kMin = 3, kMax = 512;
+  const double r = std::max(r0, r1);
+  const double z_near = std::max(std::min(base_z - r0, apex_z - r1), near_z);
+  const double r_px = r / (z_near * cam.pitch);
+  if (r_px * (1 - std::cos(M_PI / kMin)) <= tess_error) return kMin;
+  const double max_angle = std::acos(1 - tess_error / r_px);  // pi/N <= this
+  return std::clamp(int(std::ceil(M_PI / max_angle)), kMin, kMax);
+}
+
+ConeMesh tessellate_cone(const Vec3& base, double r0, const Vec3& apex, double r1, bool inside,
+                         int segments) {
+  ConeMesh m;
+  const Vec3 axis = apex - base;
+  const double h = length(axis);
+  const Vec3 u = axis / h;
+  // Two unit vectors across the axis (any pair: the cone is round).
+  const Vec3 a = normalize(std::abs(u.x) < 0.9 ? cross(u, Vec3{1, 0, 0}) : cross(u, Vec3{0, 1, 0}));
+  const Vec3 b = cross(u, a);
+  const double k = (r1 - r0) / h;  // the slope: the radius grows by k per unit of height
+  const double scale = 1 / std::sqrt(1 + k * k);
+  // The side's normal at longitude phi is (radial - k u) / sqrt(1 + k^2), the
+  // same at every height (core/shading.cpp's cone gradient, normalised).
+  auto normal_at = [&](double phi) {
+    const Vec3 n = (std::cos(phi) * a + std::sin(phi) * b - k * u) * scale;
+    return inside ? -n : n;
+  };
+  const int n = segments;
+  // Per longitude l: the base vertex 2l, the apex vertex 2l + 1. An end of
+  // radius 0 is a point, where the normal is not defined: there each facet
+  // gets its own vertex with the normal of the facet's middle longitude, so
+  // that the shading does not average round the tip.
+  for (int l = 0; l < n; ++l) {
+    const double phi = 2 * M_PI * l / n;
+    const Vec3 radial = std::cos(phi) * a + std::sin(phi) * b;
+    const Vec3 nrm = normal_at(phi);
+    const double mid = 2 * M_PI * (l + 0.5) / n;
+    m.position.push_back(base + r0 * radial);
+    m.normal.push_back(r0 > 0 ? nrm : normal_at(mid));
+    m.position.push_back(apex + r1 * radial);
+    m.normal.push_back(r1 > 0 ? nrm : normal_at(mid));
+  }
+  for (int l = 0; l < n; ++l) {
+    const uint32_t b0 = uint32_t(2 * l), a0 = b0 + 1, b1 = uint32_t(2 * ((l + 1) % n)), a1 = b1 + 1;
+    // Counter-clockwise seen from outside (longitude grows anticlockwise about u).
+    std::array<std::array<uint32_t, 3>, 2> t = {{{b0, b1, a1}, {b0, a1, a0}}};
+    if (r1 == 0) t = {{{b0, b1, a0}, {0, 0, 0}}};  // the apex is a point: one triangle
+    if (r0 == 0) t = {{{b0, a1, a0}, {0, 0, 0}}};  // the base is a point
+    for (const auto& tri : t) {
+      if (tri[0] == tri[1]) continue;
+      m.tri.push_back(inside ? std::array<uint32_t, 3>{tri[0], tri[2], tri[1]} : tri);
+    }
+  }
+  return m;
+}
+
+void view_cones(const Scene& scene, const RasterSettings& s, uint32_t first, uint32_t last,
+                ScreenMesh& mesh) {
+  const Camera& cam = mesh.camera;
+  Emitter emit{scene, s, mesh, {mesh.near_z, kGuardBand * cam.pitch}};
+  for (uint32_t k = first; k < last; ++k) {
+    const Vec3 &base = scene.cone_base[k], &apex = scene.cone_apex[k];
+    const double r0 = scene.cone_r0[k], r1 = scene.cone_r1[k];
+    // Outside the view: the ball around the axis' midpoint that holds both end discs.
+    const double half = 0.5 * length(apex - base), rmax = std::max(r0, r1);
+    if (sphere_outside(cam, eye_from_world(cam, 0.5 * (base + apex)),
+                       std::sqrt(half * half + rmax * rmax), mesh.near_z))
+      continue;
+    const int n = cone_segments(r0, r1, eye_from_world(cam, base).z, eye_from_world(cam, apex).z,
+                                cam, mesh.near_z, s.tess_error);
+    const ConeMesh cm = tessellate_cone(base, r0, apex, r1, scene.cone_inside[k] != 0, n);
+    const uint32_t prim = scene.cone_first_prim() + k;
+    const Material& m = scene.materials[scene.cone_material[k]];
+    std::vector<EyeVertex> ev;
+    ev.reserve(cm.position.size());
+    for (size_t i = 0; i < cm.position.size(); ++i) {
+      ev.push_back(
+          EyeVertex{eye_from_world(cam, cm.position[i]), cm.position[i], cm.normal[i], {}});
+      if (s.shading == Shading::kGouraud)
+        ev.back().color = lit(scene, m, cam.eye, ev.back().world, ev.back().normal);
+    }
+    for (uint32_t t = 0; t < cm.tri.size(); ++t) {
+      const auto& [a, b, c] = cm.tri[t];
+      EyeVertex v[3] = {ev[a], ev[b], ev[c]};
+      const Vec3 fn = cross(v[1].world - v[0].world, v[2].world - v[0].world);
+      if (length(fn) == 0) continue;
+      const Vec3 face = normalize(fn);
+      // One-sided, as spheres: the invisible side is culled (NFF's rule).
+      const bool back = !(dot(face, cam.eye - v[0].world) > 0);
+      Vec3 flat;
+      if (s.shading == Shading::kFlat && !(back && s.cull == CullMode::kWorld))
+        flat = lit(scene, m, cam.eye, (v[0].world + v[1].world + v[2].world) / 3.0, face);
+      ++mesh.cone_tris;
+      emit.triangle(v, prim, t, face, false, flat);
+    }
+  }
+}
+
 ScreenMesh view_scene(const Scene& scene, int width, int height, const RasterSettings& s) {
   // The frame: camera, near and far.
   ScreenMesh mesh = view_frame(scene, width, height);
   // Spheres first (tessellated as finely as their size on screen needs), then
-  // polygons: the scene's primitive order, which decides ties in depth.
+  // polygons, then cones (tessellated likewise): the scene's primitive order,
+  // which decides ties in depth.
   view_spheres(scene, s, 0, scene.sphere_count(), mesh);
   view_polygons(scene, s, 0, scene.polygon_count(), mesh);
+  view_cones(scene, s, 0, scene.cone_count(), mesh);
   return mesh;
 }
 

@@ -345,6 +345,7 @@ std::unique_ptr<EmbreeScene> build_scene(const Scene& scene, const Frame& frame,
   if (scene.triangle_count() > 0) rtcSetSceneFlags(es->scene, RTC_SCENE_FLAG_ROBUST);
   attach_spheres(*es, scene, options);
   attach_triangles(*es, scene, options);
+  attach_cones(*es, scene, options);
   rtcCommitScene(es->scene);  // an empty scene is fine: every ray misses
   es->device.check("rtcCommitScene");
   return es;
@@ -388,6 +389,8 @@ bool prim_of(const EmbreeScene& es, const Scene& scene, unsigned geom, unsigned 
     h.prim = es.plain_spheres.index[id];
   } else if (geom == kFarSphereGeom) {
     h.prim = es.far_spheres.index[id];
+  } else if (geom == kConeGeom) {
+    h.prim = scene.cone_first_prim() + id;
   } else {
     h.prim = scene.sphere_count() + scene.tri_poly[id];
     h.tri = id;

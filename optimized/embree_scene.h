@@ -6,7 +6,8 @@
 // as RTC_GEOMETRY_TYPE_SPHERE_POINT (far ones, relative to their radius, as a
 // user geometry running the stable root form in double), the polygons'
 // triangulation as RTC_GEOMETRY_TYPE_TRIANGLE, NFF's sidedness as intersection
-// filters. What each choice is for is said at its definition
+// filters, cones as a user geometry (optimized/embree_cones.cpp). What each
+// choice is for is said at its definition
 // (optimized/embree_scene.cpp); the rows' header comments say how they query.
 #pragma once
 
@@ -20,6 +21,7 @@
 
 #include "core/math.h"
 #include "core/scene.h"
+#include "optimized/ray_cone.h"
 #include "optimized/simd_scene.h"
 
 namespace lockstep::opt::embree {
@@ -29,6 +31,8 @@ using simd::Frame;
 inline constexpr int kPacket = 8;
 // Fixed geometry ids: a hit's geomID says which array primID indexes.
 inline constexpr unsigned kSphereGeom = 0, kTriangleGeom = 1, kFarSphereGeom = 2, kPlainSphereGeom = 3;
+// NFF cones: a user geometry (optimized/embree_cones.cpp); primID is the scene's cone index.
+inline constexpr unsigned kConeGeom = 4;
 
 // What the device reported; the callback may run on Embree's build threads.
 struct ErrorLog {
@@ -81,6 +85,11 @@ struct TriangleData {
   std::vector<Vec3> normal;        // the polygon's plane normal, in the frame
   std::vector<uint8_t> two_sided;  // the polygon's material transmits: no culling
 };
+// Cones (user geometry, optimized/embree_cones.cpp): every cone of the scene, in the frame.
+struct ConeGeomData {
+  std::vector<ConeShape> shape;
+  bool solid = false;  // BuildOptions::solid_spheres: either side, as spheres
+};
 
 // Everything a query needs. Not movable: the geometries point at the filter data.
 // Members are destroyed in reverse order: the scene before the device.
@@ -91,6 +100,7 @@ struct EmbreeScene {
   SphereData plain_spheres;  // no filter needed: every ray starts outside, before them
   FarSphereData far_spheres;
   TriangleData triangles;
+  ConeGeomData cones;
   RTCScene scene = nullptr;
 
   ~EmbreeScene() {
@@ -113,6 +123,8 @@ struct BuildOptions {
 // Device, geometry and BVH for the scene in the given frame. Builds in the
 // calling thread's task arena (Embree's TBB tasking uses the current arena).
 std::unique_ptr<EmbreeScene> build_scene(const Scene& scene, const Frame& frame, const BuildOptions& options = {});
+// The cones' user geometry (optimized/embree_cones.cpp); build_scene calls it.
+void attach_cones(EmbreeScene& es, const Scene& scene, const BuildOptions& options);
 
 // A harmless, inactive ray in every lane: all fields set, as Embree asks.
 void clear_packet(RTCRayHit8& rh, int valid[kPacket]);

@@ -13,6 +13,12 @@
 //    opt::parallel_tiles (optimized/tiling.h), each tile culled to the
 //    primitives its cone of rays can reach (optimized/cone_cull.h), shaded 8 at
 //    a time (optimized/shade_simd.h).
+// NFF cones ('c') are not in the float kernels: after the packet, each ray is
+// tested against every cone in double with the careful root form
+// (optimized/ray_cone.h: a bounding-sphere rejection first), and a nearer cone
+// replaces the kernel's hit. Scalar, per ray; render() tests only the cones
+// whose bounding spheres survive the tile's culling (trace() tests every
+// cone). The SPD scenes have 7 to 54 cones; a SIMD cone kernel is not written.
 // Preparing the float scene is optimized/simd_scene.cpp.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -24,6 +30,7 @@
 #include "optimized/cone_cull.h"
 #include "optimized/ray_cast.h"
 #include "optimized/ray_cast_simd_kernels.h"
+#include "optimized/ray_cone.h"
 #include "optimized/refine.h"
 #include "optimized/shade_simd.h"
 #include "optimized/simd_scene.h"
@@ -164,6 +171,29 @@ void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, F
                       trace_prepared(s, all, rays.subspan(lo, hi - lo), hits.subspan(lo, hi - lo));
                     });
   for (size_t i = 0; i < rays.size(); ++i) refine_hit(scene, rays[i], hits[i]);
+  // Cones, in double, in world coordinates (the rays' own).
+  if (scene.cone_count() > 0) {
+    const std::vector<ConeShape> cones = cone_shapes(scene, [](const Vec3& p) { return p; });
+    tbb::parallel_for(
+        tbb::blocked_range<size_t>(0, rays.size(), 512), [&](const tbb::blocked_range<size_t>& r) {
+          for (size_t i = r.begin(); i < r.end(); ++i) {
+            const Ray& ray = rays[i];
+            if (!is_finite(ray.o) || !is_finite(ray.d) || !(length(ray.d) > 0) ||
+                std::isnan(ray.tmin))
+              continue;
+            Hit& h = hits[i];
+            for (uint32_t c = 0; c < cones.size(); ++c) {
+              const double t =
+                  cone_nearest(cones[c], ray.o, ray.d, ray.tmin, std::min(ray.tmax, h.t), false);
+              if (t < std::min(ray.tmax, h.t)) {
+                h.t = t;
+                h.prim = scene.cone_first_prim() + c;
+                h.tri = Hit::kNoHit;
+              }
+            }
+          }
+        });
+  }
   if (stats) {
     stats->items = rays.size();
   }
@@ -176,6 +206,15 @@ Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   const SimdScene s = prepare_scene(scene, frame, true);
   const ConeBounds cb = cone_bounds(s);
   const ShadeScene shading = prepare_shading(scene, frame);
+  // Cones in the camera frame, where the primary rays are (0, unit), and their
+  // bounding spheres for the same per-tile culling as the primitives'.
+  const std::vector<ConeShape> cones =
+      cone_shapes(scene, [&](const Vec3& q) { return frame.point(q); });
+  SimdScene cone_balls;
+  cone_balls.frame = frame;
+  for (uint32_t c = 0; c < scene.cone_count(); ++c)
+    cone_balls.add_sphere(0.5 * (scene.cone_base[c] + scene.cone_apex[c]), cones[c].bound, c);
+  const ConeBounds cone_cb = cone_bounds(cone_balls);
   Image image(opts.width, opts.height);
   constexpr int kTileW = 32, kTileH = 8;
   // One tile: the scratch lives on the stack of the thread that runs it.
@@ -185,6 +224,8 @@ Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
     ShadePacket sp{};
     Candidates cand;
     cull_tile(s, cb, cam, x0, x1, y0, y1, cand);
+    Candidates cone_cand;  // .spheres: the cones the tile's rays may meet
+    if (!cones.empty()) cull_tile(cone_balls, cone_cb, cam, x0, x1, y0, y1, cone_cand);
     for (int j = y0; j < y1; ++j) {
       for (int i0 = x0; i0 < x1; i0 += kPacket) {
         p.count = std::min(kPacket, opts.width - i0);
@@ -206,6 +247,15 @@ Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
           const Vec3& u = unit[k];
           const Ray ray{cam.eye, u.x * cam.right + u.y * cam.up + u.z * cam.forward, 0.0, kInfinity};
           Hit h = to_hit(s, out.t[k], out.id[k], 1.0);
+          for (const uint32_t c : cone_cand.spheres) {
+            const double t =
+                cone_nearest(cones[c], Vec3{0, 0, 0}, u, double(p.tmin[k]), h.t, false);
+            if (t < h.t) {
+              h.t = t;
+              h.prim = scene.cone_first_prim() + c;
+              h.tri = Hit::kNoHit;
+            }
+          }
           refine_far_sphere_hit(scene, ray, h);
           fill_lane(scene, frame, ray, h, sp, k);
         }

@@ -157,6 +157,11 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
       lo[k] = std::min(lo[k], p[k] - r), hi[k] = std::max(hi[k], p[k] + r);
   }
   grow_bounds(scene.vertex.data(), scene.vertex.size(), lo, hi);
+  for (uint32_t i = 0; i < scene.cone_count(); ++i)  // as scene_bounds grows by them
+    for (const auto& [p, r] :
+         {std::pair{scene.cone_base[i], scene.cone_r0[i]}, {scene.cone_apex[i], scene.cone_r1[i]}})
+      for (int k = 0; k < 3; ++k)
+        lo[k] = std::min(lo[k], p[k] - r), hi[k] = std::max(hi[k], p[k] + r);
   mesh = lockstep::view_frame(scene, width, height, lo, hi);
   const Camera& cam = mesh.camera;
   tbb::task_arena arena(resolve_threads(threads));
@@ -232,7 +237,10 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
   const uint32_t polys = scene.polygon_count();
   const uint32_t per_chunk = std::clamp<uint32_t>((polys + 15) / 16, 512, 4096);
   const uint32_t nchunks = (polys + per_chunk - 1) / per_chunk;
-  if (image) image->sink->begin(mesh, sphere_chunks.size() + nchunks);
+  // Cones (few: 7 to 54 in the SPD scenes): view_scene's own step, in one
+  // chunk after the polygons' (the scene's primitive order).
+  const bool cones = scene.cone_count() > 0;
+  if (image) image->sink->begin(mesh, sphere_chunks.size() + nchunks + (cones ? 1 : 0));
   arena.execute([&] {
     tbb::parallel_for(size_t(0), sphere_chunks.size(), [&](size_t c) {
       ScreenMesh& part = sphere_chunks[c];
@@ -513,6 +521,21 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
     mesh.degenerate += c.degenerate;
     mesh.clipped += c.clipped;
     out_chunks.push_back(std::move(c.tris));
+  }
+  if (cones) {
+    ScreenMesh part = frame;
+    lockstep::view_cones(scene, s, 0, scene.cone_count(), part);
+    mesh.cone_tris += part.cone_tris;
+    mesh.culled += part.culled;
+    mesh.degenerate += part.degenerate;
+    mesh.clipped += part.clipped;
+    if (image) {
+      const size_t sink_chunk = sphere_chunks.size() + nchunks;
+      image->sink->reserve(sink_chunk, part.tris.size());
+      to_sink(*image, sink_chunk, part.tris, 0);
+    } else {
+      out_chunks.push_back(std::move(part.tris));
+    }
   }
 }
 

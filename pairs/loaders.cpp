@@ -24,7 +24,7 @@ void refuse_cones(Family& f, std::initializer_list<std::string_view> draws_cones
   for (FamilyImpl& impl : f.impls) {
     if (std::find(draws_cones.begin(), draws_cones.end(), impl.name) != draws_cones.end()) continue;
     std::string why = std::string(f.name) + " --impl " + std::string(impl.name) +
-                      " does not draw cones yet (only the reference ray caster and ray tracer do)";
+                      " does not draw cones yet";
     impl.run = [run = std::move(impl.run), why](const Input& in, const FrameOptions& o, FrameStats* s) {
       const Scene& scene = input_as<Scene>(in);
       if (scene.cone_count() > 0)

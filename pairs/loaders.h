@@ -16,8 +16,9 @@ namespace lockstep {
 // background. Throws InputError naming file and line.
 Input load_nff(const std::string& path);
 
-// Cones ('c') are drawn only by the reference ray caster and ray tracer for
-// now. Wraps every implementation of f except those named in `draws_cones` so
+// Cones ('c'): every row of ray_cast, raytrace, zbuffer, scanline and painter
+// draws them (none calls this any more); kept for a family whose rows cannot
+// yet. Wraps every implementation of f except those named in `draws_cones` so
 // that a scene with cones is refused (InputError naming the file, the count and
 // the row; exit 2) instead of drawn without them.
 void refuse_cones(Family& f, std::initializer_list<std::string_view> draws_cones);

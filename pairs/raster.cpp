@@ -149,7 +149,6 @@ Family zbuffer_family() {
     impls.push_back({"llvmpipe", opt::llvmpipe::zbuffer, 0, {"coverage", 3e-5, "pixel"}, "Mesa llvmpipe (OSMesa)",
                      true, llvmpipe_unsupported});
   f.impls = erase_all<Scene>(impls);
-  refuse_cones(f, {});  // no rasterizer tessellates cones yet
   refuse_shadow_volumes(f);
   // The benchmarks time llvmpipe with its context kept across frames, as an
   // application keeps its GL context (the first frame, context and shader
@@ -187,7 +186,6 @@ Family scanline_family() {
       {"simd", opt::simd::scanline, 1.0 / 255},
   };
   f.impls = erase_all<Scene>(impls);
-  refuse_cones(f, {});  // no rasterizer tessellates cones yet
   refuse_shadow_volumes(f);
   f.properties = {"cross_check", "supersampling", "scanline", "interpolation"};
   return f;
@@ -208,7 +206,6 @@ Family painter_family() {
       {"simd", opt::simd::painter, 0},
   };
   f.impls = erase_all<Scene>(impls);
-  refuse_cones(f, {});  // no rasterizer tessellates cones yet
   refuse_shadow_volumes(f);
   f.properties = {"painter"};
   f.default_impl = "simd";

@@ -10,6 +10,7 @@
 #include "core/output_image.h"
 #include "optimized/embree_scene.h"
 #include "optimized/ray_cast.h"
+#include "optimized/ray_cone.h"
 #include "pairs/loaders.h"
 #include "pairs/ray_cast_judges.h"
 #include "reference/ray_cast.h"
@@ -200,6 +201,47 @@ KernelBench throughput_bench(bool spheres) {
   return k;
 }
 
+// kernel/ray_cone/<form>: one truncated cone (r 0.8 -> 0.4 along a tilted
+// axis) against the 4096 rays, single thread, nearest visible root: the
+// reference's textbook and careful forms (reference/ray_cone.h), and the
+// optimized rows' routine (optimized/ray_cone.h: a bounding-sphere rejection,
+// then the careful form). Not a KernelRow: only the kernel's speed is
+// compared here; its accuracy against the long-double oracle is
+// tests/cones_test.cpp's and tests/cones_rows_test.cpp's.
+KernelBench ray_cone_bench() {
+  KernelBench k;
+  k.name = "kernel/ray_cone";
+  auto scene = std::make_shared<Scene>();
+  add_cone(*scene, {-0.3, -1.2, 0.1}, 0.8, {0.3, 1.2, -0.1}, 0.4, false, add_material(*scene, Material{}));
+  auto entry = [scene](int form) {
+    return [scene, form] {
+      auto rays = std::make_shared<const std::vector<Ray>>(rays_around_origin(kKernelRays, 1.5));
+      auto t = std::make_shared<std::vector<double>>(rays->size());
+      auto shape = std::make_shared<const opt::ConeShape>(opt::cone_shape(
+          scene->cone_base[0], scene->cone_r0[0], scene->cone_apex[0], scene->cone_r1[0], false));
+      KernelBench::Run r;
+      r.once = [scene, form, rays, t, shape] {
+        for (size_t i = 0; i < rays->size(); ++i) {
+          const Ray& ray = (*rays)[i];
+          (*t)[i] = form == 2 ? opt::cone_nearest(*shape, ray.o, ray.d, ray.tmin, ray.tmax, false)
+                              : ref::ray_cone_t(*scene, 0, ray, ray.tmax, ref::SphereSides::kNff, form == 0);
+        }
+        return int64_t(rays->size());
+      };
+      r.counters = [t]() -> std::vector<std::pair<std::string, double>> {
+        size_t hits = 0;
+        for (double x : *t) hits += std::isfinite(x);
+        return {{"hit_fraction", double(hits) / double(t->size())}};
+      };
+      return r;
+    };
+  };
+  k.impls.push_back({"textbook", entry(0)});
+  k.impls.push_back({"careful", entry(1)});
+  k.impls.push_back({"opt", entry(2)});
+  return k;
+}
+
 std::vector<KernelBench> stage_benches() {
   std::vector<KernelBench> out;
   const Sphere sphere{{0, 0, 0}, 1.0};
@@ -214,6 +256,7 @@ std::vector<KernelBench> stage_benches() {
   add_polygon(*tri, v, {}, add_material(*tri, Material{}));
   out.push_back(kernel_bench(kRows.ray_polygon, [tri](RayPolygonFn fn, const std::vector<Ray>& r,
                                                       std::vector<double>& t) { fn(r, *tri, 0, t); }));
+  out.push_back(ray_cone_bench());
   out.push_back(throughput_bench(true));
   out.push_back(throughput_bench(false));
   return out;
@@ -256,7 +299,6 @@ Family ray_cast_family() {
           return make_output<Image>(opt::embree::render_with(input_as<Scene>(in), o, stats, *device));
         };
       };
-  refuse_cones(f, {"reference"});
   f.judges = {judge(ray_cast_judges::JudgeKind::kDisk, "disk", "one sphere seen from outside: its exact disk"),
               judge(ray_cast_judges::JudgeKind::kConvex, "convex", "a closed convex solid: slab clipping")};
   f.bench = spd_frames;

@@ -115,7 +115,6 @@ Family ray_trace_family() {
               opt::embree::trace_render_with(input_as<Scene>(in), o, stats, *device));
         };
       };
-  refuse_cones(f, {"reference"});
   f.bench = bench_frames;
   f.properties = {"laws", "slab", "tir", "weights", "hidden", "agree"};
   f.params = trace_params();
