@@ -19,6 +19,7 @@
 #include <benchmark/benchmark.h>
 
 #include <malloc.h>
+#include <sys/resource.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -142,11 +143,31 @@ struct Holder {
 // hands the heap's free pages back to the kernel, so the output is fresh pages
 // (first touch) and the run includes the thread arena's start.
 //
+// first_faults and first_cpu_ms: the cold run's page faults and CPU time.
+//
 // Rows with a session (FamilyImpl::session: llvmpipe keeps its GL context and
-// compiled shaders, as an application does) run every frame of a benchmark in
-// one session: first_ms is then the session's first frame (context creation,
-// shader compilation), the timed loop its later frames. One session is alive
-// at a time (a benchmark's own, made at its cold run), as one input is.
+// compiled shaders, composite's simd row its frame buffer, as an application
+// does) run every frame of a benchmark in one session: session_ms is its start
+// (composite: the frame buffer allocated and touched once; llvmpipe: nothing
+// yet), first_ms the session's first frame (llvmpipe: context creation, shader
+// compilation), the timed loop its later frames. One session is alive at a
+// time (a benchmark's own, started before its cold run), as one input is.
+// Minor page faults and CPU seconds (user + system) of the process so far,
+// every thread's: the cold run's first touches of fresh pages and its CPU time
+// (which a loaded machine's waiting does not inflate), counted beside its wall
+// time (first_faults, first_cpu_ms).
+long minor_faults() {
+  rusage u;
+  getrusage(RUSAGE_SELF, &u);
+  return u.ru_minflt;
+}
+double cpu_seconds() {
+  rusage u;
+  getrusage(RUSAGE_SELF, &u);
+  return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+         1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
 using RunFn = std::function<Output(const Input&, const FrameOptions&, FrameStats*)>;
 struct SessionCache {
   const void* owner = nullptr;  // the benchmark whose session run holds
@@ -175,27 +196,38 @@ void register_frames(const Registry& reg) {
           const int div = &impl == &fam.reference() && in.heavy_for_reference ? 4 : 1;
           const std::string bname = base + "/" + std::string(impl.name) + "/threads:" + std::to_string(threads);
           auto cold = std::make_shared<double>(-1);  // seconds of the cold run, once per benchmark
-          benchmark::RegisterBenchmark(bname.c_str(), [input, div, threads, cold, sized = fam.sized, run = impl.run,
-                                                       session = impl.session, sessions, kind = fam.kind,
+          auto cold_faults = std::make_shared<double>(0);  // its page faults (all threads)
+          auto cold_cpu = std::make_shared<double>(0);     // its CPU seconds (all threads)
+          auto session_start = std::make_shared<double>(-1);  // seconds of the session's start (rows with one)
+          benchmark::RegisterBenchmark(bname.c_str(), [input, div, threads, cold, cold_faults, cold_cpu, session_start,
+                                                       sized = fam.sized, run = impl.run, session = impl.session, sessions, kind = fam.kind,
                                                        unit = std::string(fam.unit), bname](benchmark::State& st) {
             const Input& in = input->get();
-            if (session && sessions->owner != cold.get()) {
-              sessions->run = nullptr;  // the previous benchmark's session (its context) goes first
-              sessions->run = session();
-              sessions->owner = cold.get();
-            }
-            const RunFn& fn = session ? sessions->run : run;
             FrameOptions opts;
             opts.width = input->meta.width / div;
             opts.height = input->meta.height / div;
             opts.threads = threads;
             opts.params = input->meta.params;
+            if (sessions->owner != cold.get()) {
+              sessions->run = nullptr;  // the previous benchmark's session (its context, its buffers) goes first
+              sessions->owner = cold.get();
+              if (session) {
+                const Stopwatch start;
+                sessions->run = session(in, opts);
+                *session_start = start.seconds();
+              }
+            }
+            const RunFn& fn = session ? sessions->run : run;
             if (*cold < 0) {
               malloc_trim(0);
               FrameStats stats;
+              const long faults0 = minor_faults();
+              const double cpu0 = cpu_seconds();
               const Stopwatch once;
               Output out = fn(in, opts, &stats);
               *cold = once.seconds();
+              *cold_cpu = cpu_seconds() - cpu0;
+              *cold_faults = double(minor_faults() - faults0);
               benchmark::DoNotOptimize(kind->data(out));
               // What the run says the user must hear (e.g. llvmpipe: its thread
               // count is fixed per process, so threads:N may not be what ran).
@@ -226,6 +258,9 @@ void register_frames(const Registry& reg) {
             st.counters["build_ms"] = 1e3 * build / double(st.iterations());
             st.counters["size"] = sized ? opts.width : input->meta.width;
             st.counters["first_ms"] = 1e3 * *cold;  // cold: fresh output pages, thread start (see above)
+            st.counters["first_faults"] = *cold_faults;
+            st.counters["first_cpu_ms"] = 1e3 * *cold_cpu;
+            if (*session_start >= 0) st.counters["session_ms"] = 1e3 * *session_start;
             for (const auto& [k, v] : input->meta.counters) st.counters[k] = v;
           })->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
         }

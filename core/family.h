@@ -200,12 +200,19 @@ struct FamilyImpl {
   // tolerance() too (none does yet). Empty: Family::tol.
   std::optional<Tolerance> agree;
 
-  // A run that keeps its state across frames, as the library's users keep it
-  // (llvmpipe: its GL context and compiled shaders): each call of session()
-  // returns a run whose closure owns a fresh state, made on its first frame
-  // (the cold one) and reused by the next. The benchmarks time a session's
-  // frames, the first apart (first_ms). Empty: run keeps nothing, use it.
-  std::function<std::function<Output(const Input&, const FrameOptions&, FrameStats*)>()> session;
+  // A run that keeps its state across frames, as the library's users keep it:
+  // session(input, opts) starts one for frames of that input at opts' size and
+  // returns a run whose closure owns a fresh state, reused frame after frame.
+  // What it keeps is made when it starts (composite's simd row: its frame
+  // buffer, allocated and touched once, as an application allocates its
+  // framebuffer once) or on its first frame (llvmpipe: its GL context and
+  // compiled shaders). A frame the caller still holds is never written again:
+  // such a run hands back its own buffer only while the caller holds no other
+  // frame of it. The benchmarks time a session's start (session_ms), its first
+  // frame (first_ms) and its later frames apart. Empty: run keeps nothing, use it.
+  std::function<std::function<Output(const Input&, const FrameOptions&, FrameStats*)>(
+      const Input&, const FrameOptions&)>
+      session;
 
   // The tolerance this row is held to against the reference.
   const Tolerance& tolerance(const Tolerance& family_tol) const { return agree ? *agree : family_tol; }

@@ -22,10 +22,11 @@ ScreenMesh view_scene(const Scene& scene, int width, int height, const RasterSet
 // The z-buffer's SIMD shading (float, structure of arrays, every Shading mode,
 // box filter) of a visibility found by another method: visible holds, per
 // sample ((y width + x) spp + k, as Visibility::tri), the index into mesh.tris
-// of the triangle seen there, or Visibility::kNone. The image and its depth
-// plane (the nearest sample's eye depth), as opt::simd::zbuffer draws them.
+// of the triangle seen there, or Visibility::kNone (mesh.width * mesh.height *
+// spp entries). The image and its depth plane (the nearest sample's eye
+// depth), as opt::simd::zbuffer draws them.
 Image shade_visibility(const Scene& scene, const ScreenMesh& mesh, const RasterSettings& s,
-                       const std::vector<uint32_t>& visible, const FrameOptions& opts);
+                       const uint32_t* visible, const FrameOptions& opts);
 }  // namespace opt::simd
 
 namespace opt {

@@ -749,7 +749,7 @@ Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
 }
 
 Image shade_visibility(const Scene& scene, const ScreenMesh& mesh, const RasterSettings& s,
-                       const std::vector<uint32_t>& visible, const FrameOptions& opts) {
+                       const uint32_t* visible, const FrameOptions& opts) {
   const auto off = sample_offsets(s);
   const int spp = int(off.size());
   Binner b(s, off, &scene);

@@ -2,6 +2,8 @@
 // the contract, props/composite/ for the properties and their bounds).
 #include "pairs/composite.h"
 
+#include <algorithm>
+#include <memory>
 #include <span>
 
 #include "core/layers.h"
@@ -94,6 +96,33 @@ Family composite_family() {
   f.tol.fraction = 1.0;
   f.load = load_stack;
   f.impls = erase_all<LayerStack>(kImpls);
+  // The simd row keeps its frame buffer across frames, as an application
+  // keeps its framebuffer: allocated and touched once when the session starts
+  // (the benchmarks' session_ms), then composited into (composite_into) frame
+  // after frame. A fresh 4096^2 float output is 256 MiB of first-touch page
+  // faults, which on the 2-core VM cost 450-650 ms on one thread with 4 KiB
+  // pages (huge pages: 130 ms where the host has the memory at hand, 1-2.6 s
+  // where it must fetch it first) against a warm frame's 37 ms: no first frame
+  // that allocates its output can be within 2x of warm (issue #21, "One-shot
+  // cost"). `render` and `verify` composite one frame into a fresh Image (run).
+  for (FamilyImpl& impl : f.impls)
+    if (impl.name == "simd")
+      impl.session = [](const Input& in, const FrameOptions&) {
+        const LayerStack& stack = input_as<LayerStack>(in);
+        auto frame = std::make_shared<Image>(Image::uninitialized(stack.width(), stack.height()));
+        std::fill(frame->rgba.begin(), frame->rgba.end(), 0.0f);  // first touch, here
+        return [frame](const Input& in, const FrameOptions& o, FrameStats* stats) mutable {
+          const LayerStack& stack = input_as<LayerStack>(in);
+          // A frame the caller still holds is not written: a new buffer then.
+          if (frame.use_count() > 1 || frame->width != stack.width() ||
+              frame->height != stack.height())
+            frame = std::make_shared<Image>(Image::uninitialized(stack.width(), stack.height()));
+          opt::simd::composite_into(stack, o, frame->rgba.data(), stats);
+          Output out;
+          out.value = frame;  // shared with the session: take_output copies it
+          return out;
+        };
+      };
   f.bench = bench_stacks;
   return f;
 }

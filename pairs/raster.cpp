@@ -155,7 +155,7 @@ Family zbuffer_family() {
   // compilation, is their first_ms); `render` and `verify` draw one frame.
   for (FamilyImpl& impl : f.impls)
     if (impl.name == "llvmpipe")
-      impl.session = [] {
+      impl.session = [](const Input&, const FrameOptions&) {
         auto session = std::make_shared<opt::llvmpipe::Session>();
         return [session](const Input& in, const FrameOptions& o, FrameStats* stats) {
           return make_output<Image>(session->zbuffer(input_as<Scene>(in), o, stats));

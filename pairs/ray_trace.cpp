@@ -106,7 +106,7 @@ Family ray_trace_family() {
   // does (optimized/embree_scene.h Device): a session owns it.
   for (FamilyImpl& impl : f.impls)
     if (impl.name == "embree")
-      impl.session = [] {
+      impl.session = [](const Input&, const FrameOptions&) {
         auto device = std::make_shared<opt::embree::Device>();
         return [device](const Input& in, const FrameOptions& o, FrameStats* stats) {
           if (!device->handle)

@@ -18,6 +18,7 @@
 #include "core/layers.h"
 #include "optimized/composite.h"
 #include "optimized/tiling.h"
+#include "pairs/registry.h"
 #include "reference/composite.h"
 #include "reference/synthetic_stack.h"
 
@@ -271,6 +272,46 @@ TEST(CompositeSmoke, EarlyStopChangesNothing) {
   s.early_stop = false;
   const Image b = ref::composite(s, {}, nullptr);
   EXPECT_EQ(compare(a, b).max_ulps, 0u);
+}
+
+// The simd row's session (pairs/composite.cpp: its frame buffer kept across
+// frames): every frame equals run's, the buffer is reused once the caller has
+// dropped the last frame, and a frame the caller still holds is never written.
+TEST(CompositeSmoke, SessionKeepsItsBufferAndNeverOverwritesAHeldFrame) {
+  const Family* fam = registry().find("composite");
+  ASSERT_NE(fam, nullptr);
+  const FamilyImpl* simd = fam->find("simd");
+  ASSERT_NE(simd, nullptr);
+  ASSERT_TRUE(simd->session);
+  auto input = [](int seed) {
+    return make_input<LayerStack>(
+        synthetic_stack(67, 41, 3, -1, Alpha::premultiplied, Storage::f32, seed), "s", 67, 41);
+  };
+  const Input a = input(3), b = input(4);
+  const FrameOptions o;
+  const auto run = simd->session(a, o);
+  const float* kept = nullptr;
+  {
+    const Output fa = run(a, o, nullptr);
+    kept = output_as<Image>(fa).rgba.data();
+    EXPECT_EQ(compare(output_as<Image>(fa), simd->run_as<Image>(a, o, nullptr)).max_ulps, 0u);
+    // Held: the next frame goes elsewhere, and this one is unchanged.
+    const Output fb = run(b, o, nullptr);
+    EXPECT_NE(output_as<Image>(fb).rgba.data(), kept);
+    EXPECT_EQ(compare(output_as<Image>(fa), simd->run_as<Image>(a, o, nullptr)).max_ulps, 0u);
+    EXPECT_EQ(compare(output_as<Image>(fb), simd->run_as<Image>(b, o, nullptr)).max_ulps, 0u);
+    kept = output_as<Image>(fb).rgba.data();
+  }
+  // Both dropped: the session's buffer (the last one) is written again.
+  {
+    const Output fc = run(a, o, nullptr);
+    EXPECT_EQ(output_as<Image>(fc).rgba.data(), kept);
+    EXPECT_EQ(compare(output_as<Image>(fc), simd->run_as<Image>(a, o, nullptr)).max_ulps, 0u);
+  }
+  // Taken by the caller (take_output) while the session holds it: a copy.
+  Image taken = take_output<Image>(run(b, o, nullptr));
+  EXPECT_NE(taken.rgba.data(), kept);
+  EXPECT_EQ(compare(taken, simd->run_as<Image>(b, o, nullptr)).max_ulps, 0u);
 }
 
 TEST(CompositeSmoke, BadStacksAreInputErrors) {
