@@ -46,6 +46,7 @@ constexpr std::string_view kDepths = "float|reversed|fixed24|double";
 constexpr std::string_view kInterps = "perspective|affine";
 constexpr std::string_view kHidden = "skip|draw";
 constexpr std::string_view kOrders = "auto|mesh|reverse";
+constexpr std::string_view kShadows = "none|map|volume";
 
 }  // namespace
 
@@ -65,6 +66,14 @@ std::vector<ParamSpec> raster_params() {
       {"order", kOrders, "auto",
        "simd z-buffer: tiles draw in mesh order or reversed, ties then winning (auto: front to back "
        "where the mesh comes back to front; same image)"},
+      {"shadows", kShadows, "none",
+       "shadows of point lights: map (shadow maps, one cube per light; needs shading phong|blinn), "
+       "volume (shadow volumes)"},
+      {"bias", "world units, 0..1e6", "0", "shadows=map: constant depth bias (distance from the light)"},
+      {"slope_bias", "texels, 0..1e3", "1",
+       "shadows=map: slope-scaled bias, texel widths times tan(angle between normal and light)"},
+      {"map_size", "texels, 16..4096", "1024", "shadows=map: cube-face resolution (--map-size)"},
+      {"pcf", "0, 1, 3, 5, 7, 9", "1", "shadows=map: percentage-closer filtering over pcf x pcf texels (0, 1: off)"},
   };
 }
 
@@ -97,6 +106,20 @@ RasterSettings raster_settings(const Params& params, const std::string& source) 
       s.order = DrawOrder(choose(source, name, value, kOrders));
     } else if (name == "hidden") {
       s.skip_hidden = choose(source, name, value, kHidden) == 0;
+    } else if (name == "shadows") {
+      s.shadows = ShadowMode(choose(source, name, value, kShadows));
+    } else if (name == "bias") {
+      s.bias = number(source, name, value, 0, 1e6);
+    } else if (name == "slope_bias") {
+      s.slope_bias = number(source, name, value, 0, 1e3);
+    } else if (name == "map_size") {
+      const double n = number(source, name, value, 16, 4096);
+      if (n != std::floor(n)) throw InputError(source, 0, "map_size: '" + value + "' is not a whole number of texels");
+      s.map_size = int(n);
+    } else if (name == "pcf") {
+      s.pcf = choose(source, name, value, "0|1|2|3|4|5|6|7|8|9");
+      if (s.pcf > 1 && s.pcf % 2 == 0)
+        throw InputError(source, 0, "pcf: '" + value + "' is not 0, 1 (off) or an odd kernel width 3, 5, 7, 9");
     } else {
       std::string known;
       for (const ParamSpec& p : raster_params()) known += (known.empty() ? "" : ", ") + std::string(p.name);

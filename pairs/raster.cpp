@@ -1,8 +1,10 @@
 // lockstep pairs: the raster families' rows (see pairs/raster.h).
 #include "pairs/raster.h"
 
+#include <algorithm>
 #include <string>
 
+#include "core/error.h"
 #include "core/output_image.h"
 #include "optimized/painter.h"
 #include "optimized/raster.h"
@@ -39,6 +41,35 @@ std::vector<BenchInput> spd_frames() {
     add(name, "flat");
   for (const char* name : {"sombrero-2", "balls-3"}) add(name, "phong");
   return out;
+}
+
+// Why a row that draws no shadows cannot draw these settings ("" when it
+// can): any shadows setting but none. Such a row refuses it (InputError, exit
+// 2), never drawing an unshadowed image; `verify` and the benchmarks skip it.
+std::string shadows_unsupported(const Params& params) {
+  try {
+    if (raster_settings(params, "settings").shadows != ShadowMode::kNone)
+      return "shadows: this row draws no shadows (shadows=map: zbuffer --impl reference or simd)";
+  } catch (const InputError&) {
+    // bad settings are the family's to report
+  }
+  return "";
+}
+
+// Every row of f but those named draws no shadows: it says so through
+// unsupported (unless it has its own, which must then say it too) and its run
+// refuses them naming the scene.
+void refuse_shadows(Family& f, std::initializer_list<std::string_view> draws_shadows) {
+  for (FamilyImpl& impl : f.impls) {
+    if (std::find(draws_shadows.begin(), draws_shadows.end(), impl.name) != draws_shadows.end()) continue;
+    if (!impl.unsupported) impl.unsupported = shadows_unsupported;
+    const std::string who = std::string(f.name) + " --impl " + std::string(impl.name) + ": ";
+    impl.run = [run = std::move(impl.run), who](const Input& in, const FrameOptions& o, FrameStats* s) {
+      if (const std::string why = shadows_unsupported(o.params); !why.empty())
+        throw InputError(input_as<Scene>(in).source, 0, who + why);
+      return run(in, o, s);
+    };
+  }
 }
 
 // A raster family over NFF scenes: the shared loader, settings and checks.
@@ -124,6 +155,7 @@ Family zbuffer_family() {
                      true, opt::llvmpipe::unsupported});
   f.impls = erase_all<Scene>(impls);
   refuse_cones(f, {});  // no rasterizer tessellates cones yet
+  refuse_shadows(f, {"reference", "simd"});
   // The benchmarks time llvmpipe with its context kept across frames, as an
   // application keeps its GL context (the first frame, context and shader
   // compilation, is their first_ms); `render` and `verify` draw one frame.
@@ -160,6 +192,7 @@ Family scanline_family() {
   };
   f.impls = erase_all<Scene>(impls);
   refuse_cones(f, {});  // no rasterizer tessellates cones yet
+  refuse_shadows(f, {});
   f.properties = {"cross_check", "supersampling", "scanline", "interpolation"};
   return f;
 }
@@ -180,6 +213,7 @@ Family painter_family() {
   };
   f.impls = erase_all<Scene>(impls);
   refuse_cones(f, {});  // no rasterizer tessellates cones yet
+  refuse_shadows(f, {});
   f.properties = {"painter"};
   f.default_impl = "simd";
   return f;

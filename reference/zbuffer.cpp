@@ -13,7 +13,9 @@
 #include <string>
 
 #include "core/error.h"
+#include "core/shadow_map.h"
 #include "reference/raster.h"
+#include "reference/shadow_map.h"
 
 namespace lockstep {
 
@@ -120,6 +122,12 @@ void zbuffer_visibility(const ScreenMesh& mesh, const RasterSettings& s, Visibil
 
 Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   const RasterSettings s = frame_settings(scene, opts);
+  check_shadow_settings(s, scene.source, "zbuffer --impl reference");
+  // Shadows: pass 1 fills each light's cube map first (reference/shadow_map.h).
+  const ShadowMaps maps = s.shadows == ShadowMode::kMap ? shadow_maps(scene, s) : ShadowMaps{};
+  const LightReach reach = [&](uint32_t light, const Vec3& p, const Vec3& normal) {
+    return lit_fraction(maps.cubes[light], s, p, normal);
+  };
   // The sample buffers: colour, depth, visible triangle, coverage count.
   const double samples = double(opts.width) * opts.height * s.spp;
   const ScreenMesh mesh = view_scene(scene, opts.width, opts.height, s);
@@ -127,7 +135,8 @@ Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   std::vector<Vec3f> sample_color(size_t(samples), Vec3f(scene.background));
   std::vector<float> sample_z(sample_color.size(), float(kInfinity));
   zbuffer_loop(mesh, s, vis, opts.progress, [&](size_t index, const Fragment& f) {
-    sample_color[index] = Vec3f(shade_fragment(scene, mesh, s, f));
+    sample_color[index] = Vec3f(s.shadows == ShadowMode::kMap ? shade_fragment(scene, mesh, s, f, reach)
+                                                              : shade_fragment(scene, mesh, s, f));
     sample_z[index] = float(f.z);
   });
   // Resolve: the box filter over each pixel's samples; depth is the nearest sample's.
