@@ -217,9 +217,10 @@ struct Fragment {
 Vec3 shade_fragment(const Scene& scene, const ScreenMesh& mesh, const RasterSettings& s, const Fragment& f);
 // The same under shadows, for kPhong and kBlinn: light k's diffuse + specular
 // term is scaled by lit(k, p, face_normal) in [0, 1] (the share of the light
-// that reaches the fragment's point p; face_normal: the triangle's unit world
-// normal of the drawn side), asked only where that term is not 0 (the light in
-// front of the surface), as the ray tracer casts a shadow ray only there.
+// that reaches p, where the sample's ray meets the triangle's unsnapped world
+// plane; face_normal: the triangle's unit world normal of the drawn side),
+// asked only where that term is not 0 (the light in front of the surface), as
+// the ray tracer casts a shadow ray only there.
 using LightReach = std::function<double(uint32_t light, const Vec3& p, const Vec3& face_normal)>;
 Vec3 shade_fragment(const Scene& scene, const ScreenMesh& mesh, const RasterSettings& s, const Fragment& f,
                     const LightReach& lit);

@@ -116,29 +116,43 @@ double texel_distance(const ScreenMesh& frame, double window, int i, int j) {
   return z * std::sqrt(1 + u * u + v * v);
 }
 
-double shadow_bias(const RasterSettings& s, int n, double r, double cos_theta) {
+namespace {
+
+// tan theta from cos theta, capped (core/shadow_map.h).
+double capped_tan(double cos_theta) {
   constexpr double kMaxTan = 10;
   const double c = std::clamp(std::abs(cos_theta), 0.0, 1.0);
-  const double tan_theta = c * kMaxTan >= std::sqrt(1 - c * c) ? std::sqrt(1 - c * c) / c : kMaxTan;
-  return s.bias + s.slope_bias * (2 * r / n) * tan_theta;
+  return c * kMaxTan >= std::sqrt(1 - c * c) ? std::sqrt(1 - c * c) / c : kMaxTan;
+}
+
+}  // namespace
+
+double shadow_bias(const RasterSettings& s, int n, double r, double cos_theta) {
+  return kShadowRounding * r + s.bias + s.slope_bias * (2 * r / n) * capped_tan(cos_theta);
 }
 
 double lit_fraction(const ShadowCube& cube, const RasterSettings& s, const Vec3& p, const Vec3& face_normal) {
   const Vec3 d = p - cube.light;
   const double r = length(d);
   if (!(r > 0)) return 1;  // at the light itself
-  const double reach = r - shadow_bias(s, cube.n, r, dot(face_normal, d) / r);
+  const double cos_theta = dot(face_normal, d) / r;
+  const double reach = r - shadow_bias(s, cube.n, r, cos_theta);
   if (s.pcf <= 1) return reach > cube.at(cube_texel(d, cube.n)) ? 0.0 : 1.0;
-  // Percentage-closer filtering: the k x k texels around p's position on its face.
+  // Percentage-closer filtering: the k x k texels around p's position on its
+  // face. A sample (a, b) texels away sees p's plane up to |(a, b)| texel
+  // widths further along its slope, so its bias grows by that many texels
+  // (without it half of every tilted plane would shadow itself).
   const int face = cube_face(d);
   double x, y;
   face_xy(face, d, cube.n, x, y);
   const int half = s.pcf / 2;
+  const double texel_slope = (2 * r / cube.n) * capped_tan(cos_theta);
   int passed = 0;
   for (int b = -half; b <= half; ++b)
     for (int a = -half; a <= half; ++a) {
       const Vec3 da = cube_direction(face, x + a, y + b, cube.n);
-      if (!(reach > cube.at(cube_texel(da, cube.n)))) ++passed;
+      const double reach_ab = reach - std::sqrt(double(a * a + b * b)) * texel_slope;
+      if (!(reach_ab > cube.at(cube_texel(da, cube.n)))) ++passed;
     }
   return double(passed) / double(s.pcf * s.pcf);
 }

@@ -41,14 +41,20 @@
 // sqrt(2)/2 ~ 0.71 covers the whole discretisation error (no acne), and more
 // pushes the shadow off its occluder where they touch (peter-panning).
 // tan is capped at 10 (84 degrees): a surface that grazes the light would
-// otherwise push its bias to infinity.
+// otherwise push its bias to infinity. A third term, kShadowRounding * r,
+// always there, covers the rounding of the two distances compared (the
+// texel's through the rasterizer's interpolated 1/z and a float, 2^-24
+// relative; p's through the eye's pass): without it a point exactly on a
+// texel's centre ray, facing the light, would shadow itself by a rounding.
 //
 // Percentage-closer filtering (Reeves, Salesin and Cook, "Rendering
 // antialiased shadows with depth maps", SIGGRAPH 1987): with pcf = k > 1 the
 // test is made against the k x k texels around p's (offsets -(k-1)/2 ..
 // (k-1)/2 texels on p's face; an offset past the face's edge is followed onto
 // the neighbouring face through its direction) and the light is scaled by the
-// fraction that pass: a soft edge k texels wide where the hard one was.
+// fraction that pass: a soft edge k texels wide where the hard one was. Each
+// sample (a, b) texels from p adds sqrt(a^2 + b^2) texels to the slope term
+// (the plane's distance changes across the offset as across p's own texel).
 #pragma once
 
 #include <array>
@@ -113,6 +119,8 @@ RasterSettings depth_pass_settings(const RasterSettings& s);
 // (stored_depth of kDouble) at texel (i, j) of the face's frame.
 double texel_distance(const ScreenMesh& face_frame, double window_depth, int i, int j);
 
+// The relative rounding allowance of the test (a few float ulps of r).
+inline constexpr double kShadowRounding = 1.0 / (1 << 20);
 // The bias of the test above at distance r with cos_theta = |N.L|.
 double shadow_bias(const RasterSettings& s, int n, double r, double cos_theta);
 // Pass 2: the fraction of cube's light that reaches point p with unit
