@@ -202,9 +202,10 @@ RC_GTEST_PROP(NoOccluder, SameAsUnshadowed, ()) {
     }
 }
 
-// Measured over 5 runs of 1000 cases (RC_PARAMS="max_success=1000"): see
-// the commit; the bound is that rate with a margin.
-constexpr double kAgreeRate = 0.02;
+// Measured: 100-case runs 6.8e-4 .. 1.1e-3 of the compared pixels (four
+// seeds), a 1000-case run 5.0e-4 (66 of 133211): a texel's jagged shadow edge.
+// The bound: about 3x the worst 100-case run.
+constexpr double kAgreeRate = 0.003;
 
 TEST(Agree, ShadowRays) {
   long compared = 0, wrong = 0;
