@@ -151,11 +151,14 @@ inline const Family& family_for_path(const std::string& path) {
   throw InputError(path, 0, "no family reads '" + ext + "' files (known: " + known + ")");
 }
 
-// The setting of f that option a ("--shading") names, or null.
+// The setting of f that option a ("--shading") names, or null. A setting of
+// several words is written with '_' (map_size) or '-' (--map-size).
 inline const ParamSpec* find_param(const Family& f, std::string_view a) {
   if (!a.starts_with("--")) return nullptr;
+  std::string name(a.substr(2));
+  std::replace(name.begin(), name.end(), '-', '_');
   for (const ParamSpec& p : f.params)
-    if (a.substr(2) == p.name) return &p;
+    if (name == p.name) return &p;
   return nullptr;
 }
 

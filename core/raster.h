@@ -45,6 +45,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -80,16 +81,18 @@ enum class SampleGrid : uint8_t {
 // buffers every way): kAuto, front to back where the mesh comes back to front.
 enum class DrawOrder : uint8_t { kAuto, kMesh, kReverse };
 
-// Shadows from the scene's point lights (issue #22): none, two-pass shadow maps,
-// or shadow volumes (reference/shadow_volume.h: Crow 1977, stencil counting).
-enum class ShadowMode : uint8_t { kNone, kMap, kVolume };
-
 enum class DepthFormat : uint8_t {
   kFloat,     // window depth d = (1/n - 1/z) / (1/n - 1/f) in [0, 1], as a float; nearer = smaller
   kReversed,  // reversed-Z: d = n / z as a float (infinite far plane); nearer = larger
   kFixed24,   // the window depth d rounded to 24-bit fixed point, as most hardware
   kDouble,    // the window depth d in double: the reference's exact-ish answer
 };
+
+// How the raster families shadow point lights: not at all (every light reaches
+// every surface, as ray casting lights it), with shadow maps (Williams 1978:
+// core/shadow_map.h) or with shadow volumes (Crow 1977: reference/shadow_volume.h,
+// stencil counting).
+enum class ShadowMode : uint8_t { kNone, kMap, kVolume };
 
 struct RasterSettings {
   Shading shading = Shading::kPhong;
@@ -105,12 +108,18 @@ struct RasterSettings {
   bool perspective = true;     // perspective-correct interpolation (false: affine, for the tests)
   bool skip_hidden = true;     // opt::simd::zbuffer: leave out what nearer spheres hide (same image)
   DrawOrder order = DrawOrder::kAuto;  // opt::simd's tiles: their triangles' order (same buffers)
+  // Shadows of point lights (issue #22; core/shadow_map.h for the map's units):
   ShadowMode shadows = ShadowMode::kNone;
-  bool zfail = false;          // shadow volumes: z-fail with capped volumes (Carmack; Everitt-Kilgard) instead of z-pass
+  double bias = 0;          // shadows=map: constant depth bias, world units (distance from the light)
+  double slope_bias = 1;    // shadows=map: slope-scaled bias, in texels (core/shadow_map.h)
+  int map_size = 1024;      // shadows=map: each cube face is map_size x map_size texels
+  int pcf = 1;              // shadows=map: percentage-closer filter, pcf x pcf texels (0 and 1: off)
+  bool zfail = false;       // shadows=volume: z-fail with capped volumes (Carmack; Everitt-Kilgard) instead of z-pass
 };
 
 // Reads a family's Params (shading, cull, silhouette, spp, grid, split,
-// tess_error, depth, interp, hidden, order). Throws InputError(source, 0, ...) naming the
+// tess_error, depth, interp, hidden, order, shadows, bias, slope_bias, map_size,
+// pcf). Throws InputError(source, 0, ...) naming the
 // setting and what it may be.
 RasterSettings raster_settings(const Params& params, const std::string& source);
 // The settings of one frame (raster_settings of opts.params), after the one
@@ -224,6 +233,15 @@ struct Fragment {
 // without silhouettes on a scene without spheres this is exactly what ray
 // casting computes at the same point (core/shading.h).
 Vec3 shade_fragment(const Scene& scene, const ScreenMesh& mesh, const RasterSettings& s, const Fragment& f);
+// The same under shadows, for kPhong and kBlinn: light k's diffuse + specular
+// term is scaled by lit(k, p, face_normal) in [0, 1] (the share of the light
+// that reaches p, where the sample's ray meets the triangle's unsnapped world
+// plane; face_normal: the triangle's unit world normal of the drawn side),
+// asked only where that term is not 0 (the light in front of the surface), as
+// the ray tracer casts a shadow ray only there.
+using LightReach = std::function<double(uint32_t light, const Vec3& p, const Vec3& face_normal)>;
+Vec3 shade_fragment(const Scene& scene, const ScreenMesh& mesh, const RasterSettings& s, const Fragment& f,
+                    const LightReach& lit);
 
 // ---------------------------------------------------------------- visibility (kernel level)
 

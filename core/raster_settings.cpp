@@ -67,8 +67,14 @@ std::vector<ParamSpec> raster_params() {
        "simd z-buffer: tiles draw in mesh order or reversed, ties then winning (auto: front to back "
        "where the mesh comes back to front; same image)"},
       {"shadows", kShadows, "none",
-       "point-light shadows: map (two-pass z-buffer) or volume (stencil counts; reference zbuffer only)"},
-      {"zfail", "", "", "shadow volumes: z-fail with capped volumes (right with the eye in shadow; default z-pass)",
+       "shadows of point lights: map (shadow maps, one cube per light; needs shading phong|blinn), "
+       "volume (shadow volumes, stencil counts; zbuffer --impl reference only)"},
+      {"bias", "world units, 0..1e6", "0", "shadows=map: constant depth bias (distance from the light)"},
+      {"slope_bias", "texels, 0..1e3", "1",
+       "shadows=map: slope-scaled bias, texel widths times tan(angle between normal and light)"},
+      {"map_size", "texels, 16..4096", "1024", "shadows=map: cube-face resolution (--map-size)"},
+      {"pcf", "0, 1, 3, 5, 7, 9", "1", "shadows=map: percentage-closer filtering over pcf x pcf texels (0, 1: off)"},
+      {"zfail", "", "", "shadows=volume: z-fail with capped volumes (right with the eye in shadow; default z-pass)",
        true},
   };
 }
@@ -106,6 +112,18 @@ RasterSettings raster_settings(const Params& params, const std::string& source) 
       s.shadows = ShadowMode(choose(source, name, value, kShadows));
     } else if (name == "zfail") {
       s.zfail = flag(source, name, value);
+    } else if (name == "bias") {
+      s.bias = number(source, name, value, 0, 1e6);
+    } else if (name == "slope_bias") {
+      s.slope_bias = number(source, name, value, 0, 1e3);
+    } else if (name == "map_size") {
+      const double n = number(source, name, value, 16, 4096);
+      if (n != std::floor(n)) throw InputError(source, 0, "map_size: '" + value + "' is not a whole number of texels");
+      s.map_size = int(n);
+    } else if (name == "pcf") {
+      s.pcf = choose(source, name, value, "0|1|2|3|4|5|6|7|8|9");
+      if (s.pcf > 1 && s.pcf % 2 == 0)
+        throw InputError(source, 0, "pcf: '" + value + "' is not 0, 1 (off) or an odd kernel width 3, 5, 7, 9");
     } else {
       std::string known;
       for (const ParamSpec& p : raster_params()) known += (known.empty() ? "" : ", ") + std::string(p.name);

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "core/raster.h"
+#include "core/shadow_map.h"
 
 namespace lockstep {
 
@@ -27,6 +28,12 @@ ScreenMesh view_scene(const Scene& scene, int width, int height, const RasterSet
 // depth), as opt::simd::zbuffer draws them.
 Image shade_visibility(const Scene& scene, const ScreenMesh& mesh, const RasterSettings& s,
                        const uint32_t* visible, const FrameOptions& opts);
+// shadows=map (optimized/zbuffer_shadow.cpp): every light's cube map drawn by
+// zbuffer_visibility (pass 1), and the frame zbuffer draws when s.shadows is
+// map: the fast rasterizer's visibility, each sample shaded in double with the
+// map's test (shade_fragment, as the reference).
+ShadowMaps shadow_maps(const Scene& scene, const RasterSettings& s, int threads);
+Image zbuffer_shadowed(const Scene& scene, const FrameOptions& opts, const RasterSettings& s, FrameStats* stats);
 }  // namespace opt::simd
 
 namespace opt {

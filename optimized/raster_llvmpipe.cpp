@@ -67,6 +67,7 @@ std::string unsupported(const RasterSettings& s) {
   if (s.spp != 1) return "llvmpipe draws one sample per pixel (spp=1)";
   if (!s.perspective) return "llvmpipe interpolates perspective-correctly only (no interp=affine)";
   if (s.silhouette) return "llvmpipe does not draw silhouettes";
+  if (s.shadows != ShadowMode::kNone) return "llvmpipe draws no shadows (shadows=none only)";
   return "";
 }
 

@@ -726,6 +726,7 @@ Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const Binner& b,
 
 Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   const RasterSettings s = frame_settings(scene, opts);
+  if (s.shadows != ShadowMode::kNone) return zbuffer_shadowed(scene, opts, s, stats);
   const auto off = sample_offsets(s);
   // The set-up hands its triangles straight to the binner (no ScreenTri is
   // kept), and only what the image needs: no triangle without a sample in its

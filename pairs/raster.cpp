@@ -1,6 +1,7 @@
 // lockstep pairs: the raster families' rows (see pairs/raster.h).
 #include "pairs/raster.h"
 
+#include <algorithm>
 #include <string>
 
 #include "core/error.h"
@@ -42,26 +43,41 @@ std::vector<BenchInput> spd_frames() {
   return out;
 }
 
-// Shadows (issue #22): only the reference z-buffer draws shadows=volume; every
-// other row says so (verify skips it, a render exits 2) rather than drawing an
-// unshadowed image.
-std::string no_shadow_volumes(const Params& p) {
-  if (p.get("shadows", "none") == "volume")
-    return "shadows=volume: only zbuffer --impl reference counts shadow-volume stencils (not this row yet)";
+// Shadows (issue #22): which rows draw which. The reference z-buffer draws
+// shadow maps and shadow volumes, the simd z-buffer shadow maps; every other
+// row says so (verify and the benchmarks skip it, a render exits 2) rather
+// than drawing an unshadowed image.
+std::string shadow_why(const Params& params, bool map, bool volume) {
+  try {
+    const ShadowMode m = raster_settings(params, "settings").shadows;
+    if (m == ShadowMode::kMap && !map)
+      return "shadows=map: this row draws no shadow maps (zbuffer --impl reference or simd)";
+    if (m == ShadowMode::kVolume && !volume)
+      return "shadows=volume: only zbuffer --impl reference counts shadow-volume stencils (not this row yet)";
+  } catch (const InputError&) {
+    // bad settings are the family's to report
+  }
   return "";
 }
+std::string draws_no_shadows(const Params& p) { return shadow_why(p, false, false); }
+std::string draws_maps_only(const Params& p) { return shadow_why(p, true, false); }
 std::string llvmpipe_unsupported(const Params& p) {
-  std::string why = no_shadow_volumes(p);
+  std::string why = draws_no_shadows(p);
   return why.empty() ? opt::llvmpipe::unsupported(p) : why;
 }
-void refuse_shadow_volumes(Family& f) {
+
+// Every row of f but the reference z-buffer refuses what it cannot draw (the
+// simd z-buffer: volumes; the rest: any shadows), through unsupported (unless
+// it has its own, which must then say it too) and its run, naming the scene.
+void refuse_shadows(Family& f) {
   for (FamilyImpl& impl : f.impls) {
-    if (f.name == "zbuffer" && impl.name == "reference") continue;
-    if (!impl.unsupported) impl.unsupported = no_shadow_volumes;
-    std::string who = std::string(f.name) + " --impl " + std::string(impl.name) + ": ";
-    impl.run = [run = std::move(impl.run), who](const Input& in, const FrameOptions& o, FrameStats* st) {
-      if (const std::string why = no_shadow_volumes(o.params); !why.empty())
-        throw InputError(input_as<Scene>(in).source, 0, who + why);
+    const bool zbuffer = f.name == "zbuffer";
+    if (zbuffer && impl.name == "reference") continue;
+    auto why = zbuffer && impl.name == "simd" ? draws_maps_only : draws_no_shadows;
+    if (!impl.unsupported) impl.unsupported = why;
+    const std::string who = std::string(f.name) + " --impl " + std::string(impl.name) + ": ";
+    impl.run = [run = std::move(impl.run), who, why](const Input& in, const FrameOptions& o, FrameStats* st) {
+      if (const std::string w = why(o.params); !w.empty()) throw InputError(input_as<Scene>(in).source, 0, who + w);
       return run(in, o, st);
     };
   }
@@ -149,7 +165,7 @@ Family zbuffer_family() {
     impls.push_back({"llvmpipe", opt::llvmpipe::zbuffer, 0, {"coverage", 3e-5, "pixel"}, "Mesa llvmpipe (OSMesa)",
                      true, llvmpipe_unsupported});
   f.impls = erase_all<Scene>(impls);
-  refuse_shadow_volumes(f);
+  refuse_shadows(f);
   // The benchmarks time llvmpipe with its context kept across frames, as an
   // application keeps its GL context (the first frame, context and shader
   // compilation, is their first_ms); `render` and `verify` draw one frame.
@@ -186,7 +202,7 @@ Family scanline_family() {
       {"simd", opt::simd::scanline, 1.0 / 255},
   };
   f.impls = erase_all<Scene>(impls);
-  refuse_shadow_volumes(f);
+  refuse_shadows(f);
   f.properties = {"cross_check", "supersampling", "scanline", "interpolation"};
   return f;
 }
@@ -206,7 +222,7 @@ Family painter_family() {
       {"simd", opt::simd::painter, 0},
   };
   f.impls = erase_all<Scene>(impls);
-  refuse_shadow_volumes(f);
+  refuse_shadows(f);
   f.properties = {"painter"};
   f.default_impl = "simd";
   return f;

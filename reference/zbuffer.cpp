@@ -13,7 +13,9 @@
 #include <string>
 
 #include "core/error.h"
+#include "core/shadow_map.h"
 #include "reference/raster.h"
+#include "reference/shadow_map.h"
 #include "reference/shadow_volume.h"
 
 namespace lockstep {
@@ -121,6 +123,13 @@ void zbuffer_visibility(const ScreenMesh& mesh, const RasterSettings& s, Visibil
 
 Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   const RasterSettings s = frame_settings(scene, opts);
+  // This row draws both kinds: the check is shadow maps' (per-sample lighting).
+  if (s.shadows == ShadowMode::kMap) check_shadow_settings(s, scene.source, "zbuffer --impl reference");
+  // Shadows: pass 1 fills each light's cube map first (reference/shadow_map.h).
+  const ShadowMaps maps = s.shadows == ShadowMode::kMap ? shadow_maps(scene, s) : ShadowMaps{};
+  const LightReach reach = [&](uint32_t light, const Vec3& p, const Vec3& normal) {
+    return lit_fraction(maps.cubes[light], s, p, normal);
+  };
   // The sample buffers: colour, depth, visible triangle, coverage count.
   const double samples = double(opts.width) * opts.height * s.spp;
   const ScreenMesh mesh = view_scene(scene, opts.width, opts.height, s);
@@ -129,8 +138,6 @@ Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   // its shadow volume there (reference/shadow_volume.h); the colour pass below
   // lights each sample with the lights its counts left at 0.
   ShadowMasks masks;
-  if (s.shadows == ShadowMode::kMap)
-    throw InputError(scene.source, 0, "shadows=map: two-pass shadow maps are not in this build (shadows=volume is)");
   if (s.shadows == ShadowMode::kVolume) {
     if (s.shading != Shading::kPhong && s.shading != Shading::kBlinn)
       throw InputError(scene.source, 0,
@@ -146,7 +153,8 @@ Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   zbuffer_loop(mesh, s, vis, opts.progress, [&](size_t index, const Fragment& f) {
     // An overdrawn fragment may get the final sample's lights; the visible one, written last, is right.
     sample_color[index] = Vec3f(masks.lights ? shade_fragment_lit(scene, mesh, s, f, &masks.lit[index * masks.lights])
-                                             : shade_fragment(scene, mesh, s, f));
+                                : s.shadows == ShadowMode::kMap ? shade_fragment(scene, mesh, s, f, reach)
+                                                                : shade_fragment(scene, mesh, s, f));
     sample_z[index] = float(f.z);
   });
   // Resolve: the box filter over each pixel's samples; depth is the nearest sample's.
