@@ -155,4 +155,13 @@ std::vector<std::array<uint32_t, 3>> triangulate(std::span<const Vec3> vertices,
 // the boxes of their end discs).
 void scene_bounds(const Scene& scene, Vec3& lo, Vec3& hi);
 
+// Polygons whose plane normal is zero only because the Newell products
+// overflowed or underflowed double (coordinates beyond about 1e150 or below
+// 1e-150, checked on the vertices moved to the first and scaled to unit size),
+// not because they have no area: every row leaves them out and must say so
+// (FrameStats::dropped with kNormalLostToRange; issue #22).
+inline constexpr const char* kNormalLostToRange = "polygon normal out of double range (|x| > 1e150 or < 1e-150)";
+bool normal_lost_to_range(std::span<const Vec3> vertices);
+uint64_t range_lost_polygons(const Scene& scene);
+
 }  // namespace lockstep

@@ -13,6 +13,7 @@
 #include <embree3/rtcore.h>
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -78,6 +79,9 @@ struct EmbreeScene {
   FarSphereData far_spheres;
   TriangleData triangles;
   RTCScene scene = nullptr;
+  // Primitives out of float range (simd::float_triangle_limit and
+  // float_sphere_limit), left out of Embree's scene and counted by reason.
+  std::map<std::string, uint64_t> dropped;
 
   ~EmbreeScene() {
     if (scene) rtcReleaseScene(scene);

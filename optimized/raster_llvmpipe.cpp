@@ -201,6 +201,7 @@ Image draw_frame(std::unique_ptr<Context>& ctx, const Scene& scene, const FrameO
   if (stats) {
     stats->build_seconds = create + t.compile;          // 0 on a kept context's later frames
     stats->items = mesh.scene_tris + mesh.sphere_tris;  // as the reference counts
+    stats->dropped = mesh.dropped;
     for (std::string& line : notes) stats->notes.push_back(std::move(line));
   }
   return img;

@@ -221,6 +221,7 @@ Image trace_render(const Scene& scene, const FrameOptions& opts, FrameStats* sta
   if (stats) {
     stats->build_seconds = build_seconds;
     stats->items = rays;
+    for (const auto& [why, n] : es->dropped) stats->drop(why, n);
   }
   return image;
 }

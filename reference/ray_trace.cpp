@@ -188,7 +188,10 @@ Image trace_render(const Scene& scene, const FrameOptions& opts, FrameStats* sta
       image.set(i, j, pixel(scene, settings, camera, i, j, nullptr, &rays));
     if (opts.progress) opts.progress(double(j + 1) / opts.height);
   }
-  if (stats) stats->items = rays;
+  if (stats) {
+    stats->items = rays;
+    stats->drop(kNormalLostToRange, range_lost_polygons(scene));
+  }
   return image;
 }
 
