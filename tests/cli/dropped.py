@@ -73,6 +73,25 @@ for name in ("plane-1e25", "far-1e25", "plane-1e200"):
             failures.append(f"{name} {algo}/{impl}: differs from the ray-cast reference and reported nothing dropped")
         print(f"{name:12} {algo:9} {impl:10} {'same' if ok else 'DIFFERS'}{'; dropped: ' + said if said else ''}")
 
+# The llvmpipe peer (where built) draws Gouraud only: against the reference z-buffer's Gouraud image.
+for name in ("plane-1e25", "far-1e25"):
+    scene = os.path.join(scene_dir, name + ".nff")
+    outs = {}
+    for impl in ("reference", "llvmpipe"):
+        out = os.path.join(out_dir, f"{name}-gouraud-{impl}.exr")
+        p = subprocess.run([lockstep, "render", scene, "--algo", "zbuffer", "--impl", impl, "--shading", "gouraud",
+                            "-o", out], capture_output=True, text=True)
+        outs[impl] = (p.returncode, out, DROPPED.findall(p.stderr), p.stderr)
+    rc, out, drops, err = outs["llvmpipe"]
+    if rc != 0:
+        print(f"{name:12} zbuffer   llvmpipe   not run: {err.strip()}")
+        continue
+    ok = same(outs["reference"][1], out)
+    said = "; ".join(f"{n} ({why})" for n, why in drops)
+    if not ok and not drops:
+        failures.append(f"{name} zbuffer/llvmpipe: differs from the reference z-buffer and reported nothing dropped")
+    print(f"{name:12} zbuffer   llvmpipe   {'same' if ok else 'DIFFERS'}{'; dropped: ' + said if said else ''}")
+
 for f in failures:
     print("FAIL:", f)
 sys.exit(1 if failures else 0)
