@@ -452,8 +452,8 @@ void view_polygons(const Scene& scene, const RasterSettings& s, uint32_t first, 
     const Vec3 face = scene.poly_plane[p].n;
     if (length(face) == 0) {
       // No plane normal: a polygon of zero area covers nothing; one whose
-      // normal only overflowed or underflowed (coordinates beyond about 1e150
-      // or below 1e-150) is left out, and said so.
+      // normal only overflowed or underflowed (measured: coordinates from
+      // 1e77 up, or 1e-82 down) is left out, and said so.
       if (normal_lost_to_range(scene.polygon_vertices(p))) mesh.drop(kNormalLostToRange);
       continue;
     }
