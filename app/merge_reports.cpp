@@ -108,6 +108,8 @@ Row row_of(const JsonValue& o, const std::string& file, const std::string& where
   r.view = str("view");
   r.difference = str("difference");
   r.judged = str("judged");
+  r.dropped = uint64_t(count(o, "dropped", file, where));
+  r.dropped_why = str("dropped_why");
   return r;
 }
 

@@ -97,6 +97,8 @@ std::string run_summary(const std::string& who, const Family& f, const FamilyImp
   if (!r.stats.chosen.empty()) line += ", chose " + r.stats.chosen;
   if (r.stats.skipped != 0)
     line += ", " + std::to_string(r.stats.skipped) + " " + std::string(f.unit) + " hidden (skipped)";
+  // What the run could not draw, with why (issue #22: nothing dropped silently).
+  if (!r.stats.dropped.empty()) line += ", " + r.stats.dropped_text();
   return line;
 }
 

@@ -57,6 +57,10 @@ struct Row {
   std::string note;
   std::string view, difference, judged;  // report files (output, difference, judge picture), relative to the report folder
   std::string golden;                    // the reference row only: the golden's picture (report file), "" when none
+  // Primitives the run could not draw (FrameStats::dropped): how many, and
+  // why ("2 dropped (reason); ..."); 0 and "" when it drew everything.
+  uint64_t dropped = 0;
+  std::string dropped_why;
 };
 
 struct VerifyOptions {

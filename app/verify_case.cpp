@@ -87,6 +87,8 @@ std::vector<Row> verify_case(const Case& c, const VerifyOptions& o, std::vector<
   rr.seconds = r_ref.seconds;
   rr.items = r_ref.stats.items;
   rr.speedup = 1.0;
+  rr.dropped = r_ref.stats.dropped_count();
+  rr.dropped_why = r_ref.stats.dropped_text();
   if (!r_ref.ok) {
     rr.note = r_ref.error;
   } else if (o.regolden) {
@@ -115,6 +117,7 @@ std::vector<Row> verify_case(const Case& c, const VerifyOptions& o, std::vector<
   }
   if (r_ref.ok) rr.view = view(r_ref.out, "reference");
   if (!o.no_report && !c.beside.empty()) write_beside(c, case_dir, w, h);
+  if (rr.dropped != 0) rr.note += (rr.note.empty() ? "" : "; ") + rr.dropped_why;
 
   // The analytic judge, if any: the reference must do what the manifest expects.
   JudgeFrame judge;
@@ -208,6 +211,9 @@ std::vector<Row> verify_case(const Case& c, const VerifyOptions& o, std::vector<
       }
     }
     if (!r.stats.chosen.empty()) row.note += (row.note.empty() ? "" : "; ") + std::string("chose ") + r.stats.chosen;
+    row.dropped = r.stats.dropped_count();
+    row.dropped_why = r.stats.dropped_text();
+    if (row.dropped != 0) row.note += (row.note.empty() ? "" : "; ") + row.dropped_why;
     print_row(row);
     rows.push_back(row);
   }

@@ -15,7 +15,9 @@
 //             tolerance, over the hard limit; 0 samples: not compared),
 //           "worst", "score": number or null (null: infinite, e.g. identical),
 //           "seconds", "speedup": number, "note", "detail": string,
-//           "view", "difference", "judged": string (report files, "" when none) }
+//           "view", "difference", "judged": string (report files, "" when none),
+//           "dropped": integer (primitives the row could not draw, FrameStats::dropped),
+//           "dropped_why": string (per reason, "2 dropped (why); ..."; "" when none) }
 // Both are written whole to FILE.tmp and renamed: never half a file.
 #include <cmath>
 #include <cstdio>
@@ -123,7 +125,8 @@ std::string row_json(const Row& r) {
     << ", \"seconds\": " << json_number(r.seconds) << ", \"speedup\": " << json_number(r.speedup)
     << ", \"note\": " << json_string(r.note) << ", \"detail\": " << json_string(r.err.detail)
     << ", \"view\": " << json_string(r.view) << ", \"difference\": " << json_string(r.difference)
-    << ", \"judged\": " << json_string(r.judged) << "}";
+    << ", \"judged\": " << json_string(r.judged) << ", \"dropped\": " << r.dropped
+    << ", \"dropped_why\": " << json_string(r.dropped_why) << "}";
   return s.str();
 }
 

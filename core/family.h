@@ -21,6 +21,7 @@
 #include <any>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <span>
@@ -91,6 +92,25 @@ struct FrameStats {
   // shadow, reflect, refract rays; they add up to items); the benchmarks show
   // each as a rate (<kind>_per_s).
   std::vector<std::pair<std::string, uint64_t>> counts;
+  // Primitives the run could not draw and left out, by reason ("coordinates
+  // beyond float range: |x| > 2^40 in the camera frame" -> 3): never silently
+  // (issue #22). The CLI's stats line and the verify report carry them; an
+  // image may differ from the oracle only where a run says it dropped something.
+  std::map<std::string, uint64_t> dropped;
+  void drop(const std::string& reason, uint64_t n = 1) {
+    if (n != 0) dropped[reason] += n;
+  }
+  uint64_t dropped_count() const {
+    uint64_t n = 0;
+    for (const auto& [reason, k] : dropped) n += k;
+    return n;
+  }
+  // "2 dropped (coordinates beyond float range ...); 1 dropped (...)", or "".
+  std::string dropped_text() const {
+    std::string s;
+    for (const auto& [reason, k] : dropped) s += (s.empty() ? "" : "; ") + std::to_string(k) + " dropped (" + reason + ")";
+    return s;
+  }
 };
 
 // ---------------------------------------------------------------- known failures

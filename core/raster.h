@@ -46,6 +46,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -169,6 +170,15 @@ struct ScreenMesh {
   uint64_t clipped = 0;          // triangles that crossed the hither plane or the guard band
   uint64_t degenerate = 0;       // zero area after snapping (edge-on), dropped
   uint64_t hidden = 0;           // left out as behind nearer spheres (opt::simd::zbuffer's image only)
+  // Primitives the pipeline could not draw, by reason (FrameStats::dropped):
+  // never silently. Every raster implementation copies them into its stats.
+  std::map<std::string, uint64_t> dropped;
+  void drop(const std::string& reason, uint64_t n = 1) {
+    if (n != 0) dropped[reason] += n;
+  }
+  void add_dropped(const ScreenMesh& other) {
+    for (const auto& [reason, n] : other.dropped) drop(reason, n);
+  }
 };
 
 // The viewing pipeline above, in double precision, for a width x height frame.

@@ -135,6 +135,30 @@ void add_polygon(Scene& scene, std::span<const Vec3> vertices, std::span<const V
   scene.poly_tri_first.push_back(uint32_t(scene.tri_vertex.size()));
 }
 
+// Whether a polygon without a plane normal has area after all: its Newell
+// normal, recomputed from vertices moved to the first one and scaled by a
+// power of two to unit size, is not zero.
+bool normal_lost_to_range(std::span<const Vec3> v) {
+  if (v.size() < 3) return false;
+  double m = 0;
+  for (const Vec3& x : v) m = std::max(m, max_abs_component(x - v[0]));
+  if (!(m > 0) || !std::isfinite(m)) return !(m == 0);
+  const double s = std::ldexp(1.0, -std::ilogb(m));
+  Vec3 n;
+  for (size_t i = 0; i < v.size(); ++i) {
+    const Vec3 a = (v[i] - v[0]) * s, b = (v[(i + 1) % v.size()] - v[0]) * s;
+    n += cross(a, b);
+  }
+  return length(n) > 0;
+}
+
+uint64_t range_lost_polygons(const Scene& scene) {
+  uint64_t n = 0;
+  for (uint32_t p = 0; p < scene.polygon_count(); ++p)
+    if (dot(scene.poly_plane[p].n, scene.poly_plane[p].n) == 0 && normal_lost_to_range(scene.polygon_vertices(p))) ++n;
+  return n;
+}
+
 void scene_bounds(const Scene& scene, Vec3& lo, Vec3& hi) {
   lo = Vec3{kInfinity, kInfinity, kInfinity};
   hi = -lo;

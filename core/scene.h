@@ -156,4 +156,13 @@ std::vector<std::array<uint32_t, 3>> triangulate(std::span<const Vec3> vertices,
 // the boxes of their end discs).
 void scene_bounds(const Scene& scene, Vec3& lo, Vec3& hi);
 
+// Polygons whose plane normal is zero only because the Newell products
+// overflowed or underflowed double (|n|^2 of coordinates from about 1e77 up or
+// 1e-82 down, measured; checked on the vertices moved to the first and scaled to unit size),
+// not because they have no area: every row leaves them out and must say so
+// (FrameStats::dropped with kNormalLostToRange; issue #22).
+inline constexpr const char* kNormalLostToRange = "polygon normal out of double range (coordinates beyond about 1e76 or below 1e-80)";
+bool normal_lost_to_range(std::span<const Vec3> vertices);
+uint64_t range_lost_polygons(const Scene& scene);
+
 }  // namespace lockstep

@@ -8,6 +8,7 @@
 // that two triangles sharing an edge share its snapped endpoints exactly.
 #include <algorithm>
 #include <cmath>
+#include <span>
 #include <tuple>
 #include <vector>
 
@@ -85,6 +86,85 @@ std::vector<EyeVertex> clip(const ClipPlanes& planes, std::vector<EyeVertex> pol
   }
   return poly;
 }
+
+// ---------------------------------------------------------------- clipping far-away triangles
+//
+// An edge from a vertex 1e21 units away to one as far the other side, cut by
+// the guard band a few thousand units from the eye, loses everything to
+// cancellation in double: the cut point p + t (q - p) is off by |p| 2^-53,
+// 1e5 units, and the clipped polygon comes out anywhere or empty (issue #22:
+// a front-facing plane at 1e21 behind a small triangle vanished from every
+// rasterizer). So a triangle whose eye coordinates are that large against
+// what a pixel is at the hither plane is clipped in __float128 (113 bits: the
+// same cut is off by |p| 2^-113, 1e-13 pixels at 1e21 and 1e-4 at 1e30),
+// starting again from its world coordinates (the eye transform of a huge
+// vertex cancels the same way), and only the clipped polygon, whose
+// coordinates are small, goes back to double. Both ends of an edge are met in
+// the same order as in double (the lexicographically smaller first), so two
+// triangles sharing an edge still share its cut points.
+
+using Wide = __float128;
+using WideVec = Vec3T<Wide>;
+
+struct WideVertex {
+  WideVec eye, world;
+  Vec3 normal, color;  // bounded values: interpolated in double
+};
+
+// Whether double clipping of these vertices can be off by more than 2^-12
+// pixel at the hither plane: |p| 2^-53 / (near pitch) > 2^-12. Scale-free
+// (scaling a scene and its hither by 2^k keeps the decision).
+bool needs_wide_clip(const EyeVertex* v, int n, double near_z, double pitch) {
+  double m = 0;
+  for (int i = 0; i < n; ++i) m = std::max(m, max_abs_component(v[i].eye));
+  return m > std::ldexp(near_z * pitch, 41);
+}
+
+std::vector<EyeVertex> clip_wide(const Camera& c, const ClipPlanes& planes, const EyeVertex (&v)[3]) {
+  const WideVec eye(c.eye), right(c.right), up(c.up), forward(c.forward);
+  const Wide near_z = planes.near_z, g = planes.g;
+  auto distance = [&](int k, const WideVec& e) -> Wide {
+    switch (k) {
+      case 0: return e.z - near_z;
+      case 1: return g * e.z - e.x;
+      case 2: return g * e.z + e.x;
+      case 3: return g * e.z - e.y;
+      default: return g * e.z + e.y;
+    }
+  };
+  std::vector<WideVertex> poly;
+  for (const EyeVertex& x : v) {
+    const WideVec w(x.world), d = w - eye;
+    poly.push_back({{dot(d, right), dot(d, up), dot(d, forward)}, w, x.normal, x.color});
+  }
+  for (int k = 0; k < ClipPlanes::kCount && !poly.empty(); ++k) {
+    std::vector<WideVertex> out;
+    for (size_t i = 0; i < poly.size(); ++i) {
+      const WideVertex& a = poly[i];
+      const WideVertex& b = poly[(i + 1) % poly.size()];
+      const bool a_in = distance(k, a.eye) >= 0, b_in = distance(k, b.eye) >= 0;
+      if (a_in) out.push_back(a);
+      if (a_in == b_in) continue;
+      const bool swap = std::tie(b.eye.x, b.eye.y, b.eye.z) < std::tie(a.eye.x, a.eye.y, a.eye.z);
+      const WideVertex& p = swap ? b : a;
+      const WideVertex& q = swap ? a : b;
+      const Wide dp = distance(k, p.eye), dq = distance(k, q.eye);
+      const Wide t = dp / (dp - dq);
+      const double td = double(t);
+      WideVertex r{p.eye + t * (q.eye - p.eye), p.world + t * (q.world - p.world), p.normal + td * (q.normal - p.normal),
+                   p.color + td * (q.color - p.color)};
+      if (k == 0) r.eye.z = near_z;
+      if (length(r.normal) > 0) r.normal = normalize(r.normal);
+      out.push_back(r);
+    }
+    poly = std::move(out);
+  }
+  std::vector<EyeVertex> result;
+  for (const WideVertex& w : poly) result.push_back({Vec3(w.eye), Vec3(w.world), w.normal, w.color});
+  return result;
+}
+
+bool finite(const Vec3& a) { return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z); }
 
 bool inside_all(const ClipPlanes& planes, const EyeVertex* v, int n) {
   for (int i = 0; i < n; ++i)
@@ -240,12 +320,19 @@ struct Emitter {
       return;
     }
     // The triangle itself, or the polygon left of it after clipping.
+    // Coordinates whose differences overflow double (beyond about 1e308 apart)
+    // or a NaN: nothing to draw with. Said, not hidden (issue #22).
+    if (!finite(v[0].eye) || !finite(v[1].eye) || !finite(v[2].eye)) {
+      mesh.drop("eye coordinates not finite (overflow in double)");
+      return;
+    }
     const EyeVertex* poly = v;
     size_t n = 3;
     std::vector<EyeVertex> clipped;
     if (!inside_all(planes, v, 3)) {
       ++mesh.clipped;
-      clipped = clip(planes, std::vector<EyeVertex>(v, v + 3));
+      clipped = needs_wide_clip(v, 3, planes.near_z, cam.pitch) ? clip_wide(cam, planes, v)
+                                                                : clip(planes, std::vector<EyeVertex>(v, v + 3));
       if (clipped.size() < 3) return;  // wholly outside
       poly = clipped.data();
       n = clipped.size();
@@ -363,7 +450,13 @@ void view_polygons(const Scene& scene, const RasterSettings& s, uint32_t first, 
   for (uint32_t p = first; p < last; ++p) {
     const Material& m = scene.materials[scene.poly_material[p]];
     const Vec3 face = scene.poly_plane[p].n;
-    if (length(face) == 0) continue;  // degenerate polygon: no triangles either
+    if (length(face) == 0) {
+      // No plane normal: a polygon of zero area covers nothing; one whose
+      // normal only overflowed or underflowed (measured: coordinates from
+      // 1e77 up, or 1e-82 down) is left out, and said so.
+      if (normal_lost_to_range(scene.polygon_vertices(p))) mesh.drop(kNormalLostToRange);
+      continue;
+    }
     Vec3 flat;
     if (s.shading == Shading::kFlat) {
       // One lighting evaluation per polygon, at its centroid.

@@ -261,6 +261,10 @@ void attach_spheres(EmbreeScene& es, const Scene& scene, const BuildOptions& opt
   for (uint32_t i = 0; i < scene.sphere_count(); ++i) {
     const Vec3 c = es.frame.point(scene.sphere_center[i]);
     const double r = std::abs(scene.sphere_radius[i]);
+    if (const std::string why = simd::float_sphere_limit(c, r); !why.empty()) {
+      ++es.dropped[why];  // its float bounds (or Embree's own test) would overflow or vanish
+      continue;
+    }
     if (length(c) > kFarRatio * r) {
       es.far_spheres.center.push_back(c);
       es.far_spheres.radius.push_back(r);
@@ -314,6 +318,14 @@ void attach_triangles(EmbreeScene& es, const Scene& scene, const BuildOptions& o
   bool filter = options.eye_reach < 0;
   for (uint32_t k = 0; k < n; ++k) {
     for (int a = 0; a < 3; ++a) idx[3 * k + a] = scene.tri_vertex[k][a];
+    const auto& t = scene.tri_vertex[k];
+    if (const std::string why = simd::float_triangle_limit(es.frame.point(scene.vertex[t[0]]),
+                                                           es.frame.point(scene.vertex[t[1]]),
+                                                           es.frame.point(scene.vertex[t[2]]));
+        !why.empty()) {
+      ++es.dropped[why];
+      for (int a = 0; a < 3; ++a) idx[3 * k + a] = t[0];  // zero area: Embree never reports it
+    }
     const uint32_t poly = scene.tri_poly[k];
     es.triangles.normal[k] = es.frame.dir(scene.poly_plane[poly].n);
     es.triangles.two_sided[k] = scene.materials[scene.poly_material[poly]].two_sided();
@@ -346,6 +358,7 @@ std::unique_ptr<EmbreeScene> build_scene(const Scene& scene, const Frame& frame,
   attach_spheres(*es, scene, options);
   attach_triangles(*es, scene, options);
   attach_cones(*es, scene, options);
+  if (const uint64_t n = range_lost_polygons(scene)) es->dropped[kNormalLostToRange] += n;
   rtcCommitScene(es->scene);  // an empty scene is fine: every ray misses
   es->device.check("rtcCommitScene");
   return es;

@@ -14,6 +14,7 @@
 #include <embree3/rtcore.h>
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -102,6 +103,9 @@ struct EmbreeScene {
   TriangleData triangles;
   ConeGeomData cones;
   RTCScene scene = nullptr;
+  // Primitives out of float range (simd::float_triangle_limit and
+  // float_sphere_limit), left out of Embree's scene and counted by reason.
+  std::map<std::string, uint64_t> dropped;
 
   ~EmbreeScene() {
     if (scene) rtcReleaseScene(scene);

@@ -251,6 +251,7 @@ Image painter(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   });
   if (stats) {
     stats->items = mesh.scene_tris + mesh.sphere_tris;
+    stats->dropped = mesh.dropped;
     stats->notes = painter_notes(mesh, plan, s.split);
   }
   return image;

@@ -34,6 +34,15 @@ Image shade_visibility(const Scene& scene, const ScreenMesh& mesh, const RasterS
 // map's test (shade_fragment, as the reference).
 ShadowMaps shadow_maps(const Scene& scene, const RasterSettings& s, int threads);
 Image zbuffer_shadowed(const Scene& scene, const FrameOptions& opts, const RasterSettings& s, FrameStats* stats);
+// The SIMD shading lights in float lanes, relative to the eye: a point farther
+// than 2^60 from it overflows |L|^2 and |V|^2, one nearer than 2^-60
+// underflows them (measured: a triangle 1e20 away came out ambient only).
+// (A vertex's distance counts as at most (1 + guard band) times its depth:
+// clipping brings a huge polygon's visible part that close.)
+// Such primitives are drawn but not lit right: counted into stats->dropped
+// with that reason (issue #22), as are those of a scene whose lights are out
+// of that range.
+void count_float_lighting_limits(const Scene& scene, const Camera& cam, FrameStats* stats);
 }  // namespace opt::simd
 
 namespace opt {

@@ -202,6 +202,17 @@ Image draw_frame(std::unique_ptr<Context>& ctx, const Scene& scene, const FrameO
   if (stats) {
     stats->build_seconds = create + t.compile;          // 0 on a kept context's later frames
     stats->items = mesh.scene_tris + mesh.sphere_tris;  // as the reference counts
+    stats->dropped = mesh.dropped;
+    // GL's 24-bit depth, d = f/(f-n) (1 - n/z), cleared to 1 and tested with
+    // GL_LESS: a triangle whose every vertex rounds to 1 (eye depth beyond
+    // about 2^24 hither: far_plane's margin cannot help) is rejected by the
+    // depth test. Measured: a plane 1e25 away, drawn by every other row,
+    // vanished here. Counted, not hidden (issue #22).
+    const double n = near_plane(mesh.near_z), f = far_plane(mesh.near_z, mesh.far_z);
+    auto at_far = [&](double z) { return std::nearbyint(f / (f - n) * (1 - n / z) * 0xffffff) >= 0xffffff; };
+    uint64_t lost = 0;
+    for (const ScreenTri& t : mesh.tris) lost += at_far(t.v[0].z) && at_far(t.v[1].z) && at_far(t.v[2].z);
+    stats->drop("24-bit depth rounds to the far plane (eye depth beyond about 2^24 hither): GL_LESS rejects it", lost);
     for (std::string& line : notes) stats->notes.push_back(std::move(line));
   }
   return img;

@@ -107,6 +107,7 @@ void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, F
   if (stats) {
     stats->build_seconds = build;
     stats->items = rays.size();
+    for (const auto& [why, n] : es->dropped) stats->drop(why, n);
   }
 }
 
@@ -189,6 +190,7 @@ Image render_frame(const Scene& scene, const FrameOptions& opts, FrameStats* sta
   if (stats) {
     stats->build_seconds = build;
     stats->items = uint64_t(opts.width) * uint64_t(opts.height);
+    for (const auto& [why, n] : es->dropped) stats->drop(why, n);
   }
   return image;
 }

@@ -196,6 +196,7 @@ void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, F
   }
   if (stats) {
     stats->items = rays.size();
+    for (const auto& [why, n] : s.dropped) stats->drop(why, n);
   }
 }
 
@@ -268,6 +269,7 @@ Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   parallel_tiles(opts.width, opts.height, kTileW, kTileH, opts.threads, opts.progress, render_tile);
   if (stats) {
     stats->items = uint64_t(opts.width) * uint64_t(opts.height);
+    for (const auto& [why, n] : s.dropped) stats->drop(why, n);
   }
   return image;
 }

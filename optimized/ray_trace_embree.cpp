@@ -227,7 +227,10 @@ Image trace_render_with(const Scene& scene, const FrameOptions& opts, FrameStats
   RayCounts rays;
   for (int k = 0; k < 4; ++k) rays.n[k] = by_kind[k];
   rays.report(stats);
-  if (stats) stats->build_seconds = build_seconds;
+  if (stats) {
+    stats->build_seconds = build_seconds;
+    for (const auto& [why, n] : es->dropped) stats->drop(why, n);
+  }
   return image;
 }
 

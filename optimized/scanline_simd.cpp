@@ -404,7 +404,11 @@ Image scanline(const Scene& scene, const FrameOptions& opts, FrameStats* stats) 
   });
   // Then each visible sample shaded once, by the z-buffer's SIMD shading.
   Image image = opt::simd::shade_visibility(scene, mesh, s, visible.data(), opts);
-  if (stats) stats->items = mesh.scene_tris + mesh.sphere_tris;
+  if (stats) {
+    stats->items = mesh.scene_tris + mesh.sphere_tris;
+    stats->dropped = mesh.dropped;
+    count_float_lighting_limits(scene, mesh.camera, stats);
+  }
   return image;
 }
 

@@ -41,6 +41,22 @@ void SimdScene::add_triangle(const Vec3& a, const Vec3& b, const Vec3& c, const 
   b_radius.push_back(std::max({length(v[0] - centroid), length(v[1] - centroid), length(v[2] - centroid)}));
 }
 
+std::string float_triangle_limit(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const double m = std::max({max_abs_component(a), max_abs_component(b), max_abs_component(c)});
+  const double e = std::max({max_abs_component(b - a), max_abs_component(c - b), max_abs_component(a - c)});
+  if (!(m <= kFloatTriangleMax)) return "triangle beyond float range: a coordinate above 2^40 = 1.1e12 from the eye";
+  if (!(e >= kFloatMin)) return "triangle below float range: smaller than 2^-40 = 9.1e-13";
+  return "";
+}
+
+std::string float_sphere_limit(const Vec3& centre, double radius) {
+  const double r = std::abs(radius);
+  if (!(std::max(max_abs_component(centre), r) <= kFloatSphereMax))
+    return "sphere beyond float range: centre or radius above 2^60 = 1.2e18 from the eye";
+  if (!(r >= kFloatMin)) return "sphere below float range: radius under 2^-40 = 9.1e-13";
+  return "";
+}
+
 Candidates all_candidates(const SimdScene& s) {
   Candidates c;
   c.spheres.resize(s.spheres());
@@ -54,14 +70,32 @@ SimdScene prepare_scene(const Scene& scene, const Frame& frame, bool cull) {
   SimdScene s;
   s.frame = frame;
   s.cull = cull;
-  for (uint32_t i = 0; i < scene.sphere_count(); ++i)
+  for (uint32_t i = 0; i < scene.sphere_count(); ++i) {
+    const std::string why = float_sphere_limit(frame.point(scene.sphere_center[i]), scene.sphere_radius[i]);
+    if (!why.empty()) {
+      ++s.dropped[why];
+      s.add_sphere(frame.origin, 0, i);  // radius 0 at the eye: no ray takes it (c = 0 is not outside)
+      continue;
+    }
     s.add_sphere(scene.sphere_center[i], scene.sphere_radius[i], i);
+  }
   for (uint32_t k = 0; k < scene.triangle_count(); ++k) {
     const uint32_t poly = scene.tri_poly[k];
     const auto& t = scene.tri_vertex[k];
-    s.add_triangle(scene.vertex[t[0]], scene.vertex[t[1]], scene.vertex[t[2]], scene.poly_plane[poly].n,
-                   scene.materials[scene.poly_material[poly]].two_sided(), scene.sphere_count() + poly, k);
+    const bool two_sided = scene.materials[scene.poly_material[poly]].two_sided();
+    const std::string why = float_triangle_limit(frame.point(scene.vertex[t[0]]), frame.point(scene.vertex[t[1]]),
+                                                 frame.point(scene.vertex[t[2]]));
+    if (!why.empty()) {
+      ++s.dropped[why];
+      // Zero area at the eye: every edge function is 0, det = 0, never taken.
+      s.add_triangle(frame.origin, frame.origin, frame.origin, scene.poly_plane[poly].n, two_sided,
+                     scene.sphere_count() + poly, k);
+      continue;
+    }
+    s.add_triangle(scene.vertex[t[0]], scene.vertex[t[1]], scene.vertex[t[2]], scene.poly_plane[poly].n, two_sided,
+                   scene.sphere_count() + poly, k);
   }
+  if (const uint64_t n = range_lost_polygons(scene)) s.dropped[kNormalLostToRange] += n;
   return s;
 }
 

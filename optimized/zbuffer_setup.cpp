@@ -64,6 +64,7 @@ Vec3 eye_from_world(const Camera& c, const Vec3& p) {
 struct Chunk {
   std::vector<ScreenTri> tris;
   uint64_t scene_tris = 0, culled = 0, degenerate = 0, clipped = 0;
+  ScreenMesh drops;  // only its dropped counts (view_polygons' reasons)
 };
 
 constexpr int kMaxRings = 256;  // sphere_rings' upper end
@@ -294,6 +295,7 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
     mesh.clipped += part.clipped;
     mesh.degenerate += part.degenerate;
     mesh.hidden += part.hidden;
+    mesh.add_dropped(part);
     if (!part.tris.empty()) out_chunks.push_back(std::move(part.tris));
   }
 
@@ -373,11 +375,12 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
       if (scene.poly_material[p] != surface_of)
         surface = FlatBatch::Surface(m), surface_of = scene.poly_material[p];
       const Vec3 face = scene.poly_plane[p].n;
-      if (dot(face, face) == 0) return;  // length(face) == 0, without the square root
       const uint32_t t_first = scene.poly_tri_first[p], t_last = scene.poly_tri_first[p + 1];
       // A vertex outside the hither plane or the guard band: a triangle may
-      // need clipping, so view_scene's own polygon step, on this polygon.
-      bool inside = true;
+      // need clipping, so view_scene's own polygon step, on this polygon. So
+      // does a polygon without a normal (rare): view_polygons says whether it
+      // was dropped for range or had no area.
+      bool inside = dot(face, face) != 0;  // length(face) == 0, without the square root
       for (uint32_t t = t_first; t < t_last; ++t)
         for (const uint32_t vi : scene.tri_vertex[t]) inside = inside && pv[vi].inside;
       if (!inside) {
@@ -392,6 +395,7 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
         out.culled += part.culled;
         out.degenerate += part.degenerate;
         out.clipped += part.clipped;
+        out.drops.add_dropped(part);
         return;
       }
       // The flat colour, lit when the first triangle is kept (the same bits as
@@ -520,6 +524,7 @@ void view_scene_chunks(const Scene& scene, int width, int height, const RasterSe
     mesh.culled += c.culled;
     mesh.degenerate += c.degenerate;
     mesh.clipped += c.clipped;
+    mesh.add_dropped(c.drops);
     out_chunks.push_back(std::move(c.tris));
   }
   if (cones) {

@@ -76,6 +76,9 @@ class FlatBatch {
     const double* in[kFlatInputs];
     for (int k = 0; k < kFlatInputs; ++k) {
       double* plane = in_.get() + size_t(k) * cap_;
+      // Positions relative to the eye, where the kernels light (ShadeParams::origin).
+      if (k < 3 && p.origin[k] != 0)
+        for (size_t i = 0; i < n; ++i) plane[i] -= p.origin[k];
       std::fill(plane + n, plane + padded, 0.0);  // (the kernel reads whole vectors)
       in[k] = plane;
     }

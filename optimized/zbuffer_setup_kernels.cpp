@@ -856,7 +856,8 @@ size_t PolygonRunStep(const PolygonRun& r, const SampleGrid& grid, PolygonRunOut
   for (; i + N <= r.n; i += N) {
     VD face[4];  // (n.x, n.y, n.z, d)
     hn::LoadInterleaved4(dd, r.plane + 4 * i, face[0], face[1], face[2], face[3]);
-    // A zero face normal: passed over, uncounted.
+    // A zero face normal: the caller's too (view_polygons counts it when only
+    // range lost the normal: nothing is dropped silently).
     auto alive =
         hn::Not(hn::Eq(dot3(face[0], face[1], face[2], face[0], face[1], face[2]), zero));
     // The vertices, a vector of them at a time (c[coordinate][j]: vertices
@@ -873,8 +874,8 @@ size_t PolygonRunStep(const PolygonRun& r, const SampleGrid& grid, PolygonRunOut
     VD in[3];
     PerTriangle(dd, in_v, in);
     const auto inside = hn::Gt(hn::Min(hn::Min(in[0], in[1]), in[2]), zero);
-    // A polygon that may need clipping: the caller's (view_polygons).
-    if (!hn::AllTrue(dd, hn::Or(inside, hn::Not(alive)))) break;
+    // A polygon that may need clipping, or without a normal: the caller's (view_polygons).
+    if (!hn::AllTrue(dd, hn::And(inside, alive))) break;
     out.scene_tris += hn::CountTrue(dd, alive);
     VD wv[3][3];
     for (int k = 0; k < 3; ++k) PerTriangle(dd, c[k], wv[k]);

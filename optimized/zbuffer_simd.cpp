@@ -552,8 +552,8 @@ struct ShadeBuffers {
   size_t size = 0;
 };
 
-// The lights and the eye in float, for the kernels (and the eye in double,
-// for flat_colors' facing test): lights holds the per-light floats the result
+// The lights in float, relative to the eye (the kernels' origin), and the eye
+// itself (ShadeParams::origin): lights holds the per-light floats the result
 // points to.
 zsimd::ShadeParams light_params(const Scene& scene, const Vec3& eye, std::vector<float>& lights) {
   lights.clear();
@@ -562,7 +562,7 @@ zsimd::ShadeParams light_params(const Scene& scene, const Vec3& eye, std::vector
     const Vec3 ip =
         l.has_color ? l.color : Vec3{default_ip, default_ip, default_ip};  // as light_at
     lights.insert(lights.end(),
-                  {float(l.position.x), float(l.position.y), float(l.position.z), float(ip.x),
+                  {float(l.position.x - eye.x), float(l.position.y - eye.y), float(l.position.z - eye.z), float(ip.x),
                    float(ip.y), float(ip.z), float(l.atten.x), float(l.atten.y), float(l.atten.z),
                    l.spot ? 1.0f : 0.0f, float(l.spot_dir.x), float(l.spot_dir.y),
                    float(l.spot_dir.z), float(spot_cos_cutoff(l)), float(l.spot_exponent)});
@@ -570,8 +570,8 @@ zsimd::ShadeParams light_params(const Scene& scene, const Vec3& eye, std::vector
   zsimd::ShadeParams sp;
   sp.nlights = int(scene.lights.size());
   sp.light = lights.data();
-  sp.eye[0] = float(eye.x), sp.eye[1] = float(eye.y), sp.eye[2] = float(eye.z);
-  sp.flat_eye[0] = eye.x, sp.flat_eye[1] = eye.y, sp.flat_eye[2] = eye.z;
+  // Everything relative to the eye (ShadeParams::origin): the eye is the origin.
+  sp.origin[0] = eye.x, sp.origin[1] = eye.y, sp.origin[2] = eye.z;
   return sp;
 }
 
@@ -716,6 +716,8 @@ Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const Binner& b,
                  });
   if (stats) {
     stats->items = mesh.scene_tris + mesh.sphere_tris;
+    stats->dropped = mesh.dropped;
+    count_float_lighting_limits(scene, mesh.camera, stats);
     stats->skipped = mesh.hidden;
   }
   return img;
@@ -723,6 +725,29 @@ Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const Binner& b,
 
 
 }  // namespace
+
+void count_float_lighting_limits(const Scene& scene, const Camera& cam, FrameStats* stats) {
+  constexpr double kFar = 0x1p60, kNear = 0x1p-60;
+  const Vec3 eye = cam.eye;
+  const double band = 1 + kGuardBand * cam.pitch;
+  // How far from the eye the drawn part of a vertex's triangles can be.
+  auto reach = [&](const Vec3& v) {
+    const Vec3 d = v - eye;
+    return std::min(max_abs_component(d), band * std::max(dot(d, cam.forward), 0.0));
+  };
+  auto out = [&](double m) { return !(m <= kFar && m >= kNear); };
+  bool lights_out = false;
+  for (const Light& l : scene.lights) lights_out = lights_out || out(max_abs_component(l.position - eye));
+  uint64_t n = 0;
+  for (uint32_t k = 0; k < scene.sphere_count(); ++k)
+    n += lights_out || out(max_abs_component(scene.sphere_center[k] - eye) + std::abs(scene.sphere_radius[k]));
+  for (uint32_t p = 0; p < scene.polygon_count(); ++p) {
+    double m = 0;
+    for (const Vec3& v : scene.polygon_vertices(p)) m = std::max(m, reach(v));
+    n += lights_out || out(m);
+  }
+  stats->drop("lit in float lanes beyond 2^60 = 1.2e18 or within 2^-60 = 8.7e-19 of the eye (drawn, shading unreliable)", n);
+}
 
 Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   const RasterSettings s = frame_settings(scene, opts);

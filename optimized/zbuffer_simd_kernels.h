@@ -134,6 +134,11 @@ struct ShadeParams {
   // The scene's materials (ShadeTri::material indexes them; at least one entry).
   const ShadeMaterial* materials = nullptr;
   float eye[3] = {0, 0, 0};
+  // The world point the kernels' positions, lights and eye are relative to (the
+  // camera's eye; light_params): lighting depends on differences only, and in
+  // float lanes absolute world positions 1e20 from the origin overflow |L|^2
+  // and those 1e12 away lose every digit (issue #22). FlatBatch subtracts it.
+  double origin[3] = {0, 0, 0};
   // The eye in double: flat_colors turns each face towards it as view_scene's
   // lit() does, in double (a face seen edge-on is turned the same way).
   double flat_eye[3] = {0, 0, 0};

@@ -56,7 +56,7 @@ Hit nearest_hit(const Scene& scene, const Ray& ray, SphereSides sides) {
 void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, FrameStats* stats) {
   for (size_t i = 0; i < rays.size(); ++i) hits[i] = nearest_hit(scene, rays[i]);
   if (stats) {
-    stats->items = rays.size();
+    stats->items = rays.size();    stats->drop(kNormalLostToRange, range_lost_polygons(scene));
   }
 }
 
@@ -71,7 +71,7 @@ Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
     if (opts.progress) opts.progress(double(j + 1) / opts.height);
   }
   if (stats) {
-    stats->items = uint64_t(opts.width) * uint64_t(opts.height);
+    stats->items = uint64_t(opts.width) * uint64_t(opts.height);    stats->drop(kNormalLostToRange, range_lost_polygons(scene));
   }
   return image;
 }

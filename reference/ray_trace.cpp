@@ -189,6 +189,7 @@ Image trace_render(const Scene& scene, const FrameOptions& opts, FrameStats* sta
     if (opts.progress) opts.progress(double(j + 1) / opts.height);
   }
   rays.report(stats);
+  if (stats) stats->drop(kNormalLostToRange, range_lost_polygons(scene));
   return image;
 }
 

@@ -409,7 +409,10 @@ Image scanline(const Scene& scene, const FrameOptions& opts, FrameStats* stats) 
         std::fill(depth.begin(), depth.end(), empty_depth(s.depth));
         std::fill(hit.begin(), hit.end(), false);
       });
-  if (stats) stats->items = mesh.scene_tris + mesh.sphere_tris;
+  if (stats) {
+    stats->items = mesh.scene_tris + mesh.sphere_tris;
+    stats->dropped = mesh.dropped;
+  }
   if (opts.progress) opts.progress(1.0);
   return image;
 }

@@ -173,7 +173,10 @@ Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
       image.set(i, j, sum / double(spp));
       image.depth[size_t(j) * opts.width + i] = z;
     }
-  if (stats) stats->items = mesh.scene_tris + mesh.sphere_tris;
+  if (stats) {
+    stats->items = mesh.scene_tris + mesh.sphere_tris;
+    stats->dropped = mesh.dropped;
+  }
   if (opts.progress) opts.progress(1.0);
   return image;
 }

@@ -53,13 +53,15 @@ def main():
     types = {"case": str, "family": str, "impl": str, "ran": bool, "pass": bool, "samples": int, "over": int,
              "over_hard": int, "worst": (int, float, type(None)), "score": (int, float, type(None)),
              "seconds": (int, float), "speedup": (int, float, type(None)), "note": str, "detail": str, "view": str,
-             "difference": str, "judged": str}
+             "difference": str, "judged": str, "dropped": int, "dropped_why": str}
     for i, r in enumerate(doc["rows"]):
         for k, t in types.items():
             if k not in r or not isinstance(r[k], t) or (t is int and isinstance(r[k], bool)):
                 fail(f"json row {i}: key {k!r} missing or not {t}: {r}")
         if set(r) != set(types):
             fail(f"json row {i}: keys {sorted(set(r) ^ set(types))} not documented")
+        if (r["dropped"] > 0) != (r["dropped_why"] != ""):
+            fail(f"json row {i}: dropped {r['dropped']} with reason {r['dropped_why']!r}")
     failing = {(r["case"], r["impl"]) for r in doc["rows"] if not r["pass"]}
     if doc.get("pass") != (not failing):
         fail(f"json pass {doc.get('pass')} with {len(failing)} failing rows")
