@@ -11,11 +11,11 @@ namespace lockstep {
 
 namespace {
 
-constexpr std::array<Vec3, kCubeFaces> kForward = {
-    Vec3{1, 0, 0}, Vec3{-1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, -1, 0}, Vec3{0, 0, 1}, Vec3{0, 0, -1}};
+constexpr std::array<Vec3, kCubeFaces> kForward = {Vec3{1, 0, 0},  Vec3{-1, 0, 0}, Vec3{0, 1, 0},
+                                                   Vec3{0, -1, 0}, Vec3{0, 0, 1},  Vec3{0, 0, -1}};
 // Any up not along the axis: the face's image is then turned, which no test sees.
-constexpr std::array<Vec3, kCubeFaces> kUp = {
-    Vec3{0, 1, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}, Vec3{0, 0, 1}, Vec3{1, 0, 0}, Vec3{1, 0, 0}};
+constexpr std::array<Vec3, kCubeFaces> kUp = {Vec3{0, 1, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1},
+                                              Vec3{0, 0, 1}, Vec3{1, 0, 0}, Vec3{1, 0, 0}};
 
 // The face's basis (as Camera::from_view makes it: right = forward x up).
 void basis(int face, Vec3& forward, Vec3& right, Vec3& up) {
@@ -112,7 +112,8 @@ double texel_distance(const ScreenMesh& frame, double window, int i, int j) {
   const double z = 1 / (inv_n - window * (inv_n - inv_f));
   // The texel centre's ray has forward component 1: its length per unit depth.
   const double pitch = frame.camera.pitch;
-  const double u = (i + 0.5 - 0.5 * frame.width) * pitch, v = (0.5 * frame.height - (j + 0.5)) * pitch;
+  const double u = (i + 0.5 - 0.5 * frame.width) * pitch,
+               v = (0.5 * frame.height - (j + 0.5)) * pitch;
   return z * std::sqrt(1 + u * u + v * v);
 }
 
@@ -131,7 +132,8 @@ double shadow_bias(const RasterSettings& s, int n, double r, double cos_theta) {
   return kShadowRounding * r + s.bias + s.slope_bias * (2 * r / n) * capped_tan(cos_theta);
 }
 
-double lit_fraction(const ShadowCube& cube, const RasterSettings& s, const Vec3& p, const Vec3& face_normal) {
+double lit_fraction(const ShadowCube& cube, const RasterSettings& s, const Vec3& p,
+                    const Vec3& face_normal) {
   const Vec3 d = p - cube.light;
   const double r = length(d);
   if (!(r > 0)) return 1;  // at the light itself
@@ -157,13 +159,44 @@ double lit_fraction(const ShadowCube& cube, const RasterSettings& s, const Vec3&
   return double(passed) / double(s.pcf * s.pcf);
 }
 
-void check_shadow_settings(const RasterSettings& s, const std::string& source, const std::string& what) {
+void check_shadow_settings(const RasterSettings& s, const std::string& source,
+                           const std::string& what) {
   if (s.shadows == ShadowMode::kVolume)
     throw InputError(source, 0, "shadows=volume: not implemented in this row (" + what + ")");
   if (s.shadows == ShadowMode::kMap && s.shading != Shading::kPhong && s.shading != Shading::kBlinn)
-    throw InputError(source, 0,
-                     "shadows=map needs per-sample lighting: shading phong or blinn (flat, gouraud and toon "
-                     "light vertices or polygons, before any shadow test)");
+    throw InputError(
+        source, 0,
+        "shadows=map needs per-sample lighting: shading phong or blinn (flat, gouraud and toon "
+        "light vertices or polygons, before any shadow test)");
+}
+
+ShadowMaps build_shadow_maps(const Scene& scene, const RasterSettings& s,
+                             const DepthPass& visibility) {
+  const RasterSettings depth = depth_pass_settings(s);
+  const int n = s.map_size;
+  ShadowMaps maps;
+  Visibility vis;
+  for (const Light& light : scene.lights) {
+    ShadowCube cube;
+    cube.light = light.position;
+    cube.n = n;
+    for (int face = 0; face < kCubeFaces; ++face) {
+      ScreenMesh frame = cube_face_frame(scene, light.position, face, n);
+      view_spheres(scene, depth, 0, scene.sphere_count(), frame);
+      view_polygons(scene, depth, 0, scene.polygon_count(), frame);
+      visibility(frame, depth, vis);
+      std::vector<float>& dist = cube.dist[size_t(face)];
+      dist.assign(size_t(n) * size_t(n), float(kInfinity));
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+          const size_t k = size_t(j) * size_t(n) + size_t(i);
+          if (vis.tri[k] != Visibility::kNone)
+            dist[k] = float(texel_distance(frame, vis.depth[k], i, j));
+        }
+    }
+    maps.cubes.push_back(std::move(cube));
+  }
+  return maps;
 }
 
 }  // namespace lockstep

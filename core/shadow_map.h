@@ -59,6 +59,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -70,7 +71,8 @@ namespace lockstep {
 
 inline constexpr int kCubeFaces = 6;
 // Face k looks along +x, -x, +y, -y, +z, -z (k = 0..5).
-inline constexpr std::array<const char*, kCubeFaces> kCubeFaceNames = {"+x", "-x", "+y", "-y", "+z", "-z"};
+inline constexpr std::array<const char*, kCubeFaces> kCubeFaceNames = {"+x", "-x", "+y",
+                                                                       "-y", "+z", "-z"};
 
 // The face direction d (not 0) falls in: its major axis, ties to x, y, z in
 // that order and to + over -.
@@ -99,7 +101,9 @@ struct ShadowCube {
   // n * n texels per face, row by row: the distance from the light to the
   // nearest surface along the texel centre's ray, +inf where there is none.
   std::array<std::vector<float>, kCubeFaces> dist;
-  float at(const CubeTexel& t) const { return dist[size_t(t.face)][size_t(t.j) * size_t(n) + size_t(t.i)]; }
+  float at(const CubeTexel& t) const {
+    return dist[size_t(t.face)][size_t(t.j) * size_t(n) + size_t(t.i)];
+  }
 };
 
 // Every light's cube, in the scene's light order.
@@ -119,18 +123,29 @@ RasterSettings depth_pass_settings(const RasterSettings& s);
 // (stored_depth of kDouble) at texel (i, j) of the face's frame.
 double texel_distance(const ScreenMesh& face_frame, double window_depth, int i, int j);
 
+// Pass 1 whole: every light's cube, each face's triangles drawn by `visibility`
+// (an implementation's z-buffer without shading: the reference's or the fast
+// one) into one Visibility buffer reused across faces (its arrays keep their
+// pages: a fresh 14 bytes a texel per face cost as much as drawing the face).
+using DepthPass =
+    std::function<void(const ScreenMesh& face_frame, const RasterSettings& depth, Visibility& vis)>;
+ShadowMaps build_shadow_maps(const Scene& scene, const RasterSettings& s,
+                             const DepthPass& visibility);
+
 // The relative rounding allowance of the test (a few float ulps of r).
 inline constexpr double kShadowRounding = 1.0 / (1 << 20);
 // The bias of the test above at distance r with cos_theta = |N.L|.
 double shadow_bias(const RasterSettings& s, int n, double r, double cos_theta);
 // Pass 2: the fraction of cube's light that reaches point p with unit
 // geometric normal face_normal (0 or 1 without PCF).
-double lit_fraction(const ShadowCube& cube, const RasterSettings& s, const Vec3& p, const Vec3& face_normal);
+double lit_fraction(const ShadowCube& cube, const RasterSettings& s, const Vec3& p,
+                    const Vec3& face_normal);
 
 // Whether s can be drawn with shadows (throws InputError(source, 0, ...) if
 // not): shadows=map needs per-sample lighting (shading phong or blinn);
 // shadows=volume is refused by the rows that do not draw it (`what` names the
 // row in the message).
-void check_shadow_settings(const RasterSettings& s, const std::string& source, const std::string& what);
+void check_shadow_settings(const RasterSettings& s, const std::string& source,
+                           const std::string& what);
 
 }  // namespace lockstep

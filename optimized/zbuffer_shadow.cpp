@@ -9,12 +9,12 @@
 // shade_fragment with the map's test (what ref::zbuffer computes, rows in
 // parallel on TBB), not by the SIMD float shading kernels, which have no
 // per-light visibility input.
-#include <algorithm>
-#include <cmath>
-
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <cmath>
 
 #include "core/shadow_map.h"
 #include "optimized/raster.h"
@@ -31,12 +31,14 @@ int64_t edge(const ScreenVertex& a, const ScreenVertex& b, int64_t px, int64_t p
 // The fragment the reference's loop makes of triangle tri at sample (px, py)
 // (1/256 pixel): screen barycentrics from the exact edge functions, depth from
 // the plane of 1/z, perspective-correct barycentrics (reference/zbuffer.cpp).
-Fragment fragment_at(const ScreenMesh& mesh, uint32_t tri, int64_t px, int64_t py, bool perspective) {
+Fragment fragment_at(const ScreenMesh& mesh, uint32_t tri, int64_t px, int64_t py,
+                     bool perspective) {
   const ScreenTri& t = mesh.tris[tri];
   const ScreenVertex &v0 = t.v[0], &v1 = t.v[1], &v2 = t.v[2];
   const int64_t area = edge(v0, v1, v2.x, v2.y);
   const int64_t e0 = edge(v1, v2, px, py), e1 = edge(v2, v0, px, py), e2 = edge(v0, v1, px, py);
-  const double l0 = double(e0) / double(area), l1 = double(e1) / double(area), l2 = double(e2) / double(area);
+  const double l0 = double(e0) / double(area), l1 = double(e1) / double(area),
+               l2 = double(e2) / double(area);
   const double inv_z = l0 / v0.z + l1 / v1.z + l2 / v2.z;
   Fragment f;
   f.tri = tri;
@@ -58,35 +60,14 @@ Fragment fragment_at(const ScreenMesh& mesh, uint32_t tri, int64_t px, int64_t p
 }  // namespace
 
 ShadowMaps shadow_maps(const Scene& scene, const RasterSettings& s, int threads) {
-  const RasterSettings depth = depth_pass_settings(s);
-  const int n = s.map_size;
-  ShadowMaps maps;
-  // One visibility buffer for every face: its arrays keep their pages (a
-  // fresh 14 bytes a texel per face cost as much as drawing the face).
-  Visibility vis;
-  for (const Light& light : scene.lights) {
-    ShadowCube cube;
-    cube.light = light.position;
-    cube.n = n;
-    for (int face = 0; face < kCubeFaces; ++face) {
-      ScreenMesh frame = cube_face_frame(scene, light.position, face, n);
-      view_spheres(scene, depth, 0, scene.sphere_count(), frame);
-      view_polygons(scene, depth, 0, scene.polygon_count(), frame);
-      zbuffer_visibility(frame, depth, threads, vis);
-      std::vector<float>& dist = cube.dist[size_t(face)];
-      dist.assign(size_t(n) * size_t(n), float(kInfinity));
-      for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-          const size_t k = size_t(j) * size_t(n) + size_t(i);
-          if (vis.tri[k] != Visibility::kNone) dist[k] = float(texel_distance(frame, vis.depth[k], i, j));
-        }
-    }
-    maps.cubes.push_back(std::move(cube));
-  }
-  return maps;
+  return build_shadow_maps(
+      scene, s, [threads](const ScreenMesh& frame, const RasterSettings& depth, Visibility& vis) {
+        zbuffer_visibility(frame, depth, threads, vis);
+      });
 }
 
-Image zbuffer_shadowed(const Scene& scene, const FrameOptions& opts, const RasterSettings& s, FrameStats* stats) {
+Image zbuffer_shadowed(const Scene& scene, const FrameOptions& opts, const RasterSettings& s,
+                       FrameStats* stats) {
   check_shadow_settings(s, scene.source, "zbuffer --impl simd");
   const ShadowMaps maps = shadow_maps(scene, s, opts.threads);
   const ScreenMesh mesh = view_scene(scene, opts.width, opts.height, s, opts.threads);
@@ -107,13 +88,15 @@ Image zbuffer_shadowed(const Scene& scene, const FrameOptions& opts, const Raste
           Vec3 sum;
           float z = float(kInfinity);
           for (int k = 0; k < spp; ++k) {
-            const uint32_t tri = vis.tri[(size_t(j) * size_t(w) + size_t(i)) * size_t(spp) + size_t(k)];
+            const uint32_t tri =
+                vis.tri[(size_t(j) * size_t(w) + size_t(i)) * size_t(spp) + size_t(k)];
             if (tri == Visibility::kNone) {
               sum += Vec3(Vec3f(scene.background));
               continue;
             }
-            const Fragment f = fragment_at(mesh, tri, int64_t(i) * kSubpixel + offsets[size_t(k)][0],
-                                           int64_t(j) * kSubpixel + offsets[size_t(k)][1], s.perspective);
+            const Fragment f =
+                fragment_at(mesh, tri, int64_t(i) * kSubpixel + offsets[size_t(k)][0],
+                            int64_t(j) * kSubpixel + offsets[size_t(k)][1], s.perspective);
             sum += Vec3(Vec3f(shade_fragment(scene, mesh, s, f, reach)));
             z = std::min(z, float(f.z));
           }

@@ -14,32 +14,10 @@
 namespace lockstep::ref {
 
 ShadowMaps shadow_maps(const Scene& scene, const RasterSettings& s) {
-  const RasterSettings depth = depth_pass_settings(s);
-  const int n = s.map_size;
-  ShadowMaps maps;
-  // One visibility buffer for every face: its arrays keep their pages (a
-  // fresh 14 bytes a texel per face cost as much as drawing the face).
-  Visibility vis;
-  for (const Light& light : scene.lights) {
-    ShadowCube cube;
-    cube.light = light.position;
-    cube.n = n;
-    for (int face = 0; face < kCubeFaces; ++face) {
-      ScreenMesh frame = cube_face_frame(scene, light.position, face, n);
-      view_spheres(scene, depth, 0, scene.sphere_count(), frame);
-      view_polygons(scene, depth, 0, scene.polygon_count(), frame);
-      zbuffer_visibility(frame, depth, vis);
-      std::vector<float>& dist = cube.dist[size_t(face)];
-      dist.assign(size_t(n) * size_t(n), float(kInfinity));
-      for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-          const size_t k = size_t(j) * size_t(n) + size_t(i);
-          if (vis.tri[k] != Visibility::kNone) dist[k] = float(texel_distance(frame, vis.depth[k], i, j));
-        }
-    }
-    maps.cubes.push_back(std::move(cube));
-  }
-  return maps;
+  return build_shadow_maps(
+      scene, s, [](const ScreenMesh& frame, const RasterSettings& depth, Visibility& vis) {
+        zbuffer_visibility(frame, depth, vis);
+      });
 }
 
 }  // namespace lockstep::ref
