@@ -20,9 +20,11 @@ given, through JSON_OUT.tmp and a rename; prints the markdown table.
 import datetime
 import json
 import os
-import platform
 import subprocess
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import chartlib  # noqa: E402
 
 COMMAND = ("./build/props/lockstep_cones_study > bench/results/cones_tess.csv && python3 "
            "scripts/cones_chart.py bench/results/cones_tess.csv bench/charts bench/results/cones_tess.json")
@@ -70,20 +72,7 @@ def table_rows(rows):
 
 
 def table(rows):
-    cols, body = table_rows(rows)
-    out = ["| " + " | ".join(cols) + " |", "|---|---|" + "---:|" * (len(cols) - 2)]
-    out += ["| " + " | ".join(r) + " |" for r in body]
-    return "\n".join(out)
-
-
-def machine():
-    try:
-        for line in open("/proc/cpuinfo"):
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip() + f", {os.cpu_count()} cores"
-    except OSError:
-        pass
-    return platform.machine()
+    return chartlib.markdown_table(*table_rows(rows))
 
 
 def summary(rows):
@@ -121,7 +110,7 @@ def write_json(size, rows, path):
         "title": "NFF cones: tessellated against exact",
         "command": COMMAND,
         "date": datetime.date.today().isoformat(),
-        "machine": machine(),
+        "machine": chartlib.machine(),
         "issue": 22,
         "note": (f"{size.replace('cones: ', '')}. The SPD's untessellated lattice-2 (54 cylinders, 27 spheres) and tree-2 (7 cones, 7 "
                  "spheres): the exact image is the reference ray caster's (cones in double, "

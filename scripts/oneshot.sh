@@ -232,7 +232,8 @@ doc = {
              "time in a fresh process (one thread); warm frame: lockstep_bench real_time (threads:1, buffers reused); "
              "peak MiB: /usr/bin/time -v; the last column the whole process's wall ms. The lockstep_bench rows: "
              "first_ms (the first frame on fresh pages, in a running process) and real_time; a row with a "
-             "session (composite's simd row keeps its frame buffer, as an application keeps its framebuffer) "
+             "session (the simd rows of composite, zbuffer and scanline keep their frame buffers, as an application "
+             "keeps its framebuffer) "
              "gives the session's start (the buffer allocated and touched once) as its start to first work, "
              "and its first frame as the cold one. "
              + os.environ.get("ONESHOT_NOTE", "")),

@@ -19,9 +19,11 @@ given, through JSON_OUT.tmp and a rename; prints the markdown table.
 import datetime
 import json
 import os
-import platform
 import subprocess
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import chartlib  # noqa: E402
 
 COMMAND = ("./build/props/lockstep_raytrace_study > bench/results/raytrace_acne.csv && python3 "
            "scripts/raytrace_chart.py bench/results/raytrace_acne.csv bench/charts bench/results/raytrace_acne.json")
@@ -66,21 +68,7 @@ def table_rows(rows):
 
 
 def table(rows):
-    cols, body = table_rows(rows)
-    out = ["| " + " | ".join(cols) + " |", "|---|---|" + "---:|" * (len(cols) - 2)]
-    out += ["| " + " | ".join(r) + " |" for r in body]
-    return "\n".join(out)
-
-
-def machine():
-    """The CPU, as /proc/cpuinfo names it (bench/results/machine.txt's first line says the same)."""
-    try:
-        for line in open("/proc/cpuinfo"):
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip() + f", {os.cpu_count()} cores"
-    except OSError:
-        pass
-    return platform.machine()
+    return chartlib.markdown_table(*table_rows(rows))
 
 
 def write_json(rows, path):
@@ -100,7 +88,7 @@ def write_json(rows, path):
         "title": "Failure map: shadow acne and light leaking",
         "command": COMMAND,
         "date": datetime.date.today().isoformat(),
-        "machine": machine(),
+        "machine": chartlib.machine(),
         "issue": 22,
         "note": (f"Shadow rays only, depth 1: a tilted lit ground square with a ball and a thin occluder 0.01 above "
                  f"it (facing down, so invisible to the eye), moved to D (1,1,1)/sqrt(3); {n} samples per frame "

@@ -20,6 +20,9 @@ import os
 import subprocess
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import chartlib  # noqa: E402
+
 COMMAND = ("ninja -C build lockstep_raytrace_depth && ./build/lockstep_raytrace_depth "
            "../shared/spd/{balls-3,balls-4,balls-5,shells-1,tetra-3,mount-3,gears-2}.nff > "
            "bench/results/raytrace_depth.csv && python3 scripts/raytrace_depth_chart.py "
@@ -41,16 +44,6 @@ def load(path):
             except (KeyError, ValueError) as e:
                 sys.exit(f"{path}:{n}: bad row ({e})")
     return rows
-
-
-def machine():
-    try:
-        for line in open("/proc/cpuinfo"):
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip() + f", {os.cpu_count()} cores"
-    except OSError:
-        pass
-    return "unknown"
 
 
 def pct(n, total):
@@ -97,7 +90,7 @@ def main():
         "title": "Speed against accuracy: the ray-tree depth",
         "command": COMMAND,
         "date": datetime.date.today().isoformat(),
-        "machine": machine(),
+        "machine": chartlib.machine(),
         "issue": 22,
         "note": (f"embree (robust offset, shadow rays, cut-off 1/256), one thread, {size} x {size}, median of 3 frames per "
                  f"depth (a shared, loaded machine: times are noisy, their growth with depth is the point). Each cell: ms "

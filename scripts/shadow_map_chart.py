@@ -18,9 +18,11 @@ the markdown table.
 import datetime
 import json
 import os
-import platform
 import subprocess
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import chartlib  # noqa: E402
 
 COMMAND = ("./build/props/lockstep_shadow_study > bench/results/shadow_map.csv && python3 "
            "scripts/shadow_map_chart.py bench/results/shadow_map.csv bench/charts bench/results/shadow_map.json")
@@ -79,20 +81,7 @@ def table_rows(rows):
 
 
 def table(rows):
-    cols, body = table_rows(rows)
-    out = ["| " + " | ".join(cols) + " |", "|---|---|" + "---:|" * (len(cols) - 2)]
-    out += ["| " + " | ".join(r) + " |" for r in body]
-    return "\n".join(out)
-
-
-def machine():
-    try:
-        for line in open("/proc/cpuinfo"):
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip() + f", {os.cpu_count()} cores"
-    except OSError:
-        pass
-    return platform.machine()
+    return chartlib.markdown_table(*table_rows(rows))
 
 
 def pick(rows, scene, kind, n, slope=None, bias=None):
@@ -117,7 +106,7 @@ def write_json(rows, path):
         "title": "Failure map: shadow maps against shadow rays",
         "command": COMMAND,
         "date": datetime.date.today().isoformat(),
-        "machine": machine(),
+        "machine": chartlib.machine(),
         "issue": 22,
         "note": (f"The z-buffer with shading=phong and shadows=map (one cube map per point light, core/shadow_map.h; "
                  f"opt::simd's frames, the reference's image) against the oracle, the ray tracer at depth 1 with "
