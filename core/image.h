@@ -7,7 +7,6 @@
 // half-written output behind.
 #pragma once
 
-#include <sys/mman.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -38,28 +37,16 @@ namespace lockstep {
 // 64 MiB + 16 B apart, about 200 ms against 24). Default glibc mmaps such
 // blocks, a page apart already. Page alignment also makes every large buffer
 // 64-byte aligned: vector loads never straddle cache lines.
-// Blocks from kHugeMinBytes up to kHugeMaxBytes start on a 2 MiB boundary and
-// ask the kernel for 2 MiB pages (transparent huge pages, MADV_HUGEPAGE: the
-// "madvise" mode of Debian's kernels). A fresh frame's first touch then costs
-// one fault per 2 MiB instead of one per 4 KiB page: a 1024^2 z-buffer frame's
-// 16 MiB colour and 4 MiB depth are 5120 faults otherwise, most of its cold
-// first frame (issue #21, "One-shot cost"). Aligned to a 2 MiB boundary, every
-// byte of the block lies in whole huge pages; aligned to 4 KiB only, the parts
-// before the first and after the last 2 MiB boundary (up to 2 MiB at each end)
-// still took 4 KiB pages: 1,033 faults of a z-buffer frame against 13 aligned
-// (measured on the 2-core EPYC VM; a fault there costs 2-6 us of a loaded
-// machine, a huge page's fault about 0.1-1 ms, mostly zeroing it).
-// Advice only: where the kernel has no huge page at hand the block gets small
-// ones, as before. Up to 64 MiB (a 2048^2 float RGBA frame): on the
-// compositor's 4096^2 layers (256 MiB, from the benchmarks' brk heap) the
-// advice made the cold frame slower (2-layers, one thread: first_ms 1.2-1.8 s
-// against 0.45-0.54 s without, on a loaded machine), and they keep their 4 KiB
-// alignment (see NoInitAllocator).
-constexpr size_t kHugePage = size_t(1) << 21;
-constexpr size_t kHugeMinBytes = kHugePage;
-constexpr size_t kHugeMaxBytes = size_t(64) << 20;
-inline bool huge_block(size_t bytes) { return bytes >= kHugeMinBytes && bytes <= kHugeMaxBytes; }
-
+// No huge pages. Frames of 2-64 MiB once started on a 2 MiB boundary with
+// MADV_HUGEPAGE (issue #21, cold first frame): a fresh 1024^2 z-buffer frame's
+// 16 MiB colour and 4 MiB depth then took 13 faults instead of 5,120. On the
+// 2-core VM this project is measured on, that halved the median cold frame
+// (CLI, one thread: 9 ms against 20 ms; warm 2.4 ms) but 1 frame in 4-8 took
+// 100-190 ms (the same fault counts; no compaction stalls in /proc/vmstat:
+// fresh huge pages that the VM's host had not backed yet). Mean 28 ms against
+// 20 ms without the advice, so the advice went. First touch of fresh 4 KiB
+// pages costs about 2 us each there (20 MiB: 7-10 ms), which is the floor of a
+// cold frame that writes a fresh float RGBA frame.
 template <class T>
 struct NoInitAllocator : std::allocator<T> {
   using value_type = T;
@@ -72,23 +59,20 @@ struct NoInitAllocator : std::allocator<T> {
   NoInitAllocator() = default;
   template <class U>
   NoInitAllocator(const NoInitAllocator<U>&) {}
-  // The block is bytes + 2 alignments (a page; 2 MiB for huge_block sizes)
-  // from plain operator new, the buffer starts on the first alignment boundary
+  // The block is bytes + 2 pages from plain operator new, the buffer starts on the first alignment boundary
   // past a pointer-sized header that remembers the block. (Not aligned
   // operator new: glibc's memalign asks for more than it keeps, so a freed
   // frame could not take the next one of the same size and every "warm" frame
   // was fresh pages again.) The unused address space before and after the
   // buffer is never touched (but for the header's page), so never backed.
-  static size_t alignment(size_t bytes) { return huge_block(bytes) ? kHugePage : kPage; }
   T* allocate(size_t n) {
     if (n * sizeof(T) < kSpacedBytes) return std::allocator<T>::allocate(n);
-    if (n > std::allocator_traits<std::allocator<T>>::max_size(*this) - 2 * kHugePage / sizeof(T))
+    if (n > std::allocator_traits<std::allocator<T>>::max_size(*this) - 2 * kPage / sizeof(T))
       throw std::bad_array_new_length();
-    const size_t bytes = n * sizeof(T), align = alignment(bytes);
-    char* block = static_cast<char*>(::operator new(bytes + 2 * align));
+    const size_t bytes = n * sizeof(T);
+    char* block = static_cast<char*>(::operator new(bytes + 2 * kPage));
     const uintptr_t start =
-        (reinterpret_cast<uintptr_t>(block) + sizeof(char*) + align - 1) & ~uintptr_t(align - 1);
-    if (align == kHugePage) (void)madvise(reinterpret_cast<void*>(start), bytes, MADV_HUGEPAGE);
+        (reinterpret_cast<uintptr_t>(block) + sizeof(char*) + kPage - 1) & ~uintptr_t(kPage - 1);
     reinterpret_cast<char**>(start)[-1] = block;
     return reinterpret_cast<T*>(start);
   }

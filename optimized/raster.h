@@ -15,6 +15,17 @@ namespace opt::simd {
 // Same contract as ref::zbuffer_visibility; threads = 0: all cores.
 void zbuffer_visibility(const ScreenMesh& mesh, const RasterSettings& s, int threads, Visibility& vis);
 Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats);
+// The same frame drawn into img, which a caller keeps from frame to frame (a
+// session's frame buffer, pairs/raster.cpp): reused when it has the frame's
+// size and a depth plane (every pixel and depth rewritten), made afresh
+// otherwise. A fresh 1024^2 frame is 20 MiB of first-touch page faults, 7-10 ms
+// on the 2-core VM against a 2.4 ms warm frame (issue #21, "One-shot cost").
+void zbuffer_into(const Scene& scene, const FrameOptions& opts, FrameStats* stats, Image& img);
+// img made width x height with a depth plane, unless it is already (contents
+// left as they are: every renderer here writes every pixel).
+void fit_frame(Image& img, int width, int height);
+// A frame buffer for zbuffer_into and scanline_into, every page touched now.
+Image new_frame(int width, int height);
 // lockstep::view_scene's mesh, bit for bit, in parallel and with every vertex
 // projected once (optimized/zbuffer_setup.cpp); spheres go through view_scene's
 // own sphere step in parallel chunks, polygons that need clipping through its
@@ -28,6 +39,8 @@ ScreenMesh view_scene(const Scene& scene, int width, int height, const RasterSet
 // depth), as opt::simd::zbuffer draws them.
 Image shade_visibility(const Scene& scene, const ScreenMesh& mesh, const RasterSettings& s,
                        const uint32_t* visible, const FrameOptions& opts);
+void shade_visibility_into(const Scene& scene, const ScreenMesh& mesh, const RasterSettings& s,
+                           const uint32_t* visible, const FrameOptions& opts, Image& img);
 // shadows=map (optimized/zbuffer_shadow.cpp): every light's cube map drawn by
 // zbuffer_visibility (pass 1), and the frame zbuffer draws when s.shadows is
 // map: the fast rasterizer's visibility, each sample shaded in double with the

@@ -18,6 +18,14 @@ namespace opt::simd {
 void scanline_visibility(const ScreenMesh& mesh, const RasterSettings& s, int threads,
                          Visibility& vis);
 Image scanline(const Scene& scene, const FrameOptions& opts, FrameStats* stats);
+// A session's buffers (pairs/raster.cpp) kept from frame to frame (see
+// opt::simd::zbuffer_into): the frame and the per-sample visible triangles.
+using VisibleBuffer = std::vector<uint32_t, NoInitAllocator<uint32_t>>;
+// Sized for scene's frames at opts (its settings' samples per pixel), every page touched now.
+VisibleBuffer visible_buffer(const Scene& scene, const FrameOptions& opts);
+// The frame drawn into img (img and visible resized where the frame needs it).
+void scanline_into(const Scene& scene, const FrameOptions& opts, FrameStats* stats, Image& img,
+                   VisibleBuffer& visible);
 // The Highway target the span fills run on ("AVX2", "AVX3", ...).
 const char* scanline_target_name();
 // Float lanes per vector of that target (the span fill's step).

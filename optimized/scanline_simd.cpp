@@ -387,29 +387,41 @@ void scanline_visibility(const ScreenMesh& mesh, const RasterSettings& s, int th
 }
 
 Image scanline(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
+  Image img;
+  VisibleBuffer visible;
+  scanline_into(scene, opts, stats, img, visible);
+  return img;
+}
+
+VisibleBuffer visible_buffer(const Scene& scene, const FrameOptions& opts) {
+  const RasterSettings s = frame_settings(scene, opts);
+  VisibleBuffer visible(size_t(opts.width) * size_t(opts.height) * sample_offsets(s).size());
+  std::fill(visible.begin(), visible.end(), Visibility::kNone);  // first touch, here
+  return visible;
+}
+
+void scanline_into(const Scene& scene, const FrameOptions& opts, FrameStats* stats, Image& img,
+                   VisibleBuffer& visible) {
   const RasterSettings s = frame_settings(scene, opts);
   // The set-up: view_scene's mesh, bit for bit (opt::simd::view_scene, in parallel).
   const ScreenMesh mesh = opt::simd::view_scene(scene, opts.width, opts.height, s, opts.threads);
   const Frame f = prepare(mesh, s);
-  // Visibility first, by scanlines: the visible triangle per sample. (Image's
-  // allocator: a 1024^2 frame's 4 MiB in two 2 MiB pages, not 1024 first-touch
-  // faults of 4 KiB pages, which were a third of the cold first frame's
-  // faults; issue #21, "One-shot cost".)
-  std::vector<uint32_t, NoInitAllocator<uint32_t>> visible(size_t(opts.width) *
-                                                           size_t(opts.height) * size_t(f.spp));
+  // Visibility first, by scanlines: the visible triangle per sample (the
+  // session's buffer when it keeps one: 4 MiB of first-touch faults at 1024^2
+  // otherwise, a third of a fresh frame's).
+  visible.resize(size_t(opts.width) * size_t(opts.height) * size_t(f.spp));
   std::fill(visible.begin(), visible.end(), Visibility::kNone);
   scan_frame(f, opts.threads, {}, false, [&](int j, const RowOut& out) {
     std::copy(out.tri.begin(), out.tri.end(),
               visible.begin() + ptrdiff_t(size_t(j) * opts.width * f.spp));
   });
   // Then each visible sample shaded once, by the z-buffer's SIMD shading.
-  Image image = opt::simd::shade_visibility(scene, mesh, s, visible.data(), opts);
+  opt::simd::shade_visibility_into(scene, mesh, s, visible.data(), opts, img);
   if (stats) {
     stats->items = mesh.scene_tris + mesh.sphere_tris;
     stats->dropped = mesh.dropped;
     count_float_lighting_limits(scene, mesh.camera, stats);
   }
-  return image;
 }
 
 }  // namespace lockstep::opt::simd

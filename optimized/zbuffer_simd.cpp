@@ -689,9 +689,9 @@ void shade_one_tile(const ScreenMesh& mesh, const Binner& b, const zsimd::ShadeP
 }
 
 template <class T>
-Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const Binner& b,
-                const RasterSettings& s, const std::vector<std::array<int32_t, 2>>& off,
-                const FrameOptions& opts, FrameStats* stats) {
+void zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const Binner& b,
+               const RasterSettings& s, const std::vector<std::array<int32_t, 2>>& off,
+               const FrameOptions& opts, FrameStats* stats, Image& img) {
   const RasterParams p = raster_params(s, b, off);
   std::vector<float> lights;
   std::vector<zsimd::ShadeMaterial> materials;
@@ -700,8 +700,7 @@ Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const Binner& b,
   // sample's w and colour, and shading has no per-triangle work left.
   // (zbuffer() leaves the shading set-up out then.)
   const bool forward = std::is_same_v<T, float> && s.shading == Shading::kFlat && !s.silhouette;
-  Image img = Image::uninitialized(mesh.width, mesh.height);
-  img.depth.resize(size_t(mesh.width) * size_t(mesh.height));
+  fit_frame(img, mesh.width, mesh.height);
   tbb::enumerable_thread_specific<TileBuffers<T>> buffers;
   tbb::enumerable_thread_specific<ShadeBuffers> shade_buffers;
   parallel_tiles(mesh.width, mesh.height, b.tw, b.th, opts.threads, opts.progress,
@@ -720,7 +719,6 @@ Image zbuffer_t(const Scene& scene, const ScreenMesh& mesh, const Binner& b,
     count_float_lighting_limits(scene, mesh.camera, stats);
     stats->skipped = mesh.hidden;
   }
-  return img;
 }
 
 
@@ -749,9 +747,34 @@ void count_float_lighting_limits(const Scene& scene, const Camera& cam, FrameSta
   stats->drop("lit in float lanes beyond 2^60 = 1.2e18 or within 2^-60 = 8.7e-19 of the eye (drawn, shading unreliable)", n);
 }
 
+void fit_frame(Image& img, int width, int height) {
+  const size_t n = size_t(width) * size_t(height);
+  if (img.width == width && img.height == height && img.rgba.size() == 4 * n && img.depth.size() == n)
+    return;
+  img = Image::uninitialized(width, height);
+  img.depth.resize(n);
+}
+
+Image new_frame(int width, int height) {
+  Image img;
+  fit_frame(img, width, height);
+  std::fill(img.rgba.begin(), img.rgba.end(), 0.0f);  // first touch, here
+  std::fill(img.depth.begin(), img.depth.end(), 0.0f);
+  return img;
+}
+
 Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
+  Image img;
+  zbuffer_into(scene, opts, stats, img);
+  return img;
+}
+
+void zbuffer_into(const Scene& scene, const FrameOptions& opts, FrameStats* stats, Image& img) {
   const RasterSettings s = frame_settings(scene, opts);
-  if (s.shadows != ShadowMode::kNone) return zbuffer_shadowed(scene, opts, s, stats);
+  if (s.shadows != ShadowMode::kNone) {
+    img = zbuffer_shadowed(scene, opts, s, stats);
+    return;
+  }
   const auto off = sample_offsets(s);
   // The set-up hands its triangles straight to the binner (no ScreenTri is
   // kept), and only what the image needs: no triangle without a sample in its
@@ -770,12 +793,21 @@ Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   std::vector<std::vector<ScreenTri>> none;
   zsimd::view_scene_chunks(scene, opts.width, opts.height, s, opts.threads, mesh, none, &image);
   b.finish();
-  if (double_depth(s.depth)) return zbuffer_t<double>(scene, mesh, b, s, off, opts, stats);
-  return zbuffer_t<float>(scene, mesh, b, s, off, opts, stats);
+  if (double_depth(s.depth))
+    zbuffer_t<double>(scene, mesh, b, s, off, opts, stats, img);
+  else
+    zbuffer_t<float>(scene, mesh, b, s, off, opts, stats, img);
 }
 
 Image shade_visibility(const Scene& scene, const ScreenMesh& mesh, const RasterSettings& s,
                        const uint32_t* visible, const FrameOptions& opts) {
+  Image img;
+  shade_visibility_into(scene, mesh, s, visible, opts, img);
+  return img;
+}
+
+void shade_visibility_into(const Scene& scene, const ScreenMesh& mesh, const RasterSettings& s,
+                           const uint32_t* visible, const FrameOptions& opts, Image& img) {
   const auto off = sample_offsets(s);
   const int spp = int(off.size());
   Binner b(s, off, &scene);
@@ -783,8 +815,7 @@ Image shade_visibility(const Scene& scene, const ScreenMesh& mesh, const RasterS
   std::vector<float> lights;
   std::vector<zsimd::ShadeMaterial> materials;
   const zsimd::ShadeParams sp = shade_params(scene, mesh, s, off, b, lights, materials);
-  Image img = Image::uninitialized(mesh.width, mesh.height);
-  img.depth.resize(size_t(mesh.width) * size_t(mesh.height));
+  fit_frame(img, mesh.width, mesh.height);
   struct IdBuffer {
     hwy::AlignedFreeUniquePtr<int32_t[]> tri;
     size_t size = 0;
@@ -810,7 +841,6 @@ Image shade_visibility(const Scene& scene, const ScreenMesh& mesh, const RasterS
             }
         shade_one_tile(mesh, b, sp, x0, y0, x1, y1, buf.tri.get(), shade_buffers.local(), img);
       });
-  return img;
 }
 
 void zbuffer_visibility(const ScreenMesh& mesh, const RasterSettings& s, int threads,
