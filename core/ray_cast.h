@@ -11,6 +11,7 @@
 //   ray_sphere   substitute the ray into |P - c|^2 = r^2
 //   ray_plane    n.P + d = 0
 //   ray_polygon  plane, then inside the polygon (concave allowed)
+//   ray_cone     the cone's quadric, roots on its finite part (0 <= height <= h)
 //
 // Frames: the whole scene, nearest *visible* hit (NFF sidedness: see
 // core/shading.h visible_side), shading by core/shading.h.
@@ -38,6 +39,9 @@ using RaySphereFn = void (*)(std::span<const Ray> rays, const Sphere& sphere, st
 using RayPlaneFn = void (*)(std::span<const Ray> rays, const Plane& plane, std::span<double> t);
 using RayPolygonFn = void (*)(std::span<const Ray> rays, const Scene& scene, uint32_t poly,
                               std::span<double> t);
+// Cones (NFF 'c', open-ended, either side: no culling): the scene's cone `cone`.
+using RayConeFn = void (*)(std::span<const Ray> rays, const Scene& scene, uint32_t cone,
+                           std::span<double> t);
 using TraceFn = void (*)(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits,
                          FrameStats* stats);
 using RenderFn = Image (*)(const Scene& scene, const FrameOptions& opts, FrameStats* stats);

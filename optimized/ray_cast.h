@@ -17,6 +17,8 @@ namespace opt::simd {
 void ray_sphere(std::span<const Ray> rays, const Sphere& sphere, std::span<double> t);
 void ray_plane(std::span<const Ray> rays, const Plane& plane, std::span<double> t);
 void ray_polygon(std::span<const Ray> rays, const Scene& scene, uint32_t poly, std::span<double> t);
+// The cone kernel (ray_cast_simd_kernels.h cone_t): double, 4 or 8 rays a time.
+void ray_cone(std::span<const Ray> rays, const Scene& scene, uint32_t cone, std::span<double> t);
 void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, FrameStats* stats);
 Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats);
 // Name of the Highway target the kernels dispatch to on this machine (e.g. "AVX2").

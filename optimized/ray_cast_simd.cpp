@@ -13,12 +13,13 @@
 //    opt::parallel_tiles (optimized/tiling.h), each tile culled to the
 //    primitives its cone of rays can reach (optimized/cone_cull.h), shaded 8 at
 //    a time (optimized/shade_simd.h).
-// NFF cones ('c') are not in the float kernels: after the packet, each ray is
+// NFF cones ('c') are not in the float kernels: after the packet, the rays are
 // tested against every cone in double with the careful root form
 // (optimized/ray_cone.h: a bounding-sphere rejection first), and a nearer cone
-// replaces the kernel's hit. Scalar, per ray; render() tests only the cones
-// whose bounding spheres survive the tile's culling (trace() tests every
-// cone). The SPD scenes have 7 to 54 cones; a SIMD cone kernel is not written.
+// replaces the kernel's hit. The cone kernel (ray_cast_simd_kernels.h cone_t)
+// runs 4 rays a time on AVX2 with the scalar routine's exact arithmetic;
+// render() tests only the cones whose bounding spheres survive the tile's
+// culling (trace() tests every cone).
 // Preparing the float scene is optimized/simd_scene.cpp.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -115,6 +116,25 @@ void kernel(std::span<const Ray> rays, std::span<double> t, const Vec3& anchor, 
   }
 }
 
+// Rays in double, structure of arrays, for the cone kernel: n rays padded to a
+// multiple of kPacket with empty ranges (tmin = tmax = 0: no hit).
+struct ConeBatch {
+  std::vector<double> ox, oy, oz, dx, dy, dz, tmin, tmax, t;
+  explicit ConeBatch(size_t n) {
+    const size_t m = (n + kPacket - 1) / kPacket * kPacket;
+    for (auto* v : {&ox, &oy, &oz, &dx, &dy, &dz, &tmin, &tmax, &t}) v->assign(m, 0.0);
+  }
+  size_t size() const { return t.size(); }
+  void set(size_t i, const Vec3& o, const Vec3& d, double t0, double t1) {
+    ox[i] = o.x, oy[i] = o.y, oz[i] = o.z, dx[i] = d.x, dy[i] = d.y, dz[i] = d.z, tmin[i] = t0,
+    tmax[i] = t1;
+  }
+  ConeRays rays() const {
+    return {ox.data(), oy.data(), oz.data(),   dx.data(),
+            dy.data(), dz.data(), tmin.data(), tmax.data()};
+  }
+};
+
 }  // namespace
 
 // ---------------------------------------------------------------- the contract
@@ -160,6 +180,17 @@ void ray_plane(std::span<const Ray> rays, const Plane& plane, std::span<double> 
   }
 }
 
+void ray_cone(std::span<const Ray> rays, const Scene& scene, uint32_t cone, std::span<double> t) {
+  // World coordinates: the careful form moves each ray's origin near the cone itself.
+  const ConeShape c = cone_shape(scene.cone_base[cone], scene.cone_r0[cone], scene.cone_apex[cone],
+                                 scene.cone_r1[cone], scene.cone_inside[cone] != 0);
+  ConeBatch b(rays.size());
+  for (size_t i = 0; i < rays.size(); ++i)
+    b.set(i, rays[i].o, rays[i].d, rays[i].tmin, rays[i].tmax);
+  cone_t(c, b.rays(), b.t.data(), b.size(), true);
+  std::copy_n(b.t.begin(), rays.size(), t.begin());
+}
+
 void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, FrameStats* stats) {
   Frame f;
   if (!rays.empty()) f.origin = rays[0].o;
@@ -176,20 +207,24 @@ void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, F
     const std::vector<ConeShape> cones = cone_shapes(scene, [](const Vec3& p) { return p; });
     tbb::parallel_for(
         tbb::blocked_range<size_t>(0, rays.size(), 512), [&](const tbb::blocked_range<size_t>& r) {
+          ConeBatch b(r.size());
+          std::vector<bool> usable(r.size());
           for (size_t i = r.begin(); i < r.end(); ++i) {
             const Ray& ray = rays[i];
-            if (!is_finite(ray.o) || !is_finite(ray.d) || !(length(ray.d) > 0) ||
-                std::isnan(ray.tmin))
-              continue;
-            Hit& h = hits[i];
-            for (uint32_t c = 0; c < cones.size(); ++c) {
-              const double t =
-                  cone_nearest(cones[c], ray.o, ray.d, ray.tmin, std::min(ray.tmax, h.t), false);
-              if (t < std::min(ray.tmax, h.t)) {
-                h.t = t;
-                h.prim = scene.cone_first_prim() + c;
-                h.tri = Hit::kNoHit;
-              }
+            usable[i - r.begin()] =
+                is_finite(ray.o) && is_finite(ray.d) && length(ray.d) > 0 && !std::isnan(ray.tmin);
+            if (usable[i - r.begin()]) b.set(i - r.begin(), ray.o, ray.d, ray.tmin, 0.0);
+          }
+          for (uint32_t c = 0; c < cones.size(); ++c) {
+            for (size_t i = r.begin(); i < r.end(); ++i)
+              if (usable[i - r.begin()]) b.tmax[i - r.begin()] = std::min(rays[i].tmax, hits[i].t);
+            cone_t(cones[c], b.rays(), b.t.data(), b.size(), false);
+            for (size_t i = r.begin(); i < r.end(); ++i) {
+              if (!(b.t[i - r.begin()] < kInfinity)) continue;
+              Hit& h = hits[i];
+              h.t = b.t[i - r.begin()];
+              h.prim = scene.cone_first_prim() + c;
+              h.tri = Hit::kNoHit;
             }
           }
         });
@@ -226,6 +261,7 @@ Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
     Candidates cand;
     cull_tile(s, cb, cam, x0, x1, y0, y1, cand);
     Candidates cone_cand;  // .spheres: the cones the tile's rays may meet
+    ConeBatch cb(kPacket);  // tail lanes stay empty (tmin = tmax = 0)
     if (!cones.empty()) cull_tile(cone_balls, cone_cb, cam, x0, x1, y0, y1, cone_cand);
     for (int j = y0; j < y1; ++j) {
       for (int i0 = x0; i0 < x1; i0 += kPacket) {
@@ -243,20 +279,28 @@ Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
         }
         clear_tail(p);
         trace_packet(s, cand, p, out);
+        Hit hk[kPacket];
+        for (int k = 0; k < p.count; ++k) hk[k] = to_hit(s, out.t[k], out.id[k], 1.0);
+        if (!cone_cand.spheres.empty()) {
+          // The packet's rays against each cone the tile may meet, nearest so far as tmax.
+          for (int k = 0; k < p.count; ++k)
+            cb.set(size_t(k), Vec3{0, 0, 0}, unit[k], double(p.tmin[k]), 0.0);
+          for (const uint32_t c : cone_cand.spheres) {
+            for (int k = 0; k < p.count; ++k) cb.tmax[size_t(k)] = hk[k].t;
+            cone_t(cones[c], cb.rays(), cb.t.data(), kPacket, false);
+            for (int k = 0; k < p.count; ++k)
+              if (cb.t[size_t(k)] < kInfinity) {
+                hk[k].t = cb.t[size_t(k)];
+                hk[k].prim = scene.cone_first_prim() + c;
+                hk[k].tri = Hit::kNoHit;
+              }
+          }
+        }
         for (int k = 0; k < p.count; ++k) {
           // The same unit ray in world space (t carries over: both are unit length).
           const Vec3& u = unit[k];
           const Ray ray{cam.eye, u.x * cam.right + u.y * cam.up + u.z * cam.forward, 0.0, kInfinity};
-          Hit h = to_hit(s, out.t[k], out.id[k], 1.0);
-          for (const uint32_t c : cone_cand.spheres) {
-            const double t =
-                cone_nearest(cones[c], Vec3{0, 0, 0}, u, double(p.tmin[k]), h.t, false);
-            if (t < h.t) {
-              h.t = t;
-              h.prim = scene.cone_first_prim() + c;
-              h.tri = Hit::kNoHit;
-            }
-          }
+          Hit& h = hk[k];
           refine_far_sphere_hit(scene, ray, h);
           fill_lane(scene, frame, ray, h, sp, k);
         }

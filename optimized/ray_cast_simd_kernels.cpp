@@ -208,6 +208,140 @@ void PlaneT(const float* dx, const float* dy, const float* dz, const float* tmin
   }
 }
 
+// ---------------------------------------------------------------- cones, in double
+//
+// optimized/ray_cone.h cone_nearest, lane by lane: the same operations in the
+// same order (no fused multiply-add but the one std::fma of the discriminant:
+// the build has -ffp-contract=off), so every lane's answer is the scalar one
+// bit for bit. Only the branches become masks: a lane that the scalar code
+// would leave early computes on and is masked out at the end.
+using DD = hn::CappedTag<double, kPacket>;
+using VD = hn::Vec<DD>;
+using MD = hn::Mask<DD>;
+
+struct V3 {
+  VD x, y, z;
+};
+HWY_INLINE VD Dot(const V3& a, const V3& b) {  // (x x + y y) + z z, as core/math.h dot
+  return hn::Add(hn::Add(hn::Mul(a.x, b.x), hn::Mul(a.y, b.y)), hn::Mul(a.z, b.z));
+}
+HWY_INLINE V3 Sub3(const V3& a, const V3& b) {
+  return {hn::Sub(a.x, b.x), hn::Sub(a.y, b.y), hn::Sub(a.z, b.z)};
+}
+HWY_INLINE V3 Add3(const V3& a, const V3& b) {
+  return {hn::Add(a.x, b.x), hn::Add(a.y, b.y), hn::Add(a.z, b.z)};
+}
+HWY_INLINE V3 Scale(VD s, const V3& a) {
+  return {hn::Mul(s, a.x), hn::Mul(s, a.y), hn::Mul(s, a.z)};
+}
+
+// b b + c with one rounding, as std::fma: MulAdd where the target fuses it;
+// SSE4 and SSSE3 have no FMA (Highway's MulAdd there rounds twice), so each
+// lane calls std::fma (x86-64-v3's own instruction, or glibc's exact fallback).
+HWY_INLINE VD FusedMulAdd(DD dd, VD a, VD b, VD c) {
+#if HWY_NATIVE_FMA
+  (void)dd;
+  return hn::MulAdd(a, b, c);
+#else
+  HWY_ALIGN double x[kPacket], y[kPacket], z[kPacket];
+  hn::Store(a, dd, x), hn::Store(b, dd, y), hn::Store(c, dd, z);
+  for (size_t i = 0; i < hn::Lanes(dd); ++i) x[i] = std::fma(x[i], y[i], z[i]);
+  return hn::Load(dd, x);
+#endif
+}
+
+// ref::cone_residual: f(t) and slope f'(t) about the moved origin.
+HWY_INLINE VD Residual(const V3& qp, const V3& dp, VD rho, VD kappa, VD t, VD& slope) {
+  const DD dd;
+  const V3 w = Add3(qp, Scale(t, dp));
+  const VD r = hn::Add(rho, hn::Mul(t, kappa));
+  slope = hn::Mul(hn::Set(dd, 2.0), hn::Sub(Dot(w, dp), hn::Mul(r, kappa)));
+  return hn::Sub(Dot(w, w), hn::Mul(r, r));
+}
+
+// One Newton step of ref::cone_roots_stable, kept where it does not make the residual worse.
+HWY_INLINE VD Newton(const V3& qp, const V3& dp, VD rho, VD kappa, VD t) {
+  const DD dd;
+  VD slope, slope2;
+  const VD f = Residual(qp, dp, rho, kappa, t, slope);
+  const VD step = hn::Div(f, slope);
+  const VD better = hn::Sub(t, step);
+  const VD f2 = Residual(qp, dp, rho, kappa, better, slope2);
+  const MD take = hn::And(hn::And(hn::Ne(slope, hn::Zero(dd)), hn::IsFinite(step)),
+                          hn::Le(hn::Abs(f2), hn::Abs(f)));
+  return hn::IfThenElse(take, better, t);
+}
+
+void ConeT(const ConeShape& c, const ConeRays& r, double* out, size_t count, bool solid) {
+  const DD dd;
+  const VD zero = hn::Zero(dd);
+  const VD inf = hn::Set(dd, HUGE_VAL);
+  const V3 centre{hn::Set(dd, c.centre.x), hn::Set(dd, c.centre.y), hn::Set(dd, c.centre.z)};
+  const V3 base{hn::Set(dd, c.base.x), hn::Set(dd, c.base.y), hn::Set(dd, c.base.z)};
+  const V3 u{hn::Set(dd, c.u.x), hn::Set(dd, c.u.y), hn::Set(dd, c.u.z)};
+  const VD bound2 = hn::Set(dd, c.bound * c.bound);
+  const VD r0 = hn::Set(dd, c.r0), k = hn::Set(dd, c.k), h = hn::Set(dd, c.h);
+  for (size_t i = 0; i < count; i += hn::Lanes(dd)) {
+    const V3 o{hn::LoadU(dd, r.ox + i), hn::LoadU(dd, r.oy + i), hn::LoadU(dd, r.oz + i)};
+    const V3 d{hn::LoadU(dd, r.dx + i), hn::LoadU(dd, r.dy + i), hn::LoadU(dd, r.dz + i)};
+    const VD tmin = hn::LoadU(dd, r.tmin + i), tmax = hn::LoadU(dd, r.tmax + i);
+    // Bounding sphere: skip the packet when every ray passes clear of it.
+    const VD dd2 = Dot(d, d);
+    const V3 f = Sub3(o, centre);
+    const VD b0 = hn::Div(Dot(f, d), dd2);
+    const V3 perp = Sub3(f, Scale(b0, d));
+    MD live = hn::And(hn::Not(hn::Gt(Dot(perp, perp), bound2)), hn::Lt(tmin, tmax));
+    if (hn::AllFalse(dd, live)) {
+      hn::StoreU(inf, dd, out + i);
+      continue;
+    }
+    // ref::cone_roots_careful: the origin moved along the ray near the centre.
+    const VD shift = hn::Div(Dot(Sub3(centre, o), d), dd2);
+    const V3 q = Sub3(Add3(o, Scale(shift, d)), base);
+    const VD qu = Dot(q, u), du = Dot(d, u);
+    const V3 qp = Sub3(q, Scale(qu, u)), dp = Sub3(d, Scale(du, u));
+    const VD rho = hn::Add(r0, hn::Mul(k, qu)), kappa = hn::Mul(k, du);
+    const VD A = hn::Sub(Dot(dp, dp), hn::Mul(kappa, kappa));
+    const VD b = hn::Sub(Dot(qp, dp), hn::Mul(rho, kappa));
+    const VD C = hn::Sub(Dot(qp, qp), hn::Mul(rho, rho));
+    // ref::cone_roots_stable: A = 0 (parallel to a side line) is linear.
+    const MD linear = hn::Eq(A, zero);
+    const VD disc = FusedMulAdd(dd, b, b, hn::Neg(hn::Mul(A, C)));
+    const MD has_root =
+        hn::Or(hn::And(linear, hn::Ne(b, zero)), hn::AndNot(linear, hn::Not(hn::Lt(disc, zero))));
+    live = hn::And(live, has_root);
+    if (hn::AllFalse(dd, live)) {
+      hn::StoreU(inf, dd, out + i);
+      continue;
+    }
+    const VD qq = hn::Neg(hn::Add(b, hn::CopySign(hn::Sqrt(hn::Max(disc, zero)), b)));
+    const MD qzero = hn::Eq(qq, zero);
+    const VD lin = hn::Div(hn::Neg(C), hn::Mul(hn::Set(dd, 2.0), b));
+    VD t0 = hn::IfThenElse(linear, lin, hn::IfThenElseZero(hn::Not(qzero), hn::Div(qq, A)));
+    VD t1 = hn::IfThenElse(linear, lin, hn::IfThenElseZero(hn::Not(qzero), hn::Div(C, qq)));
+    t0 = Newton(qp, dp, rho, kappa, t0);
+    t1 = Newton(qp, dp, rho, kappa, t1);
+    const MD swap = hn::Gt(t0, t1);
+    const VD lo = hn::IfThenElse(swap, t1, t0), hi = hn::IfThenElse(swap, t0, t1);
+    // cone_nearest: the first root in range, on the finite part, on the visible side.
+    auto visible = [&](VD t) {
+      const VD tl = hn::Sub(t, shift);  // about the moved origin, as the scalar code
+      const VD s = hn::Add(qu, hn::Mul(tl, du));
+      MD ok = hn::And(hn::And(hn::Gt(t, tmin), hn::Lt(t, tmax)),
+                      hn::And(hn::Ge(s, zero), hn::Le(s, h)));
+      if (!solid) {
+        VD slope;
+        Residual(qp, dp, rho, kappa, tl, slope);
+        ok = hn::And(ok, c.inside ? hn::Gt(slope, zero) : hn::Lt(slope, zero));
+      }
+      return ok;
+    };
+    const VD t_lo = hn::Add(lo, shift), t_hi = hn::Add(hi, shift);
+    const MD v0 = hn::And(live, visible(t_lo)), v1 = hn::And(live, visible(t_hi));
+    hn::StoreU(hn::IfThenElse(v0, t_lo, hn::IfThenElse(v1, t_hi, inf)), dd, out + i);
+  }
+}
+
 const char* TargetName() { return hwy::TargetName(HWY_TARGET); }
 
 }  // namespace HWY_NAMESPACE
@@ -219,6 +353,7 @@ namespace lockstep::opt::simd {
 
 HWY_EXPORT(TracePacket);
 HWY_EXPORT(PlaneT);
+HWY_EXPORT(ConeT);
 HWY_EXPORT(TargetName);
 
 void trace_packet(const SimdScene& s, const Candidates& cand, const Packet& p, PacketHits& out) {
@@ -228,6 +363,10 @@ void trace_packet(const SimdScene& s, const Candidates& cand, const Packet& p, P
 void plane_t(const float* dx, const float* dy, const float* dz, const float* tmin, const float* tmax,
              const float n[3], const float* dist, float* t, size_t count) {
   HWY_DYNAMIC_DISPATCH(PlaneT)(dx, dy, dz, tmin, tmax, n, dist, t, count);
+}
+
+void cone_t(const ConeShape& c, const ConeRays& r, double* t, size_t count, bool solid) {
+  HWY_DYNAMIC_DISPATCH(ConeT)(c, r, t, count, solid);
 }
 
 const char* target_name() { return HWY_DYNAMIC_DISPATCH(TargetName)(); }

@@ -8,6 +8,7 @@
 
 #include <cstddef>
 
+#include "optimized/ray_cone.h"
 #include "optimized/simd_scene.h"
 
 namespace lockstep::opt::simd {
@@ -23,5 +24,16 @@ void trace_packet(const SimdScene& s, const Candidates& cand, const Packet& p, P
 // count is a multiple of kPacket; the arrays need not be aligned.
 void plane_t(const float* dx, const float* dy, const float* dz, const float* tmin, const float* tmax,
              const float n[3], const float* dist, float* t, size_t count);
+
+// Rays in double, structure of arrays (the cone kernel's input).
+struct ConeRays {
+  const double *ox, *oy, *oz, *dx, *dy, *dz, *tmin, *tmax;
+};
+
+// Cone kernel, in double: t[i] = cone_nearest(c, o_i, d_i, tmin[i], tmax[i],
+// solid) (optimized/ray_cone.h), bit for bit, for every ray i < count; count
+// is a multiple of kPacket; the arrays need not be aligned. A lane's ray that
+// is harmless to compute (tmax <= tmin) answers +inf.
+void cone_t(const ConeShape& c, const ConeRays& r, double* t, size_t count, bool solid);
 
 }  // namespace lockstep::opt::simd

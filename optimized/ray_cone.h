@@ -5,10 +5,11 @@
 // hit refinement (optimized/refine.h) all decide a cone hit here, with the
 // careful root form of reference/ray_cone.h (origin moved near the cone, the
 // root that does not cancel first, the other from the product, one Newton
-// step each). Cones are few in the SPD scenes (7 to 54), so a scalar double
-// test per candidate costs little next to the float kernels; a float SIMD
-// cone kernel would need the same care as the sphere's (optimized/refine.h)
-// to pass the 1/255 colour bound, and is not written.
+// step each). The simd rows run the same arithmetic 4 (AVX2) or 8 (AVX-512)
+// rays at a time in double (ray_cast_simd_kernels.h cone_t, bit for bit the
+// same as cone_nearest); a float cone kernel would need the same care as the
+// sphere's (optimized/refine.h) to pass the 1/255 colour bound, and is not
+// written.
 //
 // What is precomputed per cone: its bounding sphere (for a cheap rejection of
 // rays that pass clear of it) and its ends in the caller's frame.
@@ -16,6 +17,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 #include <vector>
 
 #include "core/math.h"
@@ -30,10 +32,19 @@ struct ConeShape {
   bool inside = false;  // NFF's negative radii: only the inside is visible
   Vec3 centre;          // bounding sphere: the axis' midpoint ...
   double bound = 0;     // ... and a radius that holds both end discs
+  // The quadric's per-cone pieces, rounded exactly as ref::cone_quadric rounds
+  // them (so that the SIMD kernel, which reads them, matches cone_nearest bit
+  // for bit): unit axis u, height h, slope k.
+  Vec3 u;
+  double h = 0, k = 0;
 };
 
 inline ConeShape cone_shape(const Vec3& base, double r0, const Vec3& apex, double r1, bool inside) {
   ConeShape c{base, apex, r0, r1, inside, 0.5 * (base + apex), 0};
+  const Vec3 axis = apex - base;
+  c.h = std::sqrt(dot(axis, axis));
+  c.u = axis / c.h;
+  c.k = (r1 - r0) / c.h;
   // Every point of an end disc is within sqrt((h/2)^2 + r^2) of the midpoint.
   const double half = 0.5 * length(apex - base);
   c.bound = std::sqrt(half * half + std::max(r0, r1) * std::max(r0, r1)) * (1 + 1e-12);
@@ -65,6 +76,16 @@ inline double cone_nearest(const ConeShape& c, const Vec3& o, const Vec3& d, dou
     return t;
   }
   return kInfinity;
+}
+
+// The kernel row's careful form (core/ray_cast.h RayConeFn): cone_nearest one
+// ray at a time, in world coordinates, either side.
+inline void ray_cone_careful(std::span<const Ray> rays, const Scene& scene, uint32_t cone,
+                             std::span<double> t) {
+  const ConeShape c = cone_shape(scene.cone_base[cone], scene.cone_r0[cone], scene.cone_apex[cone],
+                                 scene.cone_r1[cone], scene.cone_inside[cone] != 0);
+  for (size_t i = 0; i < rays.size(); ++i)
+    t[i] = cone_nearest(c, rays[i].o, rays[i].d, rays[i].tmin, rays[i].tmax, true);
 }
 
 // Every cone of a scene in a frame (point(), the world-to-frame map).

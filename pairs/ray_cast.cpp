@@ -10,6 +10,7 @@
 #include "core/output_image.h"
 #include "optimized/embree_scene.h"
 #include "optimized/ray_cast.h"
+#include "optimized/ray_cast_simd_kernels.h"
 #include "optimized/ray_cone.h"
 #include "pairs/loaders.h"
 #include "pairs/ray_cast_judges.h"
@@ -59,6 +60,21 @@ constexpr Impl<CasterFns> kRayCast[] = {
     {"auto", {opt::autosel::trace, opt::autosel::render}, kRefined, 0, {}, kF32Eps},
 };
 
+// Cones (NFF 'c', either side): the textbook quadric (reference/ray_cone.h), the
+// careful double form the optimized rows decide cones with (optimized/ray_cone.h
+// cone_nearest: origin moved near the cone, the root that does not cancel first,
+// one Newton step), and the Highway kernel running that same arithmetic 4 or 8
+// lanes at a time (bit for bit the careful form's answers). Bounds: measured on
+// rays_at_cone, deep mode (1000 cases, three seeds): textbook max 1.41e-12,
+// careful and simd 1.07e-13 (props/README.md, "The ray_cone row").
+constexpr double kConeTextbook = 3e-12;
+constexpr double kConeCareful = 2e-13;
+constexpr Impl<RayConeFn> kRayCone[] = {
+    {"reference", ref::ray_cone, kConeTextbook},
+    {"careful", opt::ray_cone_careful, kConeCareful},
+    {"simd", opt::simd::ray_cone, kConeCareful},
+};
+
 // Agreement in t can be no tighter than what a float implementation promises
 // against the oracle (kF32) plus the reference's own error (kF64): two answers
 // each within their bound of the truth are within the sum of each other.
@@ -71,6 +87,7 @@ const RayCastRows kRows{
     // Frames: every pixel within 1/255 on at least 99.9% of pixels (issue #2).
     // Every non-reference ray_cast refines t in double: kRefined + kF64.
     {"ray_cast", "scenes", {.t_rel = kRefined + kF64, .color_abs = 1.0 / 255, .pixel_fraction = 0.999}, kRayCast},
+    {"ray_cone", "rays_at_cone", {.t_rel = kConeTextbook + kConeCareful}, kRayCone},
 };
 
 // ---------------------------------------------------------------- the family's typed pieces
@@ -205,9 +222,11 @@ KernelBench throughput_bench(bool spheres) {
 // axis) against the 4096 rays, single thread, nearest visible root: the
 // reference's textbook and careful forms (reference/ray_cone.h), and the
 // optimized rows' routine (optimized/ray_cone.h: a bounding-sphere rejection,
-// then the careful form). Not a KernelRow: only the kernel's speed is
-// compared here; its accuracy against the long-double oracle is
-// tests/cones_test.cpp's and tests/cones_rows_test.cpp's.
+// then the careful form), and simd: the same routine 4 or 8 rays at a time
+// (ray_cast_simd_kernels.h cone_t, the rays already in structure-of-arrays
+// form, as the simd caster holds them). These are the ray_cone KernelRow's
+// forms (its accuracy: props/ray_cast, Accuracy.ray_cone__*), timed here
+// through their inner routines so that no per-call packing is counted.
 KernelBench ray_cone_bench() {
   KernelBench k;
   k.name = "kernel/ray_cone";
@@ -219,8 +238,24 @@ KernelBench ray_cone_bench() {
       auto t = std::make_shared<std::vector<double>>(rays->size());
       auto shape = std::make_shared<const opt::ConeShape>(opt::cone_shape(
           scene->cone_base[0], scene->cone_r0[0], scene->cone_apex[0], scene->cone_r1[0], false));
+      // Structure of arrays for the simd form (kKernelRays is a multiple of its packet).
+      auto soa = std::make_shared<std::vector<double>>(8 * rays->size());
+      for (size_t i = 0; i < rays->size(); ++i) {
+        const Ray& ray = (*rays)[i];
+        const double v[8] = {ray.o.x, ray.o.y, ray.o.z,  ray.d.x,
+                             ray.d.y, ray.d.z, ray.tmin, ray.tmax};
+        for (size_t k = 0; k < 8; ++k) (*soa)[k * rays->size() + i] = v[k];
+      }
       KernelBench::Run r;
-      r.once = [scene, form, rays, t, shape] {
+      r.once = [scene, form, rays, t, shape, soa] {
+        if (form == 3) {
+          const size_t n = rays->size();
+          const double* s = soa->data();
+          opt::simd::cone_t(
+              *shape, {s, s + n, s + 2 * n, s + 3 * n, s + 4 * n, s + 5 * n, s + 6 * n, s + 7 * n},
+              t->data(), n, false);
+          return int64_t(n);
+        }
         for (size_t i = 0; i < rays->size(); ++i) {
           const Ray& ray = (*rays)[i];
           (*t)[i] = form == 2 ? opt::cone_nearest(*shape, ray.o, ray.d, ray.tmin, ray.tmax, false)
@@ -236,9 +271,13 @@ KernelBench ray_cone_bench() {
       return r;
     };
   };
-  k.impls.push_back({"textbook", entry(0)});
-  k.impls.push_back({"careful", entry(1)});
-  k.impls.push_back({"opt", entry(2)});
+  // Named as the ray_cone row's implementations (reference, careful, simd), so
+  // that BENCHMARKS.md's accuracy table pairs each time with its error;
+  // reference_careful is the reference's own careful form (no bounding sphere).
+  k.impls.push_back({"reference", entry(0)});
+  k.impls.push_back({"reference_careful", entry(1)});
+  k.impls.push_back({"careful", entry(2)});
+  k.impls.push_back({"simd", entry(3)});
   return k;
 }
 

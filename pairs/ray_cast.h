@@ -3,7 +3,8 @@
 // The family (ray_cast: an NFF scene -> an image) and its kernel rows: one
 // primitive against many rays (ray_sphere, ray_plane, ray_polygon), and whole
 // scenes (trace: arbitrary rays -> hits; render: the scene's view). The first
-// implementation of each row is always the reference. props/ray_cast and the
+// implementation of each row is always the reference. ray_cone: NFF's open
+// cones (reference/ray_cone.h, optimized/ray_cone.h). props/ray_cast and the
 // ray-casting benchmarks read these typed rows; everything generic (verify,
 // render, frame benchmarks) sees the family through pairs/registry.h.
 //
@@ -32,6 +33,7 @@ struct RayCastRows {
   KernelRow<RayPlaneFn> ray_plane;
   KernelRow<RayPolygonFn> ray_polygon;
   KernelRow<CasterFns> ray_cast;
+  KernelRow<RayConeFn> ray_cone;  // last: appended after the others
 };
 
 const RayCastRows& ray_cast_rows();

@@ -37,6 +37,8 @@ Hit nearest_hit(const Scene& scene, const Ray& ray, SphereSides sides = SphereSi
 // above), kInfinity if none; the stable form, or the textbook one.
 double ray_cone_t(const Scene& scene, uint32_t cone, const Ray& ray, double tmax, SphereSides sides,
                   bool textbook = false);
+// The kernel row (core/ray_cast.h RayConeFn): the textbook quadric, either side.
+void ray_cone(std::span<const Ray> rays, const Scene& scene, uint32_t cone, std::span<double> t);
 Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats);
 }  // namespace ref
 

@@ -33,4 +33,9 @@ double ray_cone_t(const Scene& scene, uint32_t cone, const Ray& ray, double tmax
   return kInfinity;
 }
 
+void ray_cone(std::span<const Ray> rays, const Scene& scene, uint32_t cone, std::span<double> t) {
+  for (size_t i = 0; i < rays.size(); ++i)
+    t[i] = ray_cone_t(scene, cone, rays[i], rays[i].tmax, SphereSides::kSolid, true);
+}
+
 }  // namespace lockstep::ref

@@ -481,7 +481,10 @@ in (props/README.md, "The frame"); the bound is what the accuracy property
 enforces (`Impl::accuracy` in `pairs/ray_cast.cpp`). simd's kernel entry
 converts every ray into its float frame first, which is what a single
 primitive measures; inside a scene (the table above) that set-up is shared by
-every primitive."""
+every primitive. The ray_cone rows (one open cone, nearest visible root) were
+measured later, 2026-12-03, on a loaded machine (load 7): compare them with
+each other (CPU time: simd 3.4x careful, the scalar form it reproduces bit for
+bit; the reference ray_sphere measured beside them ran 9% below its row here)."""
 
 BREAKS_NOTE = """Deep mode (`LOCKSTEP_DEEP=1`, 1000 cases per property) of the stability,
 watertightness and degenerate-polygon properties, each ray judged against the

@@ -4,10 +4,14 @@
 // reference on random cone scenes, and the rasterizers' tessellation
 // (core/viewing.cpp tessellate_cone, cone_segments) against the cone itself.
 #include <gtest/gtest.h>
+#include <hwy/targets.h>
 
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <string>
+#include <vector>
 
 #include "core/camera.h"
 #include "core/nff.h"
@@ -16,6 +20,7 @@
 #include "core/scene.h"
 #include "core/shading.h"
 #include "optimized/ray_cast.h"
+#include "optimized/ray_cast_simd_kernels.h"
 #include "optimized/ray_cone.h"
 #include "reference/ray_cast.h"
 #include "reference/ray_cone.h"
@@ -127,6 +132,56 @@ TEST(OptKernel, FarOriginsKeepTheirDigits) {
   EXPECT_GT(e.both, 1500);
   EXPECT_LT(e.worst, 1e-14 * 1e5);
   EXPECT_LE(e.disagree, 2);
+}
+
+// The SIMD cone kernel (optimized/ray_cast_simd_kernels.h cone_t) runs
+// cone_nearest's arithmetic lane by lane: every answer must be the scalar
+// routine's, bit for bit, on either side rule, for rays aimed at the side
+// (hits, grazes, misses), from near and far, with ranges that cut roots off,
+// and with lanes of empty ranges (the callers' padding); on every Highway
+// target compiled in that the machine runs (hwy::SetSupportedTargetsForTest,
+// as props/ray_cast/simd_targets.cpp), not only the one dispatch picks.
+TEST(OptKernel, SimdConeKernelIsTheCarefulFormBitForBit) {
+  for (const int64_t target : hwy::SupportedAndGeneratedTargets()) {
+    hwy::SetSupportedTargetsForTest(target);
+    std::mt19937_64 rng(21);
+    std::uniform_real_distribution<double> u(-1, 1), unit(0, 1);
+    constexpr size_t kRays = 64;  // a multiple of the packet
+    int hits = 0, compared = 0;
+    for (int cone = 0; cone < 400; ++cone) {
+      const RandomCone rc = random_cone(rng);
+      std::vector<double> ox(kRays), oy(kRays), oz(kRays), dx(kRays), dy(kRays), dz(kRays),
+          tmin(kRays), tmax(kRays), t(kRays);
+      for (size_t i = 0; i < kRays; ++i) {
+        const Vec3 aim = rc.target + (unit(rng) < 0.5 ? 0.05 : 1.0) * Vec3{u(rng), u(rng), u(rng)};
+        const double scale = unit(rng) < 0.2 ? 1e4 : 3.0;
+        const Vec3 o = normalize(Vec3{u(rng), u(rng), u(rng)}) * scale + aim;
+        const Vec3 d = (aim - o) * (0.5 + unit(rng));  // not of unit length
+        ox[i] = o.x, oy[i] = o.y, oz[i] = o.z, dx[i] = d.x, dy[i] = d.y, dz[i] = d.z;
+        tmin[i] = unit(rng) < 0.2 ? unit(rng) : 0.0;
+        tmax[i] = unit(rng) < 0.2 ? unit(rng) * 1.2 : kInfinity;
+        if (i % 13 == 12) tmin[i] = tmax[i] = 0;  // padding
+      }
+      const opt::simd::ConeRays rays{ox.data(), oy.data(), oz.data(),   dx.data(),
+                                     dy.data(), dz.data(), tmin.data(), tmax.data()};
+      for (const bool solid : {false, true}) {
+        opt::simd::cone_t(rc.shape, rays, t.data(), kRays, solid);
+        for (size_t i = 0; i < kRays; ++i) {
+          const double s = opt::cone_nearest(rc.shape, {ox[i], oy[i], oz[i]}, {dx[i], dy[i], dz[i]},
+                                             tmin[i], tmax[i], solid);
+          ++compared;
+          hits += s < kInfinity;
+          EXPECT_EQ(std::bit_cast<uint64_t>(t[i]), std::bit_cast<uint64_t>(s))
+              << hwy::TargetName(target) << " cone " << cone << " ray " << i << " solid " << solid
+              << ": simd " << t[i] << ", scalar " << s;
+        }
+      }
+    }
+    std::printf("%d answers compared on %s, %d hits\n", compared, opt::simd::target_name(), hits);
+    EXPECT_EQ(std::string(opt::simd::target_name()), std::string(hwy::TargetName(target)));
+    EXPECT_GT(hits, compared / 5);
+    hwy::SetSupportedTargetsForTest(0);  // back to the real CPU
+  }
 }
 
 // A random scene of cones (some inside-visible), spheres and a floor, in NFF.

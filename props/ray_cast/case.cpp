@@ -69,6 +69,13 @@ std::string to_nff(const Scene& s) {
       o << "\n";
     }
   }
+  for (uint32_t i = 0; i < s.cone_count(); ++i) {
+    material(s.cone_material[i]);
+    const double sign = s.cone_inside[i] ? -1.0 : 1.0;  // NFF: negative radii, only the inside
+    o << "c\n"
+      << hex(s.cone_base[i]) << " " << hex(sign * s.cone_r0[i]) << "\n"
+      << hex(s.cone_apex[i]) << " " << hex(sign * s.cone_r1[i]) << "\n";
+  }
   return o.str();
 }
 
@@ -78,6 +85,7 @@ void write_case(std::ostream& out, const Case& c) {
   if (c.has_plane) out << "plane " << hex(c.plane.n) << " " << hex(c.plane.d) << "\n";
   if (c.has_poly) out << "poly " << c.poly << "\n";
   if (c.render_size > 0) out << "render " << c.render_size << "\n";
+  if (c.has_cone) out << "cone " << c.cone << "\n";
   for (const Ray& ray : c.rays)
     out << "ray " << hex(ray.o) << " " << hex(ray.d) << " " << hex(ray.tmin) << " " << hex(ray.tmax) << "\n";
   out << "scene\n" << to_nff(c.scene) << "end\n";
@@ -144,6 +152,10 @@ Case read_case(const std::string& text_in, const std::string& name) {
       need(1);
       c.has_poly = true;
       c.poly = uint32_t(std::stoul(w[0]));
+    } else if (key == "cone") {
+      need(1);
+      c.has_cone = true;
+      c.cone = uint32_t(std::stoul(w[0]));
     } else if (key == "render") {
       need(1);
       c.render_size = std::stoi(w[0]);
@@ -167,6 +179,8 @@ Case read_case(const std::string& text_in, const std::string& name) {
   if (!have_scene) throw std::runtime_error(name + ": no 'scene' block");
   if (c.has_poly && c.poly >= c.scene.polygon_count())
     throw std::runtime_error(name + ": poly index out of range");
+  if (c.has_cone && c.cone >= c.scene.cone_count())
+    throw std::runtime_error(name + ": cone index out of range");
   return c;
 }
 
@@ -175,7 +189,9 @@ void showValue(const Case& c, std::ostream& os) {
   if (c.has_sphere) os << ", sphere c " << hex(c.sphere.center) << " r " << hex(c.sphere.radius);
   if (c.has_plane) os << ", plane n " << hex(c.plane.n) << " d " << hex(c.plane.d);
   if (c.has_poly) os << ", poly " << c.poly;
-  os << ", " << c.scene.sphere_count() << " spheres, " << c.scene.polygon_count() << " polygons}\n";
+  if (c.has_cone) os << ", cone " << c.cone;
+  os << ", " << c.scene.sphere_count() << " spheres, " << c.scene.polygon_count() << " polygons, "
+     << c.scene.cone_count() << " cones}\n";
   for (size_t i = 0; i < c.rays.size(); ++i) os << "  ray " << i << ": " << hex(c.rays[i]) << "\n";
   if (c.scene.prim_count() > 0 && c.scene.prim_count() < 40) os << to_nff(c.scene);
 }

@@ -30,6 +30,8 @@ struct Case {
   bool has_poly = false;
   uint32_t poly = 0;   // polygon of scene for the ray_polygon kernel
   int render_size = 0; // > 0: the case is also a render case (render_size^2 pixels)
+  bool has_cone = false;
+  uint32_t cone = 0;  // cone of scene for the ray_cone kernel
 };
 
 // Hexfloat text of a double ("0x1.8p+1"; "inf", "-inf", "nan").
@@ -44,7 +46,7 @@ std::string to_nff(const Scene& scene);
 
 // The case's text form: the body of a counterexample file after the driver's
 // header (corpus/counterexamples/README.md): generator, sphere, plane, poly,
-// render, one "ray" line per ray, then the scene as NFF up to "end".
+// render, cone, one "ray" line per ray, then the scene as NFF up to "end".
 void write_case(std::ostream& out, const Case& c);
 std::string case_text(const Case& c);
 // Throws std::runtime_error (naming `name` and the line) on a malformed text.

@@ -53,10 +53,12 @@ Outcome judge_t(const OracleHit& o, double t, const ImplInfo& im) {
   if (out.err <= allowed) {
     out.kind = Outcome::explained;
     out.label = tc.kappa_why[0] ? tc.kappa_why : "ill_conditioned";
-  } else if (o.root >= 0 && c.margin <= band && (why == "near_tmin" || why == "near_tmax")) {
-    // A sphere root within the band of tmin/tmax: the implementation may take the
-    // other root. Nothing else excuses a t error: a polygon hit near an edge has
-    // one t, and it must be within the bound.
+  } else if (o.root >= 0 && c.margin <= band &&
+             (why == "near_tmin" || why == "near_tmax" || why == "near_rim")) {
+    // A sphere root within the band of tmin/tmax, or a cone root within the band
+    // of a rim (the end of the cone's finite part): the implementation may take
+    // the other root. Nothing else excuses a t error: a polygon hit near an edge
+    // has one t, and it must be within the bound.
     out.kind = Outcome::explained;
     out.label = c.margin_why;
   } else {

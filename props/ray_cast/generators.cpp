@@ -557,6 +557,135 @@ Case degenerate_polygons() {
   return c;
 }
 
+// ---------------------------------------------------------------- cones
+
+// A random NFF cone (scene cone 0): base near the origin (as rays_at_sphere's
+// centre), axis of any direction, 0.1-10 long; a cylinder, a pointed cone
+// (apex radius 0) or a truncated one; a quarter seen from inside.
+struct RandomCone {
+  Vec3 base, apex, u;
+  double r0 = 1, r1 = 1, h = 1;
+  double radius(double s) const { return r0 + (r1 - r0) * (s / h); }
+  double size() const { return std::sqrt(0.25 * h * h + std::max(r0, r1) * std::max(r0, r1)); }
+  // The point at height s (from the base) at angle phi around the axis, and the
+  // outward radial unit vector there.
+  Vec3 e1, e2;
+  Vec3 radial(double phi) const { return std::cos(phi) * e1 + std::sin(phi) * e2; }
+  Vec3 at(double s, double phi, double rscale = 1) const {
+    return base + s * u + radius(s) * rscale * radial(phi);
+  }
+};
+
+RandomCone random_cone(Case& c, int64_t shape) {
+  RandomCone k;
+  for (int i = 0; i < 3; ++i) k.base[i] = *chance(1, 5) ? 0.0 : *signed_log_uniform(1e-2, 1e2);
+  k.h = *log_uniform(0.1, 10);
+  k.u = *unit_dir();
+  k.apex = k.base + k.u * k.h;
+  k.h = length(k.apex - k.base);  // as rounded
+  k.u = (k.apex - k.base) / k.h;
+  k.r0 = *log_uniform(0.1, 10);
+  if (shape == 0)
+    k.r1 = k.r0;  // cylinder
+  else if (shape == 1)
+    k.r1 = 0;  // pointed
+  else
+    k.r1 = k.r0 * *uniform(0.1, 2);
+  if (*chance(1, 2)) std::swap(k.r0, k.r1);
+  const Vec3 a = std::abs(k.u.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+  k.e1 = normalize(cross(k.u, a));
+  k.e2 = cross(k.u, k.e1);
+  const bool inside = k.r0 > 0 && k.r1 > 0 && *chance(1, 4);
+  add_cone(c.scene, k.base, k.r0, k.apex, k.r1, inside, add_material(c.scene, Material{}));
+  c.has_cone = true;
+  c.cone = 0;
+  c.scene.view.from = k.base + k.u * (0.5 * k.h) + k.e1 * (10 * k.size());
+  c.scene.view.at = k.base + k.u * (0.5 * k.h);
+  ensure_valid_view(c.scene.view);
+  return k;
+}
+
+Case rays_at_cone() {
+  Case c;
+  c.generator = "rays_at_cone";
+  const RandomCone k = random_cone(c, *int_in(0, 2));
+  const double R = k.size();
+  const Vec3 mid = k.base + k.u * (0.5 * k.h);
+  const int n = int(*int_towards(1, 20, 1));
+  for (int i = 0; i < n; ++i) {
+    Ray ray;
+    const int64_t kind = *int_in(0, 9);
+    if (kind < 7) {  // from outside the bounding sphere, aimed at or near the side
+      const Vec3 target = k.at(k.h * *uniform(-0.2, 1.2), *uniform(0, 2 * M_PI), *uniform(0, 1.3));
+      ray.o = mid + *unit_dir() * (*log_uniform(1.05, 100) * R);
+      ray.d = scaled_dir(target - ray.o);
+      if (kind == 6) ray.d = -ray.d;  // the cone behind
+      range_for(ray, length(target - ray.o) / length(ray.d));
+    } else if (kind < 9) {  // from inside, near the axis
+      ray.o = k.at(k.h * *uniform(0.05, 0.95), *uniform(0, 2 * M_PI), *uniform(0, 0.5));
+      ray.d = scaled_dir(*unit_dir());
+    } else {  // anywhere
+      for (int j = 0; j < 3; ++j) ray.o[j] = mid[j] + *uniform(-20, 20) * R;
+      ray.d = scaled_dir(*unit_dir());
+    }
+    c.rays.push_back(ray);
+  }
+  return c;
+}
+
+// Ill-conditioned rays at one cone, each kind aimed at one of the cone's
+// decision boundaries: tangent to the side (the silhouette), at or next to a
+// pointed apex, parallel to a side line (the quadric's A -> 0) near the
+// surface, and through the rim circles (height 0 or h).
+Case cone_ill_rays() {
+  Case c;
+  c.generator = "cone_ill_rays";
+  const int64_t kind = *int_in(0, 3);
+  const RandomCone k = random_cone(c, kind == 1 ? 1 : *int_in(0, 2));
+  const double R = k.size();
+  const int n = int(*int_towards(1, 12, 1));
+  auto nudge_all = [](Vec3 v, int ulps) {
+    for (int j = 0; j < 3; ++j) v[j] = *nudged(v[j], ulps);
+    return v;
+  };
+  for (int i = 0; i < n; ++i) {
+    Ray ray;
+    const double phi = *uniform(0, 2 * M_PI);
+    const double s = k.h * *uniform(0.05, 0.95);
+    // Side line direction at phi (base circle to apex circle) and the tangent
+    // circle direction; the outward normal is across both.
+    const Vec3 side = normalize(k.at(k.h, phi) - k.at(0, phi));
+    const Vec3 around = cross(k.u, k.radial(phi));
+    const double dist = *log_uniform(1, 50) * R;
+    if (kind == 0) {  // grazing: tangent to the side at a point of the silhouette
+      const double a = *uniform(0, M_PI);
+      const Vec3 dir = std::cos(a) * around + std::sin(a) * 0.2 * side;
+      const Vec3 p = k.at(s, phi);
+      ray.o = nudge_all(p - normalize(dir) * dist, 4);
+      ray.d = scaled_dir(nudge_all(normalize(dir), 4));
+    } else if (kind == 1) {  // the apex (radius 0): at it or next to it
+      const Vec3 tip = k.r1 == 0 ? k.apex : k.base;
+      const Vec3 target =
+          tip + *unit_dir() * (R * (*chance(1, 3) ? 0.0 : *log_uniform(1e-12, 1e-3)));
+      ray.o = target + *unit_dir() * dist;
+      ray.d = scaled_dir(target - ray.o);
+    } else if (kind == 2) {  // parallel to a side line, just off the surface
+      const double off = R * *signed_log_uniform(1e-9, 1e-1);
+      const Vec3 n = normalize(cross(side, around));
+      const Vec3 p = k.at(s, phi) + n * off;
+      ray.o = nudge_all(p - side * dist, 3);
+      ray.d = scaled_dir(nudge_all(*chance(1, 2) ? side : -side, 3));
+      if (dot(ray.d, side) < 0) ray.o = p + side * dist;
+    } else {  // through a rim circle
+      const Vec3 target = k.at(*chance(1, 2) ? 0.0 : k.h, phi);
+      ray.o = target + *unit_dir() * dist;
+      ray.d = scaled_dir(target - ray.o);
+    }
+    c.rays.push_back(ray);
+  }
+  return c;
+}
+
 template <Case (*F)()>
 Gen<Case> exec() {
   return rc::gen::exec([] { return F(); });
@@ -592,6 +721,14 @@ const std::vector<Named>& generators() {
       {"degenerate_polygons", kDegenerate, true,
        "zero-area (collinear, repeated) polygons, collinear/repeated vertices in valid ones, slivers",
        exec<degenerate_polygons>()},
+      {"rays_at_cone", kConeKernel, false,
+       "one open cone (cylinder, pointed or truncated; a quarter inside-only), rays from outside (1.05-100 "
+       "sizes) aimed at or near its side and rims, from inside, and anywhere",
+       exec<rays_at_cone>()},
+      {"cone_ill_rays", kConeKernel, true,
+       "rays tangent to a cone's side (+-4 ulps), at or 1e-12..1e-3 sizes from a pointed apex, parallel to a "
+       "side line 1e-9..0.1 sizes off the surface (+-3 ulps), and through the rim circles",
+       exec<cone_ill_rays>()},
   };
   return r;
 }

@@ -28,6 +28,7 @@ enum Kinds : unsigned {
   kRender = 1u << 4,
   kWatertight = 1u << 5,
   kDegenerate = 1u << 6,
+  kConeKernel = 1u << 7,
 };
 
 struct Named {

@@ -521,7 +521,268 @@ PolygonAnswer polygon_query(const Ray& ray, const Scene& scene, uint32_t poly, b
   return out;
 }
 
+// ---------------------------------------------------------------- cones
+//
+// NFF's open cone (reference/ray_cone.h) with the axis a = apex - base left
+// unnormalised, so that everything stays rational: with w = P - base and
+// L = a.a, P is on the side when
+//     L^2 |w|^2 - L (w.a)^2 = (r0 L + (r1 - r0) (w.a))^2   and   0 <= w.a <= L
+// (the textbook's equation times L^2). Along o + t d this is A t^2 + 2 Bh t + C,
+// exact; the roots are compared with tmin, tmax and the two height limits
+// exactly (compare_root_q), and t comes from the stable form at 256 bits.
+
+// compare_root with a rational x.
+int compare_root_q(int k, const Q& A, const Q& Bh, const Q& Dq, const Q& x) {
+  const Q w = A * x + Bh;
+  const int sw = CGAL::sign(w);
+  if (k == 1) {
+    if (sw < 0) return 1;
+    return CGAL::compare(Dq, w * w);
+  }
+  if (sw > 0) return -1;
+  return -CGAL::compare(Dq, w * w);
+}
+
+// How many roundings of their own scale the careful forms' quadric pieces
+// carry (q_perp, d_perp, rho, kappa from the moved origin and the rounded unit
+// axis, then b, A, C and the discriminant): an operation count, not a fit. The
+// deep runs found grazing roots off by up to 16 ulps of this scale per unit of
+// the linear estimate (props/README.md, ray_cone).
+constexpr long double kConePieceRoundings = 16;
+
+struct ConeExact {
+  Q A, Bh, C, Dq;
+  Q qa, da, L;
+};
+
+// The quadric along the ray from origin o (exact).
+ConeExact cone_exact(const Q3& o, const Q3& d, const Q3& base, const Q3& a, const Q& r0,
+                     const Q& dr) {
+  ConeExact e;
+  e.L = dotq(a, a);
+  const Q3 q = o - base;
+  e.qa = dotq(q, a);
+  e.da = dotq(d, a);
+  const Q rq = r0 * e.L + dr * e.qa;  // L times the radius at the origin's height
+  const Q rd = dr * e.da;
+  const Q L2 = e.L * e.L;
+  e.A = L2 * dotq(d, d) - e.L * e.da * e.da - rd * rd;
+  e.Bh = L2 * dotq(q, d) - e.L * e.qa * e.da - rq * rd;
+  e.C = L2 * dotq(q, q) - e.L * e.qa * e.qa - rq * rq;
+  if (CGAL::sign(e.A) < 0) e.A = -e.A, e.Bh = -e.Bh, e.C = -e.C;  // same roots, A > 0
+  e.Dq = e.Bh * e.Bh - e.A * e.C;
+  return e;
+}
+
 }  // namespace
+
+OracleHit oracle_cone(const Ray& ray, const Scene& scene, uint32_t cone) {
+  OracleHit h;
+  const Vec3 baseV = scene.cone_base[cone], apexV = scene.cone_apex[cone];
+  const double r0v = scene.cone_r0[cone], r1v = scene.cone_r1[cone];
+  const Q3 o = q3(ray.o), d = q3(ray.d), base = q3(baseV), a = q3(apexV) - base;
+  const Q r0(r0v), dr = Q(r1v) - Q(r0v);
+  const ConeExact e = cone_exact(o, d, base, a, r0, dr);
+  CondBuilder L, W, T;
+  if (is_zero(d)) {
+    for (CondBuilder* b : {&L, &W, &T}) b->margin(0, "zero_direction");
+    h.local = L.c, h.world = W.c, h.textbook = T.c;
+    return h;
+  }
+  // Candidate roots in increasing order (exact): each one's t as a float128 and
+  // whether it is in (tmin, tmax) and on the finite part.
+  struct Root {
+    f128 t = f128(kInfinity);
+    bool in_range = false, in_height = false;
+  };
+  std::vector<Root> roots;
+  const bool linear = CGAL::is_zero(e.A);
+  // A root compared with a rational x: -1, 0, 1.
+  auto cmp = [&](int k, const Q& x) {
+    if (linear) {
+      const Q t = -e.C / (Q(2) * e.Bh);
+      return int(CGAL::compare(t, x));
+    }
+    return compare_root_q(k, e.A, e.Bh, e.Dq, x);
+  };
+  auto classify = [&](int k, Root& r) {
+    r.in_range =
+        cmp(k, Q(ray.tmin)) > 0 && (std::isinf(ray.tmax) ? ray.tmax > 0 : cmp(k, Q(ray.tmax)) < 0);
+    // 0 <= qa + t da <= L
+    const int sda = CGAL::sign(e.da);
+    if (sda == 0) {
+      r.in_height = CGAL::sign(e.qa) >= 0 && e.qa <= e.L;
+    } else {
+      const Q lo = -e.qa / e.da, hi = (e.L - e.qa) / e.da;  // t at height 0 and at height L
+      const Q& tl = sda > 0 ? lo : hi;
+      const Q& th = sda > 0 ? hi : lo;
+      r.in_height = cmp(k, tl) >= 0 && cmp(k, th) <= 0;
+    }
+  };
+  const int sD = linear ? 0 : CGAL::sign(e.Dq);
+  if (linear) {
+    if (!CGAL::is_zero(e.Bh)) {
+      Root r;
+      r.t = to_f128(-e.C / (Q(2) * e.Bh));
+      classify(0, r);
+      roots.push_back(r);
+    }
+  } else if (sD >= 0) {
+    Mp mA(e.A), mB(e.Bh), mD(e.Dq), mC(e.C), s, q, ra, rb;
+    mpfr_sqrt(s.get(), mD.get(), MPFR_RNDN);
+    if (mpfr_sgn(mB.get()) >= 0) {
+      mpfr_add(q.get(), mB.get(), s.get(), MPFR_RNDN);
+      mpfr_neg(q.get(), q.get(), MPFR_RNDN);
+    } else {
+      mpfr_sub(q.get(), s.get(), mB.get(), MPFR_RNDN);
+    }
+    f128 t0 = 0, t1 = 0;
+    if (!mpfr_zero_p(q.get())) {
+      mpfr_div(ra.get(), q.get(), mA.get(), MPFR_RNDN);
+      mpfr_div(rb.get(), mC.get(), q.get(), MPFR_RNDN);
+      const f128 x = ra.f(), y = rb.f();
+      t0 = x < y ? x : y;
+      t1 = x < y ? y : x;
+    }
+    Root r0r, r1r;
+    r0r.t = t0, r1r.t = t1;
+    classify(0, r0r);
+    classify(1, r1r);
+    roots = {r0r, r1r};
+  }
+  int taken = -1;
+  for (size_t k = 0; k < roots.size() && taken < 0; ++k)
+    if (roots[k].in_range && roots[k].in_height) taken = int(k);
+  h.hit = taken >= 0;
+  h.root = taken;
+  if (h.hit) h.t = roots[size_t(taken)].t;
+
+  // ---- conditioning (long double), in the cone's unit-axis terms
+  const L3 oL = l3(ray.o), dL = l3(ray.d), bL = l3(baseV), aL = l3(apexV);
+  const L3 axis{aL.x - bL.x, aL.y - bL.y, aL.z - bL.z};
+  const LD hh = norml(axis);
+  const L3 u{axis.x / hh, axis.y / hh, axis.z / hh};
+  const LD k = (LD(r1v) - LD(r0v)) / hh;
+  const L3 cL{(aL.x + bL.x) / 2, (aL.y + bL.y) / 2, (aL.z + bL.z) / 2};
+  const LD R =
+      std::sqrt(hh * hh / 4 + std::max<LD>(r0v, r1v) * std::max<LD>(r0v, r1v));  // bounding sphere
+  const LD dn = norml(dL);
+  const L3 fL{oL.x - cL.x, oL.y - cL.y, oL.z - cL.z};
+  const LD fn = norml(fL);
+  const LD world_scale = norml(oL) + norml(cL);
+  // The careful forms move the origin to o + shift d near the centre: shift
+  // (a dot product and a quotient) and the product carry about 8 roundings of
+  // |o - c|, the sum one of |c|. That is where their line sits, to within eps.
+  const LD shift_err = norml(cL) + 8 * fn;
+  const LD du = dotl(dL, u);
+  const L3 dp{dL.x - du * u.x, dL.y - du * u.y, dL.z - du * u.z};
+  const LD kap = k * du;
+  // The pieces about the point of the line nearest the centre (what the careful
+  // forms compute from): scale of the discriminant's rounding.
+  const LD sh = -dotl(fL, dL) / (dn * dn);
+  const L3 q1{oL.x + sh * dL.x - bL.x, oL.y + sh * dL.y - bL.y, oL.z + sh * dL.z - bL.z};
+  const LD qu1 = dotl(q1, u);
+  const L3 qp1{q1.x - qu1 * u.x, q1.y - qu1 * u.y, q1.z - qu1 * u.z};
+  const LD rho1 = LD(r0v) + k * qu1;
+  const LD S = (dotl(qp1, qp1) + rho1 * rho1) * (dotl(dp, dp) + kap * kap);
+  const LD L4 = to_ld(e.L) * to_ld(e.L);
+  const LD DqN =
+      linear ? 0 : to_ld(e.Dq) / (L4 * L4);  // the unit-axis discriminant (coefficients / L^2)
+  const LD AL = to_ld(e.A), BL = to_ld(e.Bh), CL = to_ld(e.C), DL = to_ld(e.Dq);
+  // The world-origin pieces (the textbook computes from o itself).
+  const L3 q0{oL.x - bL.x, oL.y - bL.y, oL.z - bL.z};
+  const LD qu0 = dotl(q0, u);
+  const L3 qp0{q0.x - qu0 * u.x, q0.y - qu0 * u.y, q0.z - qu0 * u.z};
+  const LD rho0 = LD(r0v) + k * qu0;
+  const LD pieces0 = dotl(qp0, qp0) + rho0 * rho0;
+
+  CondBuilder* views[3] = {&L, &W, &T};
+  // kappa of root t, per view (0 local, 1 world, 2 textbook).
+  auto kappa_root = [&](f128 tk, CondBuilder& b, int view) {
+    const LD t = LD(tk), tdist = std::fabs(t) * dn;
+    const L3 P{oL.x + t * dL.x, oL.y + t * dL.y, oL.z + t * dL.z};
+    const L3 w{P.x - bL.x, P.y - bL.y, P.z - bL.z};
+    const LD s = dotl(w, u);
+    const L3 wp{w.x - s * u.x, w.y - s * u.y, w.z - s * u.z};
+    const LD r = LD(r0v) + k * s;
+    const LD Fp = 2 * (dotl(wp, dp) - r * kap);  // f'(t), unit axis
+    const LD grad = 2 * std::max<LD>(std::fabs(r), 0) * std::sqrt(1 + k * k);
+    const LD g = std::fabs(Fp) > 0 ? grad * dn / std::fabs(Fp) : INFINITY;  // 1 / cos(incidence)
+    b.kappa(g, "grazing");
+    b.kappa(R * g / tdist, "grazing");
+    b.kappa(fn / tdist, "near_tmin");
+    b.kappa(fn * g / tdist, "grazing");
+    // The quadric's own pieces over its slope: the discriminant's rounding
+    // (kConePieceRoundings x the pieces' scale, as for the grazing margin below)
+    // moves the root by that over f'. Large at a graze (f' -> 0) and near the
+    // apex (r -> 0).
+    const LD pieces1 = kConePieceRoundings * (dotl(qp1, qp1) + rho1 * rho1 + R * R);
+    const LD apex = std::fabs(Fp) > 0 ? pieces1 / (std::fabs(Fp) * std::fabs(t)) : INFINITY;
+    b.kappa(apex, (r > 0 && R / r > g) ? "near_apex" : "grazing");
+    // A = d_perp^2 - kappa^2 rounds by eps (d_perp^2 + kappa^2), which moves f by
+    // that times t'^2, t' the root from where the quadric is set up: the careful
+    // forms' moved origin near the centre (the textbook's own origin: below).
+    // Large for the far root of rays parallel to a side line (A -> 0).
+    const LD tp = t - sh, a_err = dotl(dp, dp) + kap * kap;
+    b.kappa(std::fabs(Fp) > 0 ? tp * tp * a_err / (std::fabs(Fp) * std::fabs(t)) : INFINITY,
+            "parallel");
+    if (view >= 1) b.kappa(world_scale * (1 + g) / tdist, "translation");
+    if (view >= 2) {
+      const LD tt = std::fabs(t);
+      if (!linear) {
+        b.kappa((BL * BL + std::fabs(AL * CL)) / (2 * std::sqrt(std::max<LD>(DL, 0)) * AL * tt),
+                "cancellation");
+        b.kappa((std::fabs(BL) + std::sqrt(std::max<LD>(DL, 0))) / (AL * tt), "cancellation");
+      }
+      b.kappa(std::fabs(Fp) > 0 ? pieces0 / (std::fabs(Fp) * tt) : INFINITY, "cancellation");
+      b.kappa(std::fabs(Fp) > 0 ? tt * a_err / std::fabs(Fp) : INFINITY, "parallel");
+    }
+  };
+  if (h.hit)
+    for (int v = 0; v < 3; ++v) kappa_root(h.t, *views[v], v);
+  // Decisions. Hit or miss of the quadric: the discriminant against the rounding
+  // of its pieces (about the centre; the shift to there rounds in world
+  // coordinates, hence the world scale); the textbook's from the origin itself.
+  const LD tc = sh;  // closest approach to the centre
+  const bool tmax_finite = std::isfinite(ray.tmax);
+  auto in_range_approx = [&](LD t) { return t > ray.tmin && (!tmax_finite || t < ray.tmax); };
+  if (!linear && (h.hit || (sD < 0 && in_range_approx(tc)) || sD >= 0)) {
+    // S bounds b^2 and |A C|; b, A and C come from pieces (q_perp, d_perp, rho,
+    // kappa, themselves from the rounded unit axis and the moved origin) of a
+    // dozen roundings between them: the margin is counted against
+    // kConePieceRoundings S.
+    const LD ml = std::fabs(DqN) / (kConePieceRoundings * S) / (1 + shift_err / R);
+    L.margin(ml, "grazing");
+    W.margin(ml, "grazing");
+    T.margin(ml, "grazing");
+    T.margin(std::fabs(DL) / (BL * BL + std::fabs(AL * CL)), "cancellation");
+  }
+  if (linear) {
+    for (CondBuilder* b : {&L, &W, &T}) b->margin(0, "parallel");
+  }
+  auto root_margins = [&](const Root& rt) {
+    for (int v = 0; v < 3; ++v) {
+      CondBuilder kb;
+      kappa_root(rt.t, kb, v);
+      const LD t = LD(rt.t), kt = LD(kb.c.kappa) * std::fabs(t);
+      views[v]->margin(std::fabs(t - ray.tmin) / (kt + std::fabs(LD(ray.tmin))), "near_tmin");
+      if (tmax_finite)
+        views[v]->margin(std::fabs(t - ray.tmax) / (kt + std::fabs(LD(ray.tmax))), "near_tmax");
+      // The rim: the height at the root against 0 and h, over how far the height
+      // moves with t's error and the rounding of the positions.
+      const LD s = qu0 + t * du;
+      const LD moved = kt * std::fabs(du) + shift_err + R + (v >= 1 ? world_scale : 0);
+      views[v]->margin(std::min(std::fabs(s), std::fabs(hh - s)) / moved, "near_rim");
+    }
+  };
+  if (!roots.empty()) {
+    root_margins(roots[0]);
+    if (!(roots[0].in_range && roots[0].in_height) && roots.size() > 1) root_margins(roots[1]);
+  }
+  h.t_decide = h.hit ? double(h.t) : (roots.empty() ? double(tc) : double(roots[0].t));
+  h.local = L.c, h.world = W.c, h.textbook = T.c;
+  return h;
+}
 
 // ---------------------------------------------------------------- public
 bool well_conditioned(const OracleHit& h) { return h.world.kappa <= kWellKappa && h.world.margin >= kWellMargin; }

@@ -64,6 +64,10 @@ std::string describe(const OracleHit& h);
 OracleHit oracle_sphere(const Ray& ray, const Sphere& sphere);
 OracleHit oracle_plane(const Ray& ray, const Plane& plane);
 OracleHit oracle_polygon(const Ray& ray, const Scene& scene, uint32_t poly);
+// NFF's open cone `cone` of the scene, either side (root 0 / 1: the quadric's
+// near / far root). Decisions also cover the rim (near_rim), the apex
+// (near_apex) and rays parallel to a side line (parallel).
+OracleHit oracle_cone(const Ray& ray, const Scene& scene, uint32_t cone);
 
 // Frames: the nearest visible hit over the whole scene (NFF sidedness).
 struct OracleTrace {

@@ -26,6 +26,7 @@ std::string generator_of(const std::string& pair) {
   if (pair == t.ray_sphere.name) return std::string(t.ray_sphere.generator);
   if (pair == t.ray_plane.name) return std::string(t.ray_plane.generator);
   if (pair == t.ray_polygon.name) return std::string(t.ray_polygon.generator);
+  if (pair == t.ray_cone.name) return std::string(t.ray_cone.generator);
   if (pair == t.ray_cast.name) return std::string(t.ray_cast.generator);
   return "";
 }
@@ -35,6 +36,8 @@ unsigned kind_bit(Kernel k) {
     case Kernel::sphere: return kSphereKernel;
     case Kernel::plane: return kPlaneKernel;
     case Kernel::polygon: return kPolygonKernel;
+    case Kernel::cone:
+      return kConeKernel;
     default: return kTrace;
   }
 }

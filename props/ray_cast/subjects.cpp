@@ -118,6 +118,12 @@ std::vector<Subject> build_subjects() {
         fn(r, c.scene, p, o);
       },
       [](const Case& c, const Ray& r) { return oracle_polygon(r, c.scene, c.poly); });
+  add_row<RayConeFn>(
+      out, t.ray_cone, Kernel::cone,
+      [](RayConeFn fn, const Case& c, uint32_t, std::span<const Ray> r, std::span<double> o) {
+        fn(r, c.scene, c.cone, o);
+      },
+      [](const Case& c, const Ray& r) { return oracle_cone(r, c.scene, c.cone); });
   for (size_t i = 0; i < t.ray_cast.impls.size(); ++i) {
     Subject s;
     s.info = info_of(t.ray_cast, i);

@@ -2,7 +2,7 @@
 // pairs/ray_cast.h, every one answering in the same type.
 //
 // A subject answers, per ray of a Case, with a Hit: for a kernel (ray_sphere,
-// ray_plane, ray_polygon) the case's own primitive (prim 0 on a hit), for a trace
+// ray_plane, ray_polygon, ray_cone) the case's own primitive (prim 0 on a hit), for a trace
 // the whole scene (prim = the scene's primitive). Its oracle answers the same
 // question with the same type (OracleTrace: per primitive, the nearest, the
 // ties), so that every check is written once, for every subject.
@@ -28,7 +28,7 @@ enum class Mode { robust, textbook };
 
 // What a subject computes with: it decides which generators fit it (never how a
 // check judges it).
-enum class Kernel { sphere, plane, polygon, frame };
+enum class Kernel { sphere, plane, polygon, frame, cone };
 
 struct ImplInfo {
   std::string pair;  // the typed row's name
