@@ -160,10 +160,13 @@ double lit_fraction(const ShadowCube& cube, const RasterSettings& s, const Vec3&
 }
 
 void check_shadow_settings(const RasterSettings& s, const std::string& source,
-                           const std::string& what) {
-  if (s.shadows == ShadowMode::kVolume)
-    throw InputError(source, 0, "shadows=volume: not implemented in this row (" + what + ")");
-  if (s.shadows == ShadowMode::kMap && s.shading != Shading::kPhong && s.shading != Shading::kBlinn)
+                           const std::string& shading_name) {
+  const bool per_sample = s.shading == Shading::kPhong || s.shading == Shading::kBlinn;
+  if (s.shadows == ShadowMode::kVolume && !per_sample)
+    throw InputError(source, 0,
+                     "shadows=volume needs per-sample lighting: shading phong or blinn, not " +
+                         shading_name);
+  if (s.shadows == ShadowMode::kMap && !per_sample)
     throw InputError(
         source, 0,
         "shadows=map needs per-sample lighting: shading phong or blinn (flat, gouraud and toon "

@@ -131,7 +131,6 @@ using DepthPass =
     std::function<void(const ScreenMesh& face_frame, const RasterSettings& depth, Visibility& vis)>;
 ShadowMaps build_shadow_maps(const Scene& scene, const RasterSettings& s,
                              const DepthPass& visibility);
-
 // The relative rounding allowance of the test (a few float ulps of r).
 inline constexpr double kShadowRounding = 1.0 / (1 << 20);
 // The bias of the test above at distance r with cos_theta = |N.L|.
@@ -142,10 +141,10 @@ double lit_fraction(const ShadowCube& cube, const RasterSettings& s, const Vec3&
                     const Vec3& face_normal);
 
 // Whether s can be drawn with shadows (throws InputError(source, 0, ...) if
-// not): shadows=map needs per-sample lighting (shading phong or blinn);
-// shadows=volume is refused by the rows that do not draw it (`what` names the
-// row in the message).
+// not): both kinds need per-sample lighting (shading phong or blinn;
+// shading_name: the shading as the user named it). Which rows draw which
+// shadows is the registry's (pairs/raster.cpp refuse_shadows).
 void check_shadow_settings(const RasterSettings& s, const std::string& source,
-                           const std::string& what);
+                           const std::string& shading_name);
 
 }  // namespace lockstep

@@ -1,4 +1,5 @@
-// lockstep optimized: the simd z-buffer with shadows=map (core/shadow_map.h).
+// lockstep optimized: the simd z-buffer with shadows=map (core/shadow_map.h)
+// and shadows=volume (the stencil counts: optimized/zbuffer_shadow_volume.cpp).
 //
 // Both passes on the fast rasterizer: pass 1 draws each light's six cube faces
 // through opt::simd::zbuffer_visibility (Highway edge functions, TBB tiles; the
@@ -68,8 +69,9 @@ ShadowMaps shadow_maps(const Scene& scene, const RasterSettings& s, int threads)
 
 Image zbuffer_shadowed(const Scene& scene, const FrameOptions& opts, const RasterSettings& s,
                        FrameStats* stats) {
-  check_shadow_settings(s, scene.source, "zbuffer --impl simd");
-  const ShadowMaps maps = shadow_maps(scene, s, opts.threads);
+  check_shadow_settings(s, scene.source, opts.params.get("shading", "phong"));
+  const bool volume = s.shadows == ShadowMode::kVolume;
+  const ShadowMaps maps = volume ? ShadowMaps{} : shadow_maps(scene, s, opts.threads);
   const ScreenMesh mesh = view_scene(scene, opts.width, opts.height, s, opts.threads);
   Visibility vis;
   zbuffer_visibility(mesh, s, opts.threads, vis);
@@ -78,6 +80,12 @@ Image zbuffer_shadowed(const Scene& scene, const FrameOptions& opts, const Raste
   const LightReach reach = [&](uint32_t light, const Vec3& p, const Vec3& normal) {
     return lit_fraction(maps.cubes[light], s, p, normal);
   };
+  // Volumes: the lights each visible sample's stencil counts left at 0
+  // (optimized/zbuffer_shadow_volume.cpp), read by the shading below as the
+  // reference's shade_fragment_lit reads them (a light's term added when lit:
+  // shade_fragment with reach 1 or 0 sums the same terms in the same order).
+  const ShadowVolumeMasks masks =
+      volume ? shadow_volume_masks(scene, mesh, s, vis, opts.threads) : ShadowVolumeMasks{};
   Image image(w, h);
   image.depth.assign(size_t(w) * size_t(h), float(kInfinity));
   tbb::task_arena arena(resolve_threads(opts.threads));
@@ -97,7 +105,17 @@ Image zbuffer_shadowed(const Scene& scene, const FrameOptions& opts, const Raste
             const Fragment f =
                 fragment_at(mesh, tri, int64_t(i) * kSubpixel + offsets[size_t(k)][0],
                             int64_t(j) * kSubpixel + offsets[size_t(k)][1], s.perspective);
-            sum += Vec3(Vec3f(shade_fragment(scene, mesh, s, f, reach)));
+            if (volume) {
+              const uint8_t* lit =
+                  &masks.lit[((size_t(j) * size_t(w) + size_t(i)) * size_t(spp) + size_t(k)) *
+                             masks.lights];
+              const LightReach from_mask = [lit](uint32_t light, const Vec3&, const Vec3&) {
+                return lit[light] ? 1.0 : 0.0;
+              };
+              sum += Vec3(Vec3f(shade_fragment(scene, mesh, s, f, from_mask)));
+            } else {
+              sum += Vec3(Vec3f(shade_fragment(scene, mesh, s, f, reach)));
+            }
             z = std::min(z, float(f.z));
           }
           image.set(i, j, sum / double(spp));
@@ -105,7 +123,11 @@ Image zbuffer_shadowed(const Scene& scene, const FrameOptions& opts, const Raste
         }
     });
   });
-  if (stats) stats->items = mesh.scene_tris + mesh.sphere_tris;
+  if (stats) {
+    stats->items = mesh.scene_tris + mesh.sphere_tris;
+    stats->dropped = mesh.dropped;
+    if (!masks.note.empty()) stats->notes.push_back(masks.note);
+  }
   if (opts.progress) opts.progress(1.0);
   return image;
 }
