@@ -131,6 +131,17 @@ using DepthPass =
     std::function<void(const ScreenMesh& face_frame, const RasterSettings& depth, Visibility& vis)>;
 ShadowMaps build_shadow_maps(const Scene& scene, const RasterSettings& s,
                              const DepthPass& visibility);
+// The same with pass 1's last step an implementation's too: `distances` draws
+// the face and writes each of its n x n texels' distance (texel_distance of
+// the window depth its z-buffer kept, +inf where nothing is drawn) into dist,
+// in whatever order and on whatever threads it likes (the simd z-buffer: tile
+// by tile, while the tile's depths are in cache, instead of a Visibility
+// copied out and then walked again here).
+using FaceDistances =
+    std::function<void(const ScreenMesh& face_frame, const RasterSettings& depth, float* dist)>;
+ShadowMaps build_shadow_maps_direct(const Scene& scene, const RasterSettings& s,
+                                    const FaceDistances& distances);
+
 // The relative rounding allowance of the test (a few float ulps of r).
 inline constexpr double kShadowRounding = 1.0 / (1 << 20);
 // The bias of the test above at distance r with cos_theta = |N.L|.

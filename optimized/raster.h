@@ -33,6 +33,9 @@ Image shade_visibility(const Scene& scene, const ScreenMesh& mesh, const RasterS
 // map: the fast rasterizer's visibility, each sample shaded in double with the
 // map's test (shade_fragment, as the reference).
 ShadowMaps shadow_maps(const Scene& scene, const RasterSettings& s, int threads);
+// Pass 1's face (core/shadow_map.h FaceDistances): the texels' distances
+// written tile by tile from the raster's buffers (depth.spp must be 1).
+void zbuffer_distances(const ScreenMesh& face_frame, const RasterSettings& depth, int threads, float* dist);
 Image zbuffer_shadowed(const Scene& scene, const FrameOptions& opts, const RasterSettings& s, FrameStats* stats);
 // shadows=volume (optimized/zbuffer_shadow_volume.cpp): per visible sample
 // and light (index sample * lights + k) 1 where the light reaches it (stencil

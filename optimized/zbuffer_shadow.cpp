@@ -2,14 +2,16 @@
 // and shadows=volume (the stencil counts: optimized/zbuffer_shadow_volume.cpp).
 //
 // Both passes on the fast rasterizer: pass 1 draws each light's six cube faces
-// through opt::simd::zbuffer_visibility (Highway edge functions, TBB tiles; the
+// through opt::simd::zbuffer_distances (Highway edge functions, TBB tiles; the
 // same snapped mesh and exact edge functions as the reference, so the same
-// coverage, depth in double), pass 2 finds the eye's visible samples the same
-// way (opt::simd::view_scene's mesh, bit for bit the reference's). What is not
-// fast yet: the shading. Each visible sample is shaded in double by
-// shade_fragment with the map's test (what ref::zbuffer computes, rows in
-// parallel on TBB), not by the SIMD float shading kernels, which have no
-// per-light visibility input.
+// coverage, depth in double), each texel's distance written from the tile's
+// buffers as the tile is drawn (it used to go through a Visibility copied out
+// and then walked again, which cost more than the reference's whole pass 1);
+// pass 2 finds the eye's visible samples the same way (opt::simd::view_scene's
+// mesh, bit for bit the reference's). The shading is not SIMD: each visible
+// sample is shaded in double by shade_fragment with the map's test or the
+// volumes' masks (what ref::zbuffer computes, rows in parallel on TBB), not by
+// the SIMD float shading kernels, which have no per-light visibility input.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -61,9 +63,9 @@ Fragment fragment_at(const ScreenMesh& mesh, uint32_t tri, int64_t px, int64_t p
 }  // namespace
 
 ShadowMaps shadow_maps(const Scene& scene, const RasterSettings& s, int threads) {
-  return build_shadow_maps(
-      scene, s, [threads](const ScreenMesh& frame, const RasterSettings& depth, Visibility& vis) {
-        zbuffer_visibility(frame, depth, threads, vis);
+  return build_shadow_maps_direct(
+      scene, s, [threads](const ScreenMesh& frame, const RasterSettings& depth, float* dist) {
+        zbuffer_distances(frame, depth, threads, dist);
       });
 }
 
