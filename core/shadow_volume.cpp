@@ -229,7 +229,6 @@ std::vector<Tri> shadow_volume(const OccluderMesh& occ, const Vec3& light, doubl
   return out;
 }
 
-
 ViewedVolume view_volume(const Scene& scene, const ScreenMesh& frame, const RasterSettings& s,
                          const std::vector<Tri>& volume, const std::vector<uint8_t>* is_cap) {
   // The volume's triangles as polygons of a scene of their own, two-sided so

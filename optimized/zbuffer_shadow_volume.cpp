@@ -143,8 +143,8 @@ void count_face(const Face& f, int x0, int y0, int x1, int y1, int w, int spp,
         const double zv = z[i * size_t(spp)];
         if (!(zv <= hi && zv >= lo)) continue;
         const int64_t t = t_lo + int64_t(i);
-        const double zf = sample_depth(*f.tri, e[0] + t * step_x[0], e[1] + t * step_x[1],
-                                       e[2] + t * step_x[2]);
+        const double zf =
+            sample_depth(*f.tri, e[0] + t * step_x[0], e[1] + t * step_x[1], e[2] + t * step_x[2]);
         out[i * size_t(spp)] += stencil_step(zfail, front, cap, zf, zv);
       }
     }
@@ -154,8 +154,7 @@ void count_face(const Face& f, int x0, int y0, int x1, int y1, int w, int spp,
 }  // namespace
 
 ShadowVolumeMasks shadow_volume_masks(const Scene& scene, const ScreenMesh& mesh,
-                                      const RasterSettings& s, const Visibility& vis,
-                                      int threads) {
+                                      const RasterSettings& s, const Visibility& vis, int threads) {
   ShadowVolumeMasks out;
   out.lights = uint32_t(scene.lights.size());
   const int w = mesh.width, h = mesh.height, spp = vis.spp;
@@ -185,8 +184,8 @@ ShadowVolumeMasks shadow_volume_masks(const Scene& scene, const ScreenMesh& mesh
             auto edge = [&](const ScreenVertex& a, const ScreenVertex& b) {
               return int64_t(b.x - a.x) * (py - a.y) - int64_t(b.y - a.y) * (px - a.x);
             };
-            z[index] = sample_depth(t, edge(t.v[1], t.v[2]), edge(t.v[2], t.v[0]),
-                                    edge(t.v[0], t.v[1]));
+            z[index] =
+                sample_depth(t, edge(t.v[1], t.v[2]), edge(t.v[2], t.v[0]), edge(t.v[0], t.v[1]));
           }
     });
   });
