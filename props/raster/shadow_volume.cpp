@@ -21,12 +21,19 @@
 //       shadow rays, and, besides, every pixel must equal the reference
 //       z-buffer's bit for bit (the same shared steps and stencil rule,
 //       core/shadow_volume.h): any that does not is unexplained
-//       (`not_reference`), whatever the rays say.
+//       (`not_reference`), whatever the rays say, unless the two rows'
+//       z-buffers see another triangle in one of its samples (`visibility_tie`:
+//       the simd raster's depth plane is within a few ulps of the reference's,
+//       so at a near tie of two surfaces the other may win; the same pixel
+//       then differs with shadows=map too; measured in deep mode: 1 pixel in
+//       87213, seed 14980940616048128707).
 #include <cmath>
 
 #include "props/gen/numbers.h"
 #include "props/raster/parts.h"
+#include "optimized/raster.h"
 #include "props/raster/shadow_oracle.h"
+#include "reference/raster.h"
 #include "reference/ray_trace.h"
 
 namespace lockstep::props::raster {
@@ -119,6 +126,18 @@ Verdict shadow_case(const FamilyImpl& impl, const FamilyImpl* reference, const R
   FrameOptions vo = c.options();
   const Image vol = impl.run_as<Image>(in, vo, nullptr);
   const Image same = reference ? reference->run_as<Image>(in, vo, nullptr) : Image();
+  // Where the two rows' visible triangles differ (see visibility_tie above).
+  std::vector<uint8_t> tie;
+  if (reference) {
+    const RasterSettings rs = frame_settings(*scene, vo);
+    const ScreenMesh mesh = view_scene(*scene, c.width, c.height, rs);
+    Visibility rv, sv;
+    ref::zbuffer_visibility(mesh, rs, rv);
+    opt::simd::zbuffer_visibility(mesh, rs, 1, sv);
+    tie.assign(size_t(c.width) * size_t(c.height), 0);
+    for (size_t k = 0; k < rv.tri.size(); ++k)
+      if (rv.tri[k] != sv.tri[k]) tie[k / size_t(rv.spp)] = 1;
+  }
   FrameOptions vo0 = vo;
   vo0.params = {};
   vo0.params.set("shading", "phong");
@@ -156,6 +175,10 @@ Verdict shadow_case(const FamilyImpl& impl, const FamilyImpl* reference, const R
         o.measured = true;
         o.kind = Outcome::unexplained;
         o.label = "not_reference";
+        if (tie[size_t(j) * size_t(c.width) + size_t(i)]) {
+          o.kind = Outcome::explained;
+          o.label = "visibility_tie";
+        }
         o.detail = "pixel (" + std::to_string(i) + ", " + std::to_string(j) +
                    "): differs from the reference z-buffer's shadow volumes (" +
                    (zfail ? "z-fail" : "z-pass") + ")";
