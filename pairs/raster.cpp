@@ -40,6 +40,20 @@ std::vector<BenchInput> spd_frames() {
                            "tree-2-tess", "rings-1-tess", "balls-3", "shells-1"})
     add(name, "flat");
   for (const char* name : {"sombrero-2", "balls-3"}) add(name, "phong");
+  // Shadows (issue #22): Phong with shadow maps (1024^2 cube faces, the
+  // default) and with shadow volumes (z-fail), 512 x 512; only the z-buffer's
+  // reference and simd rows draw them (the others are skipped, unsupported).
+  for (const char* name : {"teapot-2", "gears-2"})
+    for (const char* shadows : {"map", "volume"}) {
+      const size_t before = out.size();
+      add(name, "phong");
+      if (out.size() == before) continue;  // the scene is not present
+      BenchInput& b = out.back();
+      b.name += std::string("-shadows-") + shadows;
+      b.params.set("shadows", shadows);
+      if (std::string(shadows) == "volume") b.params.set("zfail", "1");
+      b.width = b.height = 512;
+    }
   return out;
 }
 
