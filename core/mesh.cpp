@@ -29,16 +29,6 @@ Key key(const Vec3f& v) {
   return k;
 }
 
-struct UnionFind {
-  std::vector<uint32_t> parent;
-  explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-  uint32_t find(uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  void join(uint32_t a, uint32_t b) { parent[find(a)] = find(b); }
-};
-
 }  // namespace
 
 Mesh weld(const Mesh& mesh) {

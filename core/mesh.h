@@ -11,12 +11,25 @@
 
 #include <array>
 #include <cstdint>
+#include <numeric>
 #include <string>
 #include <vector>
 
 #include "core/math.h"
 
 namespace lockstep {
+
+// Union-find over n items (path halving): the connected components of
+// vertices (weld's topology) and of triangles (shadow volumes' occluders).
+struct UnionFind {
+  std::vector<uint32_t> parent;
+  explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
+  uint32_t find(uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  }
+  void join(uint32_t a, uint32_t b) { parent[find(a)] = find(b); }
+};
 
 struct Mesh {
   std::vector<Vec3f> vertices;  // float, as every production mesher stores them

@@ -160,22 +160,24 @@ double lit_fraction(const ShadowCube& cube, const RasterSettings& s, const Vec3&
 }
 
 void check_shadow_settings(const RasterSettings& s, const std::string& source,
-                           const std::string& what) {
-  if (s.shadows == ShadowMode::kVolume)
-    throw InputError(source, 0, "shadows=volume: not implemented in this row (" + what + ")");
-  if (s.shadows == ShadowMode::kMap && s.shading != Shading::kPhong && s.shading != Shading::kBlinn)
+                           const std::string& shading_name) {
+  const bool per_sample = s.shading == Shading::kPhong || s.shading == Shading::kBlinn;
+  if (s.shadows == ShadowMode::kVolume && !per_sample)
+    throw InputError(source, 0,
+                     "shadows=volume needs per-sample lighting: shading phong or blinn, not " +
+                         shading_name);
+  if (s.shadows == ShadowMode::kMap && !per_sample)
     throw InputError(
         source, 0,
         "shadows=map needs per-sample lighting: shading phong or blinn (flat, gouraud and toon "
         "light vertices or polygons, before any shadow test)");
 }
 
-ShadowMaps build_shadow_maps(const Scene& scene, const RasterSettings& s,
-                             const DepthPass& visibility) {
+ShadowMaps build_shadow_maps_direct(const Scene& scene, const RasterSettings& s,
+                                    const FaceDistances& distances) {
   const RasterSettings depth = depth_pass_settings(s);
   const int n = s.map_size;
   ShadowMaps maps;
-  Visibility vis;
   for (const Light& light : scene.lights) {
     ShadowCube cube;
     cube.light = light.position;
@@ -184,19 +186,30 @@ ShadowMaps build_shadow_maps(const Scene& scene, const RasterSettings& s,
       ScreenMesh frame = cube_face_frame(scene, light.position, face, n);
       view_spheres(scene, depth, 0, scene.sphere_count(), frame);
       view_polygons(scene, depth, 0, scene.polygon_count(), frame);
-      visibility(frame, depth, vis);
       std::vector<float>& dist = cube.dist[size_t(face)];
-      dist.assign(size_t(n) * size_t(n), float(kInfinity));
-      for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-          const size_t k = size_t(j) * size_t(n) + size_t(i);
-          if (vis.tri[k] != Visibility::kNone)
-            dist[k] = float(texel_distance(frame, vis.depth[k], i, j));
-        }
+      dist.resize(size_t(n) * size_t(n));
+      distances(frame, depth, dist.data());
     }
     maps.cubes.push_back(std::move(cube));
   }
   return maps;
+}
+
+ShadowMaps build_shadow_maps(const Scene& scene, const RasterSettings& s,
+                             const DepthPass& visibility) {
+  Visibility vis;  // reused across faces
+  return build_shadow_maps_direct(
+      scene, s, [&](const ScreenMesh& frame, const RasterSettings& depth, float* dist) {
+        visibility(frame, depth, vis);
+        const int n = frame.width;
+        for (int j = 0; j < n; ++j)
+          for (int i = 0; i < n; ++i) {
+            const size_t k = size_t(j) * size_t(n) + size_t(i);
+            dist[k] = vis.tri[k] == Visibility::kNone
+                          ? float(kInfinity)
+                          : float(texel_distance(frame, vis.depth[k], i, j));
+          }
+      });
 }
 
 }  // namespace lockstep

@@ -131,6 +131,16 @@ using DepthPass =
     std::function<void(const ScreenMesh& face_frame, const RasterSettings& depth, Visibility& vis)>;
 ShadowMaps build_shadow_maps(const Scene& scene, const RasterSettings& s,
                              const DepthPass& visibility);
+// The same with pass 1's last step an implementation's too: `distances` draws
+// the face and writes each of its n x n texels' distance (texel_distance of
+// the window depth its z-buffer kept, +inf where nothing is drawn) into dist,
+// in whatever order and on whatever threads it likes (the simd z-buffer: tile
+// by tile, while the tile's depths are in cache, instead of a Visibility
+// copied out and then walked again here).
+using FaceDistances =
+    std::function<void(const ScreenMesh& face_frame, const RasterSettings& depth, float* dist)>;
+ShadowMaps build_shadow_maps_direct(const Scene& scene, const RasterSettings& s,
+                                    const FaceDistances& distances);
 
 // The relative rounding allowance of the test (a few float ulps of r).
 inline constexpr double kShadowRounding = 1.0 / (1 << 20);
@@ -142,10 +152,10 @@ double lit_fraction(const ShadowCube& cube, const RasterSettings& s, const Vec3&
                     const Vec3& face_normal);
 
 // Whether s can be drawn with shadows (throws InputError(source, 0, ...) if
-// not): shadows=map needs per-sample lighting (shading phong or blinn);
-// shadows=volume is refused by the rows that do not draw it (`what` names the
-// row in the message).
+// not): both kinds need per-sample lighting (shading phong or blinn;
+// shading_name: the shading as the user named it). Which rows draw which
+// shadows is the registry's (pairs/raster.cpp refuse_shadows).
 void check_shadow_settings(const RasterSettings& s, const std::string& source,
-                           const std::string& what);
+                           const std::string& shading_name);
 
 }  // namespace lockstep

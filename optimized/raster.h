@@ -46,7 +46,22 @@ void shade_visibility_into(const Scene& scene, const ScreenMesh& mesh, const Ras
 // map: the fast rasterizer's visibility, each sample shaded in double with the
 // map's test (shade_fragment, as the reference).
 ShadowMaps shadow_maps(const Scene& scene, const RasterSettings& s, int threads);
+// Pass 1's face (core/shadow_map.h FaceDistances): the texels' distances
+// written tile by tile from the raster's buffers (depth.spp must be 1).
+void zbuffer_distances(const ScreenMesh& face_frame, const RasterSettings& depth, int threads, float* dist);
 Image zbuffer_shadowed(const Scene& scene, const FrameOptions& opts, const RasterSettings& s, FrameStats* stats);
+// shadows=volume (optimized/zbuffer_shadow_volume.cpp): per visible sample
+// and light (index sample * lights + k) 1 where the light reaches it (stencil
+// count 0), counted on tiles on threads; equal to the reference's
+// ref::shadow_masks for the same mesh and visibility.
+struct ShadowVolumeMasks {
+  uint32_t lights = 0;
+  std::vector<uint8_t> lit;
+  uint64_t volume_tris = 0;  // volume triangles over all lights, before viewing
+  std::string note;          // occluder_note: "" when every occluder is closed
+};
+ShadowVolumeMasks shadow_volume_masks(const Scene& scene, const ScreenMesh& mesh, const RasterSettings& s,
+                                      const Visibility& vis, int threads);
 // The SIMD shading lights in float lanes, relative to the eye: a point farther
 // than 2^60 from it overflows |L|^2 and |V|^2, one nearer than 2^-60
 // underflows them (measured: a triangle 1e20 away came out ambient only).

@@ -1,14 +1,17 @@
-// lockstep optimized: the simd z-buffer with shadows=map (core/shadow_map.h).
+// lockstep optimized: the simd z-buffer with shadows=map (core/shadow_map.h)
+// and shadows=volume (the stencil counts: optimized/zbuffer_shadow_volume.cpp).
 //
 // Both passes on the fast rasterizer: pass 1 draws each light's six cube faces
-// through opt::simd::zbuffer_visibility (Highway edge functions, TBB tiles; the
+// through opt::simd::zbuffer_distances (Highway edge functions, TBB tiles; the
 // same snapped mesh and exact edge functions as the reference, so the same
-// coverage, depth in double), pass 2 finds the eye's visible samples the same
-// way (opt::simd::view_scene's mesh, bit for bit the reference's). What is not
-// fast yet: the shading. Each visible sample is shaded in double by
-// shade_fragment with the map's test (what ref::zbuffer computes, rows in
-// parallel on TBB), not by the SIMD float shading kernels, which have no
-// per-light visibility input.
+// coverage, depth in double), each texel's distance written from the tile's
+// buffers as the tile is drawn (it used to go through a Visibility copied out
+// and then walked again, which cost more than the reference's whole pass 1);
+// pass 2 finds the eye's visible samples the same way (opt::simd::view_scene's
+// mesh, bit for bit the reference's). The shading is not SIMD: each visible
+// sample is shaded in double by shade_fragment with the map's test or the
+// volumes' masks (what ref::zbuffer computes, rows in parallel on TBB), not by
+// the SIMD float shading kernels, which have no per-light visibility input.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -60,16 +63,17 @@ Fragment fragment_at(const ScreenMesh& mesh, uint32_t tri, int64_t px, int64_t p
 }  // namespace
 
 ShadowMaps shadow_maps(const Scene& scene, const RasterSettings& s, int threads) {
-  return build_shadow_maps(
-      scene, s, [threads](const ScreenMesh& frame, const RasterSettings& depth, Visibility& vis) {
-        zbuffer_visibility(frame, depth, threads, vis);
+  return build_shadow_maps_direct(
+      scene, s, [threads](const ScreenMesh& frame, const RasterSettings& depth, float* dist) {
+        zbuffer_distances(frame, depth, threads, dist);
       });
 }
 
 Image zbuffer_shadowed(const Scene& scene, const FrameOptions& opts, const RasterSettings& s,
                        FrameStats* stats) {
-  check_shadow_settings(s, scene.source, "zbuffer --impl simd");
-  const ShadowMaps maps = shadow_maps(scene, s, opts.threads);
+  check_shadow_settings(s, scene.source, opts.params.get("shading", "phong"));
+  const bool volume = s.shadows == ShadowMode::kVolume;
+  const ShadowMaps maps = volume ? ShadowMaps{} : shadow_maps(scene, s, opts.threads);
   const ScreenMesh mesh = view_scene(scene, opts.width, opts.height, s, opts.threads);
   Visibility vis;
   zbuffer_visibility(mesh, s, opts.threads, vis);
@@ -78,6 +82,12 @@ Image zbuffer_shadowed(const Scene& scene, const FrameOptions& opts, const Raste
   const LightReach reach = [&](uint32_t light, const Vec3& p, const Vec3& normal) {
     return lit_fraction(maps.cubes[light], s, p, normal);
   };
+  // Volumes: the lights each visible sample's stencil counts left at 0
+  // (optimized/zbuffer_shadow_volume.cpp), read by the shading below as the
+  // reference's shade_fragment_lit reads them (a light's term added when lit:
+  // shade_fragment with reach 1 or 0 sums the same terms in the same order).
+  const ShadowVolumeMasks masks =
+      volume ? shadow_volume_masks(scene, mesh, s, vis, opts.threads) : ShadowVolumeMasks{};
   Image image(w, h);
   image.depth.assign(size_t(w) * size_t(h), float(kInfinity));
   tbb::task_arena arena(resolve_threads(opts.threads));
@@ -97,7 +107,17 @@ Image zbuffer_shadowed(const Scene& scene, const FrameOptions& opts, const Raste
             const Fragment f =
                 fragment_at(mesh, tri, int64_t(i) * kSubpixel + offsets[size_t(k)][0],
                             int64_t(j) * kSubpixel + offsets[size_t(k)][1], s.perspective);
-            sum += Vec3(Vec3f(shade_fragment(scene, mesh, s, f, reach)));
+            if (volume) {
+              const uint8_t* lit =
+                  &masks.lit[((size_t(j) * size_t(w) + size_t(i)) * size_t(spp) + size_t(k)) *
+                             masks.lights];
+              const LightReach from_mask = [lit](uint32_t light, const Vec3&, const Vec3&) {
+                return lit[light] ? 1.0 : 0.0;
+              };
+              sum += Vec3(Vec3f(shade_fragment(scene, mesh, s, f, from_mask)));
+            } else {
+              sum += Vec3(Vec3f(shade_fragment(scene, mesh, s, f, reach)));
+            }
             z = std::min(z, float(f.z));
           }
           image.set(i, j, sum / double(spp));
@@ -105,7 +125,11 @@ Image zbuffer_shadowed(const Scene& scene, const FrameOptions& opts, const Raste
         }
     });
   });
-  if (stats) stats->items = mesh.scene_tris + mesh.sphere_tris;
+  if (stats) {
+    stats->items = mesh.scene_tris + mesh.sphere_tris;
+    stats->dropped = mesh.dropped;
+    if (!masks.note.empty()) stats->notes.push_back(masks.note);
+  }
   if (opts.progress) opts.progress(1.0);
   return image;
 }

@@ -31,10 +31,12 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <stdexcept>
 #include <type_traits>
 
 #include "core/error.h"
 #include "core/shading.h"
+#include "core/shadow_map.h"
 #include "hwy/aligned_allocator.h"
 #include "optimized/raster.h"
 #include "optimized/tiling.h"
@@ -541,6 +543,33 @@ void visibility_t(const ScreenMesh& mesh, const RasterSettings& s, int threads, 
       });
 }
 
+// Shadow maps' pass 1 on one cube face (core/shadow_map.h FaceDistances):
+// visibility_t's raster, and per texel straight from the tile's buffers the
+// distance the reference stores (texel_distance of the same window depth),
+// while the tile is in cache and on the tile's thread. No Visibility: its
+// three arrays (14 bytes a texel, written and read again) were most of the
+// simd row's pass 1 (measured in the commit that added this).
+template <class T>
+void distances_t(const ScreenMesh& frame, const RasterSettings& s, int threads, float* dist) {
+  const auto off = sample_offsets(s);
+  Binner b(s, off, nullptr);
+  bin_mesh(frame, threads, b);
+  const RasterParams p = raster_params(s, b, off);
+  tbb::enumerable_thread_specific<TileBuffers<T>> buffers;
+  parallel_tiles(
+      frame.width, frame.height, b.tw, b.th, threads, {}, [&](int x0, int y0, int x1, int y1) {
+        TileBuffers<T>& buf = buffers.local();
+        raster_one_tile(p, b, x0, y0, x1, y1, far_value<T>(s.depth), false, false, buf);
+        for (int y = y0; y < y1; ++y)
+          for (int x = x0; x < x1; ++x) {
+            const size_t at = size_t(y - y0) * b.tw + size_t(x - x0);
+            dist[size_t(y) * size_t(frame.width) + size_t(x)] =
+                buf.tri[at] < 0 ? float(kInfinity)
+                                : float(texel_distance(frame, double(buf.depth[at]), x, y));
+          }
+      });
+}
+
 // One thread's shading buffers.
 struct ShadeBuffers {
   // Per mesh triangle: its planes for the tile (valid for the tile's triangles).
@@ -841,6 +870,15 @@ void shade_visibility_into(const Scene& scene, const ScreenMesh& mesh, const Ras
             }
         shade_one_tile(mesh, b, sp, x0, y0, x1, y1, buf.tri.get(), shade_buffers.local(), img);
       });
+}
+
+void zbuffer_distances(const ScreenMesh& face_frame, const RasterSettings& depth, int threads,
+                       float* dist) {
+  if (depth.spp != 1) throw std::logic_error("zbuffer_distances: one sample per texel");
+  if (double_depth(depth.depth))
+    distances_t<double>(face_frame, depth, threads, dist);
+  else
+    distances_t<float>(face_frame, depth, threads, dist);
 }
 
 void zbuffer_visibility(const ScreenMesh& mesh, const RasterSettings& s, int threads,

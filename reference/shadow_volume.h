@@ -63,39 +63,16 @@
 
 #include "core/raster.h"
 #include "core/scene.h"
+#include "core/shadow_volume.h"
 
 namespace lockstep::ref {
 
-// The occluders, as a triangle soup with their components' verdicts.
-struct OccluderMesh {
-  std::vector<std::array<Vec3, 3>> tri;  // world positions, in the order the z-buffer draws them
-  std::vector<uint32_t> component;       // per triangle
-  // Per triangle and edge k (v[k] -> v[k+1]): the one other triangle sharing
-  // that edge (by position), or kNone when the edge has not exactly two.
-  std::vector<std::array<uint32_t, 3>> adj;
-  static constexpr uint32_t kNone = 0xffffffffu;
-  std::vector<uint8_t> closed;  // per component: closed and consistently oriented
-  uint64_t open_tris = 0;       // triangles of components that are not
-  uint32_t open_components = 0;
-  uint32_t inverted_components = 0;  // closed but inside out: turned outward (their tri reversed)
-};
-
-// Scene triangles (scene order) after the spheres' tessellations (as
-// view_spheres makes them for the frame `mesh`, tess_error from s).
-OccluderMesh occluder_mesh(const Scene& scene, const ScreenMesh& frame, const RasterSettings& s);
-// The same analysis of a given soup (for the tests).
-OccluderMesh occluder_mesh(std::vector<std::array<Vec3, 3>> tris);
-
-// The shadow volume of every occluder for a point light, as outward-facing
-// triangles (counter-clockwise seen from outside the volume): side quads (two
-// triangles each) extruded to distance `far` from the light, and with caps the
-// front and back caps. silhouette_only_for_open: the textbook silhouette rule
-// even for components that are not closed (wrong; the tests show why the check
-// matters). is_cap, when given, gets 1 per cap triangle and 0 per side.
-std::vector<std::array<Vec3, 3>> shadow_volume(const OccluderMesh& occ, const Vec3& light,
-                                               double far, bool caps,
-                                               bool silhouette_only_for_open = false,
-                                               std::vector<uint8_t>* is_cap = nullptr);
+// The shared steps (core/shadow_volume.h), under the names the tests use.
+using lockstep::occluder_mesh;
+using lockstep::occluder_note;
+using lockstep::OccluderMesh;
+using lockstep::shadow_far;
+using lockstep::shadow_volume;
 
 // The eye depth z of each visible sample (Visibility's triangle at the
 // sample), +inf where nothing is drawn: computed by the very function that
@@ -125,13 +102,6 @@ struct ShadowMasks {
 };
 ShadowMasks shadow_masks(const Scene& scene, const ScreenMesh& frame, const RasterSettings& s,
                          const OccluderMesh& occ, const Visibility& vis);
-
-// Twice the distance from the light to the farthest corner of the box around
-// the scene and the eye.
-double shadow_far(const Scene& scene, const Vec3& light);
-
-// The stats-line note for components that took the per-triangle fallback ("" when none).
-std::string occluder_note(const OccluderMesh& occ);
 
 // shade_fragment's Phong (or Blinn-Phong) with only the lights whose lit[k] is
 // set: the ray tracer's local term at depth 1 with shadow rays.

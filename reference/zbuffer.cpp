@@ -123,8 +123,8 @@ void zbuffer_visibility(const ScreenMesh& mesh, const RasterSettings& s, Visibil
 
 Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   const RasterSettings s = frame_settings(scene, opts);
-  // This row draws both kinds: the check is shadow maps' (per-sample lighting).
-  if (s.shadows == ShadowMode::kMap) check_shadow_settings(s, scene.source, "zbuffer --impl reference");
+  // This row draws both kinds; both need per-sample lighting.
+  check_shadow_settings(s, scene.source, opts.params.get("shading", "phong"));
   // Shadows: pass 1 fills each light's cube map first (reference/shadow_map.h).
   const ShadowMaps maps = s.shadows == ShadowMode::kMap ? shadow_maps(scene, s) : ShadowMaps{};
   const LightReach reach = [&](uint32_t light, const Vec3& p, const Vec3& normal) {
@@ -139,10 +139,6 @@ Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   // lights each sample with the lights its counts left at 0.
   ShadowMasks masks;
   if (s.shadows == ShadowMode::kVolume) {
-    if (s.shading != Shading::kPhong && s.shading != Shading::kBlinn)
-      throw InputError(scene.source, 0,
-                       "shadows=volume needs per-sample lighting: shading phong or blinn, not " +
-                           opts.params.get("shading", "phong"));
     zbuffer_loop(mesh, s, vis, {}, [](size_t, const Fragment&) {});
     const OccluderMesh occ = occluder_mesh(scene, mesh, s);
     masks = shadow_masks(scene, mesh, s, occ, vis);
