@@ -3,15 +3,27 @@
 // The scene is optimized/embree_scene.h's, built with solid spheres (core/
 // ray_trace.h: a refracted ray inside a ball meets its far wall) in a frame
 // translated to the eye, so that coordinates Embree rounds to float are
-// eye-relative. Per pixel, as the reference does it (reference/ray_trace.cpp):
-//   * the nearest hit of primary, reflected and refracted rays: rtcIntersect1
-//     (scalar: after the first bounce neighbouring pixels' rays go apart), its
-//     t then recomputed in double for the primitive Embree chose
-//     (optimized/refine.h), so hit points are double-accurate and shading
-//     (core/shading.h, double) is the reference's;
-//   * shadow rays: rtcOccluded1, which stops at the first blocker and runs no
-//     intersection filter (every surface blocks from both sides, as in the
+// eye-relative. Per ray, as the reference does it (reference/ray_trace.cpp):
+//   * the nearest hit of primary, reflected and refracted rays, its t then
+//     recomputed in double for the primitive Embree chose (optimized/
+//     refine.h), so hit points are double-accurate and shading (core/
+//     shading.h, double) is the reference's;
+//   * shadow rays: occlusion queries, which stop at the first blocker and run
+//     no intersection filter (every surface blocks from both sides, as in the
 //     reference);
+//   * the frame traces each tile breadth first (Wavefront below): all primary
+//     rays of the tile as one stream (rtcIntersect1M, coherent), then all
+//     their shadow rays as one stream (rtcOccluded1M: Embree sorts them by
+//     direction octant and traces them in packets), then all the reflected and
+//     refracted rays they spawned (rtcIntersect1M, incoherent: packets of 8)
+//     and their shadow rays, level by level; colours are summed bottom up in
+//     the depth-first order, so the frame is the one-ray-at-a-time tracer's
+//     (Tracer below: rtcIntersect1 and rtcOccluded1, depth first, the ray tree
+//     of `lockstep trace`) except where Embree's packet and single-ray sphere
+//     tests, which round t differently by an ulp, change which of two
+//     surfaces within float's rounding is nearest (props Pixel, explained
+//     float_tie; one pixel of rt-pov-rings-7, 0.002, where a sphere meets a
+//     cylinder);
 //   * self-intersection: by default the robust offset of Waechter and Binder
 //     (Ray Tracing Gems ch. 6; core/ray_trace.h offset_robust) on the float
 //     hit point in the eye frame, i.e. the very coordinates Embree traverses
@@ -26,6 +38,8 @@
 #include <atomic>
 #include <cmath>
 #include <memory>
+#include <optional>
+#include <vector>
 
 #include "core/camera.h"
 #include "core/shading.h"
@@ -46,8 +60,9 @@ TraceSettings resolved(TraceSettings s) {
 }
 
 // Rays are held in the eye frame (world minus the eye), in double; world(q)
-// is where a frame point is for shading and lights.
-struct Tracer {
+// is where a frame point is for shading and lights. What both tracers share:
+// the scene, the settings, the ray counts and the shading of a hit.
+struct Shader {
   const Scene& scene;
   const EmbreeScene& es;
   const TraceSettings& settings;
@@ -55,7 +70,7 @@ struct Tracer {
   RayCounts rays;
   RTCIntersectContext context;
 
-  Tracer(const Scene& s, const EmbreeScene& e, const TraceSettings& t, RayTree* r)
+  Shader(const Scene& s, const EmbreeScene& e, const TraceSettings& t, RayTree* r)
       : scene(s), es(e), settings(t), tree(r) {
     rtcInitIntersectContext(&context);
   }
@@ -73,18 +88,87 @@ struct Tracer {
     r.flags = 0;
   }
 
-  // Nearest hit of the frame ray (o, d), t refined in double.
-  Hit nearest(const Vec3& o, const Vec3& d, double tnear) {
-    RTCRayHit rh;
+  static void load(RTCRayHit& rh, const Vec3& o, const Vec3& d, double tnear) {
     load(rh.ray, o, d, tnear, kInfinity);
     rh.hit.geomID = rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
     for (unsigned& id : rh.hit.instID) id = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(es.scene, &context, &rh);
+  }
+
+  // Embree's answer for the frame ray (o, d) as the scene's hit, t refined in double.
+  Hit hit_of(const RTCRayHit& rh, const Vec3& o, const Vec3& d) const {
     Hit h;
     if (!prim_of(es, scene, rh.hit.geomID, rh.hit.primID, h)) return h;
     h.t = rh.ray.tfar;
     refine_hit(scene, Ray{world(o), d}, h);
     return h;
+  }
+
+  // The shading of the hit of the frame ray (o, d) (core/ray_trace.h), the
+  // reference's in double. Returns ambient plus each light's term, in light
+  // order, that needs no shadow ray or whose shadow ray shadow(so, dir, dist,
+  // k, term) says to add now (true: reached; false: blocked, or deferred by a
+  // breadth-first caller that adds the term later itself). Each secondary
+  // ray goes to spawn(kind, start, dir, weight, k, entering) (k: its kr or
+  // kt); a value it returns is that ray's colour, added times k. me: the
+  // node in the ray tree (for a TIR node), if one is kept.
+  template <class ShadowFn, class SpawnFn>
+  Vec3 shade(const Vec3& o, const Vec3& d, const Hit& hit, int depth, double weight, int me,
+             ShadowFn&& shadow, SpawnFn&& spawn) {
+    const Vec3 q = o + hit.t * d;  // frame
+    const Vec3 p = world(q);
+    const Vec3 n = surface_normal(scene, hit.prim, hit.tri, p, d);
+    const Vec3 ng = outward_normal(scene, hit.prim, p);
+    const Material& m = scene.material_of_prim(hit.prim);
+    Vec3 color = kAmbient * (m.kd * m.color);
+    for (uint32_t k = 0; k < scene.lights.size(); ++k) {
+      const LightSample ls = light_at(scene, scene.lights[k], p);
+      if (dot(n, ls.l) <= 0) continue;
+      const Vec3 term = phong_light(m, n, -d, ls);
+      if (settings.shadows) {
+        const Vec3 so = ray_start(q, ng, ls.l, settings, Arith::kFloat);
+        const Vec3 to_light = (scene.lights[k].position - es.frame.origin) - so;
+        const double dist = length(to_light);
+        rays.add(RayKind::kShadow);
+        if (!shadow(so, to_light / dist, dist, k, term)) continue;
+      }
+      color += term;
+    }
+    if (depth >= settings.max_depth) return color;
+    const double kr = std::min(1.0, m.ks);
+    if (kr > 0 && weight * kr >= settings.cutoff) {
+      const Vec3 r = reflect(d, n);
+      if (const std::optional<Vec3> c =
+              spawn(RayKind::kReflect, ray_start(q, ng, r, settings, Arith::kFloat), r, weight * kr,
+                    kr, false))
+        color += kr * *c;
+    }
+    const double kt = std::min(1.0, m.transmittance);
+    if (kt > 0 && weight * kt >= settings.cutoff) {
+      const bool entering = dot(d, ng) < 0;
+      Vec3 t;
+      if (refract(d, n, entering ? 1.0 / m.ior : m.ior, t)) {
+        if (const std::optional<Vec3> c =
+                spawn(RayKind::kRefract, ray_start(q, ng, t, settings, Arith::kFloat), t,
+                      weight * kt, kt, entering))
+          color += kt * *c;
+      } else {
+        record(tree, tir_node(me, depth + 1, p, d, weight * kt, entering));
+      }
+    }
+    return color;
+  }
+};
+
+// Depth first, one ray at a time (rtcIntersect1, rtcOccluded1), recording the
+// ray tree: `lockstep trace` and the properties' trees (trace_pixel).
+struct Tracer : Shader {
+  using Shader::Shader;
+
+  Hit nearest(const Vec3& o, const Vec3& d, double tnear) {
+    RTCRayHit rh;
+    load(rh, o, d, tnear);
+    rtcIntersect1(es.scene, &context, &rh);
+    return hit_of(rh, o, d);
   }
 
   bool occluded(const Vec3& o, const Vec3& d, double tfar) {
@@ -111,7 +195,7 @@ struct Tracer {
                                         false,
                                         entering});
     const Hit hit = nearest(o, d, tnear);
-    const Vec3 c = hit.hit() ? shade(o, d, hit, depth, weight, me) : scene.background;
+    const Vec3 c = hit.hit() ? shade_node(o, d, hit, depth, weight, me) : scene.background;
     if (tree) {
       tree->nodes[me].hit = hit;
       tree->nodes[me].color = c;
@@ -119,62 +203,136 @@ struct Tracer {
     return c;
   }
 
-  Vec3 shade(const Vec3& o, const Vec3& d, const Hit& hit, int depth, double weight, int me) {
-    const Vec3 q = o + hit.t * d;  // frame
-    const Vec3 p = world(q);
-    const Vec3 n = surface_normal(scene, hit.prim, hit.tri, p, d);
-    const Vec3 ng = outward_normal(scene, hit.prim, p);
-    const Material& m = scene.material_of_prim(hit.prim);
-    Vec3 color = kAmbient * (m.kd * m.color);
-    for (uint32_t k = 0; k < scene.lights.size(); ++k) {
-      const LightSample ls = light_at(scene, scene.lights[k], p);
-      if (dot(n, ls.l) <= 0) continue;
-      const Vec3 term = phong_light(m, n, -d, ls);
-      if (settings.shadows) {
-        const Vec3 so = ray_start(q, ng, ls.l, settings, Arith::kFloat);
-        const Vec3 to_light = (scene.lights[k].position - es.frame.origin) - so;
-        const double dist = length(to_light);
-        rays.add(RayKind::kShadow);
-        const bool dark = occluded(so, to_light / dist, dist);
-        record(tree, RayNode{RayKind::kShadow,
-                             me,
-                             depth,
-                             world(so),
-                             to_light / dist,
-                             dist,
-                             {},
-                             weight,
-                             dark ? Vec3{} : term,
-                             k,
-                             dark});
-        if (dark) continue;
-      }
-      color += term;
-    }
-    if (depth >= settings.max_depth) return color;
-    const double kr = std::min(1.0, m.ks);
-    if (kr > 0 && weight * kr >= settings.cutoff) {
-      const Vec3 r = reflect(d, n);
-      color += kr * trace(ray_start(q, ng, r, settings, Arith::kFloat), r, 0.0, RayKind::kReflect,
-                          depth + 1, weight * kr, me, false);
-    }
-    const double kt = std::min(1.0, m.transmittance);
-    if (kt > 0 && weight * kt >= settings.cutoff) {
-      const bool entering = dot(d, ng) < 0;
-      Vec3 t;
-      if (refract(d, n, entering ? 1.0 / m.ior : m.ior, t))
-        color += kt * trace(ray_start(q, ng, t, settings, Arith::kFloat), t, 0.0, RayKind::kRefract,
-                            depth + 1, weight * kt, me, entering);
-      else
-        record(tree, tir_node(me, depth + 1, p, d, weight * kt, entering));
-    }
-    return color;
+  Vec3 shade_node(const Vec3& o, const Vec3& d, const Hit& hit, int depth, double weight, int me) {
+    return shade(
+        o, d, hit, depth, weight, me,
+        [&](const Vec3& so, const Vec3& dir, double dist, uint32_t k, const Vec3& term) {
+          const bool dark = occluded(so, dir, dist);
+          record(tree, RayNode{RayKind::kShadow,
+                               me,
+                               depth,
+                               world(so),
+                               dir,
+                               dist,
+                               {},
+                               weight,
+                               dark ? Vec3{} : term,
+                               k,
+                               dark});
+          return !dark;
+        },
+        [&](RayKind kind, const Vec3& start, const Vec3& dir, double w, double, bool entering) {
+          return std::optional<Vec3>(trace(start, dir, 0.0, kind, depth + 1, w, me, entering));
+        });
   }
 
   // Pixel (i, j): the primary ray from the eye (the frame's origin).
   Vec3 pixel(const Camera& cam, int i, int j) {
     const Ray r = cam.primary(i, j);
     return trace(Vec3{0, 0, 0}, r.d, r.tmin, RayKind::kPrimary, 1, 1.0, -1, false);
+  }
+};
+
+// Breadth first over a tile (a wavefront): the primary rays of every pixel
+// as one stream (rtcIntersect1M), then all their shadow rays as one stream
+// (rtcOccluded1M), then all the reflected and refracted rays they spawned as
+// the next stream, and so on down the tree. Every ray is the depth-first
+// tracer's, with the same weights and cut-off; each traced ray is a node
+// whose local colour (ambient plus the lights its shadow rays reach, added in
+// light order) is known once its level's shadow rays are answered, and the
+// tile's colours are then summed bottom up, each node's reflected child
+// before its refracted one: the same additions in the same order as the
+// depth-first recursion, so the frame is bit for bit the same (pixel() of the
+// Tracer, the property Pixel checks it).
+struct Wavefront : Shader {
+  struct Node {
+    Vec3 color;               // local, then (summed) the ray's colour
+    int child[2] = {-1, -1};  // reflected, refracted: node indices
+    double k[2] = {0, 0};     // their kr, kt
+  };
+  struct Pending {  // a ray of the current level
+    Vec3 o, d;
+    double tnear = 0, weight = 1;
+    int node = -1, depth = 1;
+    RayKind kind = RayKind::kPrimary;
+  };
+  struct Deferred {  // a shadow ray's light term, added if it reaches
+    int node;
+    Vec3 term;
+  };
+  std::vector<Node> nodes;
+  std::vector<Pending> level, next;
+  std::vector<RTCRayHit> hits;
+  std::vector<RTCRay> shadow_rays;
+  std::vector<Deferred> deferred;
+
+  using Shader::Shader;
+
+  void tile(const Camera& cam, int x0, int y0, int x1, int y1, Image& image) {
+    nodes.clear();
+    level.clear();
+    for (int j = y0; j < y1; ++j)
+      for (int i = x0; i < x1; ++i) {
+        const Ray r = cam.primary(i, j);
+        level.push_back(
+            Pending{Vec3{0, 0, 0}, r.d, r.tmin, 1.0, int(nodes.size()), 1, RayKind::kPrimary});
+        nodes.emplace_back();
+      }
+    // Primary rays of a tile are coherent (Embree's stream traversal); the
+    // bounces below are not (packets of 8, occlusion sorted by octant).
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    while (!level.empty()) {
+      hits.resize(level.size());
+      for (size_t r = 0; r < level.size(); ++r)
+        load(hits[r], level[r].o, level[r].d, level[r].tnear);
+      rtcIntersect1M(es.scene, &context, hits.data(), unsigned(hits.size()), sizeof(RTCRayHit));
+      context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+      next.clear();
+      shadow_rays.clear();
+      deferred.clear();
+      for (size_t r = 0; r < level.size(); ++r) {
+        const Pending ray = level[r];
+        rays.add(ray.kind);
+        const Hit hit = hit_of(hits[r], ray.o, ray.d);
+        if (!hit.hit()) {
+          nodes[ray.node].color = scene.background;
+          continue;
+        }
+        const Vec3 local = shade(
+            ray.o, ray.d, hit, ray.depth, ray.weight, -1,
+            [&](const Vec3& so, const Vec3& dir, double dist, uint32_t, const Vec3& term) {
+              shadow_rays.emplace_back();
+              load(shadow_rays.back(), so, dir, 0.0, dist);
+              deferred.push_back(Deferred{ray.node, term});
+              return false;  // added below, once the stream is answered
+            },
+            [&](RayKind kind, const Vec3& start, const Vec3& dir, double w, double k, bool) {
+              const int child = int(nodes.size());
+              nodes.emplace_back();  // may move nodes: index it afresh
+              const int slot = kind == RayKind::kReflect ? 0 : 1;
+              nodes[ray.node].child[slot] = child;
+              nodes[ray.node].k[slot] = k;
+              next.push_back(Pending{start, dir, 0.0, w, child, ray.depth + 1, kind});
+              return std::optional<Vec3>();
+            });
+        nodes[ray.node].color = local;
+      }
+      if (!shadow_rays.empty())
+        rtcOccluded1M(es.scene, &context, shadow_rays.data(), unsigned(shadow_rays.size()),
+                      sizeof(RTCRay));
+      for (size_t s = 0; s < deferred.size(); ++s)
+        if (!(shadow_rays[s].tfar < 0)) nodes[deferred[s].node].color += deferred[s].term;
+      std::swap(level, next);
+    }
+    // Children come after their parents: sum from the last node back.
+    for (size_t n = nodes.size(); n-- > 0;) {
+      Node& me = nodes[n];
+      for (int c = 0; c < 2; ++c)
+        if (me.child[c] >= 0) me.color += me.k[c] * nodes[me.child[c]].color;
+    }
+    size_t n = 0;
+    for (int j = y0; j < y1; ++j)
+      for (int i = x0; i < x1; ++i) image.set(i, j, nodes[n++].color);
   }
 };
 
@@ -218,12 +376,11 @@ Image trace_render_with(const Scene& scene, const FrameOptions& opts, FrameStats
   std::atomic<uint64_t> by_kind[4] = {};
   parallel_tiles(opts.width, opts.height, 16, 16, opts.threads, opts.progress,
                  [&](int x0, int y0, int x1, int y1) {
-                   Tracer tracer(scene, *es, settings, nullptr);
-                   for (int j = y0; j < y1; ++j)
-                     for (int i = x0; i < x1; ++i) image.set(i, j, tracer.pixel(cam, i, j));
-                   for (int k = 0; k < 4; ++k) by_kind[k] += tracer.rays.n[k];
+                   Wavefront wave(scene, *es, settings, nullptr);
+                   wave.tile(cam, x0, y0, x1, y1, image);
+                   for (int k = 0; k < 4; ++k) by_kind[k] += wave.rays.n[k];
                  });
-  es->device.check("rtcIntersect1");
+  es->device.check("rtcIntersect1M");
   RayCounts rays;
   for (int k = 0; k < 4; ++k) rays.n[k] = by_kind[k];
   rays.report(stats);

@@ -116,7 +116,7 @@ Family ray_trace_family() {
         };
       };
   f.bench = bench_frames;
-  f.properties = {"laws", "slab", "tir", "weights", "hidden", "agree"};
+  f.properties = {"laws", "slab", "tir", "weights", "hidden", "agree", "pixel"};
   f.params = trace_params();
   f.check_params = [](const Params& p) { trace_settings(p, "settings"); };
   return f;

@@ -8,7 +8,9 @@ One row per scene and depth: total rays per second (primary + shadow +
 secondary, the rays_per_s counter) of the reference (one thread; at 128^2,
 heavy_for_reference) and of embree on 1 and 2 threads, embree / reference
 on one thread, and the mix of rays embree traced (primary / shadow / reflect /
-refract per pixel). Written through JSON_OUT.tmp and a rename.
+refract per pixel). A "lockstep_spliced" string in the JSON's context (rows
+re-run on their own and spliced in) is appended to the note. Written through
+JSON_OUT.tmp and a rename.
 """
 import datetime
 import json
@@ -71,9 +73,11 @@ def main():
                  "over), medians of 3 repetitions; rays = primary + shadow + reflected + refracted (the frame's "
                  "rays_per_s counter; per kind: primary_per_s .. refract_per_s). The reference is left out on balls-5 "
                  "(66k spheres: about a minute per 128^2 frame here): " + (", ".join(left_out) or "nothing") + ". "
-                 "The machine's 2 cores were shared with other builds during the run (load 13-18): 2-thread figures "
+                 "The machine's 2 cores were shared with other builds during the run (load 13-18"
+                 + (" for the reference rows" if ctx.get("lockstep_spliced") else "") + "): 2-thread figures "
                  "in particular are what the scheduler gave, not what the code can do. mix: rays of each kind per "
-                 "primary ray (primary / shadow / reflect / refract), embree, one thread."),
+                 "primary ray (primary / shadow / reflect / refract), embree, one thread."
+                 + (" " + ctx["lockstep_spliced"] if ctx.get("lockstep_spliced") else "")),
         "columns": ["scene", "depth", "reference 1T rays/s", "embree 1T rays/s", "embree 2T rays/s",
                     "embree / reference (1T)", "mix"],
         "rows": body,

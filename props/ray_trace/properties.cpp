@@ -33,6 +33,19 @@
 //   Hidden.raytrace__<impl>        (part "hidden") objects behind an opaque
 //       wall that covers the view (lights on the eye's side) change no pixel:
 //       the frames with and without them are equal, bit for bit.
+//   Pixel.raytrace__<impl>         (part "pixel") the frame against the
+//       one-pixel computation (TracePixelFn, whose ray tree `lockstep trace`
+//       prints) on 16 pixels of random scenes (gen_scene): equal bit for bit.
+//       The embree frame traces a tile breadth first in streams (rtcIntersect1M,
+//       rtcOccluded1M: Embree's packet kernels), the pixel depth first one ray
+//       at a time (rtcIntersect1): Embree's packet and single-ray sphere tests
+//       round t differently (by an ulp, measured), which t's refinement in
+//       double erases unless it changes which surface is nearest or whether a
+//       sphere is hit at all. A pixel that differs is explained (float_tie)
+//       only when its tree has a ray whose two nearest surfaces (the
+//       reference's roots, in double) are within 1e-6 relative of each other,
+//       or that passes a sphere's silhouette within float's rounding (the
+//       band of Agree's diverge); anything else is unexplained.
 //   Agree.raytrace__embree         (part "agree") the frame of every
 //       non-reference row against the reference's on random scenes (16 x 16),
 //       per pixel within the family's 1/255. A pixel over it has diverging
@@ -620,6 +633,61 @@ bool grazes_a_sphere(const Scene& scene, const Vec3& o, const Vec3& d, double tm
   return false;
 }
 
+// Whether the ray of tree node n meets two surfaces within 1e-6 relative of
+// each other before its end (the nearest is then decided by rounding), or
+// grazes a sphere within float's rounding.
+bool float_tie(const Scene& scene, const RayNode& n) {
+  const double tmax = n.kind == RayKind::kShadow ? n.tmax : kInfinity;
+  if (grazes_a_sphere(scene, n.origin, n.direction, tmax)) return true;
+  std::vector<double> ts;
+  for (uint32_t s = 0; s < scene.sphere_count(); ++s) {
+    double t0, t1;
+    if (ref::sphere_roots<double>(n.origin, n.direction, scene.sphere_center[s],
+                                  scene.sphere_radius[s], t0, t1))
+      for (double t : {t0, t1})
+        if (t > 0 && t < tmax) ts.push_back(t);
+  }
+  for (uint32_t p = 0; p < scene.polygon_count(); ++p)
+    if (const double t = ref::ray_polygon_t(Ray{n.origin, n.direction, 0, tmax}, scene, p);
+        t < tmax)
+      ts.push_back(t);
+  std::sort(ts.begin(), ts.end());
+  for (size_t k = 1; k < ts.size(); ++k)
+    if (ts[k] - ts[k - 1] <= 1e-6 * ts[k]) return true;
+  return false;
+}
+
+// Pixel: the frame's pixel equals the one-pixel computation's colour, bit for bit.
+Verdict check_pixel(const TracerFns& fn, const TraceCase& c) {
+  const Scene scene = scene_of(c);
+  const Image frame = render(fn, c);
+  Verdict v;
+  for (int k = 0; k < 16; ++k) {
+    const int x = (k * 5 + k / 4) % c.width, y = (k * 7 + 3) % c.height;
+    RayTree t;
+    const Vec3 p = fn.pixel(scene, trace_settings(params_of(c)), c.width, c.height, x, y, &t);
+    Outcome o;
+    const float* f = frame.pixel(x, y);
+    o.err = 0;
+    for (int ch = 0; ch < 3; ++ch) {
+      const double d = std::abs(double(f[ch]) - double(float(p[ch])));
+      o.err = std::isnan(d) ? kInfinity : std::max(o.err, d);
+    }
+    o.measured = true;
+    if (o.err != 0) {
+      const bool tie = std::any_of(t.nodes.begin(), t.nodes.end(),
+                                   [&](const RayNode& n) { return !n.tir && float_tie(scene, n); });
+      o.kind = tie ? Outcome::explained : Outcome::unexplained;
+      o.label = tie ? "float_tie" : "pixel_differs";
+      o.detail = "pixel (" + std::to_string(x) + ", " + std::to_string(y) + "): frame " +
+                 pixel_text(frame, x, y) + ", one pixel (" + std::to_string(p.x) + ", " +
+                 std::to_string(p.y) + ", " + std::to_string(p.z) + ")";
+    }
+    v.rays.push_back(o);
+  }
+  return v;
+}
+
 bool same_decisions(const RayNode& a, const RayNode& b) {
   return a.kind == b.kind && a.hit.prim == b.hit.prim && a.blocked == b.blocked && a.tir == b.tir;
 }
@@ -787,6 +855,10 @@ FamilyProperties properties(const Family& family) {
       out.properties.push_back(property<TraceCase>(
           family, impl.name, "Hidden", "hidden", "behind_wall", gen_hidden(), 0,
           [fn](const TraceCase& c) { return check_hidden(fn, c); }, write_case, read_case));
+    if (family.has_property("pixel"))
+      out.properties.push_back(property<TraceCase>(
+          family, impl.name, "Pixel", "pixel", "scenes", gen_scene(16), 0,
+          [fn](const TraceCase& c) { return check_pixel(fn, c); }, write_case, read_case));
     if (family.has_property("agree") && &impl != &row.impls.front()) {
       const std::string known = known_label(name, impl.known);
       Property p = property<TraceCase>(
