@@ -67,7 +67,10 @@ bool load_ray(const Frame& f, const Ray& r, RTCRayHit8& rh, int valid[kPacket], 
 }  // namespace
 
 // ---------------------------------------------------------------- the contract
-void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, FrameStats* stats) {
+namespace {
+
+void trace_on(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, FrameStats* stats,
+              const Device& device) {
   const Stopwatch build_timer;
   if (rays.empty()) {  // nothing to build a BVH for
     if (stats) {
@@ -79,7 +82,7 @@ void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, F
   Frame frame;
   frame.origin = rays[0].o;  // rays from one viewpoint keep "camera-relative" precision
   if (!is_finite(frame.origin)) frame.origin = Vec3{0, 0, 0};
-  const auto es = build_scene(scene, frame);
+  const auto es = build_scene(scene, frame, {.device = device});
   const double build = build_timer.seconds();
   const size_t packets = (rays.size() + kPacket - 1) / kPacket;
   tbb::parallel_for(
@@ -109,6 +112,17 @@ void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, F
     stats->items = rays.size();
     for (const auto& [why, n] : es->dropped) stats->drop(why, n);
   }
+}
+
+}  // namespace
+
+void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, FrameStats* stats) {
+  trace_on(scene, rays, hits, stats, Device());
+}
+
+void trace_with(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, FrameStats* stats,
+                const Device& device) {
+  trace_on(scene, rays, hits, stats, device);
 }
 
 namespace {
