@@ -2,6 +2,8 @@
 #pragma once
 
 #include <exception>
+#include <functional>
+#include <map>
 #include <string>
 
 #include "core/family.h"
@@ -20,8 +22,9 @@ struct Run {
 // Runs in.value with impl at opts' size (or the input's own when the family
 // is not sized). Exceptions become Run::error when catch_errors (verify keeps
 // going); otherwise they propagate (render reports them).
-inline Run run_frame(const Family& family, const FamilyImpl& impl, const Input& in, FrameOptions opts,
-                     bool catch_errors) {
+// run: what to call instead of impl.run (a session's run, RowSessions), or null.
+inline Run run_frame(const Family& family, const FamilyImpl& impl, const Input& in,
+                     FrameOptions opts, bool catch_errors, const FamilyImpl::RunFn* run = nullptr) {
   if (!family.sized || opts.width <= 0 || opts.height <= 0) {
     opts.width = in.width;
     opts.height = in.height;
@@ -29,7 +32,7 @@ inline Run run_frame(const Family& family, const FamilyImpl& impl, const Input& 
   Run r;
   const Stopwatch timer;
   try {
-    r.out = impl.run(in, opts, &r.stats);
+    r.out = run ? (*run)(in, opts, &r.stats) : impl.run(in, opts, &r.stats);
     r.error = family.kind->check_frame(r.out, opts);
     r.ok = r.error.empty();
   } catch (const std::exception& e) {
@@ -39,5 +42,19 @@ inline Run run_frame(const Family& family, const FamilyImpl& impl, const Input& 
   r.seconds = timer.seconds();
   return r;
 }
+
+// The sessions of a run of many cases (verify): one per row whose session
+// serves any input (FamilyImpl::session_any_input: the embree rows' device),
+// started at the row's first case and kept to the end of the run.
+struct RowSessions {
+  std::map<const FamilyImpl*, FamilyImpl::RunFn> runs;
+  // The row's session run, or null: the row has none, call impl.run.
+  const FamilyImpl::RunFn* of(const FamilyImpl& impl, const Input& in, const FrameOptions& opts) {
+    if (!impl.session || !impl.session_any_input) return nullptr;
+    auto it = runs.find(&impl);
+    if (it == runs.end()) it = runs.emplace(&impl, impl.session(in, opts)).first;
+    return &it->second;
+  }
+};
 
 }  // namespace lockstep::cli

@@ -156,6 +156,7 @@ int verify_main(Args args) {
 
   std::vector<Row> rows;
   std::vector<std::string> verdicts;
+  RowSessions sessions;  // the embree rows' devices: one per row for the whole run
   if (!o.regolden) print_header();
   for (size_t ci = 0; ci < cases.size(); ++ci) {
     const Case& c = cases[ci];
@@ -163,7 +164,7 @@ int verify_main(Args args) {
         c.family->sized ? " (" + std::to_string(c.frame_width()) + "x" + std::to_string(c.frame_height()) + ")" : "";
     std::fprintf(stderr, "lockstep verify: [%zu/%zu] %s %s%s\n", ci + 1, cases.size(),
                  std::string(c.family->name).c_str(), c.name.c_str(), size.c_str());
-    for (Row& r : verify_case(c, o, verdicts)) rows.push_back(std::move(r));
+    for (Row& r : verify_case(c, o, verdicts, sessions)) rows.push_back(std::move(r));
   }
 
   if (o.regolden) {

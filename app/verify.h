@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "app/cli.h"
+#include "app/run.h"
 #include "core/family.h"
 
 namespace lockstep::cli {
@@ -78,7 +79,9 @@ void load_inputs(std::vector<Case>& cases);
 
 // app/verify_case.cpp: rows for one case (printed as they come); verdict
 // lines of analytic judges are appended to verdicts.
-std::vector<Row> verify_case(const Case& c, const VerifyOptions& o, std::vector<std::string>& verdicts);
+// sessions: the run's (app/run.h RowSessions), kept from case to case.
+std::vector<Row> verify_case(const Case& c, const VerifyOptions& o, std::vector<std::string>& verdicts,
+                             RowSessions& sessions);
 
 // app/report.cpp
 void print_header();

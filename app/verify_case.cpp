@@ -44,7 +44,8 @@ void write_beside(const Case& c, const fs::path& case_dir, int w, int h) {
 
 }  // namespace
 
-std::vector<Row> verify_case(const Case& c, const VerifyOptions& o, std::vector<std::string>& verdicts) {
+std::vector<Row> verify_case(const Case& c, const VerifyOptions& o, std::vector<std::string>& verdicts,
+                             RowSessions& sessions) {
   const Family& fam = *c.family;
   const OutputKind& kind = *fam.kind;
   const FamilyImpl& ref = fam.reference();
@@ -78,7 +79,7 @@ std::vector<Row> verify_case(const Case& c, const VerifyOptions& o, std::vector<
   golden_tol.hard = kInfinity;
 
   // 1. The reference, against its golden (or making it).
-  const Run r_ref = run_frame(fam, ref, c.input, opts, true);
+  const Run r_ref = run_frame(fam, ref, c.input, opts, true, sessions.of(ref, c.input, opts));
   Row rr;
   rr.case_name = c.name;
   rr.family = std::string(fam.name);
@@ -165,7 +166,7 @@ std::vector<Row> verify_case(const Case& c, const VerifyOptions& o, std::vector<
         continue;
       }
     }
-    const Run r = run_frame(fam, impl, c.input, opts, true);
+    const Run r = run_frame(fam, impl, c.input, opts, true, sessions.of(impl, c.input, opts));
     // The row's own agreement (FamilyImpl::agree) unless the manifest's line sets one.
     const Tolerance& tol = c.tol_given ? c.tol : impl.tolerance(c.tol);
     Row row;

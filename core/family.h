@@ -201,6 +201,7 @@ const In& input_as(const Input& in) {
 }
 
 struct FamilyImpl {
+  using RunFn = std::function<Output(const Input&, const FrameOptions&, FrameStats*)>;
   std::string_view name;
   std::function<Output(const Input&, const FrameOptions&, FrameStats*)> run;
   double accuracy = 0;   // bound against the oracle, in the family's unit (stated in its row)
@@ -233,6 +234,10 @@ struct FamilyImpl {
   std::function<std::function<Output(const Input&, const FrameOptions&, FrameStats*)>(
       const Input&, const FrameOptions&)>
       session;
+  // True when a session's state serves any input at any size (the embree rows:
+  // an Embree device): `lockstep verify` then starts one session per row for
+  // the whole run rather than making that state again for every frame.
+  bool session_any_input = false;
 
   // The tolerance this row is held to against the reference.
   const Tolerance& tolerance(const Tolerance& family_tol) const { return agree ? *agree : family_tol; }

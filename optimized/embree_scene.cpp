@@ -24,6 +24,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <stdexcept>
 
 #include "optimized/refine.h"
@@ -99,6 +101,11 @@ Device Device::create() {
     throw std::runtime_error(std::string("embree: cannot create device: ") + error_name(rtcGetDeviceError(nullptr)));
   rtcSetDeviceErrorFunction(d.state->handle, on_error, &d.state->log);
   d.handle = d.state->handle;
+  // LOCKSTEP_EMBREE_DEVICES=1: one line per device made, so that a test can
+  // count them (tests/CMakeLists.txt: verify and the properties make one per
+  // embree row for the whole run, not one per frame).
+  if (const char* e = std::getenv("LOCKSTEP_EMBREE_DEVICES"); e && e[0] == '1')
+    std::fprintf(stderr, "lockstep: new Embree device\n");
   return d;
 }
 

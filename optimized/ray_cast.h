@@ -28,6 +28,9 @@ const char* target_name();
 namespace opt::embree {
 struct Device;  // optimized/embree_scene.h
 void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, FrameStats* stats);
+// On a device kept across calls (a session's: verify, the properties).
+void trace_with(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, FrameStats* stats,
+                const Device& device);
 // Without a device: a new one for this frame (the CLI's one render per process).
 Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats);
 // On a device kept across frames (a session's).

@@ -67,7 +67,10 @@ bool load_ray(const Frame& f, const Ray& r, RTCRayHit8& rh, int valid[kPacket], 
 }  // namespace
 
 // ---------------------------------------------------------------- the contract
-void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, FrameStats* stats) {
+namespace {
+
+void trace_on(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, FrameStats* stats,
+              const Device& device) {
   const Stopwatch build_timer;
   if (rays.empty()) {  // nothing to build a BVH for
     if (stats) {
@@ -79,7 +82,7 @@ void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, F
   Frame frame;
   frame.origin = rays[0].o;  // rays from one viewpoint keep "camera-relative" precision
   if (!is_finite(frame.origin)) frame.origin = Vec3{0, 0, 0};
-  const auto es = build_scene(scene, frame);
+  const auto es = build_scene(scene, frame, {.device = device});
   const double build = build_timer.seconds();
   const size_t packets = (rays.size() + kPacket - 1) / kPacket;
   tbb::parallel_for(
@@ -111,6 +114,17 @@ void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, F
   }
 }
 
+}  // namespace
+
+void trace(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, FrameStats* stats) {
+  trace_on(scene, rays, hits, stats, Device());
+}
+
+void trace_with(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits, FrameStats* stats,
+                const Device& device) {
+  trace_on(scene, rays, hits, stats, device);
+}
+
 namespace {
 
 // The frame; shade = false: the hits only (tools/embree_raw.cpp compares that
@@ -137,9 +151,18 @@ Image render_frame(const Scene& scene, const FrameOptions& opts, FrameStats* sta
   const double build = build_timer.seconds();
 
   const ShadeScene shading = prepare_shading(scene, frame);
-  Image image(opts.width, opts.height);
+  // Every pixel is written below (tiles cover the frame; each row of a tile is
+  // whole packets, the last one cut at the image edge): no 16 MB clear first.
+  Image image = Image::uninitialized(opts.width, opts.height);
   constexpr int kTileW = 32, kTileH = 8;
   // One tile: the scratch lives on the stack of the thread that runs it.
+  //
+  // The per-ray work outside Embree is kept small (tools/embree_raw.cpp measures
+  // the row against raw Embree): the packet's constant fields are set once per
+  // tile, the eight directions are computed side by side (the same double
+  // operations, in the same order, as camera_dir / length / divide, so the same
+  // bits), and the world-space ray is made only for a lane that needs it (a
+  // far sphere's refinement, shading).
   auto render_tile = [&](int x0, int y0, int x1, int y1) {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
@@ -147,35 +170,48 @@ Image render_frame(const Scene& scene, const FrameOptions& opts, FrameStats* sta
         RTC_INTERSECT_CONTEXT_FLAG_COHERENT;  // neighbouring pixels: one origin, close directions
     RTCRayHit8 rh;
     alignas(32) int valid[kPacket];  // rtcIntersect8 wants it 32-byte aligned, like the packet
+    // Origin, time, mask, id, flags: the same for every packet, and Embree only
+    // reads them. What it writes (tfar, the hit) is reset per packet below.
+    clear_packet(rh, valid);
     ShadePacket sp{};
+    const double cx = 0.5 * (cam.width - 1), pitch = cam.pitch;
     for (int j = y0; j < y1; ++j) {
+      const double sy = cam.sy(j), sy2 = sy * sy;
       for (int i0 = x0; i0 < x1; i0 += kPacket) {
         const int count = std::min(kPacket, opts.width - i0);
-        Vec3 unit[kPacket];
-        clear_packet(rh, valid);
-        for (int k = 0; k < count; ++k) {
-          // Camera-space direction (sx, sy, 1), normalised in double then rounded;
-          // the hither plane is a distance along the view axis.
-          const Vec3 d = cam.camera_dir(i0 + k, j);
-          const double len = length(d);
-          unit[k] = d / len;
-          set_ray(rh, valid, k, Vec3{0, 0, 0}, unit[k], cam.hither * len, kInfinity);
+        // Camera-space direction (sx, sy, 1), normalised in double then rounded;
+        // the hither plane is a distance along the view axis.
+        alignas(32) double ux[kPacket], uy[kPacket], uz[kPacket], len[kPacket];
+        for (int k = 0; k < kPacket; ++k) {  // locals only: GCC vectorises it (sqrt and / stay exact)
+          const double sx = (double(i0 + k) - cx) * pitch;  // cam.sx(i0 + k)
+          len[k] = std::sqrt(sx * sx + sy2 + 1.0 * 1.0);     // length(camera_dir(i0 + k, j))
+          ux[k] = sx / len[k];
+          uy[k] = sy / len[k];
+          uz[k] = 1.0 / len[k];
+        }
+        for (int k = 0; k < kPacket; ++k) {
+          valid[k] = k < count ? -1 : 0;
+          rh.ray.dir_x[k] = float(ux[k]), rh.ray.dir_y[k] = float(uy[k]), rh.ray.dir_z[k] = float(uz[k]);
+          rh.ray.tnear[k] = float(cam.hither * len[k]);
+          rh.ray.tfar[k] = HUGE_VALF;  // set_ray's tfar for kInfinity
+          rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+          for (int l = 0; l < RTC_MAX_INSTANCE_LEVEL_COUNT; ++l) rh.hit.instID[l][k] = RTC_INVALID_GEOMETRY_ID;
         }
         rtcIntersect8(valid, es->scene, &context, &rh);
         for (int k = 0; k < count; ++k) {
           // The same unit ray in world space (t carries over: both are unit length).
-          const Vec3& u = unit[k];
-          const Ray ray{cam.eye, u.x * cam.right + u.y * cam.up + u.z * cam.forward, 0.0,
-                        kInfinity};
+          auto world_ray = [&] {
+            return Ray{cam.eye, ux[k] * cam.right + uy[k] * cam.up + uz[k] * cam.forward, 0.0, kInfinity};
+          };
           Hit h = to_hit(*es, scene, rh, k, 1.0, 0.0);
-          refine_far_sphere_hit(scene, ray, h);
           if (!shade) {
-            {
-              const double g = h.hit() ? h.t : 0.0;
-              image.set(i0 + k, j, Vec3{g, g, g});
-            }
+            if (needs_far_sphere_refinement(scene, h)) refine_hit(scene, world_ray(), h);
+            const double g = h.hit() ? h.t : 0.0;
+            image.set(i0 + k, j, Vec3{g, g, g});
             continue;
           }
+          const Ray ray = world_ray();
+          refine_far_sphere_hit(scene, ray, h);
           fill_lane(scene, frame, ray, h, sp, k);
         }
         if (!shade) continue;

@@ -68,9 +68,11 @@ inline void refine_hit(const Scene& scene, const Ray& ray, Hit& hit) {
 
 // Renders: float's t is good to ~1e-7 relative, which shading needs better only
 // for a sphere seen from more than ~1000 radii away (its normal is (P - c)/r).
+inline bool needs_far_sphere_refinement(const Scene& scene, const Hit& hit) {
+  return hit.hit() && hit.prim < scene.sphere_count() && hit.t > 1e3 * std::abs(scene.sphere_radius[hit.prim]);
+}
 inline void refine_far_sphere_hit(const Scene& scene, const Ray& ray, Hit& hit) {
-  if (hit.hit() && hit.prim < scene.sphere_count() && hit.t > 1e3 * std::abs(scene.sphere_radius[hit.prim]))
-    refine_hit(scene, ray, hit);
+  if (needs_far_sphere_refinement(scene, hit)) refine_hit(scene, ray, hit);
 }
 
 }  // namespace lockstep::opt

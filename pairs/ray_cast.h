@@ -14,6 +14,7 @@
 //              relative error of t)
 #pragma once
 
+#include <functional>
 #include <span>
 #include <string_view>
 
@@ -22,9 +23,19 @@
 
 namespace lockstep {
 
+// A caster's trace and render for a whole run of many scenes (the properties'
+// cases), sharing what they keep (the embree row: one Embree device).
+struct CasterRun {
+  std::function<void(const Scene&, std::span<const Ray>, std::span<Hit>, FrameStats*)> trace;
+  std::function<Image(const Scene&, const FrameOptions&, FrameStats*)> render;
+};
+
 struct CasterFns {
   TraceFn trace;
   RenderFn render;
+  // Empty, or starts a run that keeps its state across calls (the embree row's
+  // device, made at its first call); the family's FamilyImpl::session is the same.
+  CasterRun (*session)() = nullptr;
 };
 
 // The family's kernel rows (core/family.h: KernelRow), the reference first.

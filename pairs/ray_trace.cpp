@@ -115,6 +115,9 @@ Family ray_trace_family() {
               opt::embree::trace_render_with(input_as<Scene>(in), o, stats, *device));
         };
       };
+  // That session serves any scene: verify keeps one for the whole run.
+  for (FamilyImpl& impl : f.impls)
+    if (impl.name == "embree") impl.session_any_input = true;
   f.bench = bench_frames;
   f.properties = {"laws", "slab", "tir", "weights", "hidden", "agree", "pixel"};
   f.params = trace_params();

@@ -15,7 +15,7 @@ import os
 import sys
 
 COMMAND = ("ninja -C build lockstep_embree_raw && for s in balls-1 balls-3 balls-5; do ./build/lockstep_embree_raw "
-           "--reps 7 ../shared/spd/$s.nff; done > bench/results/embree_raw.csv && python3 scripts/embree_raw_table.py "
+           "--reps 7 --clock cpu ../shared/spd/$s.nff; done > bench/results/embree_raw.csv && python3 scripts/embree_raw_table.py "
            "bench/results/embree_raw.csv bench/results/embree_raw.json")
 
 
@@ -57,27 +57,33 @@ def main():
         "title": "The embree row against raw Embree",
         "command": COMMAND,
         "date": datetime.date.today().isoformat(),
-        "machine": "2 cores, shared with other builds during the run (load 13-18)",
+        "machine": "2 cores, shared with other helpers' builds during the run (load 6-7)",
         "issue": 22,
         "note": (f"tools/embree_raw.cpp, one thread, {size} x {size} primary rays, medians of 7 runs taken in turn (raw, "
-                 f"row, raw, row ...). raw: the same spheres as RTC_GEOMETRY_TYPE_SPHERE_POINT in the eye's frame "
-                 f"and the ground polygon's triangles (no filter), default build quality and scene flags, rtcCommitScene alone timed; rtcIntersect8 over rows of 8 "
-                 f"pixels (coherent context) and rtcIntersect1; no shading. row: the ray_cast embree row "
+                 f"row, raw, row ...), timed by the thread's CPU time (--clock cpu: at load 6-7 the wall clock gave "
+                 f"rates 3x lower and row / raw8 83 / 65 / 76% for the same binary a minute before). raw: the same "
+                 f"spheres as RTC_GEOMETRY_TYPE_SPHERE_POINT in the eye's frame and the ground polygon's triangles (no "
+                 f"filter), default build quality and scene flags, rtcCommitScene alone timed; rtcIntersect8 over rows "
+                 f"of 8 pixels (coherent context) and rtcIntersect1; no shading. row: the ray_cast embree row "
                  f"(optimized/ray_cast_embree.cpp) with shading off (render_unshaded: its own traversal and hit "
-                 f"refinement), rays/s over the frame minus its BVH build; its build as FrameStats reports it (the "
-                 f"geometry set-up included, as a render pays it); warm = the shaded row on a kept device; one-shot = "
-                 f"the first render of a fresh process, device included. device_ms: making a further device once one "
-                 f"exists. Since issue #22: one device per session (the benchmarks' embree rows keep it; the CLI renders "
-                 f"once per process; verify and the properties still make one per render), built-in spheres up to 1e6 "
-                 f"radii from the eye (was 256: balls-4 and balls-5 went almost whole into a double-precision user "
-                 f"geometry), RTC_SCENE_FLAG_ROBUST only with triangles, no sidedness filter on triangles every primary ray "
-                 f"sees from the front (the balls scenes' ground). Noise: this run at load 12 (other helpers' builds); "
-                 f"one beside the full ctest suite (rates 4x lower) gave row / raw8 100 / 88 / 98%, build 1.15x, "
-                 f"one-shot / warm 1.18 / 2.29 / 1.14; one before the triangle-filter change 64% / 76% on balls-1 / "
-                 f"balls-3. A 10% target is within this machine's run-to-run "
-                 f"spread under load, so read the ratios as +-15%. What is left on the small scenes is per-ray work "
-                 f"outside Embree (the double camera ray, clear_packet, to_hit and the refinement, the image write): "
-                 f"balls-1's 10 spheres cost Embree almost nothing to traverse."),
+                 f"refinement), rays/s over the frame minus its BVH build; its build as FrameStats reports it (wall "
+                 f"clock, the geometry set-up included, as a render pays it): under load that favours the row where "
+                 f"the build is a large part of the frame (balls-5: ~30 ms of ~110), not on balls-1/3 (<0.4 ms); warm "
+                 f"= the shaded row on a kept device; one-shot = the first render of a fresh process, device included. "
+                 f"device_ms: making a further device once one exists (wall). Since issue #22: one device per session "
+                 f"(the benchmarks' embree rows keep it; the CLI renders once per process; verify keeps one per embree "
+                 f"row for the whole run, and so do the ray_cast properties; the raytrace properties still make one "
+                 f"per render), built-in spheres up to 1e6 radii from the eye, RTC_SCENE_FLAG_ROBUST only with "
+                 f"triangles, no sidedness filter on triangles every primary ray sees from the front, the per-ray "
+                 f"work outside Embree cut (directions in the same double operations, packet constants once per "
+                 f"tile, the world ray only for lanes refined or shaded, no image clear; images bit-identical). "
+                 f"Noise: a second run a minute before gave 85.9 / 87.3 / 108.2%; A/B by CPU time against main "
+                 f"(three alternations, medians of ratios): balls-1 76 -> 81%, balls-3 74 -> 88%, balls-5 95 -> 107%, "
+                 f"within this machine's spread. The quiet-machine baseline at main (load 0.3, wall clock): 78 / 84 / "
+                 f"91%. What is left is mostly RTC_SCENE_FLAG_ROBUST, which the row sets for any scene with triangles "
+                 f"(watertight shared edges) and raw Embree does not: with it switched off in the row (an experiment, "
+                 f"not kept: it may change edge pixels) row / raw8 was 92-129% / 91-95% on balls-1 / balls-3; with "
+                 f"it switched on in raw, raw8 dropped to the row's rate."),
         "columns": ["scene", "spheres", "raw build ms", "row build ms", "build row / raw", "raw rtcIntersect8 Mrays/s",
                     "raw rtcIntersect1 Mrays/s", "row unshaded Mrays/s", "row / raw8 %", "row shaded warm ms",
                     "one-shot ms", "one-shot / warm", "device_ms"],

@@ -437,5 +437,8 @@ int main(int argc, char** argv) {
   lockstep::props::driver::register_all();
   const int rc = RUN_ALL_TESTS();
   lockstep::props::driver::print_table();
+  // The properties own what their runs keep (the embree rows' devices): released
+  // here, while the libraries they belong to are still up, not at static destruction.
+  lockstep::props::driver::all_properties().clear();
   return rc;
 }

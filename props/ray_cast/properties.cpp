@@ -42,8 +42,10 @@ unsigned kind_bit(Kernel k) {
   }
 }
 
-Property property(const std::string& suite, const std::string& check, const Named& g, const Subject& s,
-                  bool name_generator) {
+// subject: shared by the subject's properties (with_session: one session each).
+Property property(const std::string& suite, const std::string& check, const Named& g,
+                  const std::shared_ptr<const Subject>& subject, bool name_generator) {
+  const Subject& s = *subject;
   Property p;
   p.family = "ray_cast";
   p.check = check;
@@ -56,7 +58,6 @@ Property property(const std::string& suite, const std::string& check, const Name
   p.known = s.info.known;
   p.save_classified = s.info.mode == Mode::textbook && check != "render";
   p.accuracy_csv = check == "accuracy" || check == "stability" || check == "watertight";
-  const Subject* subject = &s;
   const Named* gen = &g;
   p.run = [subject, gen, check] {
     auto c = std::make_shared<const Case>(*gen->gen);
@@ -76,20 +77,23 @@ Property property(const std::string& suite, const std::string& check, const Name
 FamilyProperties properties(const Family&) {
   FamilyProperties out;
   auto& props = out.properties;
-  for (const Subject& s : all_subjects()) {
+  for (const Subject& base : all_subjects()) {
+    // The embree row's properties share one device (its session) for the whole run.
+    const auto subject = std::make_shared<const Subject>(with_session(base));
+    const Subject& s = *subject;
     const Named* well = find_generator(generator_of(s.info.pair));
     if (!well) continue;  // the driver reports the row as untested: see below
-    if (!s.info.is_reference) props.push_back(property("Agreement", "agreement", *well, s, false));
-    props.push_back(property("Accuracy", "accuracy", *well, s, false));
+    if (!s.info.is_reference) props.push_back(property("Agreement", "agreement", *well, subject, false));
+    props.push_back(property("Accuracy", "accuracy", *well, subject, false));
     if (s.render && !s.info.is_reference && (well->kinds & kRender))
-      props.push_back(property("Render", "render", *well, s, false));
+      props.push_back(property("Render", "render", *well, subject, false));
     for (const Named& g : generators()) {
       if (!g.stability) continue;
-      if (g.kinds & kind_bit(s.kernel)) props.push_back(property("Stability", "stability", g, s, true));
+      if (g.kinds & kind_bit(s.kernel)) props.push_back(property("Stability", "stability", g, subject, true));
       if ((g.kinds & kWatertight) && s.answer_polygons)
-        props.push_back(property("Watertight", "watertight", g, s, true));
+        props.push_back(property("Watertight", "watertight", g, subject, true));
       if ((g.kinds & kDegenerate) && (s.kernel == Kernel::polygon || s.kernel == Kernel::frame))
-        props.push_back(property("Degenerate", "degenerate", g, s, true));
+        props.push_back(property("Degenerate", "degenerate", g, subject, true));
     }
   }
   // A row naming a generator this family does not have would go untested.

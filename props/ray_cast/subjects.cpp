@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <memory>
 #include <span>
 #include <stdexcept>
 
@@ -138,6 +139,7 @@ std::vector<Subject> build_subjects() {
     s.answer_polygons = s.answer;
     s.oracle = [](const Case& c, const Ray& r) { return oracle_trace(c.scene, r); };
     s.render = t.ray_cast.impls[i].fn.render;
+    s.session = t.ray_cast.impls[i].fn.session;
     out.push_back(s);
   }
   return out;
@@ -148,6 +150,20 @@ std::vector<Subject> build_subjects() {
 const std::vector<Subject>& all_subjects() {
   static const std::vector<Subject> s = build_subjects();
   return s;
+}
+
+Subject with_session(const Subject& s) {
+  if (!s.session) return s;
+  Subject out = s;
+  const auto run = std::make_shared<const CasterRun>(s.session());
+  out.answer = [run](const Case& c) {
+    std::vector<Hit> hits(c.rays.size());
+    run->trace(c.scene, c.rays, hits, nullptr);
+    return hits;
+  };
+  out.answer_polygons = out.answer;
+  out.render = run->render;
+  return out;
 }
 
 const Subject& reference_of(const std::string& pair) {

@@ -58,8 +58,17 @@ struct Subject {
   // Per ray: the nearest hit over every polygon of the scene (prim = the scene's
   // primitive); empty for subjects that cannot intersect polygons.
   std::function<std::vector<Hit>(const Case&)> answer_polygons;
-  RenderFn render = nullptr;  // subjects that render a frame
+  // Subjects that render a frame (empty: none).
+  std::function<Image(const Scene&, const FrameOptions&, FrameStats*)> render;
+  // Empty, or starts a run keeping its state across cases (pairs/ray_cast.h
+  // CasterFns::session: the embree row's device); with_session() uses it.
+  CasterRun (*session)() = nullptr;
 };
+
+// The subject on a run of its own (its session's trace and render) when it
+// has a session, else itself: the properties call this once per subject, so
+// that a property binary makes one Embree device per embree row, not one per case.
+Subject with_session(const Subject& s);
 
 // Every (row, implementation) of pairs/ray_cast.h, the reference of each row first.
 const std::vector<Subject>& all_subjects();
