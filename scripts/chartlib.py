@@ -20,3 +20,14 @@ def markdown_table(cols, body):
     out = ["| " + " | ".join(cols) + " |", "|---|---|" + "---:|" * (len(cols) - 2)]
     out += ["| " + " | ".join(r) + " |" for r in body]
     return "\n".join(out)
+
+
+def write_table(doc, path):
+    """A lockstep-table/1 document to path, through path.tmp and a rename (never half written)."""
+    import json
+
+    tmp = path + ".tmp"
+    with open(tmp, "w") as fh:
+        json.dump(doc, fh, indent=1)
+        fh.write("\n")
+    os.replace(tmp, path)

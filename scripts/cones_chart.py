@@ -128,11 +128,7 @@ def write_json(size, rows, path):
         "columns": cols,
         "rows": body,
     }
-    tmp = path + ".tmp"
-    with open(tmp, "w") as fh:
-        json.dump(doc, fh, indent=1)
-        fh.write("\n")
-    os.replace(tmp, path)
+    chartlib.write_table(doc, path)
 
 
 def main():

@@ -14,6 +14,9 @@ import json
 import os
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import chartlib  # noqa: E402
+
 COMMAND = ("ninja -C build lockstep_embree_raw && for s in balls-1 balls-3 balls-5; do ./build/lockstep_embree_raw "
            "--reps 7 --clock cpu ../shared/spd/$s.nff; done > bench/results/embree_raw.csv && python3 scripts/embree_raw_table.py "
            "bench/results/embree_raw.csv bench/results/embree_raw.json")
@@ -89,11 +92,7 @@ def main():
                     "one-shot ms", "one-shot / warm", "device_ms"],
         "rows": rows,
     }
-    tmp = sys.argv[2] + ".tmp"
-    with open(tmp, "w") as fh:
-        json.dump(doc, fh, indent=1)
-        fh.write("\n")
-    os.replace(tmp, sys.argv[2])
+    chartlib.write_table(doc, sys.argv[2])
 
 
 if __name__ == "__main__":

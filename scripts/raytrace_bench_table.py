@@ -19,6 +19,7 @@ import re
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import chartlib  # noqa: E402
 import charts  # noqa: E402
 
 COMMAND = ("./build/bench/lockstep_bench --benchmark_filter='^frame/raytrace/' --benchmark_out=bench/results/raytrace.json "
@@ -82,11 +83,7 @@ def main():
                     "embree / reference (1T)", "mix"],
         "rows": body,
     }
-    tmp = sys.argv[2] + ".tmp"
-    with open(tmp, "w") as fh:
-        json.dump(doc, fh, indent=1)
-        fh.write("\n")
-    os.replace(tmp, sys.argv[2])
+    chartlib.write_table(doc, sys.argv[2])
 
 
 if __name__ == "__main__":

@@ -122,11 +122,7 @@ def write_json(rows, path):
              "met": every_d_fails},
         ],
     }
-    tmp = path + ".tmp"
-    with open(tmp, "w") as fh:
-        json.dump(doc, fh, indent=1)
-        fh.write("\n")
-    os.replace(tmp, path)
+    chartlib.write_table(doc, path)
 
 
 def main():

@@ -102,11 +102,7 @@ def main():
         "columns": cols,
         "rows": body,
     }
-    tmp = json_out + ".tmp"
-    with open(tmp, "w") as fh:
-        json.dump(doc, fh, indent=1)
-        fh.write("\n")
-    os.replace(tmp, json_out)
+    chartlib.write_table(doc, json_out)
 
     dat = os.path.join(out, "raytrace_depth.dat")
     floor = 1e-4

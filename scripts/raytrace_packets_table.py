@@ -20,6 +20,9 @@ import re
 import statistics
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import chartlib  # noqa: E402
+
 COMMAND = "bash scripts/raytrace_packets_ab.sh SINGLE_BENCH STREAM_BENCH 7"
 
 
@@ -99,11 +102,7 @@ def main():
                     "single wall ms", "stream wall ms", "wall ratio", "stream rays/s (wall)"],
         "rows": body,
     }
-    tmp = sys.argv[2] + ".tmp"
-    with open(tmp, "w") as fh:
-        json.dump(doc, fh, indent=1)
-        fh.write("\n")
-    os.replace(tmp, sys.argv[2])
+    chartlib.write_table(doc, sys.argv[2])
 
 
 if __name__ == "__main__":

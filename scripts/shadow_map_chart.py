@@ -146,11 +146,7 @@ def write_json(rows, path):
         ],
     }
     del size
-    tmp = path + ".tmp"
-    with open(tmp, "w") as fh:
-        json.dump(doc, fh, indent=1)
-        fh.write("\n")
-    os.replace(tmp, path)
+    chartlib.write_table(doc, path)
 
 
 def main():

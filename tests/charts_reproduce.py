@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The chart scripts reproduce the tables committed in bench/results/ from the
+"""The chart and table scripts reproduce the tables committed in bench/results/ from the
 study outputs committed beside them (same columns, same rows): a script that
 no longer reads its CSV, or reads it differently, fails here rather than on
 the next re-measurement. Charts go to a scratch directory (gnuplot).
@@ -11,11 +11,14 @@ import os
 import subprocess
 import sys
 
-CASES = [  # script, study output, the table it wrote
-    ("raytrace_chart.py", "raytrace_acne.csv", "raytrace_acne.json"),
-    ("raytrace_depth_chart.py", "raytrace_depth.csv", "raytrace_depth.json"),
-    ("shadow_map_chart.py", "shadow_map.csv", "shadow_map.json"),
-    ("cones_chart.py", "cones_tess.csv", "cones_tess.json"),
+CASES = [  # script, study output, the table it wrote, whether it draws a chart (OUT_DIR argument)
+    ("raytrace_chart.py", "raytrace_acne.csv", "raytrace_acne.json", True),
+    ("raytrace_depth_chart.py", "raytrace_depth.csv", "raytrace_depth.json", True),
+    ("shadow_map_chart.py", "shadow_map.csv", "shadow_map.json", True),
+    ("cones_chart.py", "cones_tess.csv", "cones_tess.json", True),
+    ("embree_raw_table.py", "embree_raw.csv", "embree_raw.json", False),
+    ("raytrace_bench_table.py", "raytrace.json", "raytrace_rates.json", False),
+    ("shadows_bench_table.py", "shadows_bench.json", "shadows.json", False),
 ]
 
 
@@ -23,10 +26,11 @@ def main():
     src, scratch = sys.argv[1], sys.argv[2]
     os.makedirs(scratch, exist_ok=True)
     failed = 0
-    for script, csv, table in CASES:
+    for script, csv, table, chart in CASES:
         out = os.path.join(scratch, table)
-        r = subprocess.run([sys.executable, os.path.join(src, "scripts", script), os.path.join(src, "bench/results", csv),
-                            scratch, out], capture_output=True, text=True, cwd=src)
+        args = [os.path.join(src, "bench/results", csv)] + ([scratch] if chart else []) + [out]
+        r = subprocess.run([sys.executable, os.path.join(src, "scripts", script), *args], capture_output=True, text=True,
+                           cwd=src)
         if r.returncode != 0:
             print(f"FAIL {script}: exit {r.returncode}\n{r.stderr[-2000:]}")
             failed += 1
