@@ -15,4 +15,6 @@ Image trace_render_with(const Scene& scene, const FrameOptions& opts, FrameStats
                         const Device& device);
 Vec3 trace_pixel(const Scene& scene, const TraceSettings& settings, int width, int height, int x,
                  int y, RayTree* tree);
+Vec3 trace_pixel_with(const Scene& scene, const TraceSettings& settings, int width, int height,
+                      int x, int y, RayTree* tree, const Device& device);
 }  // namespace lockstep::opt::embree

@@ -352,8 +352,13 @@ std::unique_ptr<EmbreeScene> build(const Scene& scene, const Camera& cam, int th
 
 Vec3 trace_pixel(const Scene& scene, const TraceSettings& settings, int width, int height, int x,
                  int y, RayTree* tree) {
+  return trace_pixel_with(scene, settings, width, height, x, y, tree, Device());
+}
+
+Vec3 trace_pixel_with(const Scene& scene, const TraceSettings& settings, int width, int height,
+                      int x, int y, RayTree* tree, const Device& device) {
   const Camera cam = Camera::from_view(scene.view, width, height);
-  const auto es = build(scene, cam, 1);
+  const auto es = build(scene, cam, 1, device);
   const TraceSettings s = resolved(settings);
   Tracer tracer(scene, *es, s, tree);
   const Vec3 c = tracer.pixel(cam, x, y);

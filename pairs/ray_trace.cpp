@@ -1,6 +1,7 @@
 // lockstep pairs: the ray-tracing family's rows (see pairs/ray_trace.h).
 #include "pairs/ray_trace.h"
 
+#include <memory>
 #include <string>
 
 #include "core/output_image.h"
@@ -26,6 +27,23 @@ namespace {
 constexpr double kColorAbs = 1.0 / 255;
 constexpr double kPixelFraction = 0.999;
 
+// The embree row for a whole run: one device, made at the first call.
+TracerRun embree_session() {
+  auto device = std::make_shared<opt::embree::Device>();
+  auto ready = [device] {
+    if (!device->handle) *device = opt::embree::Device::create();
+    return *device;
+  };
+  TracerRun run;
+  run.render = [ready](const Scene& s, const FrameOptions& o, FrameStats* stats) {
+    return opt::embree::trace_render_with(s, o, stats, ready());
+  };
+  run.pixel = [ready](const Scene& s, const TraceSettings& t, int w, int h, int x, int y, RayTree* tree) {
+    return opt::embree::trace_pixel_with(s, t, w, h, x, y, tree, ready());
+  };
+  return run;
+}
+
 constexpr Impl<TracerFns> kImpls[] = {
     {"reference", {ref::trace_render, ref::trace_pixel}, 0},
     // Pixels whose ray trees diverge where a decision sits within rounding:
@@ -35,7 +53,7 @@ constexpr Impl<TracerFns> kImpls[] = {
     // Agree). Measured: 125, 143, 122 and 137 of 5.12M pixels (0.0024-0.0028%;
     // four seeds of 20000 random 16x16 scenes); the cap is 0.004% of pixels.
     {"embree",
-     {opt::embree::trace_render, opt::embree::trace_pixel},
+     {opt::embree::trace_render, opt::embree::trace_pixel, embree_session},
      0,
      0,
      {"diverge", 4e-5, "pixel"}},
@@ -78,6 +96,11 @@ std::vector<BenchInput> bench_frames() {
 
 const KernelRow<TracerFns>& ray_trace_row() { return kRow; }
 
+TracerRun start_run(const TracerFns& fn) {
+  if (fn.session) return fn.session();
+  return {fn.render, fn.pixel};
+}
+
 Family ray_trace_family() {
   Family f;
   f.name = "raytrace";
@@ -104,20 +127,20 @@ Family ray_trace_family() {
   }
   // The benchmarks keep one Embree device across frames, as an application
   // does (optimized/embree_scene.h Device): a session owns it.
-  for (FamilyImpl& impl : f.impls)
-    if (impl.name == "embree")
-      impl.session = [](const Input&, const FrameOptions&) {
-        auto device = std::make_shared<opt::embree::Device>();
-        return [device](const Input& in, const FrameOptions& o, FrameStats* stats) {
-          if (!device->handle)
-            *device = opt::embree::Device::create();  // the session's first frame
-          return make_output<Image>(
-              opt::embree::trace_render_with(input_as<Scene>(in), o, stats, *device));
-        };
-      };
-  // That session serves any scene: verify keeps one for the whole run.
-  for (FamilyImpl& impl : f.impls)
-    if (impl.name == "embree") impl.session_any_input = true;
+  // (The device is made at the session's first frame.) That session serves any
+  // scene: verify keeps one for the whole run.
+  for (const auto& i : kRow.impls)
+    if (i.fn.session)
+      for (FamilyImpl& impl : f.impls)
+        if (impl.name == i.name) {
+          impl.session = [start = i.fn.session](const Input&, const FrameOptions&) {
+            auto run = std::make_shared<const TracerRun>(start());
+            return [run](const Input& in, const FrameOptions& o, FrameStats* stats) {
+              return make_output<Image>(run->render(input_as<Scene>(in), o, stats));
+            };
+          };
+          impl.session_any_input = true;
+        }
   f.bench = bench_frames;
   f.properties = {"laws", "slab", "tir", "weights", "hidden", "agree", "pixel"};
   f.params = trace_params();

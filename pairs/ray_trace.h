@@ -7,15 +7,30 @@
 // through pairs/registry.h.
 #pragma once
 
+#include <functional>
+
 #include "core/family.h"
 #include "core/ray_trace.h"
 
 namespace lockstep {
 
+// A tracer's frame and one-pixel ray tree for a whole run of many scenes (the
+// properties' cases), sharing what they keep (the embree row: one Embree device).
+struct TracerRun {
+  std::function<Image(const Scene&, const FrameOptions&, FrameStats*)> render;
+  std::function<Vec3(const Scene&, const TraceSettings&, int, int, int, int, RayTree*)> pixel;
+};
+
 struct TracerFns {
   TraceRenderFn render;
   TracePixelFn pixel;
+  // Empty, or starts a run that keeps its state across calls (the embree row's
+  // device, made at its first call); the family's FamilyImpl::session is the same.
+  TracerRun (*session)() = nullptr;
 };
+
+// fn's session when it has one, else its functions as they are.
+TracerRun start_run(const TracerFns& fn);
 
 const KernelRow<TracerFns>& ray_trace_row();
 Family ray_trace_family();

@@ -357,7 +357,7 @@ double pixel_err(const Image& a, const Image& b, int x, int y) {
   return e;
 }
 
-Image render(const TracerFns& fn, const TraceCase& c, bool with_hidden = false) {
+Image render(const TracerRun& fn, const TraceCase& c, bool with_hidden = false) {
   FrameOptions o;
   o.width = c.width;
   o.height = c.height;
@@ -366,7 +366,7 @@ Image render(const TracerFns& fn, const TraceCase& c, bool with_hidden = false) 
   return fn.render(scene_of(c, with_hidden), o, nullptr);
 }
 
-RayTree tree_of(const TracerFns& fn, const Scene& scene, const TraceCase& c, int x, int y) {
+RayTree tree_of(const TracerRun& fn, const Scene& scene, const TraceCase& c, int x, int y) {
   RayTree t;
   fn.pixel(scene, trace_settings(params_of(c)), c.width, c.height, x, y, &t);
   return t;
@@ -481,7 +481,7 @@ Verdict check_laws(const LawCase& c) {
 }
 
 // Slab: the leaving ray (the refract node at depth 3) is parallel to the primary.
-Verdict check_slab(const TracerFns& fn, const TraceCase& c) {
+Verdict check_slab(const TracerRun& fn, const TraceCase& c) {
   Verdict v;
   Outcome o;
   const Scene scene = scene_of(c);
@@ -509,7 +509,7 @@ Verdict check_slab(const TracerFns& fn, const TraceCase& c) {
 }
 
 // TIR: the first refract node's tir flag, the reference's, and the oracle's.
-Verdict check_tir(const TracerFns& ref, const TracerFns& fn, const TraceCase& c) {
+Verdict check_tir(const TracerRun& ref, const TracerRun& fn, const TraceCase& c) {
   Verdict v;
   Outcome o;
   const Scene scene = scene_of(c);
@@ -553,7 +553,7 @@ Verdict check_tir(const TracerFns& ref, const TracerFns& fn, const TraceCase& c)
 }
 
 // Weights: <= 1 and <= the parent's, along every path of 8 pixels' trees.
-Verdict check_weights(const TracerFns& fn, const TraceCase& c) {
+Verdict check_weights(const TracerRun& fn, const TraceCase& c) {
   Verdict v;
   const Scene scene = scene_of(c);
   for (int k = 0; k < 8; ++k) {
@@ -577,7 +577,7 @@ Verdict check_weights(const TracerFns& fn, const TraceCase& c) {
 }
 
 // Hidden: the frames with and without the objects behind the wall are equal.
-Verdict check_hidden(const TracerFns& fn, const TraceCase& c0) {
+Verdict check_hidden(const TracerRun& fn, const TraceCase& c0) {
   TraceCase c = c0;
   c.nff = lights_to_eye_side(c.nff);
   const Image a = render(fn, c, false), b = render(fn, c, true);
@@ -658,7 +658,7 @@ bool float_tie(const Scene& scene, const RayNode& n) {
 }
 
 // Pixel: the frame's pixel equals the one-pixel computation's colour, bit for bit.
-Verdict check_pixel(const TracerFns& fn, const TraceCase& c) {
+Verdict check_pixel(const TracerRun& fn, const TraceCase& c) {
   const Scene scene = scene_of(c);
   const Image frame = render(fn, c);
   Verdict v;
@@ -759,7 +759,7 @@ std::string classify(const Scene& scene, const RayTree& ra, const RayTree& tb,
   return grazing_light(scene, ra.nodes[size_t(na.parent)], shadow->light) ? known : "";
 }
 
-Verdict check_agree(const TracerFns& ref, const TracerFns& fn, const std::string& known,
+Verdict check_agree(const TracerRun& ref, const TracerRun& fn, const std::string& known,
                     const TraceCase& c) {
   const Scene scene = scene_of(c);
   const Image a = render(ref, c), b = render(fn, c);
@@ -827,7 +827,9 @@ Property property(const Family& f, std::string_view impl, std::string suite, std
 FamilyProperties properties(const Family& family) {
   FamilyProperties out;
   const KernelRow<TracerFns>& row = ray_trace_row();
-  const TracerFns ref = row.impls.front().fn;
+  // Each row's run, shared by its properties (the embree row: one device for
+  // the whole process, released with the properties).
+  const auto ref_run = std::make_shared<const TracerRun>(start_run(row.impls.front().fn));
   if (family.has_property("laws")) {
     Property p = property<LawCase>(family, "reference", "Laws", "laws", "directions", gen_laws(),
                                    1e-14, check_laws, write_law, read_law, "cases");
@@ -835,35 +837,36 @@ FamilyProperties properties(const Family& family) {
     out.properties.push_back(std::move(p));
   }
   for (const Impl<TracerFns>& impl : row.impls) {
-    const TracerFns fn = impl.fn;
+    const auto fn_run =
+        &impl == &row.impls.front() ? ref_run : std::make_shared<const TracerRun>(start_run(impl.fn));
     const std::string name(impl.name);
     if (family.has_property("slab"))
       out.properties.push_back(property<TraceCase>(
           family, impl.name, "Slab", "slab", "glass_slab", gen_slab(), 1e-13,
-          [fn](const TraceCase& c) { return check_slab(fn, c); }, write_case, read_case, "cases"));
+          [fn_run](const TraceCase& c) { return check_slab(*fn_run, c); }, write_case, read_case, "cases"));
     if (family.has_property("tir"))
       out.properties.push_back(property<TraceCase>(
           family, impl.name, "Tir", "tir", "critical_angle", gen_tir(), 0,
-          [ref, fn](const TraceCase& c) { return check_tir(ref, fn, c); }, write_case, read_case,
+          [ref_run, fn_run](const TraceCase& c) { return check_tir(*ref_run, *fn_run, c); }, write_case, read_case,
           "cases"));
     if (family.has_property("weights"))
       out.properties.push_back(property<TraceCase>(
           family, impl.name, "Weights", "weights", "scenes", gen_scene(16), 1,
-          [fn](const TraceCase& c) { return check_weights(fn, c); }, write_case, read_case,
+          [fn_run](const TraceCase& c) { return check_weights(*fn_run, c); }, write_case, read_case,
           "rays"));
     if (family.has_property("hidden"))
       out.properties.push_back(property<TraceCase>(
           family, impl.name, "Hidden", "hidden", "behind_wall", gen_hidden(), 0,
-          [fn](const TraceCase& c) { return check_hidden(fn, c); }, write_case, read_case));
+          [fn_run](const TraceCase& c) { return check_hidden(*fn_run, c); }, write_case, read_case));
     if (family.has_property("pixel"))
       out.properties.push_back(property<TraceCase>(
           family, impl.name, "Pixel", "pixel", "scenes", gen_scene(16), 0,
-          [fn](const TraceCase& c) { return check_pixel(fn, c); }, write_case, read_case));
+          [fn_run](const TraceCase& c) { return check_pixel(*fn_run, c); }, write_case, read_case));
     if (family.has_property("agree") && &impl != &row.impls.front()) {
       const std::string known = known_label(name, impl.known);
       Property p = property<TraceCase>(
           family, impl.name, "Agree", "agree", "scenes", gen_scene(16), family.tol.abs,
-          [ref, fn, known](const TraceCase& c) { return check_agree(ref, fn, known, c); },
+          [ref_run, fn_run, known](const TraceCase& c) { return check_agree(*ref_run, *fn_run, known, c); },
           write_case, read_case);
       p.known = impl.known;
       out.properties.push_back(std::move(p));
