@@ -14,6 +14,9 @@
 //        pixels, RTC_INTERSECT_CONTEXT_FLAG_COHERENT) through rtcIntersect8,
 //        and one at a time through rtcIntersect1; no shading: the hit's geomID
 //        is summed so that nothing is optimized away;
+//   raw robust: the same with RTC_SCENE_FLAG_ROBUST, which the row sets on any
+//        scene with triangles (watertight shared edges, a property the row is
+//        tested for; optimized/embree_scene.cpp): raw Embree doing the row's job;
 //   row: opt::embree::render_unshaded (optimized/ray_cast.h: the ray_cast
 //        embree row's own traversal, hits refined as it does, shading off; its
 //        BVH build timed inside, FrameStats::build_seconds) and the shaded
@@ -80,9 +83,10 @@ struct Raw {
 };
 
 // The spheres in the eye's frame (world minus the eye, in double, then float).
-void raw_build(Raw& r, const Scene& s, const Camera& cam) {
+void raw_build(Raw& r, const Scene& s, const Camera& cam, bool robust) {
   if (r.scene) rtcReleaseScene(r.scene);
   r.scene = rtcNewScene(r.device);
+  if (robust) rtcSetSceneFlags(r.scene, RTC_SCENE_FLAG_ROBUST);
   RTCGeometry g = rtcNewGeometry(r.device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
   const unsigned n = s.sphere_count();
   auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0,
@@ -190,7 +194,7 @@ int main(int argc, char** argv) {
     try {
       std::printf(
           "scene,spheres,size,device_ms,first_ms,raw_build_ms,row_build_ms,raw8_mrays,raw1_mrays,"
-          "row_unshaded_mrays,row_shaded_ms,row_shaded_mrays\n");
+          "row_unshaded_mrays,row_shaded_ms,row_shaded_mrays,raw8_robust_mrays\n");
       // The one-shot cost: the first render of the process, its device included.
       std::vector<double> first(scenes.size());
       {
@@ -215,12 +219,12 @@ int main(int argc, char** argv) {
         FrameOptions o;
         o.width = o.height = size;
         o.threads = 1;
-        Raw raw;
-        raw.device = device.handle;
-        std::vector<double> rb, r8, r1, bb, ru, rs;
+        Raw raw, robust;
+        raw.device = robust.device = device.handle;
+        std::vector<double> rb, r8, r1, bb, ru, rs, r8r;
         uint64_t sum = 0;
         for (int r = 0; r < reps; ++r) {
-          raw_build(raw, s, cam);
+          raw_build(raw, s, cam, false);
           rb.push_back(raw.build_ms);
           r8.push_back(raw_trace(raw, cam, size, true, clock, sum));
           r1.push_back(raw_trace(raw, cam, size, false, clock, sum));
@@ -233,13 +237,15 @@ int main(int argc, char** argv) {
           const double shaded_start = clock.now();
           opt::embree::render_with(s, o, &st, device);
           rs.push_back(1e3 * (clock.now() - shaded_start));
+          raw_build(robust, s, cam, true);
+          r8r.push_back(raw_trace(robust, cam, size, true, clock, sum));
         }
         const double rays = double(size) * size;
-        std::printf("%s,%u,%d,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f\n",
+        std::printf("%s,%u,%d,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f\n",
                     scenes[si].substr(scenes[si].find_last_of('/') + 1).c_str(), s.sphere_count(),
                     size, median(device_ms), si == 0 ? first[0] : NAN, median(rb), median(bb),
                     rays / median(r8) / 1e3, rays / median(r1) / 1e3, rays / median(ru) / 1e3,
-                    median(rs), rays / median(rs) / 1e3);
+                    median(rs), rays / median(rs) / 1e3, rays / median(r8r) / 1e3);
         std::fflush(stdout);
         if (sum == 42) std::printf("#\n");
       }
