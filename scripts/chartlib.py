@@ -2,6 +2,8 @@
 Markdown table they print beside the lockstep-table/1 JSON they write."""
 import os
 import platform
+import re
+import sys
 
 
 def machine():
@@ -31,3 +33,39 @@ def write_table(doc, path):
         json.dump(doc, fh, indent=1)
         fh.write("\n")
     os.replace(tmp, path)
+
+
+def load_csv(path, convert):
+    """The rows of a study's CSV, each passed through convert(dict of header -> cell).
+    The header is the first line that is neither blank nor a '#' comment; blank
+    lines, comments and repeated headers (one tool run per scene, appended) are
+    skipped. A row of the wrong width, or one convert rejects (KeyError,
+    ValueError), exits naming the file and line."""
+    head, rows = None, []
+    with open(path) as fh:
+        for n, line in enumerate(fh, 1):
+            line = line.strip()
+            if not line or line.startswith("#"):
+                continue
+            cells = line.split(",")
+            if head is None or cells == head:
+                head = cells
+                continue
+            if len(cells) != len(head):
+                sys.exit(f"{path}:{n}: {len(cells)} cells, the header has {len(head)}")
+            try:
+                rows.append(convert(dict(zip(head, cells))))
+            except (KeyError, ValueError) as e:
+                sys.exit(f"{path}:{n}: bad row ({e!r})")
+    return rows
+
+
+def bench_keys(rows, pattern, key):
+    """The distinct keys, in first-seen order, of the Google Benchmark names that
+    fully match pattern: key(match) for each (e.g. (scene, depth))."""
+    keys = []
+    for name in rows:
+        m = re.fullmatch(pattern, name)
+        if m and key(m) not in keys:
+            keys.append(key(m))
+    return keys

@@ -18,7 +18,6 @@ Writes JSON_OUT (a lockstep-table/1 file that BENCHMARKS.md renders) when
 given, through JSON_OUT.tmp and a rename; prints the markdown table.
 """
 import datetime
-import json
 import os
 import subprocess
 import sys
@@ -157,7 +156,7 @@ def main():
             f.write("\n\n")
     os.replace(dat + ".tmp", dat)
     colors = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd"]
-    left, right, lines = [], [], []
+    left, right = [], []
     for k, s in enumerate(scenes):
         c = colors[k % len(colors)]
         left.append(f"'{dat}' index {2 * k} using 1:4 with linespoints lc rgb '{c}' pt 7 title '{s}: cone silhouette px'")

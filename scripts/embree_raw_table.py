@@ -12,7 +12,6 @@ median of each figure over its runs.
 Written through JSON_OUT.tmp and a rename.
 """
 import datetime
-import json
 import os
 import statistics
 import sys
@@ -28,22 +27,7 @@ COMMAND = ("ninja -C build lockstep_embree_raw && for run in 1 2 3; do for s in 
 def main():
     if len(sys.argv) != 3:
         sys.exit(__doc__)
-    head, recs = None, []
-    with open(sys.argv[1]) as fh:
-        for n, line in enumerate(fh, 1):
-            line = line.strip()
-            if not line:
-                continue
-            if line.startswith("scene,"):
-                head = line.split(",")
-                continue
-            if head is None:
-                sys.exit(f"{sys.argv[1]}:{n}: a row before the header")
-            r = dict(zip(head, line.split(",")))
-            try:
-                recs.append({k: (v if k == "scene" else float(v)) for k, v in r.items()})
-            except ValueError as e:
-                sys.exit(f"{sys.argv[1]}:{n}: {e}")
+    recs = chartlib.load_csv(sys.argv[1], lambda r: {k: (v if k == "scene" else float(v)) for k, v in r.items()})
     runs = {}
     for r in recs:
         runs.setdefault(r["scene"], []).append(r)

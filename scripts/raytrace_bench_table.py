@@ -13,9 +13,7 @@ re-run on their own and spliced in) is appended to the note. Written through
 JSON_OUT.tmp and a rename.
 """
 import datetime
-import json
 import os
-import re
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -37,11 +35,8 @@ def main():
         sys.exit(__doc__)
     ctx, rows = charts.load(sys.argv[1])
     rows = dict(rows)
-    keys = []
-    for n in rows:
-        m = re.fullmatch(r"frame/raytrace/([^/]+)/depth([0-9]+)/([^/]+)/threads:([0-9]+)", n)
-        if m and (m.group(1), int(m.group(2))) not in keys:
-            keys.append((m.group(1), int(m.group(2))))
+    keys = chartlib.bench_keys(rows, r"frame/raytrace/([^/]+)/depth([0-9]+)/([^/]+)/threads:([0-9]+)",
+                               lambda m: (m.group(1), int(m.group(2))))
     order = ["balls-3", "balls-4", "balls-5", "shells-1", "tetra-3", "mount-3", "gears-2"]
     keys.sort(key=lambda k: (order.index(k[0]) if k[0] in order else 99, k[0], k[1]))
     body = []

@@ -17,7 +17,6 @@ Writes JSON_OUT (a lockstep-table/1 file that BENCHMARKS.md renders) when
 given, through JSON_OUT.tmp and a rename; prints the markdown table.
 """
 import datetime
-import json
 import os
 import subprocess
 import sys
@@ -30,16 +29,10 @@ COMMAND = ("./build/props/lockstep_raytrace_study > bench/results/raytrace_acne.
 
 
 def load(csv):
-    rows = []
-    with open(csv) as fh:
-        head = fh.readline().strip().split(",")
-        for line in fh:
-            if line.strip():
-                r = dict(zip(head, line.strip().split(",")))
-                rows.append(dict(impl=r["impl"], offset=r["offset"], eps=float(r["eps"]) if r["eps"] else 0.0,
-                                 d=float(r["distance"]), n=int(r["samples"]), shadowed=int(r["shadowed"]),
-                                 acne=int(r["acne"]), leak=int(r["leak"]), wrong=float(r["wrong_fraction"])))
-    return rows
+    return chartlib.load_csv(csv, lambda r: dict(
+        impl=r["impl"], offset=r["offset"], eps=float(r["eps"]) if r["eps"] else 0.0, d=float(r["distance"]),
+        n=int(r["samples"]), shadowed=int(r["shadowed"]), acne=int(r["acne"]), leak=int(r["leak"]),
+        wrong=float(r["wrong_fraction"])))
 
 
 def cell(r):

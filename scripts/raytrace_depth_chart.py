@@ -30,20 +30,9 @@ COMMAND = ("ninja -C build lockstep_raytrace_depth && ./build/lockstep_raytrace_
 
 
 def load(path):
-    rows = []
-    with open(path) as fh:
-        head = fh.readline().strip().split(",")
-        for n, line in enumerate(fh, 2):
-            if not line.strip():
-                continue
-            r = dict(zip(head, line.strip().split(",")))
-            try:
-                rows.append(dict(scene=r["scene"], depth=int(r["depth"]), size=int(r["size"]), ms=float(r["ms"]),
-                                 rays=int(r["rays"]), off=int(r["vs_answer"]), changed=int(r["vs_prev"]),
-                                 pixels=int(r["pixels"])))
-            except (KeyError, ValueError) as e:
-                sys.exit(f"{path}:{n}: bad row ({e})")
-    return rows
+    return chartlib.load_csv(path, lambda r: dict(
+        scene=r["scene"], depth=int(r["depth"]), size=int(r["size"]), ms=float(r["ms"]), rays=int(r["rays"]),
+        off=int(r["vs_answer"]), changed=int(r["vs_prev"]), pixels=int(r["pixels"])))
 
 
 def pct(n, total):

@@ -16,7 +16,6 @@ rasterization section) when given, through JSON_OUT.tmp and a rename; prints
 the markdown table.
 """
 import datetime
-import json
 import os
 import subprocess
 import sys
@@ -29,17 +28,10 @@ COMMAND = ("./build/props/lockstep_shadow_study > bench/results/shadow_map.csv &
 
 
 def load(csv):
-    rows = []
-    with open(csv) as fh:
-        head = fh.readline().strip().split(",")
-        for line in fh:
-            if line.strip():
-                r = dict(zip(head, line.strip().split(",")))
-                rows.append(dict(scene=r["scene"], n=int(r["map_size"]), kind=r["kind"], bias=float(r["bias"]),
-                                 slope=float(r["slope_bias"]), pcf=int(r["pcf"]), compared=int(r["compared"]),
-                                 shadowed=int(r["shadowed"]), acne=int(r["acne"]), leak=int(r["leak"]),
-                                 wrong=float(r["wrong_fraction"]), ms=float(r["ms"]), ms_none=float(r["ms_none"])))
-    return rows
+    return chartlib.load_csv(csv, lambda r: dict(
+        scene=r["scene"], n=int(r["map_size"]), kind=r["kind"], bias=float(r["bias"]), slope=float(r["slope_bias"]),
+        pcf=int(r["pcf"]), compared=int(r["compared"]), shadowed=int(r["shadowed"]), acne=int(r["acne"]),
+        leak=int(r["leak"]), wrong=float(r["wrong_fraction"]), ms=float(r["ms"]), ms_none=float(r["ms_none"])))
 
 
 def setting(r):

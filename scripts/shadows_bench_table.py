@@ -11,9 +11,7 @@ threads, and reference / simd on one thread. Written through JSON_OUT.tmp and
 a rename.
 """
 import datetime
-import json
 import os
-import re
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -31,11 +29,8 @@ def main():
         sys.exit(__doc__)
     ctx, rows = charts.load(sys.argv[1])
     rows = dict(rows)
-    keys = []
-    for n in rows:
-        m = re.fullmatch(r"frame/zbuffer/([^/]+)/phong-shadows-([a-z]+)/([^/]+)/threads:([0-9]+)", n)
-        if m and (m.group(1), m.group(2)) not in keys:
-            keys.append((m.group(1), m.group(2)))
+    keys = chartlib.bench_keys(rows, r"frame/zbuffer/([^/]+)/phong-shadows-([a-z]+)/([^/]+)/threads:([0-9]+)",
+                               lambda m: (m.group(1), m.group(2)))
     keys.sort()
     body = []
     for scene, kind in keys:
