@@ -69,7 +69,6 @@ void cone_intersect(const RTCIntersectFunctionNArguments* args) {
   const unsigned n = args->N, prim = args->primID;
   const ConeShape& c = data.shape[prim];
   RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, n);
-  RTCHitN* hit = RTCRayHitN_HitN(args->rayhit, n);
   for (unsigned i = 0; i < n; ++i) {
     double t;
     if (!args->valid[i] || !cone_hit(c, data.solid, ray, n, i, t)) continue;
@@ -85,15 +84,7 @@ void cone_intersect(const RTCIntersectFunctionNArguments* args) {
     const Vec3 w = p - c.base;
     const double s = dot(w, u);
     const Vec3 g = (w - s * u) - (c.r0 + k * s) * k * u;
-    RTCRayN_tfar(ray, n, i) = float(t);
-    RTCHitN_Ng_x(hit, n, i) = float(g.x);
-    RTCHitN_Ng_y(hit, n, i) = float(g.y);
-    RTCHitN_Ng_z(hit, n, i) = float(g.z);
-    RTCHitN_u(hit, n, i) = 0;
-    RTCHitN_v(hit, n, i) = 0;
-    RTCHitN_primID(hit, n, i) = prim;
-    RTCHitN_geomID(hit, n, i) = kConeGeom;
-    RTCHitN_instID(hit, n, i, 0) = args->context->instID[0];
+    record_user_hit(args, i, float(t), g, kConeGeom);
   }
 }
 
@@ -114,16 +105,8 @@ void attach_cones(EmbreeScene& es, const Scene& scene, const BuildOptions& optio
   if (scene.cone_count() == 0) return;
   es.cones.solid = options.solid_spheres;  // ray tracing: cones are solids too (core/ray_trace.h)
   es.cones.shape = cone_shapes(scene, [&](const Vec3& p) { return es.frame.point(p); });
-  RTCGeometry g = rtcNewGeometry(es.device.handle, RTC_GEOMETRY_TYPE_USER);
-  rtcSetGeometryUserPrimitiveCount(g, scene.cone_count());
-  rtcSetGeometryUserData(g, &es.cones);
-  rtcSetGeometryBoundsFunction(g, cone_bounds, nullptr);
-  rtcSetGeometryIntersectFunction(g, cone_intersect);
-  rtcSetGeometryOccludedFunction(g, cone_occluded);
-  rtcCommitGeometry(g);
-  rtcAttachGeometryByID(es.scene, g, kConeGeom);
-  rtcReleaseGeometry(g);  // the scene keeps its own reference
-  es.device.check("cones");
+  attach_user_geometry(es, scene.cone_count(), &es.cones, cone_bounds, cone_intersect, cone_occluded, kConeGeom,
+                       "cones");
 }
 
 }  // namespace lockstep::opt::embree

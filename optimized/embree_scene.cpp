@@ -179,20 +179,10 @@ void far_sphere_intersect(const RTCIntersectFunctionNArguments* args) {
   const auto& data = *static_cast<const FarSphereData*>(args->geometryUserPtr);
   const unsigned n = args->N, prim = args->primID;
   RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, n);
-  RTCHitN* hit = RTCRayHitN_HitN(args->rayhit, n);
   for (unsigned i = 0; i < n; ++i) {
     float tf;
     Vec3 p;
-    if (!args->valid[i] || !far_sphere_hit(data, prim, ray, n, i, tf, p)) continue;
-    RTCRayN_tfar(ray, n, i) = tf;
-    RTCHitN_Ng_x(hit, n, i) = float(p.x);
-    RTCHitN_Ng_y(hit, n, i) = float(p.y);
-    RTCHitN_Ng_z(hit, n, i) = float(p.z);
-    RTCHitN_u(hit, n, i) = 0;
-    RTCHitN_v(hit, n, i) = 0;
-    RTCHitN_primID(hit, n, i) = prim;
-    RTCHitN_geomID(hit, n, i) = kFarSphereGeom;
-    RTCHitN_instID(hit, n, i, 0) = args->context->instID[0];
+    if (args->valid[i] && far_sphere_hit(data, prim, ray, n, i, tf, p)) record_user_hit(args, i, tf, p, kFarSphereGeom);
   }
 }
 
@@ -286,17 +276,9 @@ void attach_spheres(EmbreeScene& es, const Scene& scene, const BuildOptions& opt
   }
   attach_point_spheres(es, scene, filtered, es.spheres, kSphereGeom, true);
   attach_point_spheres(es, scene, plain, es.plain_spheres, kPlainSphereGeom, false);
-  if (!es.far_spheres.index.empty()) {
-    Geometry g(es.device.handle, RTC_GEOMETRY_TYPE_USER);
-    rtcSetGeometryUserPrimitiveCount(g.handle, unsigned(es.far_spheres.index.size()));
-    rtcSetGeometryUserData(g.handle, &es.far_spheres);
-    rtcSetGeometryBoundsFunction(g.handle, far_sphere_bounds, nullptr);
-    rtcSetGeometryIntersectFunction(g.handle, far_sphere_intersect);
-    rtcSetGeometryOccludedFunction(g.handle, far_sphere_occluded);
-    rtcCommitGeometry(g.handle);
-    rtcAttachGeometryByID(es.scene, g.handle, kFarSphereGeom);
-    es.device.check("far spheres");
-  }
+  if (!es.far_spheres.index.empty())
+    attach_user_geometry(es, unsigned(es.far_spheres.index.size()), &es.far_spheres, far_sphere_bounds,
+                         far_sphere_intersect, far_sphere_occluded, kFarSphereGeom, "far spheres");
 }
 
 void attach_triangles(EmbreeScene& es, const Scene& scene, const BuildOptions& options) {
@@ -350,6 +332,35 @@ void attach_triangles(EmbreeScene& es, const Scene& scene, const BuildOptions& o
 }
 
 }  // namespace
+
+void attach_user_geometry(EmbreeScene& es, unsigned count, void* data, RTCBoundsFunction bounds,
+                          RTCIntersectFunctionN intersect, RTCOccludedFunctionN occluded, unsigned geom_id,
+                          const char* what) {
+  Geometry g(es.device.handle, RTC_GEOMETRY_TYPE_USER);
+  rtcSetGeometryUserPrimitiveCount(g.handle, count);
+  rtcSetGeometryUserData(g.handle, data);
+  rtcSetGeometryBoundsFunction(g.handle, bounds, nullptr);
+  rtcSetGeometryIntersectFunction(g.handle, intersect);
+  rtcSetGeometryOccludedFunction(g.handle, occluded);
+  rtcCommitGeometry(g.handle);
+  rtcAttachGeometryByID(es.scene, g.handle, geom_id);
+  es.device.check(what);
+}
+
+void record_user_hit(const RTCIntersectFunctionNArguments* args, unsigned i, float t, const Vec3& normal,
+                     unsigned geom_id) {
+  const unsigned n = args->N;
+  RTCRayN_tfar(RTCRayHitN_RayN(args->rayhit, n), n, i) = t;
+  RTCHitN* hit = RTCRayHitN_HitN(args->rayhit, n);
+  RTCHitN_Ng_x(hit, n, i) = float(normal.x);
+  RTCHitN_Ng_y(hit, n, i) = float(normal.y);
+  RTCHitN_Ng_z(hit, n, i) = float(normal.z);
+  RTCHitN_u(hit, n, i) = 0;
+  RTCHitN_v(hit, n, i) = 0;
+  RTCHitN_primID(hit, n, i) = args->primID;
+  RTCHitN_geomID(hit, n, i) = geom_id;
+  RTCHitN_instID(hit, n, i, 0) = args->context->instID[0];
+}
 
 std::unique_ptr<EmbreeScene> build_scene(const Scene& scene, const Frame& frame, const BuildOptions& options) {
   auto es = std::make_unique<EmbreeScene>();

@@ -130,6 +130,15 @@ std::unique_ptr<EmbreeScene> build_scene(const Scene& scene, const Frame& frame,
 // The cones' user geometry (optimized/embree_cones.cpp); build_scene calls it.
 void attach_cones(EmbreeScene& es, const Scene& scene, const BuildOptions& options);
 
+// User geometries (far spheres, cones): count primitives over data, with their
+// callbacks, committed and attached to es.scene as geom_id; what names it in an error.
+void attach_user_geometry(EmbreeScene& es, unsigned count, void* data, RTCBoundsFunction bounds,
+                          RTCIntersectFunctionN intersect, RTCOccludedFunctionN occluded, unsigned geom_id,
+                          const char* what);
+// A user geometry's hit of lane i at t (float: Embree's), with the normal Embree records.
+void record_user_hit(const RTCIntersectFunctionNArguments* args, unsigned i, float t, const Vec3& normal,
+                     unsigned geom_id);
+
 // A harmless, inactive ray in every lane: all fields set, as Embree asks.
 void clear_packet(RTCRayHit8& rh, int valid[kPacket]);
 void set_ray(RTCRayHit8& rh, int valid[kPacket], int k, const Vec3& o, const Vec3& d, double tnear, double tfar);
