@@ -31,18 +31,11 @@
 #include "core/volume_io.h"
 #include "pairs/registry.h"
 #include "props/marching_cubes/oracle.h"
+#include "props/study/study.h"
 
 namespace lockstep::props::marching_cubes {
 
 namespace {
-
-// Counts a claim that does not hold, and says which.
-void claim(int& failures, bool ok, const std::string& what) {
-  if (!ok) {
-    std::fprintf(stderr, "lockstep_mc_study: claim does not hold: %s\n", what.c_str());
-    ++failures;
-  }
-}
 
 struct Row {
   std::string field, impl;
@@ -53,7 +46,7 @@ struct Row {
 
 int run(bool quick) {
   const Family& family = *registry().find("marching_cubes");
-  int failures = 0;
+  study::Claims claims{"lockstep_mc_study"};
   std::vector<Row> rows;
   std::printf(
       "# marching_cubes: "
@@ -115,10 +108,10 @@ int run(bool quick) {
     for (const FamilyImpl& impl : family.impls)
       if (impl.name == r.impl) peer = !impl.peer.empty();
     if (peer) continue;
-    claim(failures, ref && r.to_surface == ref->to_surface && r.to_mesh == ref->to_mesh,
+    claims.check(ref && r.to_surface == ref->to_surface && r.to_mesh == ref->to_mesh,
           r.field + " n " + std::to_string(r.n) + ": " + r.impl + "'s distance differs from the reference's");
     if (ref && r.impl == "simd" && r.n >= 64)
-      claim(failures, r.ms < ref->ms,
+      claims.check(r.ms < ref->ms,
             r.field + " n " + std::to_string(r.n) + ": simd (" + std::to_string(r.ms) +
                 " ms) is not faster than the reference (" + std::to_string(ref->ms) + " ms)");
   }
@@ -132,14 +125,14 @@ int run(bool quick) {
     double mean = 0;
     for (double x : c) mean += x / double(c.size());
     for (size_t i = 0; i < c.size(); ++i)
-      claim(failures, std::abs(c[i] - mean) <= tol * mean,
+      claims.check(std::abs(c[i] - mean) <= tol * mean,
             std::string(field) + ": c = " + std::to_string(c[i]) + " at grid " + std::to_string(i) +
                 " is not within " + std::to_string(int(tol * 100)) + "% of the mean " +
                 std::to_string(mean));
     std::fprintf(stderr, "lockstep_mc_study: %s c mean %.4f, range %.4f .. %.4f\n", field, mean,
                  *std::min_element(c.begin(), c.end()), *std::max_element(c.begin(), c.end()));
   }
-  return failures ? 1 : 0;
+  return claims.exit_code();
 }
 
 }  // namespace

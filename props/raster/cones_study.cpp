@@ -36,35 +36,14 @@
 #include "optimized/raster.h"
 #include "pairs/loaders.h"
 #include "pairs/registry.h"
+#include "props/study/study.h"
 #include "reference/ray_cast.h"
 
 namespace lockstep {
 namespace {
 
-int failures = 0;
-void claim(bool ok, const std::string& what) {
-  if (!ok) {
-    std::fprintf(stderr, "lockstep_cones_study: claim does not hold: %s\n", what.c_str());
-    ++failures;
-  }
-}
-
-template <class F>
-double best_time(int runs, F&& f) {
-  double best = kInfinity;
-  for (int k = 0; k < runs; ++k) {
-    const Stopwatch w;
-    f();
-    best = std::min(best, w.seconds());
-  }
-  return best;
-}
-
-Input scene_input(Scene s, const std::string& name) {
-  const int w = s.view.xres, h = s.view.yres;
-  const Vec3 bg = s.background;
-  return make_input<Scene>(std::move(s), name, w, h, bg);
-}
+using study::best_time;
+using study::scene_input;
 
 struct Truth {
   Image image;
@@ -81,7 +60,7 @@ std::vector<uint32_t> raster_prims(const ScreenMesh& mesh, const RasterSettings&
   return out;
 }
 
-void study(const char* name, int size, int runs, bool quick) {
+void study_scene(study::Claims& claims, const char* name, int size, int runs, bool quick) {
   const std::string dir = spd_dir() + "/";
   const Scene scene = read_nff(dir + name + ".nff");
   const Input in = scene_input(scene, name);
@@ -133,7 +112,7 @@ void study(const char* name, int size, int runs, bool quick) {
     std::printf("%s,adaptive,%g,%llu,%llu,%.3f,%.4f,%ld,%ld\n", name, e,
                 (unsigned long long)mesh.cone_tris, (unsigned long long)tris, 1e3 * t,
                 err.percent_failed(), coverage, silhouette);
-    claim(mesh.cone_tris >= last_cone_tris,
+    claims.check(mesh.cone_tris >= last_cone_tris,
           std::string(name) + ": a finer tess_error never gives fewer cone triangles");
     last_cone_tris = mesh.cone_tris;
     if (first_sil < 0) first_sil = silhouette;
@@ -142,9 +121,9 @@ void study(const char* name, int size, int runs, bool quick) {
   // Tessellated finely, the cones are where the ray caster sees them: a cone
   // culled, turned inside out or misplaced would leave thousands (measured:
   // lattice-2 120 of 262144 pixels at 1/8 px, 512^2; 23 of 16384 at 128^2).
-  claim(double(last_sil) < 0.005 * double(size) * size,
+  claims.check(double(last_sil) < 0.005 * double(size) * size,
         std::string(name) + ": at the finest tess_error under 0.5% of the pixels are cone silhouette errors");
-  claim(last_sil * 4 < first_sil, std::string(name) +
+  claims.check(last_sil * 4 < first_sil, std::string(name) +
                                       ": the finest tess_error has under a quarter of the cone "
                                       "silhouette pixels of tess_error 8");
 
@@ -180,11 +159,12 @@ int main(int argc, char** argv) {
   std::printf(
       "scene,kind,tess_error,cone_tris,triangles,ms,pct_over_1_255,coverage_px,cone_silhouette_"
       "px\n");
+  lockstep::study::Claims claims{"lockstep_cones_study"};
   try {
-    for (const char* name : {"lattice-2", "tree-2"}) lockstep::study(name, size, runs, quick);
+    for (const char* name : {"lattice-2", "tree-2"}) lockstep::study_scene(claims, name, size, runs, quick);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "lockstep_cones_study: %s\n", e.what());
     return 2;
   }
-  return lockstep::failures == 0 ? 0 : 1;
+  return claims.exit_code();
 }

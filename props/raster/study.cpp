@@ -33,25 +33,22 @@
 #include "pairs/registry.h"
 #include "props/raster/exact_coverage.h"
 #include "props/raster/parts.h"
+#include "props/study/study.h"
 #include "reference/raster.h"
 
 namespace lockstep::props::raster {
 
 namespace {
 
+using study::best_time;
+using study::scene_input;
+
 struct Options {
   bool quick = false;
   std::string
       impl;  // the z-buffer implementation timed (default: simd if registered, else reference)
-  int failures = 0;  // claims that did not hold
+  study::Claims claims{"lockstep_raster_study"};
 };
-
-void claim(Options& o, bool ok, const std::string& what) {
-  if (!ok) {
-    std::fprintf(stderr, "lockstep_raster_study: claim does not hold: %s\n", what.c_str());
-    ++o.failures;
-  }
-}
 
 std::string corpus(const std::string& name) {
   return std::string(LOCKSTEP_CORPUS_DIR) + "/scenes/" + name;
@@ -67,24 +64,6 @@ const FamilyImpl& timed_impl(const Options& o) {
   }
   if (const FamilyImpl* i = f.find("simd")) return *i;
   return f.reference();
-}
-
-// Best of `runs` frames (the first warms up), seconds.
-template <class F>
-double best_time(int runs, F&& f) {
-  double best = kInfinity;
-  for (int k = 0; k < runs; ++k) {
-    const Stopwatch w;
-    f();
-    best = std::min(best, w.seconds());
-  }
-  return best;
-}
-
-Input scene_input(Scene s, const std::string& name) {
-  const int w = s.view.xres, h = s.view.yres;
-  const Vec3 bg = s.background;
-  return make_input<Scene>(std::move(s), name, w, h, bg);
 }
 
 // ---------------------------------------------------------------- tessellation
@@ -117,13 +96,13 @@ void tessellation(Options& o) {
       const ImageError err = compare_images(img, truth);
       std::printf("%s,%g,%llu,%.3f,%.6f,%.4f,%.4f\n", name, e, (unsigned long long)mesh.sphere_tris,
                   1e3 * t, err.mean_error, err.percent_failed(), err.max_error);
-      claim(o, mesh.sphere_tris >= last_tris,
+      o.claims.check(mesh.sphere_tris >= last_tris,
             std::string(name) + ": a finer tess_error never gives fewer triangles");
       last_tris = mesh.sphere_tris;
       if (first_pct < 0) first_pct = err.percent_failed();
       last_pct = err.percent_failed();
     }
-    claim(o, last_pct < first_pct / 2,
+    o.claims.check(last_pct < first_pct / 2,
           std::string(name) +
               ": tess_error 1/8 differs from ray casting on under half the "
               "pixels tess_error 8 does");
@@ -184,7 +163,7 @@ void supersampling(Options& o) {
       if (first < 0) first = err.mean_error;
       last = err.mean_error;
     }
-    claim(o, last < first / 5,
+    o.claims.check(last < first / 5,
           std::string(grid) + ": the largest spp has a fifth of spp 1's mean error or less");
   }
 }
@@ -241,11 +220,11 @@ void zfight(Options& o) {
         // far: the scene's deepest point, about 100 (1 + sep)
         std::printf("%s,%g,%g,%g,%.6f\n", names[f], near_z, 100 / near_z, sep, w);
         if (DepthFormat(f) == DepthFormat::kDouble)
-          claim(o, w == 0, "double depth never z-fights at sep >= 1e-7");
+          o.claims.check(w == 0, "double depth never z-fights at sep >= 1e-7");
         if (DepthFormat(f) == DepthFormat::kReversed && sep >= 1e-5)
-          claim(o, w == 0, "reversed-Z float resolves sep >= 1e-5 at any near plane");
+          o.claims.check(w == 0, "reversed-Z float resolves sep >= 1e-5 at any near plane");
         if (DepthFormat(f) == DepthFormat::kFloat && near_z <= 1e-2 && sep <= 1e-4)
-          claim(o, w > 0.1,
+          o.claims.check(w > 0.1,
                 "standard float depth with near <= 1e-2 fails sep 1e-4 on over 10% of pixels");
       }
 }
@@ -287,8 +266,8 @@ void gouraud(Options& o) {
     if (first < 0) first = err.max_error;
     last = err.max_error;
   }
-  claim(o, first > 0.2, "coarse Gouraud misses the highlight by over 0.2");
-  claim(o, last < first / 2, "Gouraud's highlight error halves from tess_error 8 to 1/8");
+  o.claims.check(first > 0.2, "coarse Gouraud misses the highlight by over 0.2");
+  o.claims.check(last < first / 2, "Gouraud's highlight error halves from tess_error 8 to 1/8");
 }
 
 // ---------------------------------------------------------------- the painter's failure map
@@ -310,10 +289,10 @@ void painter(Options& o) {
       split_wrong += c.wrong_split > 0;
       right += c.wrong == 0;
     }
-    claim(o, unreported == 0, std::string("the painter reports every ") + kind + " it draws wrong");
-    claim(o, split_wrong == 0, std::string("with split, every ") + kind + " equals the z-buffer");
+    o.claims.check(unreported == 0, std::string("the painter reports every ") + kind + " it draws wrong");
+    o.claims.check(split_wrong == 0, std::string("with split, every ") + kind + " equals the z-buffer");
     if (kind == std::string("cyclic_triple"))
-      claim(o, right == 0, "no cyclic triple is drawn right");
+      o.claims.check(right == 0, "no cyclic triple is drawn right");
   }
 }
 
@@ -357,5 +336,5 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "lockstep_raster_study: unknown study '%s'\n", which.c_str());
     return 2;
   }
-  return o.failures ? 1 : 0;
+  return o.claims.exit_code();
 }

@@ -69,6 +69,7 @@
 #include "core/ray_trace.h"
 #include "core/scene.h"
 #include "optimized/ray_trace.h"
+#include "props/study/study.h"
 #include "reference/ray_trace.h"
 
 namespace lockstep {
@@ -82,15 +83,8 @@ constexpr double kMargin = 1e-4;  // samples this close to a boundary are not co
 struct Options {
   bool quick = false;
   bool mutant = false;
-  int failures = 0;
+  study::Claims claims{"lockstep_raytrace_study"};
 };
-
-void claim(Options& o, bool ok, const std::string& what) {
-  if (!ok) {
-    std::fprintf(stderr, "lockstep_raytrace_study: claim does not hold: %s\n", what.c_str());
-    ++o.failures;
-  }
-}
 
 std::string num(double x) {
   char b[64];
@@ -306,14 +300,14 @@ int run(Options& o) {
         // far below the gap, agrees with it everywhere in both implementations
         // (a wrong oracle would show here, not only in the failing rows).
         if (e == 1e-4)
-          claim(o, c.wrong() == 0,
+          o.claims.check(c.wrong() == 0,
                 std::string(im.name) +
                     " with eps = 1e-4 disagrees with the oracle at D = " + num(d) + ": " +
                     std::to_string(c.acne) + " acne, " + std::to_string(c.leak) + " leaks");
-        claim(o, c.samples > size * size / 2 && c.shadowed > c.samples / 20,
+        o.claims.check(c.samples > size * size / 2 && c.shadowed > c.samples / 20,
               std::string(im.name) + " at D = " + num(d) + ": too few samples or shadowed samples");
       }
-      claim(o, fixed_fails, std::string(im.name) + ": no fixed eps fails at D = " + num(d));
+      o.claims.check(fixed_fails, std::string(im.name) + ": no fixed eps fails at D = " + num(d));
       Params p;
       if (o.mutant)
         p.set("eps", "1e-300");  // a deliberately bad "robust" offset: none at all
@@ -323,7 +317,7 @@ int run(Options& o) {
       emit("robust", 0, c);
       // Both implementations: the robust offset, in the ulps of each one's
       // arithmetic (core/ray_trace.h), needs no tuning at any D.
-      claim(o, c.wrong() == 0,
+      o.claims.check(c.wrong() == 0,
             std::string(im.name) + "'s robust offset: " + std::to_string(c.acne) + " acne, " +
                 std::to_string(c.leak) + " leaks of " + std::to_string(c.samples) +
                 " at D = " + num(d));
@@ -332,9 +326,9 @@ int run(Options& o) {
   }
   bool scale_bites = false;
   for (const auto& [e, ok] : near_ok) scale_bites = scale_bites || (ok && far_bad[e]);
-  claim(o, scale_bites,
+  o.claims.check(scale_bites,
         "no fixed eps of the reference (double) is right at D = 1 and wrong further out");
-  return o.failures ? 1 : 0;
+  return o.claims.exit_code();
 }
 
 }  // namespace

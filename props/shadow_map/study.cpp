@@ -58,6 +58,7 @@
 #include "core/nff.h"
 #include "core/scene.h"
 #include "optimized/ray_trace.h"
+#include "props/study/study.h"
 #include "optimized/raster.h"
 
 namespace lockstep {
@@ -74,14 +75,8 @@ constexpr double kLeakFloor = 0.004;
 struct Options {
   bool quick = false;
   bool mutant = false;
-  int failures = 0;
+  study::Claims claims{"lockstep_shadow_study"};
 };
-
-void claim(Options& o, bool ok, const std::string& what) {
-  if (ok) return;
-  ++o.failures;
-  std::fprintf(stderr, "claim does not hold: %s\n", what.c_str());
-}
 
 std::string num(double x) {
   char b[32];
@@ -195,25 +190,25 @@ int run(Options& o) {
                     ms_none);
         std::fflush(stdout);
         const std::string where = std::string(name) + " map_size " + std::to_string(n);
-        claim(o, c.compared > size * size / 4 && c.shadowed > c.compared / 50,
+        o.claims.check(c.compared > size * size / 4 && c.shadowed > c.compared / 50,
               where + ": too few compared or shadowed pixels");
         if (stated)
-          claim(o, c.wrong() <= kDefaultBound,
+          o.claims.check(c.wrong() <= kDefaultBound,
                 where + " slope_bias 1: " + num(c.wrong()) + " wrong (" + std::to_string(c.acne) + " acne, " +
                     std::to_string(c.leak) + " leaks), over " + num(kDefaultBound));
         if (std::strcmp(st.kind, "slope") == 0 && st.slope == 0)
-          claim(o, double(c.acne) / c.compared >= kAcneFloor,
+          o.claims.check(double(c.acne) / c.compared >= kAcneFloor,
                 where + " without bias: acne on only " + num(double(c.acne) / c.compared) + " of the pixels");
         if (std::strcmp(st.kind, "constant") == 0 && st.bias == 1e-1)
-          claim(o, double(c.leak) / c.compared >= kLeakFloor,
+          o.claims.check(double(c.leak) / c.compared >= kLeakFloor,
                 where + " bias 0.1: leaks on only " + num(double(c.leak) / c.compared) + " of the pixels");
         if (std::strcmp(st.kind, "slope") == 0 && st.slope == 1) slope1.push_back(c.wrong());
       }
     if (!o.quick)
-      claim(o, slope1.size() >= 2 && slope1.back() * 3 <= slope1.front(),
+      o.claims.check(slope1.size() >= 2 && slope1.back() * 3 <= slope1.front(),
             std::string(name) + ": wrong pixels do not fall 3x from the smallest map to the largest");
   }
-  return o.failures ? 1 : 0;
+  return o.claims.exit_code();
 }
 
 }  // namespace
@@ -221,16 +216,9 @@ int run(Options& o) {
 
 int main(int argc, char** argv) {
   lockstep::Options o;
-  for (int a = 1; a < argc; ++a) {
-    if (std::strcmp(argv[a], "--quick") == 0)
-      o.quick = true;
-    else if (std::strcmp(argv[a], "--mutant") == 0)
-      o.mutant = true;
-    else {
-      std::fprintf(stderr, "usage: lockstep_shadow_study [--quick] [--mutant]\n");
-      return 2;
-    }
-  }
+  if (!lockstep::study::parse_flags(argc, argv, {{"--quick", &o.quick}, {"--mutant", &o.mutant}},
+                                    "lockstep_shadow_study [--quick] [--mutant]"))
+    return 2;
   try {
     return lockstep::run(o);
   } catch (const std::exception& e) {

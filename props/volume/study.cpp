@@ -40,21 +40,15 @@
 #include "core/volume_render.h"
 #include "pairs/loaders.h"
 #include "pairs/registry.h"
+#include "props/study/study.h"
 
 namespace lockstep {
 namespace {
 
 struct Options {
   bool quick = false;
-  int failures = 0;
+  study::Claims claims{"lockstep_volume_study"};
 };
-
-void claim(Options& o, bool ok, const std::string& what) {
-  if (!ok) {
-    std::fprintf(stderr, "lockstep_volume_study: claim does not hold: %s\n", what.c_str());
-    ++o.failures;
-  }
-}
 
 double seconds_of(const std::function<void()>& f) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -147,7 +141,7 @@ void step_study(Options& o) {
         // at least 4 times smaller an error (the early-termination eps and float
         // rounding put a floor under it). Peers and shortened runs are exempt.
         if (impl.peer.empty() && (o.quick || impl.threaded))
-          claim(o, last_err < first_err / 4,
+          o.claims.check(last_err < first_err / 4,
                 in.name + " " + std::string(impl.name) + ": error at step 1/8 (" + std::to_string(last_err) +
                     ") not 4x below step 2's (" + std::to_string(first_err) + ")");
       }
@@ -279,9 +273,9 @@ void cross_study(Options& o) {
     // Both approximate the trilinear interpolant's surface, whose distance to
     // the mesh shrinks like h^2: 8 (quick: 4) times finer a grid, the depth
     // difference at least 8 times smaller, and fewer silhouette pixels differ.
-    claim(o, last_depth < first_depth / 8,
+    o.claims.check(last_depth < first_depth / 8,
           name + ": mean depth difference " + std::to_string(last_depth) + " not 8x below " + std::to_string(first_depth));
-    claim(o, last < first, name + ": silhouette mismatches did not fall (" + std::to_string(first) + " -> " +
+    o.claims.check(last < first, name + ": silhouette mismatches did not fall (" + std::to_string(first) + " -> " +
                                std::to_string(last) + ")");
   }
 }
@@ -300,5 +294,5 @@ int main(int argc, char** argv) {
   }
   if (study == "step" || study == "all") lockstep::step_study(o);
   if (study == "cross" || study == "all") lockstep::cross_study(o);
-  return o.failures ? 1 : 0;
+  return o.claims.exit_code();
 }
