@@ -403,10 +403,42 @@ ScreenMesh view_frame(const Scene& scene, int width, int height, const Vec3& lo,
   return mesh;
 }
 
+// A tessellated sphere or cone (positions, normals, triangles) into the mesh
+// as primitive prim; returns the triangles emitted. Every vertex goes to eye
+// space once (and is lit once, for Gouraud): a vertex of the lat-long mesh is
+// shared by up to six triangles.
+template <class Tessellation>
+uint64_t emit_surface(const Scene& scene, const RasterSettings& s, const Camera& cam, Emitter& emit,
+                      const Tessellation& tm, const Material& m, uint32_t prim) {
+  std::vector<EyeVertex> ev;
+  ev.reserve(tm.position.size());
+  for (size_t i = 0; i < tm.position.size(); ++i) {
+    ev.push_back(EyeVertex{eye_from_world(cam, tm.position[i]), tm.position[i], tm.normal[i], {}});
+    if (s.shading == Shading::kGouraud) ev.back().color = lit(scene, m, cam.eye, ev.back().world, ev.back().normal);
+  }
+  uint64_t emitted = 0;
+  for (uint32_t t = 0; t < tm.tri.size(); ++t) {
+    const auto& [a, b, c] = tm.tri[t];
+    EyeVertex v[3] = {ev[a], ev[b], ev[c]};
+    const Vec3 fn = cross(v[1].world - v[0].world, v[2].world - v[0].world);
+    if (length(fn) == 0) continue;
+    const Vec3 face = normalize(fn);
+    // The flat colour only for faces that may be drawn: spheres and cones are
+    // one-sided (NFF's rule), so a back face is culled in world space
+    // (Emitter::triangle).
+    const bool back = !(dot(face, cam.eye - v[0].world) > 0);
+    Vec3 flat;
+    if (s.shading == Shading::kFlat && !(back && s.cull == CullMode::kWorld))
+      flat = lit(scene, m, cam.eye, (v[0].world + v[1].world + v[2].world) / 3.0, face);
+    ++emitted;
+    emit.triangle(v, prim, t, face, false, flat);
+  }
+  return emitted;
+}
+
 void view_spheres(const Scene& scene, const RasterSettings& s, uint32_t first, uint32_t last, ScreenMesh& mesh) {
   const Camera& cam = mesh.camera;
   Emitter emit{scene, s, mesh, {mesh.near_z, kGuardBand * cam.pitch}};
-  auto eye_vertex = [&](const Vec3& p, const Vec3& n) { return EyeVertex{eye_from_world(cam, p), p, n, {}}; };
   // Each sphere tessellated as finely as its size on screen needs.
   for (uint32_t k = first; k < last; ++k) {
     const Vec3 c = scene.sphere_center[k];
@@ -414,30 +446,7 @@ void view_spheres(const Scene& scene, const RasterSettings& s, uint32_t first, u
     const Vec3 ce = eye_from_world(cam, c);
     if (sphere_outside(cam, ce, r, mesh.near_z)) continue;
     const SphereMesh sm = tessellate_sphere(c, scene.sphere_radius[k], sphere_rings(r, ce.z, cam, mesh.near_z, s.tess_error));
-    const Material& m = scene.materials[scene.sphere_material[k]];
-    // Every vertex to eye space once (and lit once, for Gouraud): a vertex of
-    // the lat-long mesh is shared by up to six triangles.
-    std::vector<EyeVertex> ev;
-    ev.reserve(sm.position.size());
-    for (size_t i = 0; i < sm.position.size(); ++i) {
-      ev.push_back(eye_vertex(sm.position[i], sm.normal[i]));
-      if (s.shading == Shading::kGouraud) ev.back().color = lit(scene, m, cam.eye, ev.back().world, ev.back().normal);
-    }
-    for (uint32_t t = 0; t < sm.tri.size(); ++t) {
-      const auto& [a, b, cc] = sm.tri[t];
-      EyeVertex v[3] = {ev[a], ev[b], ev[cc]};
-      const Vec3 fn = cross(v[1].world - v[0].world, v[2].world - v[0].world);
-      if (length(fn) == 0) continue;
-      const Vec3 face = normalize(fn);
-      // The flat colour only for faces that may be drawn: spheres are
-      // one-sided, so a back face is culled in world space (Emitter::triangle).
-      const bool back = !(dot(face, cam.eye - v[0].world) > 0);
-      Vec3 flat;
-      if (s.shading == Shading::kFlat && !(back && s.cull == CullMode::kWorld))
-        flat = lit(scene, m, cam.eye, (v[0].world + v[1].world + v[2].world) / 3.0, face);
-      ++mesh.sphere_tris;
-      emit.triangle(v, k, t, face, false, flat);
-    }
+    mesh.sphere_tris += emit_surface(scene, s, cam, emit, sm, scene.materials[scene.sphere_material[k]], k);
   }
 }
 
@@ -563,29 +572,7 @@ void view_cones(const Scene& scene, const RasterSettings& s, uint32_t first, uin
                                 cam, mesh.near_z, s.tess_error);
     const ConeMesh cm = tessellate_cone(base, r0, apex, r1, scene.cone_inside[k] != 0, n);
     const uint32_t prim = scene.cone_first_prim() + k;
-    const Material& m = scene.materials[scene.cone_material[k]];
-    std::vector<EyeVertex> ev;
-    ev.reserve(cm.position.size());
-    for (size_t i = 0; i < cm.position.size(); ++i) {
-      ev.push_back(
-          EyeVertex{eye_from_world(cam, cm.position[i]), cm.position[i], cm.normal[i], {}});
-      if (s.shading == Shading::kGouraud)
-        ev.back().color = lit(scene, m, cam.eye, ev.back().world, ev.back().normal);
-    }
-    for (uint32_t t = 0; t < cm.tri.size(); ++t) {
-      const auto& [a, b, c] = cm.tri[t];
-      EyeVertex v[3] = {ev[a], ev[b], ev[c]};
-      const Vec3 fn = cross(v[1].world - v[0].world, v[2].world - v[0].world);
-      if (length(fn) == 0) continue;
-      const Vec3 face = normalize(fn);
-      // One-sided, as spheres: the invisible side is culled (NFF's rule).
-      const bool back = !(dot(face, cam.eye - v[0].world) > 0);
-      Vec3 flat;
-      if (s.shading == Shading::kFlat && !(back && s.cull == CullMode::kWorld))
-        flat = lit(scene, m, cam.eye, (v[0].world + v[1].world + v[2].world) / 3.0, face);
-      ++mesh.cone_tris;
-      emit.triangle(v, prim, t, face, false, flat);
-    }
+    mesh.cone_tris += emit_surface(scene, s, cam, emit, cm, scene.materials[scene.cone_material[k]], prim);
   }
 }
 
