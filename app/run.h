@@ -44,15 +44,18 @@ inline Run run_frame(const Family& family, const FamilyImpl& impl, const Input& 
 }
 
 // The sessions of a run of many cases (verify): one per row whose session
-// serves any input (FamilyImpl::session_any_input: the embree rows' device),
-// started at the row's first case and kept to the end of the run.
+// serves any input (FamilyImpl::session_any_input: the embree rows), started at
+// the row's first case and kept to the end of the run. The run's resources
+// (core/run_resources.h) are what those sessions share: the embree rows of
+// ray_cast and raytrace take the one Embree device of the run from there.
 struct RowSessions {
+  RunResources resources;  // declared first: the sessions below go before it
   std::map<const FamilyImpl*, FamilyImpl::RunFn> runs;
   // The row's session run, or null: the row has none, call impl.run.
   const FamilyImpl::RunFn* of(const FamilyImpl& impl, const Input& in, const FrameOptions& opts) {
     if (!impl.session || !impl.session_any_input) return nullptr;
     auto it = runs.find(&impl);
-    if (it == runs.end()) it = runs.emplace(&impl, impl.session(in, opts)).first;
+    if (it == runs.end()) it = runs.emplace(&impl, impl.session(in, opts, resources)).first;
     return &it->second;
   }
 };

@@ -156,7 +156,7 @@ int verify_main(Args args) {
 
   std::vector<Row> rows;
   std::vector<std::string> verdicts;
-  RowSessions sessions;  // the embree rows' devices: one per row for the whole run
+  RowSessions sessions;  // the embree rows' sessions and their one device, for the whole run
   if (!o.regolden) print_header();
   for (size_t ci = 0; ci < cases.size(); ++ci) {
     const Case& c = cases[ci];

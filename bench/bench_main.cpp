@@ -170,6 +170,11 @@ double cpu_seconds() {
 
 using RunFn = std::function<Output(const Input&, const FrameOptions&, FrameStats*)>;
 struct SessionCache {
+  // The benchmark binary's run (core/run_resources.h): what sessions share
+  // across benchmarks and rows, the embree rows' one Embree device per process
+  // (made by the first embree frame benchmark that runs, in its first_ms).
+  // Declared first: run below goes before it.
+  RunResources resources;
   const void* owner = nullptr;  // the benchmark whose session run holds
   RunFn run;
 };
@@ -213,7 +218,7 @@ void register_frames(const Registry& reg) {
               sessions->owner = cold.get();
               if (session) {
                 const Stopwatch start;
-                sessions->run = session(in, opts);
+                sessions->run = session(in, opts, sessions->resources);
                 *session_start = start.seconds();
               }
             }

@@ -32,6 +32,7 @@
 
 #include "core/image.h"
 #include "core/output.h"
+#include "core/run_resources.h"
 
 namespace lockstep {
 
@@ -231,8 +232,11 @@ struct FamilyImpl {
   // such a run hands back its own buffer only while the caller holds no other
   // frame of it. The benchmarks time a session's start (session_ms), its first
   // frame (first_ms) and its later frames apart. Empty: run keeps nothing, use it.
+  // The third argument is the caller's run (core/run_resources.h): what the
+  // session may share with the other rows of the same run (the embree rows:
+  // one Embree device per process) it takes from there, never from a global.
   std::function<std::function<Output(const Input&, const FrameOptions&, FrameStats*)>(
-      const Input&, const FrameOptions&)>
+      const Input&, const FrameOptions&, RunResources&)>
       session;
   // True when a session's state serves any input at any size (the embree rows:
   // an Embree device): `lockstep verify` then starts one session per row for

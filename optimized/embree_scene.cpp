@@ -102,8 +102,8 @@ Device Device::create() {
   rtcSetDeviceErrorFunction(d.state->handle, on_error, &d.state->log);
   d.handle = d.state->handle;
   // LOCKSTEP_EMBREE_DEVICES=1: one line per device made, so that a test can
-  // count them (tests/CMakeLists.txt: verify and the properties make one per
-  // embree row for the whole run, not one per frame).
+  // count them (tests/CMakeLists.txt: verify and the property binary make
+  // one per process, shared by both embree rows, not one per row or frame).
   if (const char* e = std::getenv("LOCKSTEP_EMBREE_DEVICES"); e && e[0] == '1')
     std::fprintf(stderr, "lockstep: new Embree device\n");
   return d;

@@ -45,10 +45,10 @@ struct ErrorLog {
 // last copy. Making one costs about as much as a small scene's BVH (tens of
 // ms in a fresh process: Embree's start-up, its ISA dispatch and TBB's
 // arena; tools/embree_raw.cpp measures it), so a process keeps one and passes
-// it to every build (BuildOptions::device): the benchmarks through the embree
-// rows' sessions (pairs/ray_cast.cpp, pairs/ray_trace.cpp), the CLI by
-// rendering once per process. Default-constructed: no device (build_scene
-// then makes its own, as before).
+// it to every build (BuildOptions::device): verify, the property binary and
+// the benchmarks through the embree rows' sessions, which take the run's one
+// device (pairs/embree_device.h), the CLI by rendering once per process.
+// Default-constructed: no device (build_scene then makes its own, as before).
 struct Device {
   struct State {
     ErrorLog log;

@@ -107,7 +107,7 @@ Family composite_family() {
   // cost"). `render` and `verify` composite one frame into a fresh Image (run).
   for (FamilyImpl& impl : f.impls)
     if (impl.name == "simd")
-      impl.session = [](const Input& in, const FrameOptions&) {
+      impl.session = [](const Input& in, const FrameOptions&, RunResources&) {
         const LayerStack& stack = input_as<LayerStack>(in);
         auto frame = std::make_shared<Image>(Image::uninitialized(stack.width(), stack.height()));
         std::fill(frame->rgba.begin(), frame->rgba.end(), 0.0f);  // first touch, here

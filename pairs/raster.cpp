@@ -183,7 +183,7 @@ Family zbuffer_family() {
   // compilation, is their first_ms); `render` and `verify` draw one frame.
   for (FamilyImpl& impl : f.impls)
     if (impl.name == "llvmpipe")
-      impl.session = [](const Input&, const FrameOptions&) {
+      impl.session = [](const Input&, const FrameOptions&, RunResources&) {
         auto session = std::make_shared<opt::llvmpipe::Session>();
         return [session](const Input& in, const FrameOptions& o, FrameStats* stats) {
           return make_output<Image>(session->zbuffer(input_as<Scene>(in), o, stats));
@@ -197,7 +197,7 @@ Family zbuffer_family() {
   // 2.4 ms warm frame); `render` and `verify` draw one frame into a fresh Image.
   for (FamilyImpl& impl : f.impls)
     if (impl.name == "simd")
-      impl.session = [](const Input&, const FrameOptions& o) {
+      impl.session = [](const Input&, const FrameOptions& o, RunResources&) {
         auto frame = std::make_shared<Image>(opt::simd::new_frame(o.width, o.height));
         return [frame](const Input& in, const FrameOptions& o, FrameStats* stats) mutable {
           // A frame the caller still holds is not written: a new buffer then.
@@ -238,7 +238,7 @@ Family scanline_family() {
   // z-buffer's, above).
   for (FamilyImpl& impl : f.impls)
     if (impl.name == "simd")
-      impl.session = [](const Input& in, const FrameOptions& o) {
+      impl.session = [](const Input& in, const FrameOptions& o, RunResources&) {
         auto frame = std::make_shared<Image>(opt::simd::new_frame(o.width, o.height));
         auto visible = std::make_shared<opt::simd::VisibleBuffer>(opt::simd::visible_buffer(input_as<Scene>(in), o));
         return [frame, visible](const Input& in, const FrameOptions& o, FrameStats* stats) mutable {

@@ -12,6 +12,7 @@
 #include "optimized/ray_cast.h"
 #include "optimized/ray_cast_simd_kernels.h"
 #include "optimized/ray_cone.h"
+#include "pairs/embree_device.h"
 #include "pairs/loaders.h"
 #include "pairs/ray_cast_judges.h"
 #include "reference/ray_cast.h"
@@ -48,13 +49,11 @@ constexpr Impl<RayPolygonFn> kRayPolygon[] = {
     {"reference", ref::ray_polygon, kF64},
     {"simd", opt::simd::ray_polygon, kF32},
 };
-// The embree row for a whole run: one device, made at the first call.
-CasterRun embree_session() {
-  auto device = std::make_shared<opt::embree::Device>();
-  auto ready = [device] {
-    if (!device->handle) *device = opt::embree::Device::create();
-    return *device;
-  };
+// The embree row for a whole run: the run's one device (pairs/embree_device.h),
+// made at the first call of any embree row of that run.
+CasterRun embree_session(RunResources& resources) {
+  auto device = embree_device(resources);
+  auto ready = [device] { return device->get(); };
   CasterRun run;
   run.trace = [ready](const Scene& s, std::span<const Ray> rays, std::span<Hit> hits, FrameStats* stats) {
     opt::embree::trace_with(s, rays, hits, stats, ready());
@@ -351,8 +350,10 @@ Family ray_cast_family() {
     if (i.fn.session)
       for (FamilyImpl& impl : f.impls)
         if (impl.name == i.name) {
-          impl.session = [start = i.fn.session](const Input&, const FrameOptions&) {
-            return [run = start()](const Input& in, const FrameOptions& o, FrameStats* stats) {
+          impl.session = [start = i.fn.session](const Input&, const FrameOptions&,
+                                                RunResources& resources) {
+            return [run = start(resources)](const Input& in, const FrameOptions& o,
+                                            FrameStats* stats) {
               return make_output<Image>(run.render(input_as<Scene>(in), o, stats));
             };
           };

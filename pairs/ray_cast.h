@@ -34,8 +34,9 @@ struct CasterFns {
   TraceFn trace;
   RenderFn render;
   // Empty, or starts a run that keeps its state across calls (the embree row's
-  // device, made at its first call); the family's FamilyImpl::session is the same.
-  CasterRun (*session)() = nullptr;
+  // device, made at its first call, shared with every other embree row of the
+  // caller's run); the family's FamilyImpl::session is the same.
+  CasterRun (*session)(RunResources& run) = nullptr;
 };
 
 // The family's kernel rows (core/family.h: KernelRow), the reference first.

@@ -8,6 +8,7 @@
 #include "core/scene.h"
 #include "optimized/embree_scene.h"
 #include "optimized/ray_trace.h"
+#include "pairs/embree_device.h"
 #include "pairs/loaders.h"
 #include "reference/ray_trace.h"
 
@@ -27,13 +28,11 @@ namespace {
 constexpr double kColorAbs = 1.0 / 255;
 constexpr double kPixelFraction = 0.999;
 
-// The embree row for a whole run: one device, made at the first call.
-TracerRun embree_session() {
-  auto device = std::make_shared<opt::embree::Device>();
-  auto ready = [device] {
-    if (!device->handle) *device = opt::embree::Device::create();
-    return *device;
-  };
+// The embree row for a whole run: the run's one device (pairs/embree_device.h),
+// made at the first call of any embree row of that run.
+TracerRun embree_session(RunResources& resources) {
+  auto device = embree_device(resources);
+  auto ready = [device] { return device->get(); };
   TracerRun run;
   run.render = [ready](const Scene& s, const FrameOptions& o, FrameStats* stats) {
     return opt::embree::trace_render_with(s, o, stats, ready());
@@ -96,8 +95,8 @@ std::vector<BenchInput> bench_frames() {
 
 const KernelRow<TracerFns>& ray_trace_row() { return kRow; }
 
-TracerRun start_run(const TracerFns& fn) {
-  if (fn.session) return fn.session();
+TracerRun start_run(const TracerFns& fn, RunResources& run) {
+  if (fn.session) return fn.session(run);
   return {fn.render, fn.pixel};
 }
 
@@ -133,8 +132,9 @@ Family ray_trace_family() {
     if (i.fn.session)
       for (FamilyImpl& impl : f.impls)
         if (impl.name == i.name) {
-          impl.session = [start = i.fn.session](const Input&, const FrameOptions&) {
-            auto run = std::make_shared<const TracerRun>(start());
+          impl.session = [start = i.fn.session](const Input&, const FrameOptions&,
+                                                RunResources& resources) {
+            auto run = std::make_shared<const TracerRun>(start(resources));
             return [run](const Input& in, const FrameOptions& o, FrameStats* stats) {
               return make_output<Image>(run->render(input_as<Scene>(in), o, stats));
             };

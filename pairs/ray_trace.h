@@ -25,12 +25,13 @@ struct TracerFns {
   TraceRenderFn render;
   TracePixelFn pixel;
   // Empty, or starts a run that keeps its state across calls (the embree row's
-  // device, made at its first call); the family's FamilyImpl::session is the same.
-  TracerRun (*session)() = nullptr;
+  // device, made at its first call, shared with every other embree row of the
+  // caller's run); the family's FamilyImpl::session is the same.
+  TracerRun (*session)(RunResources& run) = nullptr;
 };
 
-// fn's session when it has one, else its functions as they are.
-TracerRun start_run(const TracerFns& fn);
+// fn's session in run when it has one, else its functions as they are.
+TracerRun start_run(const TracerFns& fn, RunResources& run);
 
 const KernelRow<TracerFns>& ray_trace_row();
 Family ray_trace_family();

@@ -8,22 +8,22 @@
 
 namespace lockstep::props {
 namespace ray_cast {
-FamilyProperties properties(const Family&);
+FamilyProperties properties(const Family&, RunResources&);
 }
 namespace composite {
-FamilyProperties properties(const Family&);
+FamilyProperties properties(const Family&, RunResources&);
 }
 namespace raster {
-FamilyProperties properties(const Family&);
+FamilyProperties properties(const Family&, RunResources&);
 }
 namespace marching_cubes {
-FamilyProperties properties(const Family&);
+FamilyProperties properties(const Family&, RunResources&);
 }
 namespace volume {
-FamilyProperties properties(const Family&);
+FamilyProperties properties(const Family&, RunResources&);
 }
 namespace ray_trace {
-FamilyProperties properties(const Family&);
+FamilyProperties properties(const Family&, RunResources&);
 }
 
 const std::vector<ProviderRow>& property_providers() {

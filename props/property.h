@@ -95,8 +95,11 @@ struct FamilyProperties {
   std::vector<Mutant> mutants;
 };
 
-// A family's property provider, given the family's registry row.
-using PropertyProvider = FamilyProperties (*)(const Family&);
+// A family's property provider, given the family's registry row and the
+// binary's run (core/run_resources.h): what its properties may share with
+// other families' (the embree rows of ray_cast and raytrace: one Embree
+// device per process). The properties keep what they take from it.
+using PropertyProvider = FamilyProperties (*)(const Family&, RunResources&);
 
 struct ProviderRow {
   std::string_view family;

@@ -289,7 +289,8 @@ TEST(CompositeSmoke, SessionKeepsItsBufferAndNeverOverwritesAHeldFrame) {
   };
   const Input a = input(3), b = input(4);
   const FrameOptions o;
-  const auto run = simd->session(a, o);
+  RunResources resources;
+  const auto run = simd->session(a, o, resources);
   const float* kept = nullptr;
   {
     const Output fa = run(a, o, nullptr);

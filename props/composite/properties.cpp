@@ -22,7 +22,7 @@
 
 namespace lockstep::props::composite {
 
-FamilyProperties properties(const Family& family);
+FamilyProperties properties(const Family& family, RunResources&);
 
 namespace {
 
@@ -142,7 +142,7 @@ void round_trip_exhaustive(const CompositeSubject& s) {
 
 }  // namespace
 
-FamilyProperties properties(const Family& family) {
+FamilyProperties properties(const Family& family, RunResources&) {
   FamilyProperties out;
   const std::vector<CompositeSubject> subjects = subjects_of(family);
   for (const NamedCheck& c : composite_checks())

@@ -378,7 +378,7 @@ void add(const std::string& suite, const std::string& name, std::function<void()
                           [f]() -> ::testing::Test* { return new Body(f); });
 }
 
-void register_all() {
+void register_all(RunResources& run) {
   std::set<std::string> names;  // every test name once
   auto unique = [&](const std::string& n) {
     if (!names.insert(n).second) std::cerr << "lockstep props: test " << n << " registered twice\n";
@@ -396,7 +396,7 @@ void register_all() {
       });
       continue;
     }
-    FamilyProperties fp = row->provide(f);
+    FamilyProperties fp = row->provide(f, run);
     if (fp.properties.empty()) {
       const std::string fam(f.name);
       add("Registry", unique(fam + "_has_properties"),
@@ -434,7 +434,10 @@ void register_all() {
 
 int main(int argc, char** argv) {
   ::testing::InitGoogleTest(&argc, argv);
-  lockstep::props::driver::register_all();
+  // The binary's run: what the properties share across families (the embree
+  // rows' one Embree device), owned here and passed down, released after them.
+  lockstep::RunResources run;
+  lockstep::props::driver::register_all(run);
   const int rc = RUN_ALL_TESTS();
   lockstep::props::driver::print_table();
   // The properties own what their runs keep (the embree rows' devices): released

@@ -429,7 +429,7 @@ void sphere_convergence(const FamilyImpl& impl) {
 
 }  // namespace
 
-FamilyProperties properties(const Family& family) {
+FamilyProperties properties(const Family& family, RunResources&) {
   FamilyProperties out;
   const FamilyImpl& ref = family.reference();
   for (const FamilyImpl& impl : family.impls) {

@@ -38,7 +38,7 @@
 
 namespace lockstep::props::raster {
 
-FamilyProperties properties(const Family& family);
+FamilyProperties properties(const Family& family, RunResources&);
 
 namespace {
 
@@ -216,7 +216,7 @@ void cross_check_part(const Family& family, FamilyProperties& out) {
 
 // Every part of props/raster, by the name a family's row lists it under
 // (Family::properties, pairs/raster.cpp): a family gets the parts it names.
-FamilyProperties properties(const Family& family) {
+FamilyProperties properties(const Family& family, RunResources&) {
   using Part = void (*)(const Family&, FamilyProperties&);
   struct Named {
     std::string_view name;

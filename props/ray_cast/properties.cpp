@@ -74,12 +74,13 @@ Property property(const std::string& suite, const std::string& check, const Name
 
 }  // namespace
 
-FamilyProperties properties(const Family&) {
+FamilyProperties properties(const Family&, RunResources& run) {
   FamilyProperties out;
   auto& props = out.properties;
   for (const Subject& base : all_subjects()) {
-    // The embree row's properties share one device (its session) for the whole run.
-    const auto subject = std::make_shared<const Subject>(with_session(base));
+    // The embree row's properties share one session, on the run's one device
+    // (shared with the raytrace embree row's properties).
+    const auto subject = std::make_shared<const Subject>(with_session(base, run));
     const Subject& s = *subject;
     const Named* well = find_generator(generator_of(s.info.pair));
     if (!well) continue;  // the driver reports the row as untested: see below

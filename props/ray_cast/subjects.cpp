@@ -152,10 +152,10 @@ const std::vector<Subject>& all_subjects() {
   return s;
 }
 
-Subject with_session(const Subject& s) {
+Subject with_session(const Subject& s, RunResources& resources) {
   if (!s.session) return s;
   Subject out = s;
-  const auto run = std::make_shared<const CasterRun>(s.session());
+  const auto run = std::make_shared<const CasterRun>(s.session(resources));
   out.answer = [run](const Case& c) {
     std::vector<Hit> hits(c.rays.size());
     run->trace(c.scene, c.rays, hits, nullptr);

@@ -62,13 +62,13 @@ struct Subject {
   std::function<Image(const Scene&, const FrameOptions&, FrameStats*)> render;
   // Empty, or starts a run keeping its state across cases (pairs/ray_cast.h
   // CasterFns::session: the embree row's device); with_session() uses it.
-  CasterRun (*session)() = nullptr;
+  CasterRun (*session)(RunResources& run) = nullptr;
 };
 
-// The subject on a run of its own (its session's trace and render) when it
+// The subject on a session in run (its session's trace and render) when it
 // has a session, else itself: the properties call this once per subject, so
-// that a property binary makes one Embree device per embree row, not one per case.
-Subject with_session(const Subject& s);
+// that a property binary makes one Embree device, the run's, not one per case.
+Subject with_session(const Subject& s, RunResources& run);
 
 // Every (row, implementation) of pairs/ray_cast.h, the reference of each row first.
 const std::vector<Subject>& all_subjects();

@@ -824,12 +824,12 @@ Property property(const Family& f, std::string_view impl, std::string suite, std
 
 }  // namespace
 
-FamilyProperties properties(const Family& family) {
+FamilyProperties properties(const Family& family, RunResources& run) {
   FamilyProperties out;
   const KernelRow<TracerFns>& row = ray_trace_row();
-  // Each row's run, shared by its properties (the embree row: one device for
-  // the whole process, released with the properties).
-  const auto ref_run = std::make_shared<const TracerRun>(start_run(row.impls.front().fn));
+  // Each row's run, shared by its properties (the embree row: the process's
+  // one device, also the ray_cast embree row's, released with the properties).
+  const auto ref_run = std::make_shared<const TracerRun>(start_run(row.impls.front().fn, run));
   if (family.has_property("laws")) {
     Property p = property<LawCase>(family, "reference", "Laws", "laws", "directions", gen_laws(),
                                    1e-14, check_laws, write_law, read_law, "cases");
@@ -838,7 +838,8 @@ FamilyProperties properties(const Family& family) {
   }
   for (const Impl<TracerFns>& impl : row.impls) {
     const auto fn_run =
-        &impl == &row.impls.front() ? ref_run : std::make_shared<const TracerRun>(start_run(impl.fn));
+        &impl == &row.impls.front() ? ref_run
+                                    : std::make_shared<const TracerRun>(start_run(impl.fn, run));
     const std::string name(impl.name);
     if (family.has_property("slab"))
       out.properties.push_back(property<TraceCase>(

@@ -425,7 +425,7 @@ Property property(const Family& family, const FamilyImpl& impl, std::string suit
 
 }  // namespace
 
-FamilyProperties properties(const Family& family) {
+FamilyProperties properties(const Family& family, RunResources&) {
   FamilyProperties out;
   const FamilyImpl& ref = family.reference();
   const Family* fam = &family;
