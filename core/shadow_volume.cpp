@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numbers>
 #include <numeric>
 #include <utility>
 
@@ -191,9 +192,24 @@ std::vector<Tri> shadow_volume(const OccluderMesh& occ, const Vec3& light, doubl
   // per light, the same for every triangle, so that coincident sides of two
   // per-triangle volumes still cancel. h below 1e-12 (the light within
   // rounding of the triangle's plane: a volume of no thickness) is left out.
-  auto emitted = [&](uint32_t t) {
-    return occ.closed[occ.component[t]] || silhouette_only_for_open ? facing[t] > 0 : facing[t] != 0;
+  // A light inside a closed component (its winding number about the light,
+  // the sum of its triangles' signed solid angles over 4 pi, is not 0) has
+  // no silhouette to speak of: everything outside is in its shadow. That
+  // component takes the per-triangle volumes (exact for any soup) for this
+  // light instead of being left without a shadow.
+  std::vector<double> winding(occ.closed.size(), 0.0);
+  for (uint32_t t = 0; t < n; ++t) {
+    if (!occ.closed[occ.component[t]]) continue;
+    const Vec3 a = occ.tri[t][0] - light, b = occ.tri[t][1] - light, c = occ.tri[t][2] - light;
+    const double la = length(a), lb = length(b), lc = length(c);
+    winding[occ.component[t]] +=
+        2 * std::atan2(dot(a, cross(b, c)), la * lb * lc + dot(a, b) * lc + dot(a, c) * lb + dot(b, c) * la);
+  }
+  auto silhouette = [&](uint32_t t) {
+    const uint32_t c = occ.component[t];
+    return (occ.closed[c] && std::lround(winding[c] / (4 * std::numbers::pi)) == 0) || silhouette_only_for_open;
   };
+  auto emitted = [&](uint32_t t) { return silhouette(t) ? facing[t] > 0 : facing[t] != 0; };
   double h_min = 1;
   for (uint32_t t = 0; t < n; ++t) {
     const Tri& v = occ.tri[t];
@@ -240,7 +256,7 @@ std::vector<Tri> shadow_volume(const OccluderMesh& occ, const Vec3& light, doubl
   };
   for (uint32_t t = 0; t < n; ++t) {
     const Tri& v = occ.tri[t];
-    if (occ.closed[occ.component[t]] || silhouette_only_for_open) {
+    if (silhouette(t)) {
       // Crow: the silhouette edges, where a light-facing triangle meets one
       // that is not (or, for the wrong rule on open meshes, the mesh's border).
       if (!(facing[t] > 0)) continue;
