@@ -203,11 +203,13 @@ std::vector<Tri> shadow_volume(const OccluderMesh& occ, const Vec3& light, doubl
     const Vec3 a = occ.tri[t][0] - light, b = occ.tri[t][1] - light, c = occ.tri[t][2] - light;
     const double la = length(a), lb = length(b), lc = length(c);
     winding[occ.component[t]] +=
-        2 * std::atan2(dot(a, cross(b, c)), la * lb * lc + dot(a, b) * lc + dot(a, c) * lb + dot(b, c) * la);
+        2 * std::atan2(dot(a, cross(b, c)),
+                       la * lb * lc + dot(a, b) * lc + dot(a, c) * lb + dot(b, c) * la);
   }
   auto silhouette = [&](uint32_t t) {
     const uint32_t c = occ.component[t];
-    return (occ.closed[c] && std::lround(winding[c] / (4 * std::numbers::pi)) == 0) || silhouette_only_for_open;
+    return (occ.closed[c] && std::lround(winding[c] / (4 * std::numbers::pi)) == 0) ||
+           silhouette_only_for_open;
   };
   auto emitted = [&](uint32_t t) { return silhouette(t) ? facing[t] > 0 : facing[t] != 0; };
   double h_min = 1;

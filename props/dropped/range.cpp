@@ -209,14 +209,16 @@ constexpr double kTieUlps = 4;
 // What each row said over a run: cases with drops, by reason (the limits measured).
 struct Tally {
   std::map<std::string, std::map<std::string, long>> drops;  // row -> reason -> cases
-  std::map<std::string, long> ties;                          // row -> pixels excused as edge ties (Far)
-  double tie_ulps = 0;                                       // the largest such pixel's distance
+  std::map<std::string, long> ties;  // row -> pixels excused as edge ties (Far)
+  double tie_ulps = 0;               // the largest such pixel's distance
   long cases = 0;
   void print(const char* what) const {
     std::printf("[ dropped ] %s: %ld cases\n", what, cases);
     for (const auto& [row, n] : ties)
-      std::printf("[ dropped ]   %-22s %5ld pixels: edge ties (ray within %g ulps of an edge; at most %g)\n",
-                  row.c_str(), n, tie_ulps, kTieUlps);
+      std::printf(
+          "[ dropped ]   %-22s %5ld pixels: edge ties (ray within %g ulps of an edge; at most "
+          "%g)\n",
+          row.c_str(), n, tie_ulps, kTieUlps);
     for (const auto& [row, reasons] : drops)
       for (const auto& [why, n] : reasons) std::printf("[ dropped ]   %-22s %5ld cases: %s\n", row.c_str(), n, why.c_str());
   }
@@ -246,7 +248,8 @@ double edge_distance(const Scene& scene, const Camera& cam, int i, int j) {
   }
   for (uint32_t k = 0; k < scene.sphere_count(); ++k) {
     const Vec3 r = scene.sphere_center[k] - ray.o;
-    best = std::min(best, std::abs(length(r - dot(r, ray.d) * ray.d) - std::abs(scene.sphere_radius[k])));
+    best = std::min(best,
+                    std::abs(length(r - dot(r, ray.d) * ray.d) - std::abs(scene.sphere_radius[k])));
   }
   return best;
 }
@@ -266,8 +269,8 @@ double magnitude(const Scene& scene) {
 // within tol(row) unless the second run reported a drop. Rows that cannot run
 // the base scene at all (a peer's module missing) are skipped. edge_ties: Far's
 // excuse above.
-void check_case(const std::string& base_text, const std::string& text, Tally& tally, bool family_tol,
-                double abs_tol, bool edge_ties = false) {
+void check_case(const std::string& base_text, const std::string& text, Tally& tally,
+                bool family_tol, double abs_tol, bool edge_ties = false) {
   for (const Row& r : rows()) {
     const Rendered a = render(r, base_text, "base");
     if (!a.ok) continue;
@@ -293,10 +296,12 @@ void check_case(const std::string& base_text, const std::string& text, Tally& ta
       for (int j = 0; j < ia.height; ++j)
         for (int i = 0; i < ia.width; ++i) {
           const float *pa = ia.pixel(i, j), *pb = ib.pixel(i, j);
-          if (!(std::max({std::abs(pa[0] - pb[0]), std::abs(pa[1] - pb[1]), std::abs(pa[2] - pb[2])}) > tol.abs))
+          if (!(std::max({std::abs(pa[0] - pb[0]), std::abs(pa[1] - pb[1]),
+                          std::abs(pa[2] - pb[2])}) > tol.abs))
             continue;
           const double d = edge_distance(base, cam, i, j) / ulp;
-          ties += " (" + std::to_string(i) + ", " + std::to_string(j) + "): " + std::to_string(d) + " ulps";
+          ties += " (" + std::to_string(i) + ", " + std::to_string(j) + "): " + std::to_string(d) +
+                  " ulps";
           if (!(d <= kTieUlps)) continue;
           std::copy(pa, pa + 4, ib.pixel(i, j));
           ++tally.ties[r.name()];
@@ -305,9 +310,11 @@ void check_case(const std::string& base_text, const std::string& text, Tally& ta
       g = r.family->kind->compare(a.out, make_output(std::move(ib)), tol);
     }
     if (!g.pass)
-      RC_FAIL(r.name() + ": the image differs from the oracle (" + r.family->kind->describe(g, tol) +
-              ") and the row reported nothing dropped" +
-              (ties.empty() ? "" : "; distance of each pixel's ray to an edge in the base scene:" + ties));
+      RC_FAIL(r.name() + ": the image differs from the oracle (" +
+              r.family->kind->describe(g, tol) + ") and the row reported nothing dropped" +
+              (ties.empty()
+                   ? ""
+                   : "; distance of each pixel's ray to an edge in the base scene:" + ties));
   }
 }
 
@@ -324,13 +331,13 @@ rc::detail::TestParams params(const std::string& name) {
   rc::detail::TestParams p = rc::detail::configuration().testParams;
   const std::string given = env("RC_PARAMS") ? env("RC_PARAMS") : "";
   if (given.find("seed") == std::string::npos && !env("LOCKSTEP_DEEP"))
-    p.seed = std::hash<std::string>{}(name) & 0xffffffffffffull;
+    p.seed = std::hash<std::string>{}(name)&0xffffffffffffull;
   if (given.find("max_success") == std::string::npos) p.maxSuccess = cases();
   return p;
 }
 
-bool run(const char* name, const rc::Gen<std::pair<std::string, std::string>>& gen, bool family_tol, double abs_tol,
-         bool edge_ties = false) {
+bool run(const char* name, const rc::Gen<std::pair<std::string, std::string>>& gen, bool family_tol,
+         double abs_tol, bool edge_ties = false) {
   Tally tally;
   rc::detail::TestMetadata meta;
   meta.id = name;
@@ -339,10 +346,12 @@ bool run(const char* name, const rc::Gen<std::pair<std::string, std::string>>& g
   // The seed first, flushed: a run that fails, crashes or times out can be
   // replayed from ctest's log (Testing/Temporary/LastTest.log).
   const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
-  std::printf("[ dropped ] %s: seed %llu, max_success %d%s; replay: RC_PARAMS=\"seed=%llu max_success=%d\" ctest -R "
-              "'dropped.Dropped.%s$'\n",
-              name, (unsigned long long)p.seed, p.maxSuccess, env("LOCKSTEP_DEEP") ? " (deep)" : "",
-              (unsigned long long)p.seed, p.maxSuccess, test.c_str());
+  std::printf(
+      "[ dropped ] %s: seed %llu, max_success %d%s; replay: RC_PARAMS=\"seed=%llu max_success=%d\" "
+      "ctest -R "
+      "'dropped.Dropped.%s$'\n",
+      name, (unsigned long long)p.seed, p.maxSuccess, env("LOCKSTEP_DEEP") ? " (deep)" : "",
+      (unsigned long long)p.seed, p.maxSuccess, test.c_str());
   std::fflush(stdout);
   const auto result = rc::detail::checkProperty(
       rc::detail::toProperty([&] {
@@ -398,8 +407,7 @@ TEST(Dropped, HugeBackdrop) {
 }
 
 TEST(Dropped, Far) {
-  run("translated by up to 2^40",
-      rc::gen::exec([] {
+  run("translated by up to 2^40", rc::gen::exec([] {
         const Base b = *gen_base();
         Transform t;
         const int e = *rc::gen::inRange(16, 41);
