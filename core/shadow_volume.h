@@ -48,10 +48,12 @@ OccluderMesh occluder_mesh(std::vector<std::array<Vec3, 3>> tris);
 
 // The shadow volume of every occluder for a point light, as outward-facing
 // triangles (counter-clockwise seen from outside the volume): side quads (two
-// triangles each) extruded to distance `far` from the light, and with caps the
-// front and back caps. silhouette_only_for_open: the textbook silhouette rule
-// even for components that are not closed (wrong; the tests show why the check
-// matters). is_cap, when given, gets 1 per cap triangle and 0 per side.
+// triangles each) extruded to distance `far` from the light (further when a
+// flat back cap at `far` would come nearer the light than far / 2:
+// shadow_volume.cpp), and with caps the front and back caps.
+// silhouette_only_for_open: the textbook silhouette rule even for components
+// that are not closed (wrong; the tests show why the check matters). is_cap,
+// when given, gets 1 per cap triangle and 0 per side.
 std::vector<std::array<Vec3, 3>> shadow_volume(const OccluderMesh& occ, const Vec3& light,
                                                double far, bool caps,
                                                bool silhouette_only_for_open = false,

@@ -40,11 +40,9 @@ struct ConeShape {
 };
 
 inline ConeShape cone_shape(const Vec3& base, double r0, const Vec3& apex, double r1, bool inside) {
-  ConeShape c{base, apex, r0, r1, inside, 0.5 * (base + apex), 0};
   const Vec3 axis = apex - base;
-  c.h = std::sqrt(dot(axis, axis));
-  c.u = axis / c.h;
-  c.k = (r1 - r0) / c.h;
+  const double h = std::sqrt(dot(axis, axis));
+  ConeShape c{base, apex, r0, r1, inside, 0.5 * (base + apex), 0, axis / h, h, (r1 - r0) / h};
   // Every point of an end disc is within sqrt((h/2)^2 + r^2) of the midpoint.
   const double half = 0.5 * length(apex - base);
   c.bound = std::sqrt(half * half + std::max(r0, r1) * std::max(r0, r1)) * (1 + 1e-12);

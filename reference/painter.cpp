@@ -408,7 +408,10 @@ std::vector<std::string> painter_notes(const ScreenMesh& mesh, const PainterPlan
       continue;
     }
     std::string s = "painter: group of " + std::to_string(g.size()) + " triangles:";
-    for (uint32_t t : g) s += " " + tri_name(t);
+    for (uint32_t t : g) {
+      s += ' ';  // not " " + tri_name(t): GCC 12's -Wrestrict misfires on it (a false positive)
+      s += tri_name(t);
+    }
     notes.push_back(s);
   }
   for (const auto& [a, b] : plan.interpenetrations) {

@@ -164,7 +164,7 @@ TraceSettings resolved(TraceSettings s) {
 
 Vec3 pixel(const Scene& scene, const TraceSettings& settings, const Camera& camera, int x, int y,
            RayTree* tree, RayCounts* rays) {
-  Tracer tracer{scene, settings, tree};
+  Tracer tracer{scene, settings, tree, {}};
   const Vec3 c = tracer.trace(camera.primary(x, y), RayKind::kPrimary, 1, 1.0, -1, false);
   if (rays) *rays += tracer.rays;
   return c;

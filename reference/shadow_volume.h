@@ -50,10 +50,12 @@
 // triangle soup, only more faces to fill. How many triangles took that
 // fallback is counted and printed (FrameStats::notes). Volumes are extruded
 // "far enough": to a distance from the light twice the farthest corner of the
-// box around the scene and the eye, so that inside that box they equal the
-// infinite volumes. A light inside a closed occluder (everything outside in
-// its shadow) is not handled: such a component has no light-facing triangle
-// and casts no shadow (stated in README).
+// box around the scene and the eye, or further where a back cap would
+// otherwise cut a volume short inside that box (a triangle seen from the light
+// over a wide angle: core/shadow_volume.cpp), so that inside that box they
+// equal the infinite volumes. A light inside a closed occluder (everything
+// outside in its shadow; its winding number about the light is not 0) has no
+// silhouette: that component takes the per-triangle volumes for that light.
 #pragma once
 
 #include <array>

@@ -307,8 +307,12 @@ TEST(Tessellation, VerticesNormalsAndTheSilhouetteBound) {
     for (const double r : {0.01, 0.1, 1.0}) {
       const int n = cone_segments(r, r, 5.0, 5.0, cam, 0.01, e);
       const double r_px = r / ((5.0 - r) * cam.pitch);
-      if (n < 512) EXPECT_LE(r_px * (1 - std::cos(M_PI / n)), e * (1 + 1e-12)) << r << " " << e;
-      if (n > 3) EXPECT_GT(r_px * (1 - std::cos(M_PI / (n - 1))), e) << r << " " << e;
+      if (n < 512) {
+        EXPECT_LE(r_px * (1 - std::cos(M_PI / n)), e * (1 + 1e-12)) << r << " " << e;
+      }
+      if (n > 3) {
+        EXPECT_GT(r_px * (1 - std::cos(M_PI / (n - 1))), e) << r << " " << e;
+      }
     }
   }
 }

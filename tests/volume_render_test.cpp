@@ -302,7 +302,9 @@ TEST(VolumeSimd, MacroCellsKeptWithTheVolumeFollowTheTransferFunction) {
     double worst = 0;
     for (size_t i = 0; i < fast.rgba.size(); ++i) worst = std::max(worst, std::abs(double(fast.rgba[i]) - slow.rgba[i]));
     EXPECT_LT(worst, 6e-4) << tf;
-    if (!expect_build) EXPECT_EQ(st.build_seconds, 0.0) << tf << ": built again";
+    if (!expect_build) {
+      EXPECT_EQ(st.build_seconds, 0.0) << tf << ": built again";
+    }
   };
   check(v, shell, true);
   check(v, shell, false);

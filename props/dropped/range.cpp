@@ -28,6 +28,7 @@
 #include <gtest/gtest.h>
 #include <rapidcheck.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -38,7 +39,11 @@
 #include <string>
 #include <vector>
 
+#include "core/camera.h"
 #include "core/family.h"
+#include "core/image.h"
+#include "core/nff.h"
+#include "core/output.h"
 #include "pairs/registry.h"
 
 namespace rc::detail {
@@ -188,22 +193,84 @@ int cases() {
   return 100;
 }
 
+// Far: a pixel over the tolerance whose primary ray passes, in the base scene,
+// within kTieUlps ulps of the translated scene's largest coordinate of an
+// edge or silhouette is an edge tie: the rows that compute in world
+// coordinates (the reference ray caster: plane offsets and hit points at
+// |T|) round its hit or miss at that scale, so either answer is right (and
+// the base scene's dyadic edges meet pixel rays exactly, e.g. an edge whose
+// line runs through the image centre). Counted per row (Tally::ties), with
+// the largest distance seen in those ulps. Measured (deep mode, 4 runs of
+// 10000 cases and the 3 failures that found it): 10 such pixels, all in
+// ray_cast/reference and raytrace/reference, the farthest 0.33 ulps from an
+// edge (the rest below 3e-4: exact ties in the base scene); the band is 4.
+constexpr double kTieUlps = 4;
+
 // What each row said over a run: cases with drops, by reason (the limits measured).
 struct Tally {
   std::map<std::string, std::map<std::string, long>> drops;  // row -> reason -> cases
+  std::map<std::string, long> ties;  // row -> pixels excused as edge ties (Far)
+  double tie_ulps = 0;               // the largest such pixel's distance
   long cases = 0;
   void print(const char* what) const {
     std::printf("[ dropped ] %s: %ld cases\n", what, cases);
+    for (const auto& [row, n] : ties)
+      std::printf(
+          "[ dropped ]   %-22s %5ld pixels: edge ties (ray within %g ulps of an edge; at most "
+          "%g)\n",
+          row.c_str(), n, tie_ulps, kTieUlps);
     for (const auto& [row, reasons] : drops)
       for (const auto& [why, n] : reasons) std::printf("[ dropped ]   %-22s %5ld cases: %s\n", row.c_str(), n, why.c_str());
   }
 };
 
+// How close (world units) the primary ray of pixel (i, j) passes to a
+// triangle's edge (a segment: the decision inside/outside flips there) or a
+// sphere's silhouette, in `scene`.
+double edge_distance(const Scene& scene, const Camera& cam, int i, int j) {
+  const Ray ray = cam.primary(i, j);  // unit direction
+  double best = kInfinity;
+  auto segment = [&](const Vec3& a, const Vec3& b) {
+    // Closest points of the line o + t d and the segment a + u (b - a), u in [0, 1].
+    const Vec3 e = b - a, w = ray.o - a;
+    const double ee = dot(e, e), de = dot(ray.d, e), dw = dot(ray.d, w), ew = dot(e, w);
+    const double den = ee - de * de;  // |d| = 1
+    double u = den > 0 ? (ew - de * dw) / den : 0;
+    u = std::clamp(u, 0.0, 1.0);
+    const Vec3 q = a + u * e;
+    const Vec3 r = q - ray.o;
+    best = std::min(best, length(r - dot(r, ray.d) * ray.d));
+  };
+  for (const auto& [a, b, c] : scene.tri_vertex) {
+    segment(scene.vertex[a], scene.vertex[b]);
+    segment(scene.vertex[b], scene.vertex[c]);
+    segment(scene.vertex[c], scene.vertex[a]);
+  }
+  for (uint32_t k = 0; k < scene.sphere_count(); ++k) {
+    const Vec3 r = scene.sphere_center[k] - ray.o;
+    best = std::min(best,
+                    std::abs(length(r - dot(r, ray.d) * ray.d) - std::abs(scene.sphere_radius[k])));
+  }
+  return best;
+}
+
+// The largest coordinate magnitude of the scene (eye, vertices, spheres' centres, lights).
+double magnitude(const Scene& scene) {
+  double m = 0;
+  auto see = [&](const Vec3& v) { m = std::max({m, std::abs(v.x), std::abs(v.y), std::abs(v.z)}); };
+  see(scene.view.from);
+  for (const Vec3& v : scene.vertex) see(v);
+  for (const Vec3& c : scene.sphere_center) see(c);
+  for (const Light& l : scene.lights) see(l.position);
+  return m;
+}
+
 // One case: every row draws `base_text` and `text`; the two images must agree
 // within tol(row) unless the second run reported a drop. Rows that cannot run
-// the base scene at all (a peer's module missing) are skipped.
-void check_case(const std::string& base_text, const std::string& text, Tally& tally, bool family_tol,
-                double abs_tol) {
+// the base scene at all (a peer's module missing) are skipped. edge_ties: Far's
+// excuse above.
+void check_case(const std::string& base_text, const std::string& text, Tally& tally,
+                bool family_tol, double abs_tol, bool edge_ties = false) {
   for (const Row& r : rows()) {
     const Rendered a = render(r, base_text, "base");
     if (!a.ok) continue;
@@ -216,36 +283,88 @@ void check_case(const std::string& base_text, const std::string& text, Tally& ta
     }
     Tolerance tol = r.impl->tolerance(r.family->tol);
     if (!family_tol) tol = {abs_tol, 1.0, abs_tol};
-    const Agreement g = r.family->kind->compare(a.out, b.out, tol);
+    Agreement g = r.family->kind->compare(a.out, b.out, tol);
+    std::string ties;
+    if (!g.pass && edge_ties && a.out.value.type() == typeid(std::shared_ptr<Image>)) {
+      // The pixels over tol.abs that are edge ties take the base image's value;
+      // what is left must pass.
+      const Image& ia = output_as<Image>(a.out);
+      Image ib = output_as<Image>(b.out);
+      const Scene base = parse_nff(base_text, "<base>"), moved = parse_nff(text, "<case>");
+      const Camera cam = Camera::from_view(base.view, ia.width, ia.height);
+      const double ulp = std::ldexp(1.0, std::ilogb(magnitude(moved)) - 52);
+      for (int j = 0; j < ia.height; ++j)
+        for (int i = 0; i < ia.width; ++i) {
+          const float *pa = ia.pixel(i, j), *pb = ib.pixel(i, j);
+          if (!(std::max({std::abs(pa[0] - pb[0]), std::abs(pa[1] - pb[1]),
+                          std::abs(pa[2] - pb[2])}) > tol.abs))
+            continue;
+          const double d = edge_distance(base, cam, i, j) / ulp;
+          ties += " (" + std::to_string(i) + ", " + std::to_string(j) + "): " + std::to_string(d) +
+                  " ulps";
+          if (!(d <= kTieUlps)) continue;
+          std::copy(pa, pa + 4, ib.pixel(i, j));
+          ++tally.ties[r.name()];
+          tally.tie_ulps = std::max(tally.tie_ulps, d);
+        }
+      g = r.family->kind->compare(a.out, make_output(std::move(ib)), tol);
+    }
     if (!g.pass)
-      RC_FAIL(r.name() + ": the image differs from the oracle (" + r.family->kind->describe(g, tol) +
-              ") and the row reported nothing dropped");
+      RC_FAIL(r.name() + ": the image differs from the oracle (" +
+              r.family->kind->describe(g, tol) + ") and the row reported nothing dropped" +
+              (ties.empty()
+                   ? ""
+                   : "; distance of each pixel's ray to an edge in the base scene:" + ties));
   }
 }
 
-rc::detail::TestParams params() {
+const char* env(const char* name) {
+  const char* v = std::getenv(name);
+  return v && *v ? v : nullptr;
+}
+
+// As props/driver: the seed is fixed per property (a hash of its name) unless
+// RC_PARAMS gives one or deep mode is on (RapidCheck's random seed, on
+// purpose), so that ctest runs the same cases every time; RC_PARAMS'
+// max_success, when given, wins over cases() (a replay needs the same count).
+rc::detail::TestParams params(const std::string& name) {
   rc::detail::TestParams p = rc::detail::configuration().testParams;
-  p.maxSuccess = cases();
+  const std::string given = env("RC_PARAMS") ? env("RC_PARAMS") : "";
+  if (given.find("seed") == std::string::npos && !env("LOCKSTEP_DEEP"))
+    p.seed = std::hash<std::string>{}(name)&0xffffffffffffull;
+  if (given.find("max_success") == std::string::npos) p.maxSuccess = cases();
   return p;
 }
 
-bool run(const char* name, const rc::Gen<std::pair<std::string, std::string>>& gen, bool family_tol, double abs_tol) {
+bool run(const char* name, const rc::Gen<std::pair<std::string, std::string>>& gen, bool family_tol,
+         double abs_tol, bool edge_ties = false) {
   Tally tally;
   rc::detail::TestMetadata meta;
   meta.id = name;
   meta.description = name;
+  const rc::detail::TestParams p = params(name);
+  // The seed first, flushed: a run that fails, crashes or times out can be
+  // replayed from ctest's log (Testing/Temporary/LastTest.log).
+  const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  std::printf(
+      "[ dropped ] %s: seed %llu, max_success %d%s; replay: RC_PARAMS=\"seed=%llu max_success=%d\" "
+      "ctest -R "
+      "'dropped.Dropped.%s$'\n",
+      name, (unsigned long long)p.seed, p.maxSuccess, env("LOCKSTEP_DEEP") ? " (deep)" : "",
+      (unsigned long long)p.seed, p.maxSuccess, test.c_str());
+  std::fflush(stdout);
   const auto result = rc::detail::checkProperty(
       rc::detail::toProperty([&] {
         const auto [base, text] = *gen;
         ++tally.cases;
-        check_case(base, text, tally, family_tol, abs_tol);
+        check_case(base, text, tally, family_tol, abs_tol, edge_ties);
       }),
-      meta, params(), rc::detail::globalTestListener(), rc::detail::configuration().reproduce);
+      meta, p, rc::detail::globalTestListener(), rc::detail::configuration().reproduce);
   tally.print(name);
   if (!result.template is<rc::detail::SuccessResult>()) {
     std::ostringstream os;
     rc::detail::printResultMessage(result, os);
-    ADD_FAILURE() << os.str();
+    ADD_FAILURE() << os.str() << "\nseed " << p.seed << ", max_success " << p.maxSuccess;
     return false;
   }
   return true;
@@ -288,15 +407,14 @@ TEST(Dropped, HugeBackdrop) {
 }
 
 TEST(Dropped, Far) {
-  run("translated by up to 2^40",
-      rc::gen::exec([] {
+  run("translated by up to 2^40", rc::gen::exec([] {
         const Base b = *gen_base();
         Transform t;
         const int e = *rc::gen::inRange(16, 41);
         for (double& s : t.shift) s = std::ldexp(double(*rc::gen::inRange(-16, 17)), e - 4);
         return std::make_pair(nff(b, {}), nff(b, t));
       }),
-      true, 0);
+      true, 0, true);
 }
 
 }  // namespace

@@ -33,6 +33,8 @@ struct Look {
   bool hit = false;
   uint32_t prim = 0;
   uint64_t lit = 0;  // bit k: light k contributes (lights beyond 64 are not looked at)
+  // Bit k: light k is on the side the shading normal faces (a shadow ray is cast).
+  uint64_t faced = 0;
 };
 
 // Any surface but prim `skip` on the shadow ray in (0, tmax)?
@@ -62,13 +64,10 @@ inline Ray view_ray(const Camera& cam, double px, double py, double* len_out = n
   return Ray{cam.eye, d0 / len, cam.hither * len, kInfinity};
 }
 
-// The visible surface through screen position (px, py) (pixels, y down; pixel
-// (i, j)'s centre is (i + 1/2, j + 1/2)) and which lights reach it.
-inline Look look(const Scene& scene, const Camera& cam, double px, double py) {
-  const Ray ray = view_ray(cam, px, py);
-  const Hit hit = ref::nearest_hit(scene, ray, ref::SphereSides::kSolid);
+// Which lights reach the point where `ray` meets primitive hit.prim at hit.t.
+inline Look lights_at(const Scene& scene, const Ray& ray, const Hit& hit) {
   Look out;
-  if (!hit.hit()) return out;
+  if (!hit.hit() || !(hit.t < kInfinity)) return out;
   out.hit = true;
   out.prim = hit.prim;
   const Vec3 p = ray.o + hit.t * ray.d;
@@ -79,12 +78,34 @@ inline Look look(const Scene& scene, const Camera& cam, double px, double py) {
   for (uint32_t k = 0; k < scene.lights.size() && k < 64; ++k) {
     const LightSample ls = light_at(scene, scene.lights[k], p);
     if (dot(n, ls.l) <= 0) continue;
+    out.faced |= uint64_t(1) << k;
     const Vec3 o = ray_start(p, ng, ls.l, ts, Arith::kDouble);
     const Vec3 to_light = scene.lights[k].position - o;
     const double dist = length(to_light);
     if (!blocked(scene, Ray{o, to_light / dist, 0.0, dist})) out.lit |= uint64_t(1) << k;
   }
   return out;
+}
+
+// The visible surface through screen position (px, py) (pixels, y down; pixel
+// (i, j)'s centre is (i + 1/2, j + 1/2)) and which lights reach it.
+inline Look look(const Scene& scene, const Camera& cam, double px, double py) {
+  const Ray ray = view_ray(cam, px, py);
+  return lights_at(scene, ray, ref::nearest_hit(scene, ray, ref::SphereSides::kSolid));
+}
+
+// The same at the point where the view ray through (px, py) meets polygon
+// primitive `prim` (spheres first, then polygons: Scene::prim_count), nearest
+// or not: the surface a z-buffer drew where it kept another than the nearest.
+// hit is false when the ray misses it (or prim is not a polygon).
+inline Look look_at(const Scene& scene, const Camera& cam, double px, double py, uint32_t prim) {
+  const Ray ray = view_ray(cam, px, py);
+  Hit hit;
+  if (prim >= scene.sphere_count() && prim - scene.sphere_count() < scene.polygon_count()) {
+    hit.t = ref::ray_polygon_t(ray, scene, prim - scene.sphere_count());
+    if (hit.t < kInfinity) hit.prim = prim;
+  }
+  return lights_at(scene, ray, hit);
 }
 
 // Whether the oracle's answer (surface and lights) changes within radius r
