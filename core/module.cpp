@@ -56,7 +56,7 @@ std::string recorded_version(std::string_view file) {
   return line;
 }
 
-const void* open_api(std::string_view file, std::string_view kind, int abi) {
+const void* open_api(std::string_view file, std::string_view kind, int abi, Binding binding) {
   const std::string path = find(file);
   const std::string k(kind);
   if (path.empty()) {
@@ -67,7 +67,8 @@ const void* open_api(std::string_view file, std::string_view kind, int abi) {
   }
   // RTLD_LOCAL: the library's symbols stay out of the global scope;
   // RTLD_NODELETE: never unloaded, so a second open is the loader's count only.
-  void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL | RTLD_NODELETE);
+  const int bind = binding == Binding::lazy ? RTLD_LAZY : RTLD_NOW;
+  void* handle = dlopen(path.c_str(), bind | RTLD_LOCAL | RTLD_NODELETE);
   if (handle == nullptr) {
     const char* err = dlerror();
     throw InputError(path, 0, "cannot open " + k + ": " + (err ? err : "unknown dlopen error"));

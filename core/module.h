@@ -32,10 +32,16 @@ namespace lockstep::module {
 std::string find(std::string_view file);
 // The first line of the .version file beside the module ("" when there is none).
 std::string recorded_version(std::string_view file);
+// How the module's and its libraries' function calls are bound: all at open
+// (RTLD_NOW: a missing symbol fails the open, with dlerror()'s words), or each
+// at its first call (RTLD_LAZY, as the loader binds an executable's own
+// libraries at start: lockstep_oiio.so's ~250 libraries open 20 ms sooner).
+enum class Binding { now, lazy };
 // Opens the module and returns its lockstep_peer_api() table, whose abi field
 // must equal abi (host and module from one build). Throws InputError naming
 // the module's path (or the folders searched) and dlerror()'s words; `kind`
 // names the module in those messages ("peer module").
-const void* open_api(std::string_view file, std::string_view kind, int abi);
+const void* open_api(std::string_view file, std::string_view kind, int abi,
+                     Binding binding = Binding::now);
 
 }  // namespace lockstep::module
