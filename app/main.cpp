@@ -60,7 +60,8 @@ void print_help() {
       "\n"
       "options: --help (also after a subcommand), --version\n"
       "environment: LOCKSTEP_SPD_DIR, LOCKSTEP_VOLUMES_DIR (data beside the repository; SPD scenes are\n"
-      "  generated when absent), LOCKSTEP_PEER_DIR (where the peer rows' modules lockstep_peer_*.so are)\n"
+      "  generated when absent), LOCKSTEP_PEER_DIR (where the modules lockstep_oiio.so and the peer\n"
+      "  rows' lockstep_peer_*.so are)\n"
       "exit codes: 0 ok, 1 differences/failures, 2 bad usage or bad input, 3 internal error\n",
       LOCKSTEP_VERSION, cli::all_impl_names().c_str());
 }
