@@ -5,7 +5,6 @@
 //   lockstep verify [CORPUS_DIR] [--report DIR] [--impl NAME]... [--filter SUBSTR]
 //
 // main() only dispatches and turns exceptions into exit codes (app/cli.h).
-#include <OpenImageIO/oiioversion.h>
 #include <embree3/rtcore_config.h>
 #include "optimized/marching_cubes_vtk.h"
 #include "optimized/raster.h"
@@ -20,6 +19,7 @@
 
 #include "app/cli.h"
 #include "app/verify.h"  // merge_reports_main
+#include "core/oiio.h"
 
 namespace cli = lockstep::cli;
 
@@ -60,15 +60,20 @@ void print_help() {
       "\n"
       "options: --help (also after a subcommand), --version\n"
       "environment: LOCKSTEP_SPD_DIR, LOCKSTEP_VOLUMES_DIR (data beside the repository; SPD scenes are\n"
-      "  generated when absent), LOCKSTEP_PEER_DIR (where the peer rows' modules lockstep_peer_*.so are)\n"
+      "  generated when absent), LOCKSTEP_PEER_DIR (where the modules lockstep_oiio.so and the peer\n"
+      "  rows' lockstep_peer_*.so are)\n"
       "exit codes: 0 ok, 1 differences/failures, 2 bad usage or bad input, 3 internal error\n",
       LOCKSTEP_VERSION, cli::all_impl_names().c_str());
 }
 
 void print_version() {
+  // OpenImageIO's version as recorded beside lockstep_oiio.so when it was built
+  // (core/oiio.h): printing it does not open the module and its ~250 libraries.
+  std::string oiio = lockstep::oiio::recorded_version();
+  if (oiio.empty()) oiio = "(module lockstep_oiio.so not found: image files cannot be read or written)";
   std::printf("lockstep %s (simd: Highway target %s; embree %d.%d.%d; OpenImageIO %s)\n", LOCKSTEP_VERSION,
               lockstep::opt::simd::target_name(), RTC_VERSION_MAJOR, RTC_VERSION_MINOR, RTC_VERSION_PATCH,
-              OIIO_VERSION_STRING);
+              oiio.c_str());
   // Peer rows: each is a module beside the binary (optimized/peer_module.h),
   // built only where its library was found at configure time. Their versions
   // were recorded when the modules were built: nothing here loads a peer library.

@@ -15,15 +15,13 @@
 //      reference too.
 // A case's `beside` picture (another renderer's image of the scene) is put in
 // its report folder as beside.png, scaled to the frame's size; never judged.
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
 #include "app/run.h"
 #include "app/verify.h"
+#include "core/oiio.h"
 
 namespace lockstep::cli {
 
@@ -33,13 +31,9 @@ namespace {
 
 // c.beside scaled to w x h (a filtered resize), written to case_dir/beside.png.
 void write_beside(const Case& c, const fs::path& case_dir, int w, int h) {
-  OIIO::ImageBuf src(c.beside);
-  if (!src.read(0, 0, true, OIIO::TypeDesc::FLOAT)) throw InputError(c.beside, 0, "cannot read: " + src.geterror());
-  const OIIO::ROI roi(0, w, 0, h, 0, 1, 0, std::min(src.nchannels(), 4));
-  OIIO::ImageBuf dst = src.spec().width == w && src.spec().height == h ? src : OIIO::ImageBufAlgo::resize(src, "", 0, roi);
-  const std::string out = (case_dir / "beside.png").string();
-  if (dst.has_error() || !dst.write(out, OIIO::TypeDesc::UINT8))
-    throw InputError(out, 0, "cannot write the beside picture: " + dst.geterror());
+  // OpenImageIO's resize, in lockstep_oiio.so (core/oiio.h).
+  oiio::Error err;
+  if (!oiio::api().write_resized(c.beside, (case_dir / "beside.png").string(), w, h, &err)) oiio::raise(err);
 }
 
 }  // namespace

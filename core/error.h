@@ -13,9 +13,12 @@ namespace lockstep {
 class InputError : public std::runtime_error {
  public:
   InputError(const std::string& file, int line, const std::string& what)
-      : std::runtime_error(format(file, line, what)), file_(file), line_(line) {}
+      : std::runtime_error(format(file, line, what)), file_(file), line_(line), message_(what) {}
   const std::string& file() const { return file_; }
   int line() const { return line_; }  // 0 when the error is about the whole file
+  // The words without file and line (what the constructor was given): an error
+  // from a module (core/oiio.h) is thrown again on this side as it was made there.
+  const std::string& message() const { return message_; }
 
  private:
   static std::string format(const std::string& file, int line, const std::string& what) {
@@ -35,6 +38,7 @@ class InputError : public std::runtime_error {
   }
   std::string file_;
   int line_;
+  std::string message_;
 };
 
 }  // namespace lockstep

@@ -1,7 +1,9 @@
 // lockstep core: float RGBA images and their files.
 //
 // Pixels are linear float RGBA, row 0 at the top. Files go through
-// OpenImageIO, so the format follows the extension (.png, .exr, .tif, ...).
+// OpenImageIO, so the format follows the extension (.png, .exr, .tif, ...);
+// its calls are in the module lockstep_oiio.so, opened by the first read or
+// write (core/oiio.h).
 // Writing is atomic: the image goes to a temporary file in the same folder that
 // is renamed into place only when complete, so a failure never leaves a
 // half-written output behind.

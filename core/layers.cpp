@@ -1,8 +1,9 @@
 // lockstep core: layer stacks -- the .stack reader and layer loading.
 //
-// Layers go through OpenImageIO. Integer formats (PNG, 8-bit TIFF, ...) are
-// read with the `oiio:UnassociatedAlpha` config so that OIIO hands back the
-// file's straight values instead of premultiplying them on the way in; float
+// Layers go through OpenImageIO (read_layer's body is in core/oiio_module.cpp,
+// the module lockstep_oiio.so opened on first use: core/oiio.h). Integer
+// formats (PNG, 8-bit TIFF, ...) are read with the `oiio:UnassociatedAlpha`
+// config so that OIIO hands back the file's straight values instead of premultiplying them on the way in; float
 // formats (EXR) are premultiplied by OpenEXR's definition. An explicit override
 // (`--alpha`, or a .stack file's `alpha` line) wins over both.
 //
@@ -11,41 +12,16 @@
 // of 1: compositing it would silently hide everything behind it).
 #include "core/layers.h"
 
-#include "core/quiet_stderr.h"
-
-#include <OpenImageIO/imageio.h>
-
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 
 #include "core/error.h"
+#include "core/oiio.h"
 
 namespace lockstep {
 
 namespace {
-
-std::string channel_list(const OIIO::ImageSpec& spec) {
-  std::string s;
-  for (int c = 0; c < spec.nchannels; ++c) {
-    if (c) s += ',';
-    s += c < int(spec.channelnames.size()) ? spec.channelnames[size_t(c)] : "?";
-  }
-  return s;
-}
-
-// The index of the channel called `name` (case-insensitive), or -1.
-int find_channel(const OIIO::ImageSpec& spec, const char* name) {
-  for (int c = 0; c < int(spec.channelnames.size()); ++c)
-    if (OIIO::Strutil::iequals(spec.channelnames[size_t(c)], name)) return c;
-  return -1;
-}
-
-const char* channel_name(int c) {
-  static constexpr const char* kNames[4] = {"R", "G", "B", "A"};
-  return c >= 0 && c < 4 ? kNames[c] : "?";
-}
 
 std::string trim(const std::string& s) {
   const size_t b = s.find_first_not_of(" \t\r");
@@ -68,97 +44,9 @@ void check_same_size(const Layer& first, const Layer& l, const std::string& file
 }  // namespace
 
 Layer read_layer(const std::string& path, std::optional<Alpha> alpha_override) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw InputError(path, 0, "cannot read layer: no such file");
-  if (fs::is_directory(path, ec)) throw InputError(path, 0, "cannot read layer: is a directory");
-  // Ask OIIO for the file's own values: without this config it premultiplies
-  // straight-alpha files (PNG, unassociated TIFF) while reading them.
-  OIIO::ImageSpec config;
-  config.attribute("oiio:UnassociatedAlpha", 1);
-  const QuietStderr quiet;  // libpng's own lines; the error comes back through OIIO
-  auto in = OIIO::ImageInput::open(path, &config);
-  if (!in) throw InputError(path, 0, "cannot read layer: " + OIIO::geterror());
-  const OIIO::ImageSpec spec = in->spec();
-  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
-    throw InputError(path, 0, "layer has no pixels");
-  if (int64_t(spec.width) * int64_t(spec.height) > (int64_t(1) << 28))
-    throw InputError(path, 0,
-                     "layer is too large (" + std::to_string(spec.width) + "x" +
-                         std::to_string(spec.height) + "; at most 2^28 pixels)");
-  const int nc = spec.nchannels;
-  int ca = spec.alpha_channel;
-  if (ca < 0) ca = find_channel(spec, "A");
-  if (ca < 0 || nc < 2)
-    throw InputError(path, 0,
-                     "has no alpha channel (" + std::to_string(nc) + " channel" +
-                         (nc == 1 ? "" : "s") + ": " + channel_list(spec) +
-                         "); lockstep composite needs RGBA");
-  // Colour channels: R, G, B by name, else the non-alpha channels in file order
-  // (a grey + alpha file replicates its grey).
-  int cc[3] = {find_channel(spec, "R"), find_channel(spec, "G"), find_channel(spec, "B")};
-  if (cc[0] < 0 || cc[1] < 0 || cc[2] < 0) {
-    std::vector<int> others;
-    for (int c = 0; c < nc; ++c)
-      if (c != ca) others.push_back(c);
-    for (int k = 0; k < 3; ++k) cc[k] = others[std::min<size_t>(size_t(k), others.size() - 1)];
-  }
-
-  const size_t values = size_t(spec.width) * size_t(spec.height) * size_t(nc);
-  std::vector<float> buf(values);
-  bool read_ok;
-  if (spec.format == OIIO::TypeDesc::UINT8) {
-    // 8-bit q becomes q / 255 divided exactly (OIIO multiplies by 1/255, an ulp
-    // off for some q), so that to_unorm8 and 8-bit outputs (q / 255) round-trip.
-    std::vector<uint8_t> q(values);
-    read_ok = in->read_image(0, 0, 0, nc, OIIO::TypeDesc::UINT8, q.data());
-    for (size_t i = 0; i < values; ++i) buf[i] = float(q[i]) / 255.0f;
-  } else {
-    read_ok = in->read_image(0, 0, 0, nc, OIIO::TypeDesc::FLOAT, buf.data());
-  }
-  if (!read_ok) {
-    std::string why = in->geterror();
-    if (why.empty()) why = "read failed (truncated or corrupt file?)";
-    throw InputError(path, 0, "cannot read layer: " + why);
-  }
-  // OIIO can report a truncated file only as an error message while still
-  // returning true for some formats; treat any pending error as fatal.
-  if (in->has_error()) throw InputError(path, 0, "cannot read layer: " + in->geterror());
-
   Layer layer;
-  layer.source = path;
-  const bool is_float = spec.format.basetype == OIIO::TypeDesc::FLOAT ||
-                        spec.format.basetype == OIIO::TypeDesc::HALF ||
-                        spec.format.basetype == OIIO::TypeDesc::DOUBLE;
-  const bool declared_straight = spec.get_int_attribute("oiio:UnassociatedAlpha", 0) != 0;
-  layer.alpha = alpha_override
-                    ? *alpha_override
-                    : (is_float && !declared_straight ? Alpha::premultiplied : Alpha::straight);
-  layer.image = Image(spec.width, spec.height);
-  const int src_channel[4] = {cc[0], cc[1], cc[2], ca};
-  for (int y = 0; y < spec.height; ++y) {
-    for (int x = 0; x < spec.width; ++x) {
-      const size_t i = size_t(y) * size_t(spec.width) + size_t(x);
-      float* d = &layer.image.rgba[i * 4];
-      for (int c = 0; c < 4; ++c) {
-        const float v = buf[i * size_t(nc) + size_t(src_channel[c])];
-        if (std::isnan(v) || v < 0 || std::isinf(v)) {
-          std::ostringstream m;
-          m << "pixel (" << x << ", " << y << ") channel " << channel_name(c) << " is ";
-          if (std::isnan(v)) {
-            m << "NaN";
-          } else if (std::isinf(v)) {
-            m << (v < 0 ? "-inf" : "inf");
-          } else {
-            m << "negative (" << v << ")";
-          }
-          m << "; layers must hold finite values >= 0";
-          throw InputError(path, 0, m.str());
-        }
-        d[c] = v;
-      }
-    }
-  }
+  oiio::Error err;
+  if (!oiio::api().read_layer(path, alpha_override ? &*alpha_override : nullptr, &layer, &err)) oiio::raise(err);
   return layer;
 }
 

@@ -1,21 +1,14 @@
 #include "core/metrics.h"
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
+#include "core/oiio.h"
+
 namespace lockstep {
 
 namespace {
-
-// An ImageBuf over the image's own pixels (no copy; read only).
-OIIO::ImageBuf wrap(const Image& img) {
-  const OIIO::ImageSpec spec(img.width, img.height, 4, OIIO::TypeDesc::FLOAT);
-  return OIIO::ImageBuf(spec, const_cast<float*>(img.rgba.data()));
-}
 
 bool has_nan(const float* p) { return std::isnan(p[0]) || std::isnan(p[1]) || std::isnan(p[2]) || std::isnan(p[3]); }
 
@@ -31,18 +24,23 @@ ImageError compare_images(const Image& a, const Image& b, const CompareOptions& 
   }
   e.pixels = long(a.width) * long(a.height);
   if (e.pixels == 0) return e;
-  const OIIO::ImageBuf A = wrap(a), B = wrap(b);
-  const auto r = OIIO::ImageBufAlgo::compare(A, B, float(opt.fail_threshold), float(opt.warn_threshold));
-  e.max_error = r.maxerror;
-  e.max_x = r.maxx;
-  e.max_y = r.maxy;
-  e.mean_error = r.meanerror;
+  // ImageBufAlgo::compare, in lockstep_oiio.so (core/oiio.h).
+  const oiio::ModuleApi& io = oiio::api();
+  oiio::CompareStats r;
+  io.compare(a, b, float(opt.fail_threshold), float(opt.warn_threshold), &r);
+  e.max_error = r.max_error;
+  e.max_x = r.max_x;
+  e.max_y = r.max_y;
+  e.mean_error = r.mean_error;
   e.rms_error = r.rms_error;
-  e.psnr = r.rms_error > 0 ? r.PSNR : kInfinity;
-  e.pixels_failed = long(r.nfail);
-  e.pixels_warned = long(r.nwarn);
-  if (std::isfinite(opt.hard_fail))
-    e.over_hard = long(OIIO::ImageBufAlgo::compare(A, B, float(opt.hard_fail), float(opt.hard_fail)).nfail);
+  e.psnr = r.rms_error > 0 ? r.psnr : kInfinity;
+  e.pixels_failed = r.failed;
+  e.pixels_warned = r.warned;
+  if (std::isfinite(opt.hard_fail)) {
+    oiio::CompareStats hard;
+    io.compare(a, b, float(opt.hard_fail), float(opt.hard_fail), &hard);
+    e.over_hard = hard.failed;
+  }
   // NaN: idiff skips it; here it is the worst possible error, and fails every threshold.
   for (long i = 0; i < e.pixels; ++i) {
     const float *p = &a.rgba[size_t(i) * 4], *q = &b.rgba[size_t(i) * 4];
@@ -61,19 +59,11 @@ ImageError compare_images(const Image& a, const Image& b, const CompareOptions& 
 }
 
 Image error_heatmap(const Image& a, const Image& b, double scale) {
-  namespace iba = OIIO::ImageBufAlgo;
-  const int w = std::min(a.width, b.width), h = std::min(a.height, b.height);
-  const OIIO::ROI roi(0, w, 0, h, 0, 1, 0, 4);
-  const OIIO::ImageBuf err = iba::maxchan(iba::absdiff(wrap(a), wrap(b), roi));
-  if (scale <= 0) {
-    const auto stats = iba::computePixelStats(err);
-    scale = !stats.max.empty() && stats.max[0] > 0 ? stats.max[0] : 1;
-  }
-  // black, blue, green, yellow, red: 0 .. scale
-  static constexpr float kKnots[] = {0, 0, 0, 0, 0, 1, 0, 1, 0, 1, 1, 0, 1, 0, 0};
-  const OIIO::ImageBuf map = iba::color_map(iba::clamp(iba::mul(err, float(1 / scale)), 0.0f, 1.0f), 0, 5, 3, kKnots);
-  Image out(w, h);
-  map.get_pixels(OIIO::ROI(0, w, 0, h, 0, 1, 0, 3), OIIO::TypeDesc::FLOAT, out.rgba.data(), 4 * sizeof(float));
+  // absdiff, maxchan, color_map: in lockstep_oiio.so (core/oiio.h).
+  Image out;
+  oiio::Error err;
+  if (!oiio::api().heatmap(a, b, scale, &out, &err)) oiio::raise(err);
+  const int w = out.width, h = out.height;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       float* p = out.pixel(x, y);

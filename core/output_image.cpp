@@ -1,8 +1,6 @@
 // lockstep core: the image output kind (see core/output_image.h).
 #include "core/output_image.h"
 
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -11,6 +9,7 @@
 
 #include "core/error.h"
 #include "core/family.h"
+#include "core/oiio.h"
 
 namespace lockstep {
 
@@ -44,11 +43,8 @@ void check_path(const std::string& path) {
   if (!fs::is_directory(dir, ec)) throw InputError(path, 0, "cannot write image: folder " + dir.string() + " does not exist");
   if (fs::is_directory(p, ec)) throw InputError(path, 0, "cannot write image: is a folder");
   if (p.extension().empty()) throw InputError(path, 0, "cannot write image: no extension to pick the format (.png, .exr, .tif, ...)");
-  auto out = OIIO::ImageOutput::create(path);
-  if (!out) {
-    (void)OIIO::geterror();
+  if (!oiio::api().has_writer(path))  // lockstep_oiio.so (core/oiio.h)
     throw InputError(path, 0, "cannot write image: unknown format '" + p.extension().string() + "'");
-  }
 }
 
 // ---------------------------------------------------------------- comparison

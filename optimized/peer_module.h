@@ -9,12 +9,10 @@
 // volume_volpack.cpp) prepares the call, opens the module here and calls the
 // one table of functions it exports (lockstep_peer_api).
 //
-// Where a module is looked for, first hit wins:
-//   $LOCKSTEP_PEER_DIR                 (the override, e.g. an installed layout)
-//   the executable's own folder        (build/lockstep, build/lockstep_llvmpipe_check)
-//   the folder above it                (build/bench/lockstep_bench, build/props/lockstep_props,
-//                                       build/tests/lockstep_volpack_test)
-// Beside each module, lockstep_peer_NAME.version (written when it is built, by
+// Modules are found and opened by core/module.h (which says where they are
+// looked for: $LOCKSTEP_PEER_DIR first, then beside the executable and the
+// folder above it), as OpenImageIO's lockstep_oiio.so is. Beside each module,
+// lockstep_peer_NAME.version (written when it is built, by
 // tools/peer_version.cpp) names the peer library's version, so that --version
 // says it without opening the module.
 //

@@ -14,7 +14,8 @@
 # fresh pages in a running process). Every figure is the median of RUNS runs,
 # the commands alternated run by run (A B A B ...), so that a shared machine's
 # load falls on all alike. BEFORE=path/to/old/lockstep adds that binary's
-# --version (e.g. a build of the commit before the peer modules).
+# --version, diff and render to PNG (e.g. a build of the commit before
+# OpenImageIO became a module; say which in ONESHOT_NOTE).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 RUNS=${1:-5}
@@ -126,8 +127,13 @@ cmds = {  # name: (command, the input whose first open is "first work", bench be
          "1024x1024", "-o", os.path.join(tmp, "l.exr")], "sombrero-2.nff",
         "frame/zbuffer/sombrero-2/flat/llvmpipe/threads:1/"),
 }
-if before:
-    cmds["lockstep --version, before the peer modules"] = ([os.path.abspath(before), "--version"], None, None)
+if before:  # an older build beside this one, alternated with it (ONESHOT_NOTE says which)
+    ob = os.path.abspath(before)
+    cmds["lockstep --version, BEFORE's binary"] = ([ob, "--version"], None, None)
+    cmds["lockstep diff A B (1024^2 EXR), BEFORE's binary"] = ([ob, "diff", img_a, img_b], "a.exr", None)
+    cmds["render zbuffer simd sombrero-2 1024^2 -> PNG, BEFORE's binary"] = (
+        [ob, "render", sombrero, "--algo", "zbuffer", "--impl", "simd", "--shading", "flat", *one, "--size",
+         "1024x1024", "-o", os.path.join(tmp, "zb.png")], "sombrero-2.nff", None)
 if "llvmpipe" not in subprocess.run([L, "--version"], capture_output=True, text=True).stdout:
     del cmds["render zbuffer llvmpipe sombrero-2 1024^2 (peer)"]
 
