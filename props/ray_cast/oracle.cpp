@@ -54,6 +54,29 @@ class Mp {
 f128 to_f128(const Q& q) { return Mp(q).f(); }
 LD to_ld(const Q& q) { return LD(Mp(q).f()); }
 
+// The roots of A t^2 + 2 Bh t + C = 0, given its exact discriminant Dq = Bh^2 -
+// A C >= 0, in ascending order: the stable form (q = -(Bh + sign(Bh) sqrt(Dq)),
+// roots q / A and C / q, so no root comes from a cancelling difference) at 256
+// bits, rounded to f128. Both 0 when q = 0 (Bh = Dq = 0, then C = 0: the
+// double root t = 0).
+void stable_roots(const Q& A, const Q& Bh, const Q& Dq, const Q& C, f128& t0, f128& t1) {
+  Mp mA(A), mB(Bh), mD(Dq), mC(C), s, q, ra, rb;
+  mpfr_sqrt(s.get(), mD.get(), MPFR_RNDN);
+  if (mpfr_sgn(mB.get()) >= 0) {
+    mpfr_add(q.get(), mB.get(), s.get(), MPFR_RNDN);
+    mpfr_neg(q.get(), q.get(), MPFR_RNDN);
+  } else {
+    mpfr_sub(q.get(), s.get(), mB.get(), MPFR_RNDN);
+  }
+  t0 = t1 = 0;
+  if (mpfr_zero_p(q.get())) return;
+  mpfr_div(ra.get(), q.get(), mA.get(), MPFR_RNDN);
+  mpfr_div(rb.get(), mC.get(), q.get(), MPFR_RNDN);
+  const f128 a = ra.f(), b = rb.f();
+  t0 = a < b ? a : b;
+  t1 = a < b ? b : a;
+}
+
 // ---------------------------------------------------------------- approximate vectors for conditioning
 struct L3 {
   LD x, y, z;
@@ -152,25 +175,7 @@ OracleHit sphere_query(const Ray& ray, const Vec3& center, double radius, Sphere
 
   // t of both roots, stable form at 256 bits.
   f128 t0 = f128(kInfinity), t1 = f128(kInfinity);
-  if (sD >= 0) {
-    Mp mA(A), mB(Bh), mD(Dq), mC(C), s, q, ra, rb;
-    mpfr_sqrt(s.get(), mD.get(), MPFR_RNDN);
-    if (mpfr_sgn(mB.get()) >= 0) {
-      mpfr_add(q.get(), mB.get(), s.get(), MPFR_RNDN);
-      mpfr_neg(q.get(), q.get(), MPFR_RNDN);
-    } else {
-      mpfr_sub(q.get(), s.get(), mB.get(), MPFR_RNDN);
-    }
-    if (mpfr_zero_p(q.get())) {
-      t0 = t1 = 0;
-    } else {
-      mpfr_div(ra.get(), q.get(), mA.get(), MPFR_RNDN);
-      mpfr_div(rb.get(), mC.get(), q.get(), MPFR_RNDN);
-      const f128 a = ra.f(), b = rb.f();
-      t0 = a < b ? a : b;
-      t1 = a < b ? b : a;
-    }
-  }
+  if (sD >= 0) stable_roots(A, Bh, Dq, C, t0, t1);
   if (h.hit) h.t = h.root == 0 ? t0 : t1;
 
   // ---- conditioning (long double is plenty)
@@ -628,22 +633,8 @@ OracleHit oracle_cone(const Ray& ray, const Scene& scene, uint32_t cone) {
       roots.push_back(r);
     }
   } else if (sD >= 0) {
-    Mp mA(e.A), mB(e.Bh), mD(e.Dq), mC(e.C), s, q, ra, rb;
-    mpfr_sqrt(s.get(), mD.get(), MPFR_RNDN);
-    if (mpfr_sgn(mB.get()) >= 0) {
-      mpfr_add(q.get(), mB.get(), s.get(), MPFR_RNDN);
-      mpfr_neg(q.get(), q.get(), MPFR_RNDN);
-    } else {
-      mpfr_sub(q.get(), s.get(), mB.get(), MPFR_RNDN);
-    }
-    f128 t0 = 0, t1 = 0;
-    if (!mpfr_zero_p(q.get())) {
-      mpfr_div(ra.get(), q.get(), mA.get(), MPFR_RNDN);
-      mpfr_div(rb.get(), mC.get(), q.get(), MPFR_RNDN);
-      const f128 x = ra.f(), y = rb.f();
-      t0 = x < y ? x : y;
-      t1 = x < y ? y : x;
-    }
+    f128 t0, t1;
+    stable_roots(e.A, e.Bh, e.Dq, e.C, t0, t1);
     Root r0r, r1r;
     r0r.t = t0, r1r.t = t1;
     classify(0, r0r);
