@@ -2,6 +2,7 @@
 // from Params (CLI `--depth 3 --robust`, corpus `depth=3 robust=1`).
 #include "core/ray_trace.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 
@@ -78,6 +79,46 @@ Vec3 outward_normal(const Scene& scene, uint32_t prim, const Vec3& p) {
   if (prim < scene.sphere_count()) return normalize(p - scene.sphere_center[prim]);
   if (prim >= scene.cone_first_prim()) return cone_outward_normal(scene, prim - scene.cone_first_prim(), p);
   return scene.poly_plane[prim - scene.sphere_count()].n;
+}
+
+SurfacePoint surface_point(const Scene& scene, uint32_t prim, const Ray& ray, double t) {
+  constexpr double kUnit = 0x1p-53;
+  const Vec3 p = ray.o + t * ray.d;
+  if (prim < scene.sphere_count()) {
+    // Radially onto the sphere: c + |r| (p - c) / |p - c|, good to a few
+    // ulps of |c| and r (the division and the sum round once each).
+    const Vec3& c = scene.sphere_center[prim];
+    const double r = std::abs(scene.sphere_radius[prim]);
+    const Vec3 v = p - c;
+    const double len = length(v);
+    if (!(len > 0) || !std::isfinite(len)) return {p, kUnit * (max_abs_component(p) + r)};
+    return {c + (r / len) * v, 8 * kUnit * (max_abs_component(c) + r)};
+  }
+  if (prim >= scene.cone_first_prim())
+    return {p, 32 * kUnit * (max_abs_component(ray.o) + std::abs(t) * max_abs_component(ray.d))};
+  // Along the plane's unit normal onto n.x + d = 0 (the plane every row's
+  // polygon test uses): good to a few ulps of |p| and |d|.
+  const Plane& pl = scene.poly_plane[prim - scene.sphere_count()];
+  const Vec3 q = p - (dot(pl.n, p) + pl.d) * pl.n;
+  return {q, 8 * kUnit * (max_abs_component(q) + std::abs(pl.d))};
+}
+
+double prim_magnitude(const Scene& scene, uint32_t prim, const Vec3& frame_origin) {
+  if (prim < scene.sphere_count())
+    return max_abs_component(scene.sphere_center[prim] - frame_origin) +
+           std::abs(scene.sphere_radius[prim]);
+  if (prim >= scene.cone_first_prim()) {
+    const uint32_t c = prim - scene.cone_first_prim();
+    return std::max(max_abs_component(scene.cone_base[c] - frame_origin),
+                    max_abs_component(scene.cone_apex[c] - frame_origin)) +
+           std::max(std::abs(scene.cone_r0[c]), std::abs(scene.cone_r1[c]));
+  }
+  const uint32_t poly = prim - scene.sphere_count();
+  // The plane offset in this frame: |d + n.origin|.
+  double m = std::abs(scene.poly_plane[poly].d + dot(scene.poly_plane[poly].n, frame_origin));
+  for (uint32_t v = scene.poly_first[poly]; v < scene.poly_first[poly + 1]; ++v)
+    m = std::max(m, max_abs_component(scene.vertex[v] - frame_origin));
+  return m;
 }
 
 const char* ray_kind_name(RayKind k) {

@@ -43,14 +43,16 @@
 // moved off the surface along the geometric normal, to the side the new ray
 // leaves on, and then counts hits from t = 0:
 //   fixed   by eps (world units), the textbook way;
-//   robust  by Waechter and Binder's integer-ulp offset (offset_robust below),
-//           counted in the ulps of the arithmetic the intersector works in
-//           (embree: float, in the eye frame; the reference: double, world).
+//   robust  by the hit's error bounds (robust_offset below): ulps of the
+//           primitive's coordinates in the arithmetic and frame of the
+//           intersector (embree: float, in a frame centred on the scene; the
+//           reference: double, world), from a hit point re-projected onto
+//           its surface (surface_point): right at any eye distance.
 // The default is each implementation's own: the reference fixed with eps =
 // 1e-6, embree robust.
 #pragma once
 
-#include <bit>
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -168,63 +170,69 @@ inline bool refract(const Vec3& d, const Vec3& n, double eta, Vec3& t) {
   return true;
 }
 
-// Waechter and Binder, "A Fast and Robust Method for Avoiding
-// Self-Intersection", Ray Tracing Gems (2019) ch. 6, in float as the chapter
-// has it: each coordinate of the hit p moves along the unit normal n (pointing
-// to the side the new ray leaves on) by 256 n_i ulps of that coordinate --
-// an offset that scales with the coordinate's magnitude, as the rounding
-// error of the hit point does -- except near the origin (|p_i| < 1/32), where
-// ulps become tiny and a fixed n_i / 65536 is added instead. The integer add
-// on the bit pattern steps away from zero for positive p_i and n_i; for a
-// negative p_i the sign of the step is flipped so that it still moves along n.
-inline Vec3f offset_robust(const Vec3f& p, const Vec3f& n) {
-  constexpr float kOrigin = 1.0f / 32, kFloatScale = 1.0f / 65536, kIntScale = 256;
-  Vec3f out;
-  for (int a = 0; a < 3; ++a) {
-    const int32_t step = int32_t(kIntScale * n[a]);
-    const int32_t bits = std::bit_cast<int32_t>(p[a]) + (p[a] < 0 ? -step : step);
-    out[a] = std::fabs(p[a]) < kOrigin ? p[a] + kFloatScale * n[a] : std::bit_cast<float>(bits);
-  }
-  return out;
-}
+// ---------------------------------------------------------------- leaving a surface
+// A hit point moved onto the surface it was found on, in object space, and a
+// bound on how far it can still be from that surface (world units). The hit
+// o + t d carries the error of t, which grows with the distance from the ray's
+// origin: a textbook sphere seen from 1e5 away is hit ~1e-6 off its surface.
+// Re-projected (a sphere: c + |r| (p - c) / |p - c|; a polygon: onto its
+// plane), the error is a few ulps of the surface's own coordinates, whatever
+// the eye's distance. Cones are not re-projected: their careful roots (reference/
+// ray_cone.h) are already good to a few ulps of |o| + t, and err says so.
+struct SurfacePoint {
+  Vec3 p;
+  double err = 0;
+};
+SurfacePoint surface_point(const Scene& scene, uint32_t prim, const Ray& ray, double t);
 
-// The same method in double, for an intersector that works in double in world
-// coordinates (the reference): its hit points carry rounding errors of a few
-// double ulps of each coordinate, so the step is 256 double ulps of the
-// coordinate (int64 on the bit pattern), and near the origin (|p_i| < 1/32) a
-// fixed n_i 2^-45: the chapter's 2^-16 scaled by the ratio of the two
-// machine epsilons (2^-52 / 2^-23), as the ulp step is. The offset therefore
-// stays below 1e-6 world units up to |p_i| = 2^25 (256 ulps of 2^24 is
-// 2^-20), where the float method's is 0.016 already at |p_i| = 512 and 1 at
-// 2^15: larger than the gaps a double scene out there can hold.
-inline Vec3 offset_robust(const Vec3& p, const Vec3& n) {
-  constexpr double kOrigin = 1.0 / 32, kFloatScale = 0x1p-45, kIntScale = 256;
-  Vec3 out;
-  for (int a = 0; a < 3; ++a) {
-    const int64_t step = int64_t(kIntScale * n[a]);
-    const int64_t bits = std::bit_cast<int64_t>(p[a]) + (p[a] < 0 ? -step : step);
-    out[a] = std::fabs(p[a]) < kOrigin ? p[a] + kFloatScale * n[a] : std::bit_cast<double>(bits);
-  }
-  return out;
-}
+// The largest |coordinate| an intersector holds for prim, in the frame it
+// works in (frame_origin subtracted; the frames here only translate): a
+// sphere's centre plus its radius, a polygon's vertices and plane offset, a
+// cone's end centres plus its larger radius. It scales both how well the
+// intersector knows where the surface is (its coordinates' rounding) and how
+// well it can tell a ray's origin from it.
+double prim_magnitude(const Scene& scene, uint32_t prim, const Vec3& frame_origin);
 
-// Which arithmetic the intersector that will trace a ray works in, and so
-// which ulps the robust offset counts: float (embree: Embree traverses the
-// float coordinates of the eye frame) or double (the reference, world
-// coordinates).
+// Which arithmetic the intersector that will trace a ray works in: float
+// (embree: Embree traverses float coordinates of its frame, which the row
+// centres on the scene, optimized/ray_trace_embree.cpp) or double (the
+// reference, world coordinates).
 enum class Arith : uint8_t { kFloat, kDouble };
 
-// Where a ray leaving the hit p in direction dir starts: p moved off the
-// surface along the outward geometric normal ng, to dir's side, by eps
-// (Offset::kFixed) or by offset_robust (Offset::kRobust) in the intersector's
-// arithmetic (kFloat: p and ng rounded to float first, as the chapter works).
+// The robust offset: how far along the geometric normal a ray leaving a
+// surface starts, from the bounds of every error that could put that surface,
+// as the next intersector sees it, on the new ray's side of its origin
+// (Pharr, Jakob and Humphreys, Physically Based Rendering 3rd ed. 3.9: offset
+// by the hit's error bound; Waechter and Binder, Ray Tracing Gems ch. 6, for
+// counting it in ulps of the coordinates involved):
+//   kRobustUlps unit roundoffs of the arithmetic times the primitive's
+//   magnitude in the intersector's frame (its coordinates' rounding, the
+//   intersection test's own error for an origin that close: a few ulps; the
+//   rounding of the new origin to float: half an ulp), plus
+//   kRobustErr times the hit point's own bound (SurfacePoint::err).
+// Nothing in it depends on the distance the hit was seen from: only on the
+// size of the primitive's coordinates in the frame (the scene's scale, and
+// for double rows its distance from the world origin). 32: measured, the
+// failure map (props/ray_trace/study.cpp) and the property Far find acne in
+// embree with 1 and none with 4 or more; 32 keeps 8x over that, and a
+// smaller offset leaks less and moves shadow rays less off the reference's
+// (256 gave 18 pixels over 1/255 on corpus rt-pov-tree-11, whose ground's
+// vertices are 50 away; 32 gives 3).
+inline constexpr double kRobustUlps = 32, kRobustErr = 4;
+inline double robust_offset(double magnitude, double err, Arith arith) {
+  const double unit = arith == Arith::kFloat ? 0x1p-24 : 0x1p-53;
+  return std::max(kRobustUlps * unit * magnitude + kRobustErr * err, 0x1p-1022);
+}
+
+// Where a ray leaving the surface point sp (in the caller's frame: sp.p there)
+// in direction dir starts: moved off the surface along the outward geometric
+// normal ng, to dir's side, by eps (Offset::kFixed) or by robust_offset
+// (Offset::kRobust; magnitude from prim_magnitude in the intersector's frame).
 // The caller resolves Offset::kOwn.
-inline Vec3 ray_start(const Vec3& p, const Vec3& ng, const Vec3& dir, const TraceSettings& s,
-                      Arith arith) {
+inline Vec3 ray_start(const Vec3& p, double err, double magnitude, const Vec3& ng, const Vec3& dir,
+                      const TraceSettings& s, Arith arith) {
   const Vec3 side = dot(dir, ng) >= 0 ? ng : -ng;
-  if (s.offset == Offset::kRobust)
-    return arith == Arith::kFloat ? Vec3(offset_robust(Vec3f(p), Vec3f(side)))
-                                  : offset_robust(p, side);
+  if (s.offset == Offset::kRobust) return p + robust_offset(magnitude, err, arith) * side;
   return p + s.eps * side;
 }
 

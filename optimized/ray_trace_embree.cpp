@@ -2,8 +2,18 @@
 //
 // The scene is optimized/embree_scene.h's, built with solid spheres (core/
 // ray_trace.h: a refracted ray inside a ball meets its far wall) in a frame
-// translated to the eye, so that coordinates Embree rounds to float are
-// eye-relative. Per ray, as the reference does it (reference/ray_trace.cpp):
+// translated to the eye moved towards the scene: along the view direction by
+// t0, the nearest approach of any primitive's bounding sphere to the eye (a
+// lower bound of every primary hit's distance), so that from far away the
+// coordinates Embree rounds to float are of the scene's size, not of the
+// eye's distance (issue #30), and from nearby the frame is the eye's, as it
+// was. Every primary ray starts t0 along its line (in double; its t then
+// counted from the eye again), inside the frame too. The frame depends on
+// nothing but the eye and the nearest primitive: objects hidden behind others
+// change no bit of it. A primitive whose bounding sphere holds the eye (a
+// ground polygon wider than the eye's distance) keeps t0 = 0: the eye's frame,
+// whose float coordinates grow with the eye's distance. Per ray, as the
+// reference does it (reference/ray_trace.cpp):
 //   * the nearest hit of primary, reflected and refracted rays, its t then
 //     recomputed in double for the primitive Embree chose (optimized/
 //     refine.h), so hit points are double-accurate and shading (core/
@@ -24,12 +34,13 @@
 //     surfaces within float's rounding is nearest (props Pixel, explained
 //     float_tie; one pixel of rt-pov-rings-7, 0.002, where a sphere meets a
 //     cylinder);
-//   * self-intersection: by default the robust offset of Waechter and Binder
-//     (Ray Tracing Gems ch. 6; core/ray_trace.h offset_robust) on the float
-//     hit point in the eye frame, i.e. the very coordinates Embree traverses
-//     with: 256 n_i ulps of each coordinate along the geometric normal, to
-//     the side the new ray leaves on, and the ray counts hits from t = 0.
-//     With eps=E, the textbook fixed offset instead (in double, then rounded).
+//   * self-intersection: the hit is moved onto its surface (core/ray_trace.h
+//     surface_point) and, by default, offset along the geometric normal to
+//     the side the new ray leaves on by the robust offset (core/ray_trace.h
+//     robust_offset): 32 float unit roundoffs of the primitive's magnitude
+//     in this frame, i.e. the very coordinates Embree traverses with, plus
+//     the hit's own bound; the ray counts hits from t = 0. With eps=E, the
+//     textbook fixed offset instead (in double, then rounded).
 // Pixels are spread over the cores in 16 x 16 tiles by opt::parallel_tiles
 // (optimized/tiling.h); the BVH build runs in the same thread count.
 #include <tbb/task_arena.h>
@@ -59,19 +70,53 @@ TraceSettings resolved(TraceSettings s) {
   return s;
 }
 
-// Rays are held in the eye frame (world minus the eye), in double; world(q)
-// is where a frame point is for shading and lights. What both tracers share:
-// the scene, the settings, the ray counts and the shading of a hit.
+// The Embree scene in its frame, and what the tracers need beside it: each
+// primitive's magnitude in the frame (core/ray_trace.h prim_magnitude: the
+// robust offset's scale) and t0, how far along its line every primary ray
+// starts.
+struct FrameScene {
+  std::unique_ptr<EmbreeScene> es;
+  std::vector<double> magnitude;
+  double t0 = 0;
+};
+
+// Where the primary ray of pixel (i, j) starts, in the frame: t0 along its
+// line when that is beyond the hither distance, at the eye otherwise. shift:
+// the distance from the eye, to be added to hits' t; tnear: the hither
+// distance left.
+struct PrimaryStart {
+  Vec3 o, d;
+  double tnear = 0, shift = 0;
+};
+PrimaryStart primary_start(const FrameScene& fs, const Camera& cam, int i, int j) {
+  const Ray r = cam.primary(i, j);
+  PrimaryStart s;
+  s.d = r.d;
+  if (fs.t0 > r.tmin) {
+    s.shift = fs.t0;
+    s.o = fs.es->frame.point(r.o + fs.t0 * r.d);
+  } else {
+    s.o = fs.es->frame.point(r.o);
+    s.tnear = r.tmin;
+  }
+  return s;
+}
+
+// Rays are held in the scene's frame (world minus its origin), in double;
+// world(q) is where a frame point is for shading and lights. What both
+// tracers share: the scene, the settings, the ray counts and the shading of a
+// hit.
 struct Shader {
   const Scene& scene;
+  const FrameScene& fs;
   const EmbreeScene& es;
   const TraceSettings& settings;
   RayTree* tree = nullptr;
   RayCounts rays;
   RTCIntersectContext context;
 
-  Shader(const Scene& s, const EmbreeScene& e, const TraceSettings& t, RayTree* r)
-      : scene(s), es(e), settings(t), tree(r) {
+  Shader(const Scene& s, const FrameScene& f, const TraceSettings& t, RayTree* r)
+      : scene(s), fs(f), es(*f.es), settings(t), tree(r) {
     rtcInitIntersectContext(&context);
   }
 
@@ -114,8 +159,11 @@ struct Shader {
   template <class ShadowFn, class SpawnFn>
   Vec3 shade(const Vec3& o, const Vec3& d, const Hit& hit, int depth, double weight, int me,
              ShadowFn&& shadow, SpawnFn&& spawn) {
-    const Vec3 q = o + hit.t * d;  // frame
-    const Vec3 p = world(q);
+    // The hit moved onto its surface (world, double), then in the frame.
+    const SurfacePoint sp = surface_point(scene, hit.prim, Ray{world(o), d}, hit.t);
+    const Vec3& p = sp.p;
+    const Vec3 q = p - es.frame.origin;
+    const double mag = fs.magnitude[hit.prim];
     const Vec3 n = surface_normal(scene, hit.prim, hit.tri, p, d);
     const Vec3 ng = outward_normal(scene, hit.prim, p);
     const Material& m = scene.material_of_prim(hit.prim);
@@ -125,7 +173,7 @@ struct Shader {
       if (dot(n, ls.l) <= 0) continue;
       const Vec3 term = phong_light(m, n, -d, ls);
       if (settings.shadows) {
-        const Vec3 so = ray_start(q, ng, ls.l, settings, Arith::kFloat);
+        const Vec3 so = ray_start(q, sp.err, mag, ng, ls.l, settings, Arith::kFloat);
         const Vec3 to_light = (scene.lights[k].position - es.frame.origin) - so;
         const double dist = length(to_light);
         rays.add(RayKind::kShadow);
@@ -138,8 +186,8 @@ struct Shader {
     if (kr > 0 && weight * kr >= settings.cutoff) {
       const Vec3 r = reflect(d, n);
       if (const std::optional<Vec3> c =
-              spawn(RayKind::kReflect, ray_start(q, ng, r, settings, Arith::kFloat), r, weight * kr,
-                    kr, false))
+              spawn(RayKind::kReflect, ray_start(q, sp.err, mag, ng, r, settings, Arith::kFloat), r,
+                    weight * kr, kr, false))
         color += kr * *c;
     }
     const double kt = std::min(1.0, m.transmittance);
@@ -148,8 +196,8 @@ struct Shader {
       Vec3 t;
       if (refract(d, n, entering ? 1.0 / m.ior : m.ior, t)) {
         if (const std::optional<Vec3> c =
-                spawn(RayKind::kRefract, ray_start(q, ng, t, settings, Arith::kFloat), t,
-                      weight * kt, kt, entering))
+                spawn(RayKind::kRefract, ray_start(q, sp.err, mag, ng, t, settings, Arith::kFloat),
+                      t, weight * kt, kt, entering))
           color += kt * *c;
       } else {
         record(tree, tir_node(me, depth + 1, p, d, weight * kt, entering));
@@ -178,13 +226,15 @@ struct Tracer : Shader {
     return r.tfar < 0;  // Embree's "occluded": tfar = -inf
   }
 
+  // shift: how far o is along the ray from where the tree says it starts
+  // (primary rays: from the eye, primary_start).
   Vec3 trace(const Vec3& o, const Vec3& d, double tnear, RayKind kind, int depth, double weight,
-             int parent, bool entering) {
+             int parent, bool entering, double shift = 0) {
     rays.add(kind);
     const int me = record(tree, RayNode{kind,
                                         parent,
                                         depth,
-                                        world(o),
+                                        world(o) - shift * d,
                                         d,
                                         kInfinity,
                                         {},
@@ -198,6 +248,7 @@ struct Tracer : Shader {
     const Vec3 c = hit.hit() ? shade_node(o, d, hit, depth, weight, me) : scene.background;
     if (tree) {
       tree->nodes[me].hit = hit;
+      if (hit.hit()) tree->nodes[me].hit.t += shift;
       tree->nodes[me].color = c;
     }
     return c;
@@ -226,10 +277,10 @@ struct Tracer : Shader {
         });
   }
 
-  // Pixel (i, j): the primary ray from the eye (the frame's origin).
+  // Pixel (i, j): the primary ray from the eye, started where primary_start says.
   Vec3 pixel(const Camera& cam, int i, int j) {
-    const Ray r = cam.primary(i, j);
-    return trace(Vec3{0, 0, 0}, r.d, r.tmin, RayKind::kPrimary, 1, 1.0, -1, false);
+    const PrimaryStart s = primary_start(fs, cam, i, j);
+    return trace(s.o, s.d, s.tnear, RayKind::kPrimary, 1, 1.0, -1, false, s.shift);
   }
 };
 
@@ -273,9 +324,8 @@ struct Wavefront : Shader {
     level.clear();
     for (int j = y0; j < y1; ++j)
       for (int i = x0; i < x1; ++i) {
-        const Ray r = cam.primary(i, j);
-        level.push_back(
-            Pending{Vec3{0, 0, 0}, r.d, r.tmin, 1.0, int(nodes.size()), 1, RayKind::kPrimary});
+        const PrimaryStart s = primary_start(fs, cam, i, j);
+        level.push_back(Pending{s.o, s.d, s.tnear, 1.0, int(nodes.size()), 1, RayKind::kPrimary});
         nodes.emplace_back();
       }
     // Primary rays of a tile are coherent (Embree's stream traversal); the
@@ -336,16 +386,46 @@ struct Wavefront : Shader {
   }
 };
 
-std::unique_ptr<EmbreeScene> build(const Scene& scene, const Camera& cam, int threads,
-                                   const Device& device = Device()) {
+// t0: the nearest approach of any primitive's bounding sphere to the eye
+// (a sphere's own; a polygon's about its vertices' centroid; a cone's about
+// its axis' midpoint), less 1e-6 of itself for the rounding of the sums (far
+// above it: double's is ~1e-16 relative); 0 when a bounding sphere holds the
+// eye or the scene is empty.
+double nearest_approach(const Scene& scene, const Vec3& eye) {
+  double t = kInfinity;
+  auto add = [&](const Vec3& c, double r) { t = std::min(t, length(c - eye) - r); };
+  for (uint32_t k = 0; k < scene.sphere_count(); ++k)
+    add(scene.sphere_center[k], std::abs(scene.sphere_radius[k]));
+  for (uint32_t p = 0; p < scene.polygon_count(); ++p) {
+    const uint32_t first = scene.poly_first[p], last = scene.poly_first[p + 1];
+    Vec3 c{};
+    for (uint32_t v = first; v < last; ++v) c += scene.vertex[v];
+    c = c / double(std::max(1u, last - first));
+    double r = 0;
+    for (uint32_t v = first; v < last; ++v) r = std::max(r, length(scene.vertex[v] - c));
+    add(c, r);
+  }
+  for (uint32_t k = 0; k < scene.cone_count(); ++k)
+    add(0.5 * (scene.cone_base[k] + scene.cone_apex[k]),
+        0.5 * length(scene.cone_apex[k] - scene.cone_base[k]) +
+            std::max(std::abs(scene.cone_r0[k]), std::abs(scene.cone_r1[k])));
+  return std::isfinite(t) && t > 0 ? t * (1 - 1e-6) : 0.0;
+}
+
+FrameScene build(const Scene& scene, const Camera& cam, int threads,
+                 const Device& device = Device()) {
+  FrameScene fs;
+  fs.t0 = nearest_approach(scene, cam.eye);
   Frame frame;
-  frame.origin = cam.eye;
-  std::unique_ptr<EmbreeScene> es;
+  frame.origin = cam.eye + fs.t0 * normalize(cam.forward);
   // Embree's TBB tasking builds in the calling thread's arena.
   tbb::task_arena(resolve_threads(threads)).execute([&] {
-    es = build_scene(scene, frame, {.solid_spheres = true, .device = device});
+    fs.es = build_scene(scene, frame, {.solid_spheres = true, .device = device});
   });
-  return es;
+  fs.magnitude.resize(scene.prim_count());
+  for (uint32_t p = 0; p < scene.prim_count(); ++p)
+    fs.magnitude[p] = prim_magnitude(scene, p, frame.origin);
+  return fs;
 }
 
 }  // namespace
@@ -358,11 +438,11 @@ Vec3 trace_pixel(const Scene& scene, const TraceSettings& settings, int width, i
 Vec3 trace_pixel_with(const Scene& scene, const TraceSettings& settings, int width, int height,
                       int x, int y, RayTree* tree, const Device& device) {
   const Camera cam = Camera::from_view(scene.view, width, height);
-  const auto es = build(scene, cam, 1, device);
+  const FrameScene fs = build(scene, cam, 1, device);
   const TraceSettings s = resolved(settings);
-  Tracer tracer(scene, *es, s, tree);
+  Tracer tracer(scene, fs, s, tree);
   const Vec3 c = tracer.pixel(cam, x, y);
-  es->device.check("rtcIntersect1");
+  fs.es->device.check("rtcIntersect1");
   return c;
 }
 
@@ -375,13 +455,14 @@ Image trace_render_with(const Scene& scene, const FrameOptions& opts, FrameStats
   const TraceSettings settings = resolved(trace_settings(opts.params));
   const Camera cam = Camera::from_view(scene.view, opts.width, opts.height);
   const Stopwatch build_timer;
-  const auto es = build(scene, cam, opts.threads, device);
+  const FrameScene fs = build(scene, cam, opts.threads, device);
+  EmbreeScene* es = fs.es.get();
   const double build_seconds = build_timer.seconds();
   Image image(opts.width, opts.height);
   std::atomic<uint64_t> by_kind[4] = {};
   parallel_tiles(opts.width, opts.height, 16, 16, opts.threads, opts.progress,
                  [&](int x0, int y0, int x1, int y1) {
-                   Wavefront wave(scene, *es, settings, nullptr);
+                   Wavefront wave(scene, fs, settings, nullptr);
                    wave.tile(cam, x0, y0, x1, y1, image);
                    for (int k = 0; k < 4; ++k) by_kind[k] += wave.rays.n[k];
                  });

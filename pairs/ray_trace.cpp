@@ -142,7 +142,7 @@ Family ray_trace_family() {
           impl.session_any_input = true;
         }
   f.bench = bench_frames;
-  f.properties = {"laws", "slab", "tir", "weights", "hidden", "agree", "pixel"};
+  f.properties = {"laws", "slab", "tir", "weights", "hidden", "agree", "pixel", "far"};
   f.params = trace_params();
   f.check_params = [](const Params& p) { trace_settings(p, "settings"); };
   return f;

@@ -23,8 +23,12 @@
 // Self-intersection, the textbook way: every ray that starts on a surface
 // starts from the hit moved by a fixed eps (1e-6 world units unless the
 // settings say otherwise) along the geometric normal, to the side the new ray
-// leaves on, and counts hits from t = 0. With the setting robust, the offset
-// of core/ray_trace.h (Waechter and Binder) is used instead, in world space.
+// leaves on, and counts hits from t = 0. The hit is first moved onto its
+// surface (a sphere radially, a polygon onto its plane: core/ray_trace.h
+// surface_point), since the ray's t carries an error that grows with the
+// distance it was seen from (the textbook sphere from 1e5 away: ~1e-6). With
+// the setting robust, the offset is the hit's error bound in double ulps of
+// the surface's world coordinates (core/ray_trace.h robust_offset) instead.
 //
 // Double precision, scalar, one thread, brute force over every object: on
 // purpose.
@@ -103,8 +107,14 @@ struct Tracer {
   }
 
   Vec3 shade(const Ray& ray, const Hit& hit, int depth, double weight, int me) {
-    const Vec3 p = ray.o + hit.t * ray.d;
+    // The hit, moved onto its surface (core/ray_trace.h surface_point): the
+    // point shaded and the one new rays leave from.
+    const SurfacePoint sp = surface_point(scene, hit.prim, ray, hit.t);
+    const Vec3& p = sp.p;
     const Vec3& d = ray.d;
+    // How large the surface's coordinates are (the robust offset's scale).
+    const double mag =
+        settings.offset == Offset::kRobust ? prim_magnitude(scene, hit.prim, Vec3{}) : 0.0;
     const Vec3 n = surface_normal(scene, hit.prim, hit.tri, p, d);  // faces the incoming ray
     // The outward geometric normal: which side the ray comes from, where new rays start.
     const Vec3 ng = outward_normal(scene, hit.prim, p);
@@ -117,7 +127,7 @@ struct Tracer {
       if (dot(n, ls.l) <= 0) continue;  // the light is behind the surface: nothing to test
       const Vec3 term = phong_light(m, n, -d, ls);
       if (settings.shadows) {
-        const Vec3 o = ray_start(p, ng, ls.l, settings, Arith::kDouble);
+        const Vec3 o = ray_start(p, sp.err, mag, ng, ls.l, settings, Arith::kDouble);
         const Vec3 to_light = scene.lights[k].position - o;
         const double dist = length(to_light);
         const Ray shadow{o, to_light / dist, 0.0, dist};
@@ -136,8 +146,8 @@ struct Tracer {
     const double kr = std::min(1.0, m.ks);
     if (kr > 0 && weight * kr >= settings.cutoff) {
       const Vec3 r = reflect(d, n);
-      color += kr * trace(Ray{ray_start(p, ng, r, settings, Arith::kDouble), r}, RayKind::kReflect,
-                          depth + 1, weight * kr, me, false);
+      color += kr * trace(Ray{ray_start(p, sp.err, mag, ng, r, settings, Arith::kDouble), r},
+                          RayKind::kReflect, depth + 1, weight * kr, me, false);
     }
     // Refraction: Snell's law, entering or leaving by the side the ray comes from.
     const double kt = std::min(1.0, m.transmittance);
@@ -146,7 +156,7 @@ struct Tracer {
       const double eta = entering ? 1.0 / m.ior : m.ior;
       Vec3 t;
       if (refract(d, n, eta, t)) {
-        color += kt * trace(Ray{ray_start(p, ng, t, settings, Arith::kDouble), t},
+        color += kt * trace(Ray{ray_start(p, sp.err, mag, ng, t, settings, Arith::kDouble), t},
                             RayKind::kRefract, depth + 1, weight * kt, me, entering);
       } else {
         record(tree, tir_node(me, depth + 1, p, d, weight * kt, entering));

@@ -458,8 +458,9 @@ The machine is a KVM guest whose speed drifts by up to 30% over minutes:
 ratios measured in one run are steadier than absolute times."""
 
 RAY_TRACE = """Whitted ray tracing (issue #22): reference (double, brute force, a fixed
-self-intersection offset eps along the normal) and embree (float BVH in the
-eye's frame, Waechter and Binder's robust offset by default)."""
+self-intersection offset eps along the normal from the hit moved onto its
+surface) and embree (float BVH in a frame at the eye moved to the scene, the robust
+offset by default: the hit's error bound, core/ray_trace.h; issue #30)."""
 
 RAY_CAST = """reference (textbook, scalar, one thread), simd (Highway 8-ray packets, TBB
 tiles), embree (Embree 3 BVH, rtcIntersect8, TBB tiles) and auto (simd or

@@ -79,7 +79,7 @@ inline Look lights_at(const Scene& scene, const Ray& ray, const Hit& hit) {
     const LightSample ls = light_at(scene, scene.lights[k], p);
     if (dot(n, ls.l) <= 0) continue;
     out.faced |= uint64_t(1) << k;
-    const Vec3 o = ray_start(p, ng, ls.l, ts, Arith::kDouble);
+    const Vec3 o = ray_start(p, 0, 0, ng, ls.l, ts, Arith::kDouble);
     const Vec3 to_light = scene.lights[k].position - o;
     const double dist = length(to_light);
     if (!blocked(scene, Ray{o, to_light / dist, 0.0, dist})) out.lit |= uint64_t(1) << k;

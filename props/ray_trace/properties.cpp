@@ -46,6 +46,13 @@
 //       reference's roots, in double) are within 1e-6 relative of each other,
 //       or that passes a sphere's silhouette within float's rounding (the
 //       band of Agree's diverge); anything else is unexplained.
+//   Far.raytrace__<impl>           (part "far") gen_scene's kind of scene,
+//       opaque, at depth 1, scaled by 10^-2..10^2, moved 0 or 10^0..10^7 from
+//       the origin and seen from 10^0..10^7 away (a telephoto view: the
+//       angle narrowed to frame the same): every shadow ray of 16 pixels'
+//       trees (the row's own offset, or robust=1) answers as an exact long
+//       double segment test from the point the row shades; answers within
+//       1e-3 of the scene's scale of a boundary are skipped (issue #30).
 //   Agree.raytrace__embree         (part "agree") the frame of every
 //       non-reference row against the reference's on random scenes (16 x 16),
 //       per pixel within the family's 1/255. A pixel over it has diverging
@@ -80,6 +87,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -688,6 +696,184 @@ Verdict check_pixel(const TracerRun& fn, const TraceCase& c) {
   return v;
 }
 
+// ---------------------------------------------------------------- far
+// gen_scene's kind of scene (a floor, 1..5 spheres, maybe a triangle, 1..3
+// lights), opaque and at depth 1, scaled by s (10^-2 .. 10^2), moved by D
+// (0, or 10^0 .. 10^7) along a random direction, and seen from a random
+// direction at eye distance L (10^0 .. 10^7, at least 3 s) with the view
+// angle narrowed so that the frame shows what it shows from 6 s: the
+// dimensions a user varies (issue #30: the eye's distance beside the
+// scene's offset and scale).
+rc::Gen<TraceCase> gen_far() {
+  return rc::gen::exec([] {
+    TraceCase c;
+    c.width = c.height = 12;
+    c.params = "depth=1";
+    if (*gen::chance(1, 2)) c.params += " robust=1";
+    const double s = std::pow(10.0, *gen::uniform(-2, 2));
+    const double d = *gen::chance(1, 4) ? 0.0 : std::pow(10.0, *gen::uniform(0, 7));
+    const double eye = std::max(3 * s, std::pow(10.0, *gen::uniform(0, 7)));
+    const Vec3 shift = d * *gen::unit_dir();
+    const auto at = [&](const Vec3& local) { return s * local + shift; };
+    Vec3 dir = *gen::unit_dir();
+    if (dir.z < 0.3) dir.z = std::abs(dir.z) + 0.3;
+    dir = normalize(dir);
+    const double angle = 2 * std::atan(std::tan(20 * M_PI / 180) * 6 * s / eye) * 180 / M_PI;
+    std::string t = "b 0x1.999999999999ap-3 0x1.3333333333333p-2 0x1p-1\n" +
+                    view_text(shift + eye * dir, shift, some_up(dir), angle, c.width, c.height);
+    const int lights = int(*gen::int_in(1, 3));
+    for (int k = 0; k < lights; ++k) t += "l " + v3(at(*box(-6, 6) + Vec3{0, 0, 8})) + "\n";
+    t += material(*box(0.2, 1), 0.8, 0.3, 20, 0, 1);
+    const Vec3 fu{4, 0, 0}, fv{0, 4, 0}, f0{0, 0, -1};
+    t += "p 4\n" + v3(at(f0 - fu - fv)) + "\n" + v3(at(f0 + fu - fv)) + "\n" +
+         v3(at(f0 + fu + fv)) + "\n" + v3(at(f0 - fu + fv)) + "\n";
+    const int spheres = int(*gen::int_in(1, 5));
+    for (int k = 0; k < spheres; ++k)
+      t += material(*box(0.1, 1), 0.8, 0.3, 20, 0, 1) + "s " + v3(at(*box(-1.5, 1.5))) + " " +
+           hex(s * *gen::uniform(0.2, 0.8)) + "\n";
+    if (*gen::chance(1, 2))
+      t += material({0.9, 0.9, 1}, 0.6, 0.2, 30, 0, 1) + "p 3\n" + v3(at(*box(-2, 2))) + "\n" +
+           v3(at(*box(-2, 2))) + "\n" + v3(at(*box(-2, 2))) + "\n";
+    c.nff = t;
+    return c;
+  });
+}
+
+V3L sub(const V3L& a, const V3L& b) { return a - b; }
+LD dotl(const V3L& a, const V3L& b) { return dot(a, b); }
+V3L crossl(const V3L& a, const V3L& b) { return cross(a, b); }
+V3L to_l(const Vec3& v) { return V3L(v); }
+
+// The exact shadow answer for the segment from p (on primitive own) to the
+// light, in long double: blocked by any other sphere or polygon (both sides,
+// core/ray_trace.h). Ambiguous (nullopt) when the segment passes within m of
+// another sphere's surface, crosses a polygon's plane within m of one of its
+// edges, or within m of either end: rounding may decide those either way.
+std::optional<bool> exact_blocked(const Scene& scene, uint32_t own, const V3L& p, const V3L& light,
+                                  LD m) {
+  const V3L seg = sub(light, p);
+  const LD len2 = dotl(seg, seg), len = std::sqrt(len2);
+  bool blocked = false;
+  for (uint32_t k = 0; k < scene.sphere_count(); ++k) {
+    if (k == own) continue;
+    const V3L pc = sub(to_l(scene.sphere_center[k]), p);
+    LD u = dotl(pc, seg) / len2;
+    u = u < 0 ? 0 : u > 1 ? 1 : u;
+    const V3L q = {pc.x - u * seg.x, pc.y - u * seg.y, pc.z - u * seg.z};
+    const LD dist = std::sqrt(dotl(q, q)), r = std::abs(scene.sphere_radius[k]);
+    if (std::abs(dist - r) < m) return std::nullopt;
+    blocked = blocked || dist < r;
+  }
+  for (uint32_t poly = 0; poly < scene.polygon_count(); ++poly) {
+    if (scene.sphere_count() + poly == own) continue;
+    const uint32_t first = scene.poly_first[poly], n = scene.poly_first[poly + 1] - first;
+    const V3L a = to_l(scene.vertex[first]);
+    V3L nrm{};
+    for (uint32_t i = 0; i < n; ++i) {  // Newell's normal, in long double
+      const V3L u = to_l(scene.vertex[first + i]), v = to_l(scene.vertex[first + (i + 1) % n]);
+      nrm.x += (u.y - v.y) * (u.z + v.z), nrm.y += (u.z - v.z) * (u.x + v.x),
+          nrm.z += (u.x - v.x) * (u.y + v.y);
+    }
+    const LD nl = std::sqrt(dotl(nrm, nrm));
+    if (!(nl > 0)) continue;
+    nrm = {nrm.x / nl, nrm.y / nl, nrm.z / nl};
+    const LD h0 = dotl(nrm, sub(p, a)), h1 = dotl(nrm, sub(light, a));
+    if ((h0 > 0) == (h1 > 0)) continue;  // both ends on one side
+    const LD u = h0 / (h0 - h1);
+    if (u * len < m || (1 - u) * len < m) return std::nullopt;
+    const V3L x = {p.x + u * seg.x, p.y + u * seg.y, p.z + u * seg.z};
+    // Inside the (convex) polygon: on the inner side of every edge, by more than m.
+    bool inside = true;
+    for (uint32_t i = 0; i < n; ++i) {
+      const V3L u0 = to_l(scene.vertex[first + i]), u1 = to_l(scene.vertex[first + (i + 1) % n]);
+      const V3L e = sub(u1, u0);
+      const LD el = std::sqrt(dotl(e, e));
+      const LD side = dotl(crossl(e, sub(x, u0)), nrm) / el;
+      if (std::abs(side) < m) return std::nullopt;
+      inside = inside && side > 0;
+    }
+    blocked = blocked || inside;
+  }
+  return blocked;
+}
+
+// Far: every shadow ray of 16 pixels' trees answers as the exact segment test
+// does, at the point the row shades (its hit moved onto the surface, in long
+// double: a sphere radially, a polygon onto its plane), with a margin m =
+// 1e-3 s (s the scene's scale) for what rounding may decide. textbook: the
+// row's primary sphere test is the textbook quadratic (the reference), whose
+// hit seen from 10^4..10^7 radii away can be off by more than the sphere
+// (cancellation, ray casting's documented failure): a shadow ray from a
+// point further than m from the exact first hit of the pixel's ray on that
+// sphere is explained as textbook_hit (a wrong primary hit, not a wrong
+// shadow answer); for any other row it is unexplained.
+Verdict check_far(const TracerRun& fn, const TraceCase& c, bool textbook) {
+  const Scene scene = scene_of(c);
+  const TraceSettings settings = trace_settings(params_of(c));
+  LD scale = 0;
+  for (const double r : scene.sphere_radius) scale = std::max<LD>(scale, std::abs(r));
+  const LD m = 1e-3L * scale / 0.8L;  // s >= the largest radius / 0.8
+  Verdict v;
+  for (int k = 0; k < 16; ++k) {
+    const int x = (k * 5 + k / 4) % c.width, y = (k * 7 + 3) % c.height;
+    RayTree t;
+    fn.pixel(scene, settings, c.width, c.height, x, y, &t);
+    for (const RayNode& n : t.nodes) {
+      if (n.kind != RayKind::kShadow || n.parent < 0) continue;
+      const RayNode& hit = t.nodes[size_t(n.parent)];
+      const uint32_t prim = hit.hit.prim;
+      const V3L o = to_l(hit.origin), d = to_l(hit.direction);
+      V3L p = {o.x + LD(hit.hit.t) * d.x, o.y + LD(hit.hit.t) * d.y, o.z + LD(hit.hit.t) * d.z};
+      if (prim < scene.sphere_count()) {
+        const V3L cc = to_l(scene.sphere_center[prim]), pc = sub(p, cc);
+        const LD r = std::abs(scene.sphere_radius[prim]) / std::sqrt(dotl(pc, pc));
+        p = {cc.x + r * pc.x, cc.y + r * pc.y, cc.z + r * pc.z};
+      } else {
+        const Plane& pl = scene.poly_plane[prim - scene.sphere_count()];
+        const V3L nn = to_l(pl.n);
+        const LD h = dotl(nn, p) + LD(pl.d);
+        p = {p.x - h * nn.x, p.y - h * nn.y, p.z - h * nn.z};
+      }
+      const std::optional<bool> exact =
+          exact_blocked(scene, prim, p, to_l(scene.lights[n.light].position), m);
+      // Where the pixel's ray meets that sphere first, exactly.
+      bool off_hit = false;
+      if (prim < scene.sphere_count() && hit.kind == RayKind::kPrimary) {
+        const V3L oc = o - V3L(scene.sphere_center[prim]);
+        const LD b = dotl(oc, d) / dotl(d, d), r = std::abs(scene.sphere_radius[prim]);
+        const V3L near = oc - b * d;
+        const LD disc = r * r - dotl(near, near);
+        const LD te = -b - std::sqrt(std::max<LD>(disc, 0) / dotl(d, d));
+        const V3L pe = o + te * d;
+        off_hit = !(disc >= 0) || length(pe - p) > m;
+      }
+      Outcome out;
+      if (off_hit) {
+        out.kind = textbook ? Outcome::explained : Outcome::unexplained;
+        out.label = "textbook_hit";
+        out.detail = "pixel (" + std::to_string(x) + ", " + std::to_string(y) +
+                     "): the row's primary hit on sphere " + std::to_string(prim) + " at t " +
+                     hex(hit.hit.t) + " is further than the margin from the exact one";
+      } else if (!exact) {
+        out.kind = Outcome::skipped;
+        out.label = "near_boundary";
+      } else if (*exact != n.blocked) {
+        out.kind = Outcome::unexplained;
+        out.label = n.blocked ? "acne" : "leak";
+        out.err = 1;
+        out.detail = "pixel (" + std::to_string(x) + ", " + std::to_string(y) + "), light " +
+                     std::to_string(n.light) + ", hit prim " + std::to_string(prim) + " at t " +
+                     hex(hit.hit.t) + ": the row says " + (n.blocked ? "blocked" : "reached") +
+                     ", the exact segment test " + (*exact ? "blocked" : "reached") +
+                     " (shadow ray from " + v3(n.origin) + ")";
+      }
+      out.measured = out.kind != Outcome::skipped;
+      v.rays.push_back(out);
+    }
+  }
+  return v;
+}
+
 bool same_decisions(const RayNode& a, const RayNode& b) {
   return a.kind == b.kind && a.hit.prim == b.hit.prim && a.blocked == b.blocked && a.tir == b.tir;
 }
@@ -859,6 +1045,13 @@ FamilyProperties properties(const Family& family, RunResources& run) {
       out.properties.push_back(property<TraceCase>(
           family, impl.name, "Hidden", "hidden", "behind_wall", gen_hidden(), 0,
           [fn_run](const TraceCase& c) { return check_hidden(*fn_run, c); }, write_case, read_case));
+    if (family.has_property("far"))
+      out.properties.push_back(property<TraceCase>(
+          family, impl.name, "Far", "far", "far_views", gen_far(), 0,
+          [fn_run, textbook = &impl == &row.impls.front()](const TraceCase& c) {
+            return check_far(*fn_run, c, textbook);
+          },
+          write_case, read_case, "shadow rays"));
     if (family.has_property("pixel"))
       out.properties.push_back(property<TraceCase>(
           family, impl.name, "Pixel", "pixel", "scenes", gen_scene(16), 0,
