@@ -25,8 +25,9 @@ std::vector<ParamSpec> params(Mode mode) {
   }
   if (mode != Mode::kSplat) p.push_back({"step", "DT in (0, 16]", "0.5", "the sampling step along a ray, in voxels"});
   if (mode == Mode::kRaycast)
-    p.push_back({"error", "E > 0", "",
-                 "instead of step: the largest step whose measured mean error per channel stays under E"});
+    p.push_back({"error", "E in (0, 1]", "",
+                 "instead of step and eps: the largest step, then eps, whose measured mean error per channel "
+                 "over the covered pixels, against step 1/16 without early termination, is at most E"});
   p.push_back({"view", "AZ,EL[,ROLL]", "30,20,0",
                "the camera's azimuth about z, elevation and roll about the view, in degrees (parallel projection)"});
   if (mode != Mode::kIso) {
@@ -97,6 +98,8 @@ Settings settings(const Params& p, const std::string& source, Mode mode) {
     s.error = number("error", v, source);
     if (!(s.error > 0 && s.error <= 1)) throw InputError(source, 0, "error must lie in (0, 1], got " + v);
     if (!p.get("step").empty()) throw InputError(source, 0, "give step or error, not both");
+    if (!p.get("eps").empty())
+      throw InputError(source, 0, "give eps or error, not both (error chooses the step and eps)");
   }
   s.skip = p.get("noskip").empty() || p.get("noskip") == "0";
   return s;
@@ -238,6 +241,59 @@ std::string empty_note(const Volume& v, double iso) {
   char buf[200];
   std::snprintf(buf, sizeof buf, "iso %g is outside the volume's values [%g, %g]: no surface, the image is empty", iso,
                 double(*lo), double(*hi));
+  return buf;
+}
+
+// ---------------------------------------------------------------- error=E
+
+CoveredError covered_error(const Image& image, const Image& converged) {
+  CoveredError e;
+  double sum = 0;
+  const size_t n = std::min(image.rgba.size(), converged.rgba.size());
+  for (size_t i = 0; i < n; i += 4) {
+    e.covered += converged.rgba[i + 3] > 0;
+    for (size_t c = 0; c < 4; ++c) sum += std::abs(double(image.rgba[i + c]) - double(converged.rgba[i + c]));
+  }
+  e.mean = sum / (4.0 * double(std::max<uint64_t>(e.covered, 1)));
+  return e;
+}
+
+ErrorChoice choose_for_error(double target, const std::function<Image(double step, double eps)>& render) {
+  const Image converged = render(kConvergedStep, 0);
+  ErrorChoice best;
+  for (const double step : kErrorSteps) {
+    Image full = render(step, 0);
+    const CoveredError e = covered_error(full, converged);
+    if (e.mean > target) {
+      // Not met: kept as the best achievable so far (the steps go finer).
+      if (best.image.rgba.empty() || e.mean <= best.error.mean) {
+        best.step = step;
+        best.eps = 0;
+        best.error = e;
+        best.image = std::move(full);
+      }
+      continue;
+    }
+    for (const double eps : kErrorEps) {
+      Image img = render(step, eps);
+      const CoveredError t = covered_error(img, converged);
+      if (t.mean <= target) return ErrorChoice{true, step, eps, t, std::move(img)};
+    }
+    return ErrorChoice{true, step, 0, e, std::move(full)};
+  }
+  return best;
+}
+
+std::string fraction_text(double x) {
+  char buf[40];
+  if (x > 0 && x < 1) {
+    const double inv = 1 / x;
+    if (inv == std::round(inv) && inv < 1e9) {
+      std::snprintf(buf, sizeof buf, "1/%.0f", inv);
+      return buf;
+    }
+  }
+  std::snprintf(buf, sizeof buf, "%g", x);
   return buf;
 }
 

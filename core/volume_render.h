@@ -34,10 +34,13 @@
 // an image's alpha says how opaque the volume is there.
 #pragma once
 
+#include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "core/family.h"
+#include "core/image.h"
 #include "core/math.h"
 #include "core/transfer_function.h"
 #include "core/volume.h"
@@ -56,8 +59,8 @@ struct Settings {
   double eps = 1.0 / 256;     // raycast: a ray stops once its opacity reaches 1 - eps (0: never)
   double iso = 0;             // iso: the value (required)
   bool skip = true;           // implementations that skip empty space may (false: they must not)
-  double error = 0;           // raycast: > 0 asks for the largest step whose error stays under it
-                              // (the family's rows measure it: pairs/volume.cpp, ref::step_for_error)
+  double error = 0;           // raycast: > 0 asks for the step and eps whose error against the
+                              // converged image stays under it (choose_for_error; pairs/volume.cpp)
 };
 
 // Throws InputError(source, 0, ...) naming a bad or missing setting (a bad .tf
@@ -112,6 +115,55 @@ Vec3 iso_base(const Settings& s);
 // When iso lies outside the volume's values (not an error: the surface is not
 // there), the note that says so for FrameStats::notes; "" otherwise.
 std::string empty_note(const Volume& v, double iso);
+
+// ---------------------------------------------------------------- error=E
+
+// error=E (raycast) bounds a frame's total error: the step along the ray and
+// the early-termination threshold eps are both chosen so that the frame's
+// error against the converged image -- the same view at step 1/16 (the finest
+// of the search, kConvergedStep) with no early termination (eps 0) -- is at
+// most E. Both sources count: the step's (sampling) and the termination's (a
+// ray stopped at opacity 1 - eps misses up to eps per channel of what lies
+// behind; on a CT with an opaque transfer function that alone is ~2e-4 per
+// channel at eps 1/256, more than a fine step's error).
+//
+// The error: the mean absolute difference per channel (R, G, B and A) over the
+// covered pixels, those whose converged alpha is > 0. The empty background
+// (converged alpha 0) is left out of the count, which would otherwise dilute
+// the mean by the share of empty pixels; its differences still enter the sum
+// (they are 0 but for rounding: every step's sample points are among step
+// 1/16's, on the same planes, so a pixel empty at 1/16 is empty at every
+// step), so the figure is never below the covered pixels' own mean. No
+// covered pixel: the sum over 4 channels alone.
+inline constexpr double kConvergedStep = 1.0 / 16;
+// The steps tried, largest (cheapest) first, and for a step that meets E
+// without early termination the eps values tried, largest first (then 0).
+inline constexpr double kErrorSteps[] = {4, 2, 1, 0.5, 0.25, 0.125};
+inline constexpr double kErrorEps[] = {1.0 / 256, 1.0 / 1024, 1.0 / 4096, 1.0 / 16384, 1.0 / 65536};
+
+struct CoveredError {
+  double mean = 0;       // per channel over the covered pixels (above)
+  uint64_t covered = 0;  // pixels whose converged alpha is > 0
+};
+CoveredError covered_error(const Image& image, const Image& converged);
+
+struct ErrorChoice {
+  bool met = false;      // false: not even the finest step without termination meets E
+  double step = 0, eps = 0;
+  CoveredError error;    // of `image` against the converged image
+  Image image;           // the frame at (step, eps) (met), else the best one measured
+};
+
+// The search: render(step, eps) draws the frame; the converged image first,
+// then for each step of kErrorSteps, largest first, the frame without early
+// termination; the first step whose error is <= target is taken, with the
+// largest eps of kErrorEps whose frame is still <= target (else eps 0). The
+// frame returned is one of those measured, so its error is the one reported.
+// Not met: the finest step's frame and its error (the best achievable).
+ErrorChoice choose_for_error(double target, const std::function<Image(double step, double eps)>& render);
+
+// "1/1024", "0", or the number: how the stats line names an eps or a step.
+std::string fraction_text(double x);
 
 // Bisection steps the reference takes between the two samples that bracket a
 // crossing: the hit is then within dt 2^-kIsoBisections of the interpolant's.

@@ -8,6 +8,7 @@
 #include <functional>
 #include <string>
 
+#include "core/error.h"
 #include "core/output_image.h"
 #include "core/volume_render.h"
 #include "optimized/volume_raycast.h"
@@ -133,33 +134,85 @@ Family volume_family() {
     impls.push_back({"volpack", opt::volpack::volume_raycast, 0, {}, "VolPack 1.0b3 (shear-warp)", false, nullptr,
                      volpack_agree()});
   f.impls = erase_all<Volume, Image>(impls);
-  // error=E: the step is measured once, here, for every implementation alike
-  // (ref::step_for_error), and handed on as step=; the note says what was
-  // chosen, and the measuring counts as the run's build time.
+  // error=E (core/volume_render.h choose_for_error): the row itself draws the
+  // converged image (step 1/16, eps 0) and the candidates at full size, and the
+  // frame returned is the one whose error was measured, so the figure on the
+  // stats line is the returned image's own. The search counts as the run's
+  // build time; the chosen frame's time is its render time. A row that does
+  // not sample every step (volpack: one sample per slice) cannot be held to
+  // it and is refused. Not met: refused (InputError, exit 2) with the best
+  // error the search reached.
   for (FamilyImpl& impl : f.impls)
-    impl.run = [run = impl.run](const Input& in, const FrameOptions& o, FrameStats* stats) {
+    impl.run = [run = impl.run, name = std::string(impl.name)](const Input& in, const FrameOptions& o,
+                                                               FrameStats* stats) {
       const std::string error = o.params.get("error");
       if (error.empty()) return run(in, o, stats);
       const Volume& v = input_as<Volume>(in);
-      double measured = 0;
-      const auto t0 = std::chrono::steady_clock::now();
-      const double step = ref::step_for_error(v, o.params, o.width, o.height, &measured);
-      const double choosing = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      FrameOptions chosen = o;
-      chosen.params.items.clear();
+      if (name == "volpack")
+        throw InputError(v.source, 0,
+                         "error " + error + ": the volpack row samples once per slice, not every step, so "
+                         "--error cannot choose its step (use --impl simd or reference, or give --step)");
+      const double target = vr::settings(o.params, v.source, vr::Mode::kRaycast).error;
+      FrameOptions base = o;
+      base.params.items.clear();
       for (const auto& [k, val] : o.params.items)
-        if (k != "error") chosen.params.set(k, val);
-      chosen.params.set("step", std::to_string(step));
-      Output out = run(in, chosen, stats);
-      if (stats) {
-        stats->build_seconds += choosing;  // a one-shot cost, shown apart from the frame
-        char note[200];
-        std::snprintf(note, sizeof note, "error %s: step %g voxel (mean error %.3g on a preview, against step 1/16)%s",
-                      error.c_str(), step, measured,
-                      measured > std::strtod(error.c_str(), nullptr) ? "; no step down to 1/8 meets it" : "");
-        stats->notes.push_back(note);
+        if (k != "error" && k != "step" && k != "eps") base.params.set(k, val);
+      base.progress = nullptr;
+      struct Drawn {
+        double step, eps, seconds;
+        FrameStats stats;
+      };
+      std::vector<Drawn> drawn;
+      const auto t0 = std::chrono::steady_clock::now();
+      vr::ErrorChoice c = vr::choose_for_error(target, [&](double step, double eps) {
+        FrameOptions fo = base;
+        char buf[40];
+        std::snprintf(buf, sizeof buf, "%.17g", step);
+        fo.params.set("step", buf);
+        std::snprintf(buf, sizeof buf, "%.17g", eps);
+        fo.params.set("eps", buf);
+        // The converged frame is the long one: it shows the progress.
+        if (step == vr::kConvergedStep && eps == 0) fo.progress = o.progress;
+        Drawn d{step, eps, 0, {}};
+        const auto r0 = std::chrono::steady_clock::now();
+        Output out = run(in, fo, &d.stats);
+        d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - r0).count();
+        drawn.push_back(std::move(d));
+        return take_output<Image>(std::move(out));
+      });
+      const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      char what[400];
+      std::snprintf(what, sizeof what,
+                    "step %s voxel, eps %s: mean error %.3g per channel over %llu covered pixels "
+                    "(converged alpha > 0) against step 1/16 without early termination",
+                    vr::fraction_text(c.step).c_str(), vr::fraction_text(c.eps).c_str(), c.error.mean,
+                    (unsigned long long)c.error.covered);
+      if (!c.met) {
+        char least[40];
+        std::snprintf(least, sizeof least, "%.3g", c.error.mean);
+        throw InputError(v.source, 0,
+                         "error " + error + " cannot be met: the best the search reaches is " + what +
+                             "; ask for at least " + least + ", or give --step and --eps");
       }
-      return out;
+      if (stats) {
+        for (const Drawn& d : drawn)
+          if (d.step == c.step && d.eps == c.eps) {
+            *stats = d.stats;
+            // The search (every other frame, the converged one included) is a one-shot cost, shown apart.
+            stats->build_seconds += total - d.seconds;
+            break;
+          }
+        char head[120];
+        std::snprintf(head, sizeof head, "step %s voxel, eps %s for error %s: ", vr::fraction_text(c.step).c_str(),
+                      vr::fraction_text(c.eps).c_str(), error.c_str());
+        char tail[200];
+        std::snprintf(tail, sizeof tail,
+                      "mean error %.3g per channel over %llu covered pixels (converged alpha > 0) against step "
+                      "1/16 without early termination",
+                      c.error.mean, (unsigned long long)c.error.covered);
+        stats->chosen = std::string(head) + tail;
+      }
+      return make_output<Image>(std::move(c.image));
     };
   f.default_impl = "simd";
   f.properties = {"agreement", "skip", "transparent", "mirror"};

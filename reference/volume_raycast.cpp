@@ -58,33 +58,4 @@ Image volume_raycast(const Volume& volume, const FrameOptions& options, FrameSta
   return image;
 }
 
-double step_for_error(const Volume& volume, const Params& params, int width, int height, double* measured) {
-  // The preview: the frame scaled to fit 48 x 48, same view and settings.
-  const double scale = std::min(1.0, 48.0 / std::max(width, height));
-  FrameOptions o;
-  o.width = std::max(1, int(std::lround(width * scale)));
-  o.height = std::max(1, int(std::lround(height * scale)));
-  Params base;
-  for (const auto& [k, v] : params.items)
-    if (k != "error" && k != "step") base.set(k, v);
-  auto render_at = [&](double step) {
-    o.params = base;
-    o.params.set("step", std::to_string(step));
-    return volume_raycast(volume, o, nullptr);
-  };
-  const double target = vr::settings(params, volume.source, vr::Mode::kRaycast).error;
-  const Image fine = render_at(1.0 / 16);
-  double step = 4, err = 0;
-  for (; step >= 1.0 / 8; step /= 2) {
-    const Image img = render_at(step);
-    double sum = 0;
-    for (size_t i = 0; i < img.rgba.size(); ++i) sum += std::abs(double(img.rgba[i]) - fine.rgba[i]);
-    err = sum / double(img.rgba.size());
-    if (err <= target) break;
-  }
-  if (step < 1.0 / 8) step = 1.0 / 8;
-  if (measured) *measured = err;
-  return step;
-}
-
 }  // namespace lockstep::ref

@@ -27,6 +27,7 @@
 #include "core/family.h"
 #include "core/image.h"
 #include "core/timer.h"
+#include "pairs/loaders.h"
 #include "pairs/registry.h"
 
 namespace lockstep {
@@ -116,12 +117,10 @@ const Family& volume() {
 
 const std::string kCorpus = LOCKSTEP_CORPUS_DIR "/volumes/";
 
-// ../shared/volumes (the real CT and MRI), or $LOCKSTEP_VOLUMES_DIR as the
-// benchmarks read it: a clone without it leaves those frames out.
-std::string shared_volumes() {
-  const char* e = std::getenv("LOCKSTEP_VOLUMES_DIR");
-  return e ? e : LOCKSTEP_SHARED_VOLUMES_DIR;
-}
+// The real CT and MRI where the one resolver says they are (pairs/loaders.h
+// volumes_dir: $LOCKSTEP_VOLUMES_DIR, else ../shared/volumes), as the
+// benchmarks read them: a clone without them leaves those frames out.
+std::string shared_volumes() { return volumes_dir(); }
 
 // The frames the bound is checked on: analytic fields under a transfer
 // function that leaves the box's faces empty, neghip (0..255) with its own,

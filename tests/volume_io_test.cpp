@@ -32,6 +32,7 @@
 
 #include "core/error.h"
 #include "core/volume_io.h"
+#include "pairs/loaders.h"
 
 namespace lockstep {
 namespace {
@@ -156,9 +157,9 @@ const RealVolume kRealVolumes[] = {
 };
 
 TEST(VolumeIo, RealVolumesReadWithTheirReadmeSizesAndRanges) {
-  // ../shared/volumes, or $LOCKSTEP_VOLUMES_DIR as the benchmarks read it.
-  const char* env = std::getenv("LOCKSTEP_VOLUMES_DIR");
-  const fs::path dir = env ? env : LOCKSTEP_SHARED_VOLUMES_DIR;
+  // Where the one resolver says they are (pairs/loaders.h volumes_dir:
+  // $LOCKSTEP_VOLUMES_DIR, else ../shared/volumes), as the benchmarks read them.
+  const fs::path dir = volumes_dir();
   if (!fs::exists(dir / "cthead.nhdr"))
     GTEST_SKIP() << dir << " has no real volumes (cthead.nhdr): a clone without ../shared";
   for (const RealVolume& r : kRealVolumes) {

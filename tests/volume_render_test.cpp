@@ -250,35 +250,80 @@ TEST(VolumeRaycast, TransparentTransferFunctionGivesTheBackground) {
   for (float x : sp.rgba) ASSERT_EQ(x, 0.0f);
 }
 
-TEST(VolumeRaycast, StepForErrorPicksTheLargestStepUnderTheError) {
-  FieldSpec f = field_defaults(FieldKind::kMarschnerLobb);
-  f.n = 24;
-  const Volume v = sample_field(f, "ml");
-  auto preview_error = [&](double step) {
-    Params p = params({{"tf", "ramp"}, {"view", "10,30"}});
-    FrameOptions o = frame(40, 40, p);
-    o.params.set("step", std::to_string(1.0 / 16));
-    const Image fine = ref::volume_raycast(v, o, nullptr);
-    o.params = p;
-    o.params.set("step", std::to_string(step));
-    const Image img = ref::volume_raycast(v, o, nullptr);
-    double sum = 0;
-    for (size_t i = 0; i < img.rgba.size(); ++i) sum += std::abs(double(img.rgba[i]) - fine.rgba[i]);
-    return sum / double(img.rgba.size());
+TEST(VolumeRaycast, ChooseForErrorTakesTheLargestStepThenTheLargestEpsUnderTheError) {
+  // The search of error=E (core/volume_render.h choose_for_error) with the
+  // reference as the renderer: the frame it returns is within E of the
+  // converged image (step 1/16, eps 0) over the covered pixels, twice the step
+  // without termination is over E (the largest step), and at the chosen step
+  // the next larger eps is over E (the largest eps). Marschner-Lobb under the
+  // ramp (the step's error dominates) and a sphere under a soft, opaque
+  // transfer function (the termination's does: 5.5e-4 at eps 1/256).
+  FieldSpec ml = field_defaults(FieldKind::kMarschnerLobb);
+  ml.n = 24;
+  FieldSpec sphere = field_defaults(FieldKind::kSphere);
+  sphere.n = 32;
+  const fs::path soft = fs::temp_directory_path() / "lockstep-soft-sphere.tf";
+  std::ofstream(soft) << "0 1 1 1 0.4\n0.3 1 0.8 0.5 0.4\n1.0 0.3 0.5 1 0\n";
+  struct Case {
+    Volume v;
+    std::string tf;
+    std::vector<double> errors;
+    bool eps_below_default;  // some E here needs an eps below 1/256
   };
-  for (const double e : {0.02, 0.005, 0.001}) {
-    double measured = 0;
-    const double step = ref::step_for_error(v, params({{"tf", "ramp"}, {"view", "10,30"}, {"error", std::to_string(e)}}),
-                                            40, 40, &measured);
-    EXPECT_NEAR(measured, preview_error(step), 1e-12) << "error " << e;
-    if (step >= 1.0 / 8) {
-      EXPECT_LE(measured, e) << "error " << e << " step " << step;
+  const Case cases[] = {{sample_field(ml, "ml"), "ramp", {0.02, 0.005}, false},
+                        {sample_field(sphere, "sphere"), soft.string(), {1e-3, 1e-4, 1e-5}, true}};
+  for (const Case& k : cases) {
+    auto render = [&](double step, double eps) {
+      FrameOptions o = frame(40, 40, params({{"tf", k.tf}, {"view", "10,30"}}));
+      o.params.set("step", std::to_string(step));
+      o.params.set("eps", std::to_string(eps));
+      return ref::volume_raycast(k.v, o, nullptr);
+    };
+    const Image converged = render(vr::kConvergedStep, 0);
+    bool below_default = false;
+    for (const double e : k.errors) {
+      const vr::ErrorChoice c = vr::choose_for_error(e, render);
+      ASSERT_TRUE(c.met) << k.v.source << " error " << e;
+      const vr::CoveredError got = vr::covered_error(c.image, converged);
+      EXPECT_EQ(got.mean, c.error.mean) << "error " << e;
+      EXPECT_LE(got.mean, e) << "error " << e;
+      EXPECT_GT(got.covered, 0u);
+      EXPECT_EQ(vr::covered_error(render(c.step, c.eps), converged).mean, got.mean) << "the frame is (step, eps)'s";
+      if (c.step < 4) {
+        EXPECT_GT(vr::covered_error(render(2 * c.step, 0), converged).mean, e) << "error " << e;
+      }
+      const auto larger = std::find(std::begin(vr::kErrorEps), std::end(vr::kErrorEps), c.eps);
+      if (c.eps == 0) {
+        EXPECT_GT(vr::covered_error(render(c.step, vr::kErrorEps[std::size(vr::kErrorEps) - 1]), converged).mean, e);
+      } else if (larger != std::begin(vr::kErrorEps)) {
+        EXPECT_GT(vr::covered_error(render(c.step, *(larger - 1)), converged).mean, e);
+      }
+      below_default |= c.eps < 1.0 / 256;
+      std::printf("%s error %g: step %g eps %g (measured %.3g over %llu covered pixels)\n", k.v.source.c_str(), e,
+                  c.step, c.eps, got.mean, (unsigned long long)got.covered);
     }
-    if (step < 4) {
-      EXPECT_GT(preview_error(2 * step), e) << "error " << e << ": step " << 2 * step << " would do";
-    }
-    std::printf("error %g: step %g (measured %.3g)\n", e, step, measured);
+    EXPECT_EQ(below_default, k.eps_below_default) << k.v.source;
+    // Below what step 1/8 reaches: not met, and the best frame is step 1/8 without termination.
+    const vr::ErrorChoice no = vr::choose_for_error(1e-12, render);
+    EXPECT_FALSE(no.met);
+    EXPECT_EQ(no.step, 0.125);
+    EXPECT_EQ(no.eps, 0);
+    EXPECT_GT(no.error.mean, 1e-12);
   }
+}
+
+TEST(VolumeRaycast, CoveredErrorLeavesTheEmptyBackgroundOutOfTheCount) {
+  // Two covered pixels of four, one off by 0.1 in red: 0.1 / (4 x 2), not / (4 x 4).
+  Image conv(2, 2), img(2, 2);
+  conv.pixel(0, 0)[3] = img.pixel(0, 0)[3] = 0.5f;
+  conv.pixel(1, 0)[3] = img.pixel(1, 0)[3] = 1.0f;
+  img.pixel(0, 0)[0] = 0.1f;
+  const vr::CoveredError e = vr::covered_error(img, conv);
+  EXPECT_EQ(e.covered, 2u);
+  EXPECT_NEAR(e.mean, 0.1 / 8, 1e-9);
+  // A difference on an empty pixel still counts in the sum.
+  img.pixel(1, 1)[2] = 0.2f;
+  EXPECT_NEAR(vr::covered_error(img, conv).mean, 0.3 / 8, 1e-8);
 }
 
 TEST(VolumeSimd, MacroCellsKeptWithTheVolumeFollowTheTransferFunction) {

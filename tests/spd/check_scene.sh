@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # `lockstep spd` against the SPD's own file:
 #   check_scene.sh LOCKSTEP STEM SHARED_SPD_DIR OUT_DIR
+# (SHARED_SPD_DIR: the build's default; $LOCKSTEP_SPD_DIR overrides it)
 # STEM as ../shared/spd names its files (balls-3, tree-2-tess). Generates
 # NAME --size N [--tess] and compares it with SHARED_SPD_DIR/STEM.nff by
 # compare_nff.py (entities in order, numbers to the printed precision); says
@@ -8,6 +9,8 @@
 # is not there: a clone without ../shared.
 set -uo pipefail
 lockstep=$1 stem=$2 shared=$3 out=$4
+# As the resolver reads it (pairs/loaders.h spd_dir): $LOCKSTEP_SPD_DIR first.
+shared=${LOCKSTEP_SPD_DIR:-$shared}
 expected=$shared/$stem.nff
 if [[ ! -f $expected ]]; then
   echo "skipped: $expected is not there (a clone without ../shared)"
