@@ -43,9 +43,40 @@
 //
 // Orientation: triangles are counter-clockwise seen from the side of values at
 // or above iso, so their normals point the way f increases (the gradient).
+//
+// Samples equal to iso (integer CT data at an integer iso value; issue 30,
+// section 4). Two rules keep the surface a closed oriented 2-manifold after
+// welding by position, with no zero-area triangle, for every iso value:
+//   1. classification: a sample equal to iso is not below (it counts as at or
+//      above, f >= iso), in every implementation alike; so the table sees the
+//      same 8 bits a perturbed field f + epsilon would give (simulation of
+//      simplicity: the tie is broken one way, consistently);
+//   2. placement: a cut point never lies on a sample. Linear interpolation
+//      would put it on the sample that equals iso (t = 0 or 1), so up to six
+//      cut edges of up to eight cubes would share one position: triangles with
+//      two corners there have zero area, and once equal positions are welded
+//      (as MeshLab and slicers do) edges may carry four triangles and vertices
+//      pinch -- a mesh manifold only by its own vertex indices. Where the
+//      interpolated point (in float) is not strictly between its edge's two
+//      samples (the sample equals iso, or is so near it that the point rounds
+//      onto it), it is placed kTieOffset of the edge from that sample instead
+//      (where the coordinates are too coarse even for that, one float step).
+//      The limit of the perturbation (epsilon -> 0) would be the sample
+//      itself; a finite offset keeps the cut points of different edges
+//      apart.
+// With every cut point strictly inside its edge, points of different edges
+// never share a position (two of their three coordinates are grid
+// coordinates, the third strictly between two), so welding by position is
+// welding by edge and the manifold the table guarantees survives it; and
+// three points strictly inside three edges that do not lie on one face of the
+// cube are never on one line (the table makes no triangle in a face), so no
+// triangle has zero area. Elsewhere the cut point is the interpolated one, bit
+// for bit: outputs for iso values that no sample equals (or comes within a
+// float rounding of) are unchanged.
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -78,12 +109,50 @@ struct Case {
 // The 256 cases, indexed by the bits of the below corners (bit v: corner v < iso).
 const std::array<Case, 256>& case_table();
 
-// The cut point on an edge from sample a (value fa) to sample b (value fb),
-// with fa and fb on either side of iso: linear interpolation, in double, from
-// the end nearer the origin (the same arithmetic in every implementation).
+// How far from a sample a cut point is kept, as a fraction of its edge (rule
+// 2 above): 2^-10, under a thousandth of a sample spacing (marching cubes' own
+// error on a sphere of radius R is 0.36 h^2 / R), and still dozens of float
+// steps at the coordinates volumes have (512 samples of spacing 1: 2^-10
+// against a float step of 2^-15).
+inline constexpr double kTieOffset = 0x1p-10;
+
+// The point a fraction t of the way from a to b, in double, rounded to float
+// once.
+inline Vec3f edge_point(const Vec3& a, const Vec3& b, double t) {
+  return Vec3f(float(a.x + t * (b.x - a.x)), float(a.y + t * (b.y - a.y)), float(a.z + t * (b.z - a.z)));
+}
+
+// The linear interpolation alone: where f = iso on the edge from sample a
+// (value fa) to sample b (value fb), fa and fb on either side of iso, from the
+// end nearer the origin. May lie on a sample (rule 2 above); cut_point() is
+// what implementations emit.
+inline Vec3f interpolated_point(const Vec3& a, const Vec3& b, double fa, double fb, double iso) {
+  return edge_point(a, b, (iso - fa) / (fb - fa));
+}
+
+// p strictly between the float positions pa and pb on every axis where they
+// differ (an edge runs along one axis).
+inline bool strictly_inside(const Vec3f& p, const Vec3f& pa, const Vec3f& pb) {
+  auto in = [](float x, float u, float w) { return u == w || (u < w ? u < x && x < w : w < x && x < u); };
+  return in(p.x, pa.x, pb.x) && in(p.y, pa.y, pb.y) && in(p.z, pa.z, pb.z);
+}
+
+// The cut point every implementation emits (the same arithmetic in each): the
+// interpolated point where it lies strictly inside the edge, else kTieOffset
+// of the edge from the sample it fell on (rule 2 above).
 inline Vec3f cut_point(const Vec3& a, const Vec3& b, double fa, double fb, double iso) {
   const double t = (iso - fa) / (fb - fa);
-  return Vec3f(float(a.x + t * (b.x - a.x)), float(a.y + t * (b.y - a.y)), float(a.z + t * (b.z - a.z)));
+  const Vec3f p = edge_point(a, b, t);
+  const Vec3f pa(float(a.x), float(a.y), float(a.z)), pb(float(b.x), float(b.y), float(b.z));
+  if (strictly_inside(p, pa, pb)) return p;
+  // On (or, by rounding, past) sample a when t is small, b when it is near 1.
+  const bool at_a = t < 0.5;
+  const Vec3f q = edge_point(a, b, at_a ? kTieOffset : 1 - kTieOffset);
+  if (strictly_inside(q, pa, pb)) return q;
+  // Coordinates so large against the spacing that the offset rounds away: the
+  // next float from the sample towards the other end.
+  const Vec3f &from = at_a ? pa : pb, &to = at_a ? pb : pa;
+  return Vec3f(std::nextafter(from.x, to.x), std::nextafter(from.y, to.y), std::nextafter(from.z, to.z));
 }
 
 // When a run found no triangle because iso lies outside the volume's values

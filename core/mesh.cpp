@@ -104,6 +104,18 @@ Topology topology(const Mesh& m) {
   return t;
 }
 
+size_t zero_area_triangles(const Mesh& m) {
+  size_t n = 0;
+  for (const auto& t : m.triangles) {
+    const Vec3f &a = m.vertices[t[0]], &b = m.vertices[t[1]], &c = m.vertices[t[2]];
+    const Vec3 u{double(b.x) - a.x, double(b.y) - a.y, double(b.z) - a.z};
+    const Vec3 w{double(c.x) - a.x, double(c.y) - a.y, double(c.z) - a.z};
+    const Vec3 x = cross(u, w);
+    n += x.x == 0 && x.y == 0 && x.z == 0;
+  }
+  return n;
+}
+
 std::string Topology::str() const {
   std::string s = "V " + std::to_string(vertices) + " E " + std::to_string(edges) + " F " + std::to_string(faces) +
                   " chi " + std::to_string(euler()) + ", " + std::to_string(components) +

@@ -60,4 +60,10 @@ struct Topology {
 };
 Topology topology(const Mesh& welded);
 
+// Triangles of zero area: two corners at one position, or three on one line
+// (the cross product of two edges, from the float corners in double, exactly
+// 0). Counted on the mesh as produced, soup or indexed: weld() drops the first
+// kind, a welded mesh still has the second.
+size_t zero_area_triangles(const Mesh& mesh);
+
 }  // namespace lockstep

@@ -3,8 +3,9 @@
 // slabs of the volume on TBB threads -- the pass structure of flying edges
 // (Schroeder, Maynard, Geveci, "Flying edges: A high-performance scalable
 // isocontouring algorithm", IEEE LDAV 2015), with the same case table, cut
-// points and triangle order as the reference (core/marching_cubes.h), so the
-// surface is the reference's, vertex for vertex, once its soup is welded.
+// points (mc::cut_point, the tie rule that keeps cut points off samples equal
+// to iso included) and triangle order as the reference (core/marching_cubes.h),
+// so the surface is the reference's, vertex for vertex, once its soup is welded.
 //
 //   pass 1  per sample: below iso or not, and which of its three edges to the
 //           next sample in +x, +y, +z is cut (one byte); per sample row

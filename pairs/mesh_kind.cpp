@@ -138,8 +138,9 @@ Agreement compare(const Output& oa, const Output& ob, const Tolerance& tol) {
   // Vertices alone do not see a missing triangle (its corners belong to its
   // neighbours too): the two surfaces must also have the same open edges (the
   // same holes and cracks; their Euler characteristic may differ where
-  // ambiguous faces are separated the other way, and welding cut points that
-  // fall on a sample may pinch an edge in one and not the other).
+  // ambiguous faces are separated the other way, and in a peer that puts cut
+  // points on samples equal to iso, as VTK does, welding may pinch an edge;
+  // ours never put one there: core/marching_cubes.h, the tie rule).
   const Topology ta = topology(a), tb = topology(b);
   if (ta.boundary_edges != tb.boundary_edges) {
     r.pass = false;

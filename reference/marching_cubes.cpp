@@ -3,10 +3,21 @@
 // Lorensen and Cline, "Marching Cubes: A High Resolution 3D Surface
 // Construction Algorithm", SIGGRAPH 1987; Foley, van Dam, Feiner, Hughes, 2nd
 // ed., 20.8. For every cube of eight neighbouring samples:
-//   1. classify its 8 corners: below the iso value or not (8 bits);
+//   1. classify its 8 corners: below the iso value or not (8 bits); a sample
+//      equal to iso is not below (f >= iso counts as inside the at-or-above
+//      side), the same in every implementation;
 //   2. look the 8 bits up in the 256-case table (core/marching_cubes.h): which
 //      edges the surface cuts and how their cut points form triangles;
-//   3. place the cut point on each cut edge by linear interpolation;
+//   3. place the cut point on each cut edge by linear interpolation, but never
+//      on a sample: where the interpolated point is not strictly inside the
+//      edge (its sample equals iso, as integer CT data at an integer iso value
+//      give by the thousand), it goes 2^-10 of the edge from that sample
+//      (core/marching_cubes.h: cut_point, kTieOffset). On the sample, the cut
+//      points of up to six edges would coincide: zero-area triangles, and
+//      after welding by position edges of four triangles and pinched
+//      vertices. Strictly inside, welding by position is welding by edge, and
+//      the surface stays a closed oriented 2-manifold with no zero-area
+//      triangle (away from the volume's border);
 //   4. emit the case's triangles.
 // Each cube is handled on its own: a cut point shared by up to four cubes is
 // computed (identically) by each, and each triangle has its own vertices.

@@ -3,10 +3,10 @@
 // The cases are small volumes drawn by RapidCheck (2 to 9 samples a side,
 // random spacing and origin), written as text with hexfloat samples so a
 // counterexample replays bit for bit. Samples are integers 0..8 and the iso
-// value k + 1/2 (no sample equals it: a cut point on a sample would merge
-// vertices of different edges) unless a generator says otherwise: the
+// value k + 1/2 (no sample equals it) unless a generator says otherwise: the
 // agreement generator also draws iso values equal to samples, and iso values
-// no float equals with samples at the floats around them.
+// no float equals with samples at the floats around them; the ties generators
+// draw integer iso values that many samples equal.
 //
 //   Agreement.marching_cubes__<impl>    (part "agreement") the implementation's
 //       mesh equals the reference's once both are welded (core/mesh.h): the
@@ -20,6 +20,27 @@
 //       characteristic is even; and it encloses positive volume when the
 //       inside is below the iso value (normals point the way values increase),
 //       negative when the inside is above.
+//   ClosedAtTies.marching_cubes__<impl>, ClosedAtTiesBelow (part
+//       "closed_at_ties"; our rows, not a peer's) samples equal to the iso
+//       value (core/marching_cubes.h, the tie rule): integer samples iso - 2 ..
+//       iso + 2 (a fifth equal to iso; 0..8 in a quarter of the cases), iso an
+//       integer 2..6, the border 9 (above) or -1 (below). The mesh as produced
+//       has no zero-area triangle (core/mesh.h: zero_area_triangles), and
+//       welded by exact position it is a closed oriented 2-manifold (every edge
+//       run once each way by exactly two triangles, every vertex one fan)
+//       enclosing volume of the right sign, as Closed. A failure prints the
+//       first zero-area triangle or bad edge, and the reference's figures.
+//   TiesHandMade.marching_cubes__<impl> (part "closed_at_ties") the same on a
+//       hand-made 14x12x12 field (hand_made_ties: a plateau of samples equal to
+//       iso, a diamond whose shell equals it, a mixed patch; 291 samples equal
+//       iso 2), and the same meshes with the rule undone (ties_on_samples) must
+//       have zero-area triangles and non-manifold welded edges (measured: 408
+//       and 81 of 1700 triangles), so the field exercises the rule. The vtk
+//       row's figures are printed, not judged (measured: 552 zero-area
+//       triangles of 1664; welded, a closed manifold of 1112).
+//   Mutants.marching_cubes__ties_on_samples  the reference with the tie rule
+//       undone (its cut points put back on the samples): ClosedAtTies must
+//       fail it.
 //   SingleCubes.marching_cubes__<impl>  (part "single_cubes") every one of the
 //       256 configurations of one cube, inside a 4x4x4 grid whose border is
 //       above (and, complemented, below) the iso value: a closed oriented
@@ -35,11 +56,15 @@
 //       separation on every ambiguous face (VTK's classic table joins the
 //       below corners that ours keeps apart). Where that differs from ours it
 //       is the row's known failure, per volume with an ambiguous face.
-//       Ties are left out: a cut point on a sample merges vertices of
-//       different edges and the welded topologies are not comparable.
+//       Ties are left out: VTK puts cut points on samples equal to iso, which
+//       merges vertices of different edges once welded, and the welded
+//       topologies are not comparable.
 //   PeerVertices.marching_cubes__<peer> (part "peer_agrees") (1) alone, on
 //       the ties generator (samples equal to iso, and iso values no float
-//       equals with samples at the floats around them).
+//       equals with samples at the floats around them), against the
+//       reference's mesh with the tie rule undone (ties_on_samples: the cut
+//       points it moved 2^-10 of an edge off a sample put back on it, where
+//       the interpolation alone, and VTK, put them).
 //   SphereConvergence.marching_cubes__<impl> (part "sphere_convergence") the
 //       field |p| sampled on [-1, 1]^3 at h = 2/8 ... 2/128 (four halvings),
 //       iso R = 0.6: the two-sided Hausdorff distance between the mesh and the
@@ -155,6 +180,39 @@ rc::Gen<McCase> field(int border, bool ties) {
   });
 }
 
+// Integer samples at an integer iso value that many of them equal (issue 30,
+// section 4: CT data at an integer iso value): iso 2..6, the inner samples
+// iso - 2 .. iso + 2 (a fifth equal to iso), or 0..8 in a quarter of the
+// cases; the border 9 (above) or -1 (below), so the surface stays inside.
+rc::Gen<McCase> ties_field(int border) {
+  return rc::gen::exec([border] {
+    McCase c;
+    Volume& v = c.volume;
+    v.nx = int(*gen::int_in(3, 9));
+    v.ny = int(*gen::int_in(3, 9));
+    v.nz = int(*gen::int_in(3, 9));
+    v.spacing = {std::ldexp(1.0 + double(*gen::int_in(0, 15)) / 16, int(*gen::int_in(-6, 6))),
+                 std::ldexp(1.0 + double(*gen::int_in(0, 15)) / 16, int(*gen::int_in(-6, 6))),
+                 std::ldexp(1.0 + double(*gen::int_in(0, 15)) / 16, int(*gen::int_in(-6, 6)))};
+    v.origin = {double(*gen::int_in(-1000, 1000)) / 7, double(*gen::int_in(-1000, 1000)) / 7,
+                double(*gen::int_in(-1000, 1000)) / 7};
+    const int iso = int(*gen::int_in(2, 6));
+    const bool wide = *gen::int_in(0, 3) == 0;
+    c.iso = iso;
+    v.data.resize(size_t(v.nx) * size_t(v.ny) * size_t(v.nz));
+    for (int k = 0; k < v.nz; ++k)
+      for (int j = 0; j < v.ny; ++j)
+        for (int i = 0; i < v.nx; ++i) {
+          const bool edge = i == 0 || j == 0 || k == 0 || i == v.nx - 1 || j == v.ny - 1 || k == v.nz - 1;
+          v.at(i, j, k) = edge ? (border > 0 ? 9.0f : -1.0f)
+                          : wide ? float(*gen::int_in(0, 8))
+                                 : float(iso + *gen::int_in(-2, 2));
+        }
+    v.source = "<generated>";
+    return c;
+  });
+}
+
 // ---------------------------------------------------------------- checks
 
 // PeerAgrees: the largest vertex distance between a peer's welded mesh and the
@@ -249,6 +307,8 @@ long ambiguous_faces(const Volume& v, double iso) {
   return n;
 }
 
+Mesh ties_on_samples(Mesh m, const Volume& v, double iso);
+
 // The largest |coordinate| of the volume's corners: the scale of a float's
 // rounding of any cut point.
 double coordinate_scale(const Volume& v) {
@@ -262,7 +322,11 @@ double coordinate_scale(const Volume& v) {
 
 // A peer's surface against the reference's (PeerAgrees, above).
 Verdict peer_agrees(const FamilyImpl& ref, const FamilyImpl& impl, const McCase& c, bool judge_topology) {
-  const Mesh a = weld(run(ref, c)), b = weld(run(impl, c));
+  // On ties (PeerVertices) the peer puts a cut point on the sample that equals
+  // iso, as the interpolation alone does; ours is kTieOffset of the edge from
+  // it (core/marching_cubes.h, rule 2): compared with the rule undone.
+  const Mesh a = weld(judge_topology ? run(ref, c) : ties_on_samples(run(ref, c), c.volume, c.iso)),
+             b = weld(run(impl, c));
   const Topology ta = topology(a), tb = topology(b);
   const long ambiguous = ambiguous_faces(c.volume, c.iso);
   Outcome o;
@@ -320,6 +384,95 @@ double enclosed_volume(const Mesh& m) {
     vol += dot(Vec3{a.x, a.y, a.z}, cross(Vec3{b.x, b.y, b.z}, Vec3{c.x, c.y, c.z})) / 6;
   }
   return vol;
+}
+
+Verdict closed(const FamilyImpl& impl, const McCase& c, int border, bool spheres);
+
+// The mesh with the tie rule undone (core/marching_cubes.h, rule 2): every
+// cut point the rule moved off a sample put back where the interpolation
+// alone puts it (on the sample). What VTK computes, and the mutant
+// ties_on_samples.
+Mesh ties_on_samples(Mesh m, const Volume& v, double iso) {
+  std::map<std::tuple<float, float, float>, Vec3f> back;
+  for (int k = 0; k < v.nz; ++k)
+    for (int j = 0; j < v.ny; ++j)
+      for (int i = 0; i < v.nx; ++i)
+        for (int axis = 0; axis < 3; ++axis) {
+          const int i1 = i + (axis == 0), j1 = j + (axis == 1), k1 = k + (axis == 2);
+          if (i1 >= v.nx || j1 >= v.ny || k1 >= v.nz) continue;
+          const double fa = v.at(i, j, k), fb = v.at(i1, j1, k1);
+          if ((fa < iso) == (fb < iso)) continue;
+          const Vec3 a = v.position(i, j, k), b = v.position(i1, j1, k1);
+          const Vec3f moved = mc::cut_point(a, b, fa, fb, iso), plain = mc::interpolated_point(a, b, fa, fb, iso);
+          if (!(moved == plain)) back[{moved.x, moved.y, moved.z}] = plain;
+        }
+  for (Vec3f& p : m.vertices)
+    if (const auto it = back.find({p.x, p.y, p.z}); it != back.end()) p = it->second;
+  return m;
+}
+
+// What ClosedAtTies and TiesHandMade measure of a mesh as produced.
+struct TieFigures {
+  size_t triangles = 0, zero_area = 0;
+  Topology welded;
+  std::string first_bad;  // the first zero-area triangle or bad welded edge, as positions
+  bool clean() const { return zero_area == 0 && welded.closed_manifold(); }
+  std::string str() const {
+    return std::to_string(triangles) + " triangles, " + std::to_string(zero_area) + " of zero area; welded " +
+           welded.str() + (first_bad.empty() ? "" : "; first: " + first_bad);
+  }
+};
+
+TieFigures tie_figures(const Mesh& m) {
+  TieFigures f;
+  f.triangles = m.triangles.size();
+  f.zero_area = zero_area_triangles(m);
+  const Mesh w = weld(m);
+  f.welded = topology(w);
+  for (const auto& t : m.triangles) {
+    if (!f.first_bad.empty()) break;
+    Mesh one;
+    one.vertices = {m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]};
+    one.triangles = {{0, 1, 2}};
+    if (zero_area_triangles(one)) f.first_bad = "zero-area triangle " + pos(one.vertices[0]) + " " + pos(one.vertices[1]) + " " + pos(one.vertices[2]);
+  }
+  if (f.first_bad.empty()) {
+    // An edge of the welded mesh not run once each way by exactly two triangles.
+    std::map<std::pair<uint32_t, uint32_t>, int> runs;  // (a, b) a -> b
+    for (const auto& t : w.triangles)
+      for (int k = 0; k < 3; ++k) ++runs[{t[size_t(k)], t[size_t(k + 1) % 3]}];
+    for (const auto& [e, n] : runs) {
+      const auto back = runs.find({e.second, e.first});
+      const int other = back == runs.end() ? 0 : back->second;
+      if (n != 1 || other != 1) {
+        f.first_bad = "edge " + pos(w.vertices[e.first]) + " -> " + pos(w.vertices[e.second]) + " run " +
+                      std::to_string(n) + " times that way and " + std::to_string(other) + " the other";
+        break;
+      }
+    }
+  }
+  return f;
+}
+
+// ClosedAtTies: the implementation's mesh as produced has no zero-area
+// triangle, and welded by position it is a closed oriented 2-manifold
+// enclosing volume of the right sign (closed()); the reference's figures on
+// the same case are printed beside its own.
+Verdict closed_at_ties(const FamilyImpl& ref, const FamilyImpl& impl, const McCase& c, int border) {
+  const Mesh m = run(impl, c);
+  const TieFigures f = tie_figures(m);
+  long equal = 0;
+  for (float x : c.volume.data) equal += double(x) == c.iso;
+  Verdict v = closed(impl, c, border, false);
+  Outcome& o = v.rays.front();
+  if (!f.clean() || !v.passed()) {
+    o.kind = Outcome::unexplained;
+    o.label = f.zero_area ? "zero_area" : "not_manifold_welded";
+    const TieFigures r = &impl == &ref ? f : tie_figures(run(ref, c));
+    o.detail = "iso " + hex(c.iso) + " (" + std::to_string(equal) + " samples equal it): " + std::string(impl.name) +
+               " " + f.str() + (o.detail.empty() ? "" : " (" + o.detail + ")") + "; reference " + r.str();
+  }
+  return v;
 }
 
 // border > 0: the inside is below (the volume must come out positive); < 0 the reverse.
@@ -427,6 +580,58 @@ void sphere_convergence(const FamilyImpl& impl) {
     EXPECT_NEAR(ratio[i], mean, 0.1 * mean) << "distance / h^2 does not settle (grid " << i << ")\n" << table;
 }
 
+// A hand-made field where many samples equal the iso value 2 (integers 0..4,
+// the border 0): a plateau of 2s (every cut point of its surface on a sample
+// before the tie rule), a diamond |i - 10| + |j - 6| + |k - 6| <= 2 of values
+// 4 - that distance (its shell equal to 2), and a patch of 1, 2, 3 mixed by
+// (7 i + 3 j + 5 k) mod 3.
+McCase hand_made_ties() {
+  McCase c;
+  Volume& v = c.volume;
+  v.nx = 14;
+  v.ny = v.nz = 12;
+  v.data.assign(size_t(v.nx) * size_t(v.ny) * size_t(v.nz), 0.0f);
+  for (int k = 1; k + 1 < v.nz; ++k)
+    for (int j = 1; j + 1 < v.ny; ++j)
+      for (int i = 1; i + 1 < v.nx; ++i) {
+        float f = 0;
+        if (i <= 4) f = float((7 * i + 3 * j + 5 * k) % 3 + 1);
+        else if (i <= 8) f = j >= 3 && j <= 8 && k >= 3 && k <= 8 ? 2.0f : 1.0f;
+        else f = float(std::max(0, 4 - (std::abs(i - 10) + std::abs(j - 6) + std::abs(k - 6))));
+        v.at(i, j, k) = f;
+      }
+  c.iso = 2;
+  v.source = "hand-made ties field";
+  return c;
+}
+
+// TiesHandMade: on hand_made_ties(), our implementations' meshes have no
+// zero-area triangle and weld into a closed oriented 2-manifold; the same
+// meshes with the tie rule undone (on the samples, what the interpolation
+// alone gives) must not (the field exercises the rule). A peer's figures are
+// printed, not judged (VTK puts cut points on samples).
+void ties_hand_made(const FamilyImpl& ref, const FamilyImpl& impl) {
+  const McCase c = hand_made_ties();
+  long equal = 0;
+  for (float x : c.volume.data) equal += double(x) == c.iso;
+  const Mesh m = run(impl, c);
+  const TieFigures f = tie_figures(m);
+  std::cout << "[ lockstep ] " << c.volume.source << " (" << c.volume.nx << "x" << c.volume.ny << "x" << c.volume.nz
+            << ", iso 2, " << equal << " samples equal it): " << impl.name << " " << f.str() << "\n";
+  if (!impl.peer.empty()) {
+    std::cout << "[ lockstep ] " << impl.name << " is a peer: measured, not judged\n";
+    return;
+  }
+  const TieFigures undone = tie_figures(ties_on_samples(m, c.volume, c.iso));
+  std::cout << "[ lockstep ]   with the tie rule undone: " << undone.str() << "\n";
+  EXPECT_TRUE(f.clean()) << impl.name << " on the " << c.volume.source << ": " << f.str() << "\nreference "
+                         << tie_figures(run(ref, c)).str() << "\n" << write_case(c);
+  EXPECT_GT(undone.zero_area, 0u) << "the field does not put cut points on samples\n" << write_case(c);
+  EXPECT_GT(undone.welded.nonmanifold_edges, 0) << "the field does not pinch the welded mesh\n" << write_case(c);
+  const Verdict v = closed(impl, c, -1, false);
+  EXPECT_TRUE(v.passed()) << v.first_failure() << "\n" << write_case(c);
+}
+
 }  // namespace
 
 FamilyProperties properties(const Family& family, RunResources&) {
@@ -459,10 +664,38 @@ FamilyProperties properties(const Family& family, RunResources&) {
                                         field(-1, false),
                                         [ip](const McCase& c) { return closed(*ip, c, -1, false); }));
     }
+    if (family.has_property("closed_at_ties") && impl.peer.empty()) {
+      out.properties.push_back(property(family, impl, "ClosedAtTies", "closed_at_ties", "ties_border_above",
+                                        ties_field(1),
+                                        [&ref, ip](const McCase& c) { return closed_at_ties(ref, *ip, c, 1); }));
+      out.properties.push_back(property(family, impl, "ClosedAtTiesBelow", "closed_at_ties_below",
+                                        "ties_border_below", ties_field(-1),
+                                        [&ref, ip](const McCase& c) { return closed_at_ties(ref, *ip, c, -1); }));
+    }
     const std::string name = std::string(family.name) + "__" + std::string(impl.name);
+    if (family.has_property("closed_at_ties"))
+      out.fixed.push_back({"TiesHandMade", name, [&ref, ip] { ties_hand_made(ref, *ip); }});
     if (family.has_property("single_cubes")) out.fixed.push_back({"SingleCubes", name, [ip] { single_cubes(*ip); }});
     if (family.has_property("sphere_convergence") && impl.peer.empty())
       out.fixed.push_back({"SphereConvergence", name, [ip] { sphere_convergence(*ip); }});
+  }
+  // The tie rule undone in the reference (its cut points put back on the
+  // samples that equal iso): ClosedAtTies must catch it.
+  if (family.has_property("closed_at_ties")) {
+    static FamilyImpl mutant;
+    mutant = ref;
+    mutant.name = "ties_on_samples";
+    mutant.run = [&ref](const Input& in, const FrameOptions& o, FrameStats* st) {
+      const Volume& v = input_as<Volume>(in);
+      return make_output<Mesh>(
+          ties_on_samples(ref.run_as<Mesh>(in, o, st), v, mc::settings(o.params, v.source).iso));
+    };
+    out.mutants.push_back({"ties_on_samples", "cut points on the samples that equal iso (no tie rule)",
+                           "closed_at_ties",
+                           {property(family, mutant, "ClosedAtTies", "closed_at_ties", "ties_border_above",
+                                     ties_field(1), [&ref](const McCase& c) {
+                                       return closed_at_ties(ref, mutant, c, 1);
+                                     })}});
   }
   return out;
 }

@@ -17,12 +17,25 @@
 // radius and c = 0.264, not yet in the h^2 regime); simd is faster than the
 // reference from n = 64 on.
 //
-// usage: lockstep_mc_study [--quick]
+// --ties VOLUME ISO [...]: samples equal to the iso value (issue 30, section
+// 4). For each volume and iso value, how many samples equal it, and per
+// implementation (the vtk peer included): triangles, zero-area triangles
+// (core/mesh.h: zero_area_triangles, on the mesh as produced) and the welded
+// mesh's topology (core/mesh.h: weld by exact position, then non-manifold
+// edges, boundary edges and those not in a face of the volume's box, i.e.
+// holes rather than the border cutting the surface, misoriented edges, pinched
+// vertices). CSV on stdout;
+// no claims (the property ClosedAtTies and the test TiesHandMade judge ours).
+//
+// usage: lockstep_mc_study [--quick] | --ties VOLUME ISO [VOLUME ISO ...]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <exception>
+#include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/family.h"
@@ -135,17 +148,79 @@ int run(bool quick) {
   return claims.exit_code();
 }
 
+// Boundary edges (of one triangle) of a welded mesh that do not lie in a face
+// of the volume's box: holes or cracks, not the border cutting the surface.
+long inner_boundary_edges(const Mesh& m, const Volume& v) {
+  std::map<std::pair<uint32_t, uint32_t>, int> count;
+  for (const auto& t : m.triangles)
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t a = t[size_t(k)], b = t[size_t(k + 1) % 3];
+      ++count[{std::min(a, b), std::max(a, b)}];
+    }
+  const Vec3 lo = v.position(0, 0, 0), hi = v.position(v.nx - 1, v.ny - 1, v.nz - 1);
+  auto on = [&](const Vec3f& p, const Vec3f& q) {
+    const float l[3] = {float(lo.x), float(lo.y), float(lo.z)}, h[3] = {float(hi.x), float(hi.y), float(hi.z)};
+    const float a[3] = {p.x, p.y, p.z}, b[3] = {q.x, q.y, q.z};
+    for (int i = 0; i < 3; ++i)
+      if ((a[i] == l[i] && b[i] == l[i]) || (a[i] == h[i] && b[i] == h[i])) return true;
+    return false;
+  };
+  long n = 0;
+  for (const auto& [e, c] : count) n += c == 1 && !on(m.vertices[e.first], m.vertices[e.second]);
+  return n;
+}
+
+int ties(const std::vector<std::pair<std::string, std::string>>& cases) {
+  const Family& family = *registry().find("marching_cubes");
+  std::printf("# marching_cubes ties: volume,iso,samples_equal,impl,triangles,zero_area,welded_triangles,"
+              "nonmanifold_edges,boundary_edges,boundary_edges_off_border,misoriented_edges,pinched_vertices,closed_manifold\n");
+  for (const auto& [path, iso] : cases) {
+    const Volume v = read_volume(path);
+    const double level = std::strtod(iso.c_str(), nullptr);
+    long equal = 0;
+    for (float x : v.data) equal += double(x) == level;
+    for (const FamilyImpl& impl : family.impls) {
+      FrameOptions o;
+      o.params.set("iso", iso);
+      const Mesh mesh = impl.run_as<Mesh>(make_input<Volume>(v, v.source, 0, 0), o, nullptr);
+      const Mesh welded = weld(mesh);
+      const Topology t = topology(welded);
+      std::printf("%s,%s,%ld,%s,%zu,%zu,%zu,%ld,%ld,%ld,%ld,%ld,%s\n", path.c_str(), iso.c_str(), equal,
+                  std::string(impl.name).c_str(), mesh.triangles.size(), zero_area_triangles(mesh),
+                  welded.triangles.size(), t.nonmanifold_edges, t.boundary_edges, inner_boundary_edges(welded, v),
+                  t.misoriented_edges,
+                  t.nonmanifold_vertices, t.closed_manifold() ? "yes" : "no");
+      std::fflush(stdout);
+    }
+  }
+  return 0;
+}
+
 }  // namespace
 
 }  // namespace lockstep::props::marching_cubes
 
 int main(int argc, char** argv) {
   bool quick = false;
+  if (argc >= 2 && std::strcmp(argv[1], "--ties") == 0) {
+    if (argc < 4 || argc % 2 != 0) {
+      std::fprintf(stderr, "usage: lockstep_mc_study --ties VOLUME ISO [VOLUME ISO ...]\n");
+      return 2;
+    }
+    std::vector<std::pair<std::string, std::string>> cases;
+    for (int i = 2; i + 1 < argc; i += 2) cases.emplace_back(argv[i], argv[i + 1]);
+    try {
+      return lockstep::props::marching_cubes::ties(cases);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "lockstep_mc_study: %s\n", e.what());
+      return 2;
+    }
+  }
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--quick") == 0) {
       quick = true;
     } else {
-      std::fprintf(stderr, "usage: lockstep_mc_study [--quick]\n");
+      std::fprintf(stderr, "usage: lockstep_mc_study [--quick] | --ties VOLUME ISO [VOLUME ISO ...]\n");
       return 2;
     }
   }
