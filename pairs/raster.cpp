@@ -211,7 +211,7 @@ Family zbuffer_family() {
   // props/raster: the parts that test the z-buffer (the other raster families
   // are checked against it).
   f.properties = {"cross_check", "culling", "render_agree", "supersampling", "visibility", "llvmpipe", "hidden",
-                  "shadow_volume"};
+                  "shadow_volume", "first_drawn"};
   return f;
 }
 
@@ -249,7 +249,7 @@ Family scanline_family() {
           return out;
         };
       };
-  f.properties = {"cross_check", "supersampling", "scanline", "interpolation"};
+  f.properties = {"cross_check", "supersampling", "scanline", "interpolation", "first_drawn"};
   return f;
 }
 

@@ -77,4 +77,8 @@ std::vector<PainterMapCase> painter_failure_map(const FamilyImpl& impl, const st
 // Shadow volumes against shadow rays on random triangle scenes (shadow_volume.cpp).
 void shadow_volume_part(const Family& family, FamilyProperties& out);
 
+// Coplanar duplicates: the first drawn wins every tie, every row, every depth
+// format and draw order (first_drawn.cpp).
+void first_drawn_part(const Family& family, FamilyProperties& out);
+
 }  // namespace lockstep::props::raster
