@@ -38,9 +38,9 @@ namespace {
 // The blob's standard deviation in spacings: with 0.6 a uniform lattice of
 // blobs is flat to about 0.2% (the ripple of a sampled Gaussian), yet blurs
 // little more than trilinear interpolation does.
-constexpr double kSigma = 0.6;
+constexpr double kSigma = kSplatSigma;
 // Footprints are cut off at 3 standard deviations (1.1% of the peak's extent... e^-4.5).
-constexpr double kCutoff = 3.0;
+constexpr double kCutoff = kSplatCutoff;
 
 struct Splat {
   double depth;
