@@ -11,18 +11,25 @@
 //   cones      cone { base, r0, apex, r1 open } (cylinder { } when r0 = r1):
 //              NFF's cones are open;
 //   lights     light_source { position, colour }: the light's colour, or NFF's
-//              default 1/sqrt(lights) (core/shading.h) written out; shadowless
-//              with shadows=none. lockstep's attenuation and spotlights are
-//              refused (InputError): POV-Ray's fade and spotlight models are
-//              other functions;
+//              default 1/sqrt(lights) (core/shading.h) written out; with
+//              shadows=none every object is no_shadow (a shadowless light
+//              would lose its highlights too). lockstep's attenuation and
+//              spotlights are refused (InputError): POV-Ray's fade and
+//              spotlight models are other functions;
 //   materials  one texture per material: pigment rgbt <C, T> (transmit: not
-//              filtered by the colour, Whitted's kt), finish { ambient 0.1 kd
-//              (kAmbient with ambient_light 1) diffuse kd phong ks phong_size
-//              shine reflection ks }, interior { ior } when T > 0; depth is
-//              max_trace_level, cutoff adc_bailout.
+//              filtered by the colour, Whitted's kt), finish { ambient
+//              0.1 kd / (1 - T) (kAmbient) diffuse kd / (1 - T) phong ks
+//              phong_size shine reflection ks }, interior { ior } when T > 0
+//              (POV-Ray scales a surface's ambient and diffuse by its opacity
+//              1 - T, the tracer does not: undone; measured exact at depth 1
+//              on a T = 0.5 ball); depth is max_trace_level, cutoff
+//              adc_bailout.
 //   output     linear: assumed_gamma 1 and File_Gamma=1, 16-bit PPM (+FP16),
 //              no antialiasing (-A), no display (-D). POV-Ray clips each
-//              channel to [0, 1]; the reference does not clamp.
+//              channel to [0, 1]; the reference does not clamp, so the lights,
+//              ambient_light and background are written at 1/S and the image
+//              read back times S (exposure_scale: a power-of-2 bound on any
+//              pixel's value, at most 16; 16-bit steps of S/65535).
 //
 // The camera: POV-Ray's perspective camera sends the ray through image
 // position (x + 1/2, y + 1/2) of pixel (x, y) (measured: a plane at distance 1
@@ -45,9 +52,8 @@
 //     polygon seen from behind (one-sided in NFF unless it transmits) hides
 //     what lies behind it; shadow rays are blocked by both sides in both;
 //   - transparent surfaces: POV-Ray lets light through them to the points
-//     behind (shadows filtered by the transmit value) and scales the surface's
-//     own diffuse and ambient terms by 1 - T; the tracer's shadow rays are
-//     blocked by them and its local term is not scaled;
+//     behind (shadows filtered by the transmit value); the tracer's shadow
+//     rays are blocked by them;
 //   - smooth triangles: POV-Ray interpolates the vertex normals its own way,
 //     not with the reference's barycentric weights in the same triangle;
 //   - its limits: hits beyond 1e7 from a ray's origin are dropped (counted in
@@ -340,8 +346,7 @@ std::string scene_text(const Scene& s, const FrameOptions& o) {
   const double default_ip = s.lights.empty() ? 1.0 : 1.0 / std::sqrt(double(s.lights.size()));
   for (const Light& l : s.lights) {
     const Vec3 ip = inv * (l.has_color ? l.color : Vec3{default_ip, default_ip, default_ip});
-    out << "light_source { " << vec(l.position) << " color rgb " << vec(ip) << (t.shadows ? "" : " shadowless")
-        << " }\n";
+    out << "light_source { " << vec(l.position) << " color rgb " << vec(ip) << " }\n";
   }
   for (size_t k = 0; k < s.materials.size(); ++k) {
     const Material& m = s.materials[k];
@@ -355,9 +360,12 @@ std::string scene_text(const Scene& s, const FrameOptions& o) {
     if (m.ks > 0) out << " phong " << num(m.ks) << " phong_size " << num(m.shine) << " reflection { " << num(kr) << " }";
     out << " } }\n";
   }
+  // shadows=none: no object casts a shadow (no_shadow; a shadowless light
+  // would also lose its highlights).
+  const std::string no_shadow = t.shadows ? "" : " no_shadow";
   auto interior = [&](uint32_t mat) {
     const Material& m = s.materials[mat];
-    return m.transmittance > 0 ? " interior { ior " + num(m.ior) + " }" : std::string();
+    return (m.transmittance > 0 ? " interior { ior " + num(m.ior) + " }" : std::string()) + no_shadow;
   };
   for (uint32_t i = 0; i < s.sphere_count(); ++i)
     out << "sphere { " << vec(s.sphere_center[i]) << ", " << num(std::abs(s.sphere_radius[i])) << " texture { M"
