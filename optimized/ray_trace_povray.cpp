@@ -148,24 +148,31 @@ void box_distances(const Vec3& p, const Vec3& lo, const Vec3& hi, double& neares
   farthest = std::sqrt(f2);
 }
 
-// Primitives that reach beyond POV-Ray's MAX_DISTANCE from the eye (whole or
-// in part), and the largest coordinate magnitude in the scene.
+// What POV-Ray's absolute limits leave out, per primitive (its bounding box):
+//   beyond    reaching farther than MAX_DISTANCE from the eye;
+//   tiny      every primitive when the scene (primitives, eye and lights) is
+//             smaller than kTinyScene: POV-Ray's tolerances are absolute
+//             (hits nearer than 1e-6 along a ray are none, shadow blockers
+//             nearer than 1e-3 to the ray's origin are ignored), not relative
+//             to the scene;
+//   far       primitives whose coordinates exceed kFarRatio times the scene's
+//             size: POV-Ray keeps bounding boxes in single precision, so
+//             their rounding (2^-24 of the coordinates) reaches 1e-5 of the
+//             scene and rays near a box's edge may miss what they should hit.
+constexpr double kTinyScene = 0.1;
+constexpr double kFarRatio = 1e-5 * 0x1p24;  // about 168
 struct Reach {
-  uint64_t beyond = 0;
-  double magnitude = 0;
+  uint64_t beyond = 0, tiny = 0, far = 0;
+  double magnitude = 0, size = 0;
 };
 Reach reach(const Scene& s) {
-  Reach r;
-  auto box = [&](const Vec3& lo, const Vec3& hi) {
-    double n, f;
-    box_distances(s.view.from, lo, hi, n, f);
-    if (f > kMaxDistance) ++r.beyond;
-    for (const Vec3& c : {lo, hi})
-      r.magnitude = std::max({r.magnitude, std::abs(c.x), std::abs(c.y), std::abs(c.z)});
+  struct Box {
+    Vec3 lo, hi;
   };
+  std::vector<Box> boxes;
   for (uint32_t i = 0; i < s.sphere_count(); ++i) {
     const double a = std::abs(s.sphere_radius[i]);
-    box(s.sphere_center[i] - Vec3{a, a, a}, s.sphere_center[i] + Vec3{a, a, a});
+    boxes.push_back({s.sphere_center[i] - Vec3{a, a, a}, s.sphere_center[i] + Vec3{a, a, a}});
   }
   for (uint32_t p = 0; p < s.polygon_count(); ++p) {
     Vec3 lo{kInfinity, kInfinity, kInfinity}, hi = -lo;
@@ -173,15 +180,42 @@ Reach reach(const Scene& s) {
       lo = {std::min(lo.x, v.x), std::min(lo.y, v.y), std::min(lo.z, v.z)};
       hi = {std::max(hi.x, v.x), std::max(hi.y, v.y), std::max(hi.z, v.z)};
     }
-    if (lo.x <= hi.x) box(lo, hi);
+    if (lo.x <= hi.x) boxes.push_back({lo, hi});
   }
   for (uint32_t c = 0; c < s.cone_count(); ++c) {
     const double a = std::max(s.cone_r0[c], s.cone_r1[c]);
     const Vec3& b = s.cone_base[c];
     const Vec3& e = s.cone_apex[c];
-    box(Vec3{std::min(b.x, e.x), std::min(b.y, e.y), std::min(b.z, e.z)} - Vec3{a, a, a},
-        Vec3{std::max(b.x, e.x), std::max(b.y, e.y), std::max(b.z, e.z)} + Vec3{a, a, a});
+    boxes.push_back({Vec3{std::min(b.x, e.x), std::min(b.y, e.y), std::min(b.z, e.z)} - Vec3{a, a, a},
+                     Vec3{std::max(b.x, e.x), std::max(b.y, e.y), std::max(b.z, e.z)} + Vec3{a, a, a}});
   }
+  Reach r;
+  Vec3 lo = s.view.from, hi = s.view.from;
+  auto grow = [&](const Vec3& p) {
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  };
+  for (const Light& l : s.lights) grow(l.position);
+  for (const Box& b : boxes) {
+    grow(b.lo);
+    grow(b.hi);
+  }
+  r.size = length(hi - lo);
+  std::vector<double> magnitude(boxes.size());
+  for (size_t i = 0; i < boxes.size(); ++i) {
+    const Box& b = boxes[i];
+    double n, f;
+    box_distances(s.view.from, b.lo, b.hi, n, f);
+    if (f > kMaxDistance) ++r.beyond;
+    magnitude[i] = std::max({std::abs(b.lo.x), std::abs(b.lo.y), std::abs(b.lo.z), std::abs(b.hi.x),
+                             std::abs(b.hi.y), std::abs(b.hi.z)});
+    r.magnitude = std::max(r.magnitude, magnitude[i]);
+  }
+  if (!(r.size >= kTinyScene)) {
+    r.tiny = boxes.size();
+    return r;
+  }
+  for (size_t i = 0; i < boxes.size(); ++i) r.far += magnitude[i] > kFarRatio * r.size;
   return r;
 }
 
@@ -450,10 +484,12 @@ Image trace_render(const Scene& scene, const FrameOptions& o, FrameStats* stats)
     const Reach r = reach(scene);
     stats->drop("reaches beyond POV-Ray's 1e7 from the eye: hits farther than that are dropped (whole or part)",
                 r.beyond);
-    if (r.magnitude > 1e5)
-      stats->notes.push_back("coordinates up to " + num(r.magnitude) +
-                             ": POV-Ray keeps bounding boxes in single precision (" +
-                             num(r.magnitude * 0x1p-24) + " here), rays may miss what they should hit");
+    stats->drop("scene smaller than 0.1: POV-Ray's tolerances are absolute (hits nearer than 1e-6 along a ray, "
+                "shadow blockers nearer than 1e-3)",
+                r.tiny);
+    stats->drop("coordinates over 168x the scene's size: POV-Ray's single-precision bounding boxes round by "
+                "over 1e-5 of the scene (rays may miss)",
+                r.far);
   }
   return img;
 }

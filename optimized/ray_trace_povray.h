@@ -34,8 +34,11 @@ std::string program();
 //                  refracted + transmitted);
 //   notes          its parse, bounding and trace times and the process's
 //                  wall time, and what it may draw differently in this scene;
-//   dropped        primitives reaching beyond 1e7 from the eye (POV-Ray's
-//                  MAX_DISTANCE: hits beyond it are not hits).
+//   dropped        what POV-Ray's absolute limits may leave out: primitives
+//                  reaching beyond 1e7 from the eye (its MAX_DISTANCE), every
+//                  one in a scene smaller than 0.1 (its tolerances are
+//                  absolute), those far from the origin for the scene's size
+//                  (its single-precision bounding boxes).
 // Throws InputError for what it cannot draw the same way (lights with
 // lockstep's attenuation or spotlight extension), std::runtime_error when
 // the program fails (with the end of its output).
