@@ -10,6 +10,7 @@
 #include "optimized/raster.h"
 #include "optimized/ray_cast.h"
 #include "optimized/volume_volpack.h"
+#include "optimized/ray_trace_povray.h"
 #include <cstdio>
 #include <exception>
 #include <new>
@@ -95,6 +96,15 @@ void print_version() {
             "lockstep_peer_vtk.so", "scripts/setup.sh --peers installs libvtk9-dev");
   peer_line("volpack", lockstep::opt::volpack::available(), lockstep::opt::volpack::version(),
             "lockstep_peer_volpack.so", "scripts/setup.sh installs libvolpack1-dev");
+  // POV-Ray is a program the povray row runs as a process: no module; its path
+  // and version were recorded when cmake found it.
+  if (lockstep::opt::povray::available())
+    std::printf("  povray row: built (%s; program %s, run as a process)\n", lockstep::opt::povray::version().c_str(),
+                lockstep::opt::povray::program().c_str());
+  else
+    std::printf(
+        "  povray row: not built (no povray program found when cmake ran%s; scripts/setup.sh installs povray)\n",
+        lockstep::opt::povray::program().empty() ? "" : (", or " + lockstep::opt::povray::program() + " is gone").c_str());
   // Every family and implementation built into this binary; peers are production libraries.
   for (const lockstep::Family& f : lockstep::registry().families) {
     std::printf("  %-10s", std::string(f.name).c_str());
