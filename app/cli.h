@@ -26,8 +26,8 @@
 #include <vector>
 
 #include "core/error.h"
-#include "core/nff.h"
-#include "pairs/registry.h"
+#include "io/nff.h"
+#include "registry/registry.h"
 
 namespace lockstep::cli {
 

@@ -8,7 +8,7 @@
 
 #include "app/cli.h"
 #include "app/run.h"
-#include "core/layers.h"
+#include "io/layers.h"
 #include "core/timer.h"
 
 namespace lockstep::cli {

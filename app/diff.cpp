@@ -1,4 +1,4 @@
-// lockstep diff: two images, idiff style (core/metrics.h); or many pairs in
+// lockstep diff: two images, idiff style (kinds/image_metrics.h); or many pairs in
 // one call (a list file, or two folders), so that scripts pay the process's
 // start-up once, not once per image (issue #21, "One-shot cost").
 #include <algorithm>
@@ -13,8 +13,9 @@
 
 #include "app/cli.h"
 #include "core/image.h"
-#include "core/output_image.h"
-#include "core/metrics.h"
+#include "kinds/image_kind.h"
+#include "kinds/image_metrics.h"
+#include "io/image_io.h"
 
 namespace lockstep::cli {
 

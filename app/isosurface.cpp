@@ -1,5 +1,5 @@
 // lockstep isosurface: a volume, one marching-cubes implementation, one mesh --
-// `lockstep render` with the family fixed to marching_cubes (pairs/marching_cubes.h).
+// `lockstep render` with the family fixed to marching_cubes (registry/marching_cubes_row.h).
 #include <cstdio>
 
 #include "app/cli.h"

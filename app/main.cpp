@@ -20,7 +20,7 @@
 
 #include "app/cli.h"
 #include "app/verify.h"  // merge_reports_main
-#include "core/oiio.h"
+#include "io/oiio.h"
 
 namespace cli = lockstep::cli;
 
@@ -57,7 +57,7 @@ void print_help() {
       "  lockstep merge-reports OUT_DIR REPORT_DIR...\n"
       "      join the reports of a sharded verify run (--shard K/N) into one page, JSON and JUnit\n"
       "\n"
-      "families and implementations (pairs/registry.h): %s\n"
+      "families and implementations (registry/registry.h): %s\n"
       "\n"
       "options: --help (also after a subcommand), --version\n"
       "environment: LOCKSTEP_SPD_DIR, LOCKSTEP_VOLUMES_DIR (data beside the repository; SPD scenes are\n"
@@ -69,7 +69,7 @@ void print_help() {
 
 void print_version() {
   // OpenImageIO's version as recorded beside lockstep_oiio.so when it was built
-  // (core/oiio.h): printing it does not open the module and its ~250 libraries.
+  // (io/oiio.h): printing it does not open the module and its ~250 libraries.
   std::string oiio = lockstep::oiio::recorded_version();
   if (oiio.empty()) oiio = "(module lockstep_oiio.so not found: image files cannot be read or written)";
   std::printf("lockstep %s (simd: Highway target %s; embree %d.%d.%d; OpenImageIO %s)\n", LOCKSTEP_VERSION,

@@ -4,7 +4,7 @@
 #include <sstream>
 
 #include "app/verify.h"
-#include "pairs/loaders.h"
+#include "registry/loaders.h"
 #include "spd/spd.h"
 
 namespace lockstep::cli {

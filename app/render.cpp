@@ -1,6 +1,6 @@
 // lockstep render: one input, one implementation, one output (an image, for
 // every family so far; written by the family's output kind). The family is
-// the one whose files end in the input's extension (pairs/registry.h).
+// the one whose files end in the input's extension (registry/registry.h).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>

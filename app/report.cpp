@@ -66,7 +66,7 @@ void write_report(const fs::path& dir, const std::vector<Case>& cases, const std
      << "* Other rows: the implementation against the reference at the case's thresholds "
         "(*% over*: share of samples whose error exceeds the case's `fail` threshold; *score*: the output "
         "kind's figure of merit).\n"
-     << "* Analytic judges (the family's, e.g. ray_cast's `disk` and `convex`: pairs/ray_cast_judges.h): a "
+     << "* Analytic judges (the family's, e.g. ray_cast's `disk` and `convex`: registry/ray_cast_judges.h): a "
         "closed-form answer computed without any implementation; there the optimized implementations must match "
         "it (and the reference where both show something), and the reference must do what the manifest expects "
         "(ref=right / ref=wrong).\n";

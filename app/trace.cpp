@@ -1,12 +1,12 @@
 // lockstep trace: the ray tree of one pixel (the raytrace family's
-// TracePixelFn, pairs/ray_trace.h), printed one ray a line, children indented
+// TracePixelFn, registry/ray_trace_row.h), printed one ray a line, children indented
 // under their parent, in the order they were traced.
 #include <cstdio>
 #include <string>
 
 #include "app/cli.h"
-#include "core/nff.h"
-#include "pairs/ray_trace.h"
+#include "io/nff.h"
+#include "registry/ray_trace_row.h"
 
 namespace lockstep::cli {
 

@@ -34,7 +34,7 @@ void print_help() {
       "filterable, each case's pictures side by side with zoom, A/B flip, wipe and the pixel\n"
       "under the cursor, and charts; its data in report.json, see app/report_page.cpp).\n"
       "\n"
-      "families (pairs/registry.h):\n",
+      "families (registry/registry.h):\n",
       LOCKSTEP_CORPUS_DIR, kGoldenTolerance);
   for (const Family& f : registry().families) {
     std::printf("  %-10s %s; impls: %s\n", std::string(f.name).c_str(), f.kind->describe_tolerance(f.tol).c_str(),

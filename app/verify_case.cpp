@@ -21,7 +21,7 @@
 
 #include "app/run.h"
 #include "app/verify.h"
-#include "core/oiio.h"
+#include "io/oiio.h"
 
 namespace lockstep::cli {
 
@@ -31,7 +31,7 @@ namespace {
 
 // c.beside scaled to w x h (a filtered resize), written to case_dir/beside.png.
 void write_beside(const Case& c, const fs::path& case_dir, int w, int h) {
-  // OpenImageIO's resize, in lockstep_oiio.so (core/oiio.h).
+  // OpenImageIO's resize, in lockstep_oiio.so (io/oiio.h).
   oiio::Error err;
   if (!oiio::api().write_resized(c.beside, (case_dir / "beside.png").string(), w, h, &err)) oiio::raise(err);
 }

@@ -1,5 +1,5 @@
 // lockstep volume: a volume, a transfer function, one image -- `lockstep render`
-// with the family chosen among the volume renderers by --algo (pairs/volume.h).
+// with the family chosen among the volume renderers by --algo (registry/volume_rows.h).
 #include <cstdio>
 
 #include "app/cli.h"

@@ -1,14 +1,14 @@
 // lockstep benchmarks (Google Benchmark), registered from the registry
-// (pairs/registry.h) and nothing else: bench/ names no family.
+// (registry/registry.h) and nothing else: bench/ names no family.
 //
 //   <stage>/<impl>                every family's stage benchmarks (Family::kernels),
 //                                 e.g. ray casting's kernel/ray_sphere/simd (one
 //                                 primitive against 4096 rays, single thread: items/s
 //                                 = ray-primitive tests per second) and
 //                                 throughput/spheres/embree (trace() of 4096 rays
-//                                 against 256 primitives): pairs/ray_cast.cpp
+//                                 against 256 primitives): registry/ray_cast_row.cpp
 //   frame/<family>/<input>/<impl>/threads:N  every family's bench inputs
-//                                 (pairs/<family>.cpp), run whole: items/s =
+//                                 (registry/<family>_row.cpp), run whole: items/s =
 //                                 output samples (pixels) per second;
 //                                 counters build_ms (Embree BVH) and the input's own
 //
@@ -40,8 +40,8 @@
 #include "core/output.h"
 #include "core/timer.h"
 #include "optimized/tiling.h"
-#include "pairs/loaders.h"
-#include "pairs/registry.h"
+#include "registry/loaders.h"
+#include "registry/registry.h"
 
 namespace lockstep {
 namespace {
@@ -288,7 +288,7 @@ int main(int argc, char** argv) {
   mallopt(M_MMAP_MAX, 0);
   mallopt(M_TRIM_THRESHOLD, std::numeric_limits<int>::max());
   // Inputs that live beside the repository: the SPD scenes are generated when
-  // absent (pairs/loaders.h); the real volumes cannot be, and their frames go.
+  // absent (registry/loaders.h); the real volumes cannot be, and their frames go.
   if (!std::filesystem::is_directory(lockstep::spd_dir()))
     std::fprintf(stderr, "lockstep_bench: note: no %s: SPD scenes are generated (lockstep spd)\n",
                  lockstep::spd_dir().c_str());

@@ -17,7 +17,7 @@ class InputError : public std::runtime_error {
   const std::string& file() const { return file_; }
   int line() const { return line_; }  // 0 when the error is about the whole file
   // The words without file and line (what the constructor was given): an error
-  // from a module (core/oiio.h) is thrown again on this side as it was made there.
+  // from a module (io/oiio.h) is thrown again on this side as it was made there.
   const std::string& message() const { return message_; }
 
  private:

@@ -1,9 +1,9 @@
-// lockstep core: the registry's row types (types only; the rows live in pairs/).
+// lockstep core: the registry's row types (types only; the rows live in registry/).
 //
 // A *family* is one algorithm with one input type and one output kind, e.g.
 // ray_cast (NFF scene -> image), composite (layer stack -> image), later
 // marching cubes (volume -> mesh). Every family is a value of one type,
-// Family, listed by pairs/registry.h; its first implementation is always the
+// Family, listed by registry/registry.h; its first implementation is always the
 // reference. What depends on the output (files, comparison, diagnostics,
 // counts) lives in the family's output kind (core/output.h), so props/,
 // bench/, the corpus (`lockstep verify`) and the CLI (`render --impl`, `verify

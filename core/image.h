@@ -3,7 +3,7 @@
 // Pixels are linear float RGBA, row 0 at the top. Files go through
 // OpenImageIO, so the format follows the extension (.png, .exr, .tif, ...);
 // its calls are in the module lockstep_oiio.so, opened by the first read or
-// write (core/oiio.h).
+// write (io/oiio.h).
 // Writing is atomic: the image goes to a temporary file in the same folder that
 // is renamed into place only when complete, so a failure never leaves a
 // half-written output behind.
@@ -119,20 +119,5 @@ struct Image {
     p[3] = alpha;
   }
 };
-
-// Throws InputError when the file is missing or unreadable. Any channel count is
-// accepted: grey is replicated, a missing alpha is 1.
-Image read_image(const std::string& path);
-// Throws InputError when the file cannot be written; nothing is left behind then.
-// .exr files are zlib-compressed (lossless) one scanline per block at zlib level
-// 1 ("zips:1"): on a 1024^2 float RGBA z-buffer frame OpenEXR writes it 1.5-3x
-// faster than the default "zip" (16 scanlines, level 6), the file 3.5 MB
-// against 2.9 MB (issue #21, one-shot cost; the writer was most of a one-shot
-// render's own time). Any OpenEXR reader reads both.
-void write_image(const Image& image, const std::string& path);
-// The same with another OpenEXR compression for .exr files, e.g. "pxr24" (lossy:
-// floats rounded to 24 bits, relative error <= 2^-16; the golden images use it,
-// at a quarter of zip's size).
-void write_image(const Image& image, const std::string& path, const std::string& exr_compression);
 
 }  // namespace lockstep

@@ -1,5 +1,5 @@
 // lockstep core: triangle meshes -- what isosurface extraction produces
-// (marching cubes), written and read as PLY and OBJ (core/mesh_io.h).
+// (marching cubes), written and read as PLY and OBJ (io/mesh_io.h).
 //
 // An indexed mesh: vertices shared between triangles where the producer
 // shares them (the optimized marching cubes computes each cut edge once), or a

@@ -2,7 +2,7 @@
 //
 // Code that links a large library is built as a module of its own, a .so
 // beside the binary, so that only the calls that need the library load it:
-// OpenImageIO's image I/O and comparison (core/oiio.h, lockstep_oiio.so: about
+// OpenImageIO's image I/O and comparison (io/oiio.h, lockstep_oiio.so: about
 // 250 shared libraries that `lockstep --version` and commands touching no
 // image need not map) and the peer rows (optimized/peer_module.h,
 // lockstep_peer_NAME.so: Mesa, LLVM, VTK, VolPack). A module exports

@@ -17,7 +17,7 @@
 //   Agreement     what a comparison found: pass, the worst error, a summary
 //   Judge         an analytic judge: the closed-form answer for one frame,
 //                 against which any implementation (the reference too) is judged
-//   OutputKind    the functions above, one value per kind (core/output_image.h)
+//   OutputKind    the functions above, one value per kind (kinds/image_kind.h)
 #pragma once
 
 #include <any>

@@ -4,7 +4,7 @@
 // (core/raster_settings.cpp), the viewing pipeline, samples and depth
 // (core/viewing.cpp) and the shading of a fragment (core/raster_shading.cpp).
 //
-// The raster families (zbuffer, scanline, painter; pairs/raster.cpp) draw the
+// The raster families (zbuffer, scanline, painter; registry/raster_rows.cpp) draw the
 // same NFF scenes as ray casting, with the same camera (core/camera.h: pixel
 // centres, `angle` between the centres of the edge pixels), so that a z-buffer
 // image with per-pixel Phong shading equals the ray-cast image.

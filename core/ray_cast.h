@@ -2,9 +2,9 @@
 //
 // Every ray-casting implementation (namespace ref: reference/ray_cast.h;
 // opt::simd, opt::embree, opt::autosel: optimized/ray_cast.h) provides functions
-// of exactly the types below, and pairs/ray_cast.cpp lists which implementation
+// of exactly the types below, and registry/ray_cast_row.cpp lists which implementation
 // provides which. Properties, benchmarks, the corpus and the CLI only ever call
-// them through the registry (pairs/registry.h).
+// them through the registry (registry/registry.h).
 //
 // Kernels: one primitive, every ray, *no* culling; t[i] is the nearest root of
 // ray i in (tmin, tmax), +inf on a miss. t is in units of |d|.

@@ -2,7 +2,7 @@
 //
 // Every ray-tracing implementation (ref: reference/ray_trace.cpp; opt::embree:
 // optimized/ray_trace_embree.cpp) provides the two functions of the types at
-// the end, and pairs/ray_trace.cpp lists them. The scene is the NFF scene of
+// the end, and registry/ray_trace_row.cpp lists them. The scene is the NFF scene of
 // ray casting (core/scene.h); NFF's material `f r g b Kd Ks Shine T ior` now
 // drives the secondary rays:
 //

@@ -24,7 +24,7 @@
 namespace lockstep {
 
 // A resource of a run: its name (unique within the run) and how to make it.
-// Defined once, next to the type (pairs/embree_device.cpp: kEmbreeDevice).
+// Defined once, next to the type (registry/embree_device.cpp: kEmbreeDevice).
 template <class T>
 struct RunKey {
   std::string_view name;

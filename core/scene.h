@@ -6,9 +6,9 @@
 // as a triangulation for kernels that only know triangles. Primitive ids run over
 // spheres first, then polygons, then cones: prim < sphere_count() is a sphere,
 // prim >= cone_first_prim() a cone. The ray casters and tracers intersect cones
-// (reference/ray_cone.h; optimized/ray_cone.h), the rasterizers tessellate them
+// (core/cone_quadric.h; optimized/ray_cone.h), the rasterizers tessellate them
 // (core/viewing.cpp view_cones); a row that cannot would refuse the scene
-// (pairs/loaders.h refuse_cones) rather than drop them silently.
+// (registry/loaders.h refuse_cones) rather than drop them silently.
 #pragma once
 
 #include <array>
@@ -48,7 +48,7 @@ struct Material {
 // NFF 'l': positional light. has_color is false when the file gave none; the
 // intensity is then 1/sqrt(number of lights) (see core/shading.h).
 //
-// lockstep's NFF extension (core/nff.h) adds, per light:
+// lockstep's NFF extension (io/nff.h) adds, per light:
 //   atten  distance attenuation f_att = min(1, 1 / (c1 + c2 d + c3 d^2)),
 //          Foley et al. 16.1.4; the default 1 0 0 is no attenuation;
 //   spot   a Warn spotlight (Warn 1983; Foley et al. 16.1.6): unit direction

@@ -21,7 +21,7 @@ void barycentric(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p, con
 }  // namespace
 
 Vec3 cone_outward_normal(const Scene& scene, uint32_t c, const Vec3& p) {
-  // The cone's gradient (reference/ray_cone.h): w_perp - r(s) k u.
+  // The cone's gradient (core/cone_quadric.h): w_perp - r(s) k u.
   const Vec3 axis = scene.cone_apex[c] - scene.cone_base[c];
   const double h = length(axis);
   const Vec3 u = axis / h;

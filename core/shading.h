@@ -3,7 +3,7 @@
 // This is the lighting model, in double precision, as the reference evaluates it
 // per hit. The optimized renders (simd, embree) evaluate the same formula 8 hits
 // at a time in float (optimized/shade_simd.h, pow as exp(shine log x)); their
-// frames are held to the reference within 1/255 per channel (pairs/ray_cast.cpp), so
+// frames are held to the reference within 1/255 per channel (registry/ray_cast_row.cpp), so
 // the comparison covers both the intersection code and that vectorised shading.
 //
 // Local illumination, Phong (Foley et al., 16.1; Phong 1975), no shadows:
@@ -16,7 +16,7 @@
 //   * the specular highlight is white (the light's colour), not the material's;
 //   * colours are not clamped here; 8-bit outputs clamp on write;
 //   * Ip may be scaled by distance attenuation and a spotlight cone, given per
-//     light by lockstep's NFF extension (see light_at and core/nff.h).
+//     light by lockstep's NFF extension (see light_at and io/nff.h).
 #pragma once
 
 #include "core/math.h"
@@ -42,7 +42,7 @@ enum class Specular : uint8_t { kPhong, kBlinn };
 // the intensity ip arriving there,
 //   ip = I_light * f_att(d) * spot(l)
 // with I_light the light's colour or the default 1/sqrt(number of lights),
-// d = |light - p|, and the two factors of lockstep's NFF extension (core/nff.h):
+// d = |light - p|, and the two factors of lockstep's NFF extension (io/nff.h):
 //   f_att = min(1, 1 / (c1 + c2 d + c3 d^2))    (Foley et al. 16.1.4; 1 by default)
 //   spot  = max(0, -l.D)^exponent if the angle between -l and the spot
 //           direction D is at most the cutoff, else 0   (Warn 1983; Foley 16.1.6;

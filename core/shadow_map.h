@@ -154,7 +154,7 @@ double lit_fraction(const ShadowCube& cube, const RasterSettings& s, const Vec3&
 // Whether s can be drawn with shadows (throws InputError(source, 0, ...) if
 // not): both kinds need per-sample lighting (shading phong or blinn;
 // shading_name: the shading as the user named it). Which rows draw which
-// shadows is the registry's (pairs/raster.cpp refuse_shadows).
+// shadows is the registry's (registry/raster_rows.cpp refuse_shadows).
 void check_shadow_settings(const RasterSettings& s, const std::string& source,
                            const std::string& shading_name);
 

@@ -1,6 +1,6 @@
 // lockstep core: scalar volumes -- a regular grid of samples, as scanners and
 // simulations produce them (CT, MRI, NRRD files) or as analytic fields are
-// sampled (core/volume_io.h reads both).
+// sampled (io/volume_io.h reads both).
 //
 // Sample (i, j, k) sits at world position origin + (i sx, j sy, k sz), with
 // i fastest in memory, then j, then k (NRRD's order). Values are float

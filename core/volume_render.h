@@ -2,7 +2,7 @@
 // the settings, the view (which rays, which sample points), trilinear
 // reconstruction, opacity correction and the isosurface shading.
 //
-// Three families draw a volume into an image (pairs/volume.cpp):
+// Three families draw a volume into an image (registry/volume_rows.cpp):
 //   volume      V-buffer ray casting (Levoy 1988; Upson and Keeler, "V-BUFFER:
 //               Visible Volume Rendering", SIGGRAPH 1988): one ray per pixel,
 //               samples every dt, each classified by the transfer function and
@@ -60,7 +60,7 @@ struct Settings {
   double iso = 0;             // iso: the value (required)
   bool skip = true;           // implementations that skip empty space may (false: they must not)
   double error = 0;           // raycast: > 0 asks for the step and eps whose error against the
-                              // converged image stays under it (choose_for_error; pairs/volume.cpp)
+                              // converged image stays under it (choose_for_error; registry/volume_rows.cpp)
 };
 
 // Throws InputError(source, 0, ...) naming a bad or missing setting (a bad .tf
@@ -171,5 +171,11 @@ std::string fraction_text(double x);
 // corpus' vi-* frames by an ulp (measured: tests/volume_render_test.cpp,
 // VolumeIso.SimdEqualsTheReferenceBitForBit), so fewer would change goldens.
 inline constexpr int kIsoBisections = 24;
+
+// Splatting's blob: its standard deviation, in spacings, and the footprint's
+// cut-off, in standard deviations (reference/volume_splat.cpp says why; every
+// splatting row draws the same footprints).
+inline constexpr double kSplatSigma = 0.6;
+inline constexpr double kSplatCutoff = 3.0;
 
 }  // namespace lockstep::vr

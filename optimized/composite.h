@@ -7,7 +7,7 @@
 #pragma once
 
 #include "core/family.h"
-#include "core/layers.h"
+#include "io/layers.h"
 
 namespace lockstep::opt {
 namespace simd {

@@ -12,11 +12,11 @@
 // float and rounds to 8 bits on the way out, as an 8-bit OIIO pipeline would);
 // the final 8-bit values q become q / 255.
 //
-// The OpenImageIO calls are in core/oiio_module.cpp (the module lockstep_oiio.so,
-// opened on first use: core/oiio.h); here the stack is checked and the frame's
+// The OpenImageIO calls are in io/oiio_module.cpp (the module lockstep_oiio.so,
+// opened on first use: io/oiio.h); here the stack is checked and the frame's
 // progress and statistics are reported.
 #include "core/error.h"
-#include "core/oiio.h"
+#include "io/oiio.h"
 #include "optimized/composite.h"
 
 namespace lockstep::opt::oiio {

@@ -47,7 +47,7 @@ struct ErrorLog {
 // arena; tools/embree_raw.cpp measures it), so a process keeps one and passes
 // it to every build (BuildOptions::device): verify, the property binary and
 // the benchmarks through the embree rows' sessions, which take the run's one
-// device (pairs/embree_device.h), the CLI by rendering once per process.
+// device (registry/embree_device.h), the CLI by rendering once per process.
 // Default-constructed: no device (build_scene then makes its own, as before).
 struct Device {
   struct State {

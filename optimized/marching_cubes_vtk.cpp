@@ -70,7 +70,7 @@ Mesh marching_cubes(const Volume& v, const FrameOptions& options, FrameStats* st
 
 }  // namespace lockstep::opt::vtk
 
-#else  // no VTK: the row is not registered (pairs/marching_cubes.cpp asks available()).
+#else  // no VTK: the row is not registered (registry/marching_cubes_row.cpp asks available()).
 
 namespace lockstep::opt::vtk {
 

@@ -1,9 +1,9 @@
 // lockstep optimized: the painter's algorithm (optimized/painter_simd.cpp; the
-// contract and the reference are reference/painter.h).
+// plan it shares is core/painter_plan.h, the reference reference/painter.h).
 #pragma once
 
 #include "optimized/raster.h"
-#include "reference/painter.h"
+#include "core/painter_plan.h"
 
 namespace lockstep::opt::simd {
 // Same plan and image as ref::painter: the depth sort with Highway's vqsort,

@@ -16,7 +16,7 @@ namespace opt::simd {
 void zbuffer_visibility(const ScreenMesh& mesh, const RasterSettings& s, int threads, Visibility& vis);
 Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats);
 // The same frame drawn into img, which a caller keeps from frame to frame (a
-// session's frame buffer, pairs/raster.cpp): reused when it has the frame's
+// session's frame buffer, registry/raster_rows.cpp): reused when it has the frame's
 // size and a depth plane (every pixel and depth rewritten), made afresh
 // otherwise. A fresh 1024^2 frame is 20 MiB of first-touch page faults, 7-10 ms
 // on the 2-core VM against a 2.4 ms warm frame (issue #21, "One-shot cost").

@@ -231,7 +231,7 @@ Image Session::zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats*
 
 }  // namespace lockstep::opt::llvmpipe
 
-#else  // no OSMesa: the row is not registered (pairs/raster.cpp asks available()).
+#else  // no OSMesa: the row is not registered (registry/raster_rows.cpp asks available()).
 
 #include <stdexcept>
 

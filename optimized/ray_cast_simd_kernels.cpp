@@ -250,7 +250,7 @@ HWY_INLINE VD FusedMulAdd(DD dd, VD a, VD b, VD c) {
 #endif
 }
 
-// ref::cone_residual: f(t) and slope f'(t) about the moved origin.
+// cone_residual: f(t) and slope f'(t) about the moved origin.
 HWY_INLINE VD Residual(const V3& qp, const V3& dp, VD rho, VD kappa, VD t, VD& slope) {
   const DD dd;
   const V3 w = Add3(qp, Scale(t, dp));
@@ -259,7 +259,7 @@ HWY_INLINE VD Residual(const V3& qp, const V3& dp, VD rho, VD kappa, VD t, VD& s
   return hn::Sub(Dot(w, w), hn::Mul(r, r));
 }
 
-// One Newton step of ref::cone_roots_stable, kept where it does not make the residual worse.
+// One Newton step of cone_roots_stable, kept where it does not make the residual worse.
 HWY_INLINE VD Newton(const V3& qp, const V3& dp, VD rho, VD kappa, VD t) {
   const DD dd;
   VD slope, slope2;
@@ -295,7 +295,7 @@ void ConeT(const ConeShape& c, const ConeRays& r, double* out, size_t count, boo
       hn::StoreU(inf, dd, out + i);
       continue;
     }
-    // ref::cone_roots_careful: the origin moved along the ray near the centre.
+    // cone_roots_careful: the origin moved along the ray near the centre.
     const VD shift = hn::Div(Dot(Sub3(centre, o), d), dd2);
     const V3 q = Sub3(Add3(o, Scale(shift, d)), base);
     const VD qu = Dot(q, u), du = Dot(d, u);
@@ -304,7 +304,7 @@ void ConeT(const ConeShape& c, const ConeRays& r, double* out, size_t count, boo
     const VD A = hn::Sub(Dot(dp, dp), hn::Mul(kappa, kappa));
     const VD b = hn::Sub(Dot(qp, dp), hn::Mul(rho, kappa));
     const VD C = hn::Sub(Dot(qp, qp), hn::Mul(rho, rho));
-    // ref::cone_roots_stable: A = 0 (parallel to a side line) is linear.
+    // cone_roots_stable: A = 0 (parallel to a side line) is linear.
     const MD linear = hn::Eq(A, zero);
     const VD disc = FusedMulAdd(dd, b, b, hn::Neg(hn::Mul(A, C)));
     const MD has_root =

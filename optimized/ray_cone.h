@@ -3,7 +3,7 @@
 // The Embree rows (a user geometry, optimized/embree_cones.cpp), the simd ray
 // caster (a scalar pass over the cones after the float packet kernel) and the
 // hit refinement (optimized/refine.h) all decide a cone hit here, with the
-// careful root form of reference/ray_cone.h (origin moved near the cone, the
+// careful root form of core/cone_quadric.h (origin moved near the cone, the
 // root that does not cancel first, the other from the product, one Newton
 // step each). The simd rows run the same arithmetic 4 (AVX2) or 8 (AVX-512)
 // rays at a time in double (ray_cast_simd_kernels.h cone_t, bit for bit the
@@ -22,7 +22,7 @@
 
 #include "core/math.h"
 #include "core/scene.h"
-#include "reference/ray_cone.h"
+#include "core/cone_quadric.h"
 
 namespace lockstep::opt {
 
@@ -32,7 +32,7 @@ struct ConeShape {
   bool inside = false;  // NFF's negative radii: only the inside is visible
   Vec3 centre;          // bounding sphere: the axis' midpoint ...
   double bound = 0;     // ... and a radius that holds both end discs
-  // The quadric's per-cone pieces, rounded exactly as ref::cone_quadric rounds
+  // The quadric's per-cone pieces, rounded exactly as cone_quadric rounds
   // them (so that the SIMD kernel, which reads them, matches cone_nearest bit
   // for bit): unit axis u, height h, slope k.
   Vec3 u;
@@ -60,15 +60,15 @@ inline double cone_nearest(const ConeShape& c, const Vec3& o, const Vec3& d, dou
   const double b = dot(f, d) / dd;
   const Vec3 perp = f - b * d;
   if (dot(perp, perp) > c.bound * c.bound) return kInfinity;
-  ref::ConeQuadric<double> q;
+  ConeQuadric<double> q;
   double shift, t0, t1;
-  if (!ref::cone_roots_careful(o, d, c.base, c.r0, c.apex, c.r1, q, shift, t0, t1))
+  if (!cone_roots_careful(o, d, c.base, c.r0, c.apex, c.r1, q, shift, t0, t1))
     return kInfinity;
   for (const double t : {t0, t1}) {
-    if (!(t > tmin && t < tmax) || !ref::cone_in_height(q, t - shift)) continue;
+    if (!(t > tmin && t < tmax) || !cone_in_height(q, t - shift)) continue;
     if (!solid) {
       double slope;  // d.n for the outward normal, times 2: < 0 where the ray enters from outside
-      ref::cone_residual(q, t - shift, slope);
+      cone_residual(q, t - shift, slope);
       if (c.inside ? !(slope > 0) : !(slope < 0)) continue;
     }
     return t;

@@ -46,7 +46,7 @@
 // POV-Ray has no near plane: the view's hither is not applied.
 //
 // What POV-Ray's model defines differently (the shading difference is
-// measured against the reference in pairs/ray_trace.cpp, the visibility and
+// measured against the reference in registry/ray_trace_row.cpp, the visibility and
 // shadows agreement in tests/povray_test.cpp):
 //   - NFF's one-sidedness: POV-Ray draws both sides of every surface, so a
 //     polygon seen from behind (one-sided in NFF unless it transmits) hides

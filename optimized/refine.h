@@ -12,7 +12,7 @@
 
 #include "core/math.h"
 #include "core/scene.h"
-#include "reference/ray_cone.h"
+#include "core/cone_quadric.h"
 
 namespace lockstep::opt {
 
@@ -49,11 +49,11 @@ inline void refine_hit(const Scene& scene, const Ray& ray, Hit& hit) {
     // The root nearest the float answer is the one the kernel meant.
     hit.t = std::abs(t0 - hit.t) <= std::abs(t1 - hit.t) ? t0 : t1;
   } else if (hit.prim >= scene.cone_first_prim()) {
-    // Cones: the careful roots (reference/ray_cone.h), the one nearest the kernel's.
+    // Cones: the careful roots (core/cone_quadric.h), the one nearest the kernel's.
     const uint32_t c = hit.prim - scene.cone_first_prim();
-    ref::ConeQuadric<double> q;
+    ConeQuadric<double> q;
     double shift, t0, t1;
-    if (!ref::cone_roots_careful(ray.o, ray.d, scene.cone_base[c], scene.cone_r0[c],
+    if (!cone_roots_careful(ray.o, ray.d, scene.cone_base[c], scene.cone_r0[c],
                                  scene.cone_apex[c], scene.cone_r1[c], q, shift, t0, t1))
       return;
     hit.t = std::abs(t0 - hit.t) <= std::abs(t1 - hit.t) ? t0 : t1;

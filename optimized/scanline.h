@@ -18,7 +18,7 @@ namespace opt::simd {
 void scanline_visibility(const ScreenMesh& mesh, const RasterSettings& s, int threads,
                          Visibility& vis);
 Image scanline(const Scene& scene, const FrameOptions& opts, FrameStats* stats);
-// A session's buffers (pairs/raster.cpp) kept from frame to frame (see
+// A session's buffers (registry/raster_rows.cpp) kept from frame to frame (see
 // opt::simd::zbuffer_into): the frame and the per-sample visible triangles.
 using VisibleBuffer = std::vector<uint32_t, NoInitAllocator<uint32_t>>;
 // Sized for scene's frames at opts (its settings' samples per pixel), every page touched now.

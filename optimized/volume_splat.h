@@ -9,7 +9,7 @@
 
 namespace lockstep::opt::simd {
 
-// The reference's image within a stated bound (pairs/volume.cpp splat_family):
+// The reference's image within a stated bound (registry/volume_rows.cpp splat_family):
 // the same voxels in the same depth order and sheets, the same footprint
 // cut-off pixel for pixel (decided in double by the reference's expression),
 // the Gaussian looked up in tables instead of exp, accumulated and composited

@@ -43,7 +43,7 @@
 // compositing), the tables' interpolation, Highway's expm1; and where a pixel's
 // opacity sits at 1 - eps, float and double may stop it one splat apart (a
 // difference up to eps, as the ray caster's termination flips). The bound the
-// row is held to, and what was measured: pairs/volume.cpp splat_family.
+// row is held to, and what was measured: registry/volume_rows.cpp splat_family.
 #ifndef LOCKSTEP_VOLUME_SPLAT_SHARED
 #define LOCKSTEP_VOLUME_SPLAT_SHARED
 #include <cstddef>
@@ -407,7 +407,7 @@ Image volume_splat(const Volume& v, const FrameOptions& options, FrameStats* sta
   const Vec3 right = view.du / pixel, up = -view.dv / pixel;
   const double dt0 = std::min({v.spacing.x, v.spacing.y, v.spacing.z});
   const double voxel_volume = v.spacing.x * v.spacing.y * v.spacing.z;
-  const double kSigma = ref::kSplatSigma, kCutoff = ref::kSplatCutoff;
+  const double kSigma = vr::kSplatSigma, kCutoff = vr::kSplatCutoff;
   const Vec3 var{std::pow(kSigma * v.spacing.x, 2), std::pow(kSigma * v.spacing.y, 2),
                  std::pow(kSigma * v.spacing.z, 2)};
   const double sxx = dot(mul(right, right), var), syy = dot(mul(up, up), var), sxy = dot(mul(right, up), var);

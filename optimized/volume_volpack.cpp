@@ -33,7 +33,7 @@
 //            (its "prematrix"); the model matrix undoes that.
 //   eps      VP_MAX_RAY_OPACITY = 1 - eps (its early ray termination); eps = 0: 1.
 //
-// Where it differs, by method (measured in pairs/volume.cpp):
+// Where it differs, by method (measured in registry/volume_rows.cpp):
 //   - classification before interpolation: VolPack classifies and shades each
 //     voxel, then resamples the (opacity-weighted) colours and opacities
 //     bilinearly within each slice; the reference interpolates the value
@@ -239,7 +239,7 @@ Image volume_raycast(const Volume& volume, const FrameOptions& options, FrameSta
 
 }  // namespace lockstep::opt::volpack
 
-#else  // no VolPack: the row is not registered (pairs/volume.cpp asks available()).
+#else  // no VolPack: the row is not registered (registry/volume_rows.cpp asks available()).
 
 #include "core/error.h"
 

@@ -1,6 +1,6 @@
 // lockstep props: which property provider tests which registry family.
 //
-// One row per family of pairs/registry.cpp. The driver (driver/driver.cpp) registers
+// One row per family of registry/registry.cpp. The driver (driver/driver.cpp) registers
 // every property a provider lists, and a failing Registry.<family>_has_properties
 // test for a registered family that has no row here (and
 // Registry.<family>_is_registered for a row whose family is not registered).

@@ -24,7 +24,7 @@
 #include <rapidcheck/gtest.h>
 
 #include "core/error.h"
-#include "core/nff.h"
+#include "io/nff.h"
 
 namespace rc::detail {
 TestListener& globalTestListener();
@@ -70,7 +70,7 @@ std::string inconsistency(const Scene& s) {
   for (const auto& p : s.poly_plane)
     if (!std::isfinite(p.n.x) || !std::isfinite(p.n.y) || !std::isfinite(p.n.z) || !std::isfinite(p.d))
       return "non-finite plane";
-  const size_t nc = s.cone_base.size();  // cones (core/nff.cpp read_cone)
+  const size_t nc = s.cone_base.size();  // cones (io/nff.cpp read_cone)
   if (s.cone_apex.size() != nc || s.cone_r0.size() != nc || s.cone_r1.size() != nc || s.cone_inside.size() != nc ||
       s.cone_material.size() != nc)
     return "cone array sizes";
@@ -81,7 +81,7 @@ std::string inconsistency(const Scene& s) {
     const double h = lockstep::length(s.cone_apex[i] - s.cone_base[i]);
     if (!(h > 0 && std::isfinite(h))) return "bad cone axis";
   }
-  for (const auto& l : s.lights) {  // the light extension (core/nff.h)
+  for (const auto& l : s.lights) {  // the light extension (io/nff.h)
     if (!(l.atten.x >= 0 && l.atten.y >= 0 && l.atten.z >= 0) || l.atten == lockstep::Vec3{0, 0, 0} ||
         !std::isfinite(l.atten.x + l.atten.y + l.atten.z))
       return "bad attenuation";

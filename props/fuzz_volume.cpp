@@ -1,4 +1,4 @@
-// lockstep props: fuzzing the volume reader (core/volume_io.h).
+// lockstep props: fuzzing the volume reader (io/volume_io.h).
 //
 // Property: read_volume either returns a valid Volume (every axis >= 2 samples,
 // nx*ny*nz finite samples, finite positive spacing, finite origin) or throws
@@ -42,7 +42,7 @@
 
 #include "core/error.h"
 #include "core/transfer_function.h"
-#include "core/volume_io.h"
+#include "io/volume_io.h"
 
 namespace rc::detail {
 TestListener& globalTestListener();

@@ -21,7 +21,7 @@
 #include <cstdint>
 
 #include "core/family.h"
-#include "core/layers.h"
+#include "io/layers.h"
 
 namespace lockstep {
 

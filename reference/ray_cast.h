@@ -4,7 +4,7 @@
 //   ray_sphere   reference/ray_sphere.cpp   (Glassner ch. 2, the quadratic)
 //   ray_plane    reference/ray_plane.cpp
 //   ray_polygon  reference/ray_polygon.cpp  (plane, then the crossings test)
-//   ray_cone_t   reference/ray_cone.cpp     (the cone's quadric, reference/ray_cone.h)
+//   ray_cone_t   reference/ray_cone.cpp     (the cone's quadric, core/cone_quadric.h)
 //   trace/render reference/ray_cast.cpp     (brute force over every primitive)
 #pragma once
 

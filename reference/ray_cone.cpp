@@ -1,6 +1,6 @@
 // Ray-cone kernel, reference: the nearest visible root of the cone's quadric
-// (reference/ray_cone.h for the derivation and the two forms).
-#include "reference/ray_cone.h"
+// (core/cone_quadric.h for the derivation and the two forms).
+#include "core/cone_quadric.h"
 
 #include "reference/ray_cast.h"
 

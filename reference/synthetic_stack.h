@@ -15,7 +15,7 @@
 
 #include <cstdint>
 
-#include "core/layers.h"
+#include "io/layers.h"
 
 namespace lockstep {
 

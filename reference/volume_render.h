@@ -15,11 +15,7 @@ namespace lockstep::ref {
 Image volume_raycast(const Volume& volume, const FrameOptions& options, FrameStats* stats);
 // Splatting: Gaussian footprints of classified voxels, composited in depth order.
 Image volume_splat(const Volume& volume, const FrameOptions& options, FrameStats* stats);
-// Its blob's standard deviation, in spacings, and the footprint's cut-off, in
-// standard deviations (reference/volume_splat.cpp says why; the simd row
-// draws the same footprints).
-inline constexpr double kSplatSigma = 0.6;
-inline constexpr double kSplatCutoff = 3.0;
+// Its blob: vr::kSplatSigma, vr::kSplatCutoff (core/volume_render.h).
 
 // The isosurface of the trilinear interpolant: first crossing, refined, shaded.
 Image volume_iso(const Volume& volume, const FrameOptions& options, FrameStats* stats);

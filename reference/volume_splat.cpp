@@ -38,9 +38,9 @@ namespace {
 // The blob's standard deviation in spacings: with 0.6 a uniform lattice of
 // blobs is flat to about 0.2% (the ripple of a sampled Gaussian), yet blurs
 // little more than trilinear interpolation does.
-constexpr double kSigma = kSplatSigma;
+constexpr double kSigma = vr::kSplatSigma;
 // Footprints are cut off at 3 standard deviations (1.1% of the peak's extent... e^-4.5).
-constexpr double kCutoff = kSplatCutoff;
+constexpr double kCutoff = vr::kSplatCutoff;
 
 struct Splat {
   double depth;

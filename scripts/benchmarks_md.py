@@ -479,7 +479,7 @@ ACCURACY_NOTE = """One primitive against 4096 rays through each row's kernel ent
 relative error of t against the oracle (113-bit `__float128`, CGAL exact
 predicates) on rays well-conditioned in the frame each implementation computes
 in (props/README.md, "The frame"); the bound is what the accuracy property
-enforces (`Impl::accuracy` in `pairs/ray_cast.cpp`). simd's kernel entry
+enforces (`Impl::accuracy` in `registry/ray_cast_row.cpp`). simd's kernel entry
 converts every ray into its float frame first, which is what a single
 primitive measures; inside a scene (the table above) that set-up is shared by
 every primitive. The ray_cone rows (one open cone, nearest visible root) were

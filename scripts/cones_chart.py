@@ -113,7 +113,7 @@ def write_json(size, rows, path):
         "issue": 22,
         "note": (f"{size.replace('cones: ', '')}. The SPD's untessellated lattice-2 (54 cylinders, 27 spheres) and tree-2 (7 cones, 7 "
                  "spheres): the exact image is the reference ray caster's (cones in double, "
-                 "reference/ray_cone.h); the exact rows are the optimized ray casters (simd: a scalar double "
+                 "core/cone_quadric.h); the exact rows are the optimized ray casters (simd: a scalar double "
                  "pass over the cones each tile's culling keeps; embree: a user geometry), which match it "
                  "(0 pixels over 1/255). Tessellated: the simd z-buffer, Phong per sample, reversed float depth, "
                  "cones (and spheres) tessellated by tess_error (core/viewing.cpp cone_segments: the fewest "

@@ -22,7 +22,7 @@ packages=(
   libtbb-dev libhwy-dev gnuplot-nox
   libosmesa6-dev libgl-dev  # the zbuffer family's llvmpipe row (Mesa OSMesa; GL/gl.h, GL/glext.h)
   python3-skimage  # tests/topology_skimage.py: marching cubes against Lewiner's MC33 (scikit-image), run with /usr/bin/python3
-  libteem-dev zlib1g-dev  # volumes: Teem's nrrd library reads NRRD (core/volume_io.cpp); zlib writes the tests' gzip files
+  libteem-dev zlib1g-dev  # volumes: Teem's nrrd library reads NRRD (io/volume_io.cpp); zlib writes the tests' gzip files
   libvolpack1-dev  # the volume family's volpack row (VolPack shear-warp; optional, as OSMesa)
   povray  # the raytrace family's povray row (POV-Ray 3.7, run as a process; optional, as VolPack)
   chromium nodejs  # tests/browser: the report page in a real browser (report.browser), driven by puppeteer-core

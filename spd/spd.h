@@ -4,7 +4,7 @@
 // write classic ray-tracing benchmark scenes at a size factor. lockstep's
 // benchmarks and tests use their NFF output; this library writes the same
 // files from the same definitions, so a clone of the repository needs no
-// copies beside it (`lockstep spd`, pairs/loaders.h).
+// copies beside it (`lockstep spd`, registry/loaders.h).
 //
 //   generate("balls", 3, false)   the text of `balls -s 3 -r 1`
 //   generate("tree", 2, true)     the text of `tree -s 2 -r 1 -t`

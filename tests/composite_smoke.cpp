@@ -15,12 +15,13 @@
 #include <string>
 
 #include "core/error.h"
-#include "core/layers.h"
+#include "io/layers.h"
 #include "optimized/composite.h"
 #include "optimized/tiling.h"
-#include "pairs/registry.h"
+#include "registry/registry.h"
 #include "reference/composite.h"
 #include "reference/synthetic_stack.h"
+#include "io/image_io.h"
 
 namespace lockstep {
 namespace {
@@ -274,7 +275,7 @@ TEST(CompositeSmoke, EarlyStopChangesNothing) {
   EXPECT_EQ(compare(a, b).max_ulps, 0u);
 }
 
-// The simd row's session (pairs/composite.cpp: its frame buffer kept across
+// The simd row's session (registry/composite_row.cpp: its frame buffer kept across
 // frames): every frame equals run's, the buffer is reused once the caller has
 // dropped the last frame, and a frame the caller still holds is never written.
 TEST(CompositeSmoke, SessionKeepsItsBufferAndNeverOverwritesAHeldFrame) {

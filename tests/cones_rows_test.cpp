@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "core/camera.h"
-#include "core/nff.h"
+#include "io/nff.h"
 #include "core/raster.h"
 #include "core/ray_trace.h"
 #include "core/scene.h"
@@ -23,7 +23,7 @@
 #include "optimized/ray_cast_simd_kernels.h"
 #include "optimized/ray_cone.h"
 #include "reference/ray_cast.h"
-#include "reference/ray_cone.h"
+#include "core/cone_quadric.h"
 
 namespace lockstep {
 namespace {
@@ -35,10 +35,10 @@ using L = long double;
 // the visible side (the sign of f' at the root), the nearest in range.
 L oracle_nearest(const opt::ConeShape& c, const Vec3& o, const Vec3& d, double tmin, double tmax,
                  bool solid) {
-  const ref::ConeQuadric<L> q = ref::cone_quadric<L>(Vec3T<L>(o), Vec3T<L>(d), Vec3T<L>(c.base),
+  const ConeQuadric<L> q = cone_quadric<L>(Vec3T<L>(o), Vec3T<L>(d), Vec3T<L>(c.base),
                                                      L(c.r0), Vec3T<L>(c.apex), L(c.r1));
   L t0, t1;
-  if (!ref::cone_roots_textbook<L>(q, t0, t1)) return L(kInfinity);
+  if (!cone_roots_textbook<L>(q, t0, t1)) return L(kInfinity);
   L best = L(kInfinity);
   for (L t : {t0, t1}) {
     L slope = 0;
@@ -50,7 +50,7 @@ L oracle_nearest(const opt::ConeShape& c, const Vec3& o, const Vec3& d, double t
       if (slope == 0) break;
       t -= f / slope;
     }
-    if (!(t > tmin && t < tmax) || !ref::cone_in_height(q, t)) continue;
+    if (!(t > tmin && t < tmax) || !cone_in_height(q, t)) continue;
     if (!solid && (c.inside ? !(slope > 0) : !(slope < 0))) continue;
     best = std::min(best, t);
   }

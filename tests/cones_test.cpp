@@ -1,5 +1,5 @@
 // NFF cones (issue #22): the reader's two layouts and sign rule, and the
-// reference ray-cone kernel (reference/ray_cone.h) against an oracle.
+// reference ray-cone kernel (core/cone_quadric.h) against an oracle.
 //
 // The oracle: the same quadric evaluated in long double (64-bit mantissa), its
 // roots polished by Newton steps in long double. Both double forms are held to
@@ -11,10 +11,10 @@
 #include <cmath>
 #include <random>
 
-#include "core/nff.h"
+#include "io/nff.h"
 #include "core/scene.h"
 #include "reference/ray_cast.h"
-#include "reference/ray_cone.h"
+#include "core/cone_quadric.h"
 
 namespace lockstep {
 namespace {
@@ -54,8 +54,8 @@ bool oracle_roots(const Vec3& o, const Vec3& d, const Vec3& base, double r0, con
                   long double& t0, long double& t1) {
   using L = long double;
   const Vec3T<L> ol(o), dl(d), bl(base), al(apex);
-  const ref::ConeQuadric<L> c = ref::cone_quadric<L>(ol, dl, bl, L(r0), al, L(r1));
-  if (!ref::cone_roots_textbook<L>(c, t0, t1)) return false;
+  const ConeQuadric<L> c = cone_quadric<L>(ol, dl, bl, L(r0), al, L(r1));
+  if (!cone_roots_textbook<L>(c, t0, t1)) return false;
   for (L* t : {&t0, &t1}) {
     for (int i = 0; i < 3; ++i) {
       const Vec3T<L> w = c.qp + *t * c.dp;
@@ -99,12 +99,12 @@ Errors measure(double origin_scale, uint64_t seed) {
     // Only well-separated roots: near a graze the root itself is ill-conditioned.
     // |f'| at a root is |A| times the roots' gap: below 1e-2 a root moves by
     // more than 100 times what its quadric's rounding is, whoever computes it.
-    const ref::ConeQuadric<double> c = ref::cone_quadric<double>(o + double(l0) * d, d, base, r0, apex, r1);
+    const ConeQuadric<double> c = cone_quadric<double>(o + double(l0) * d, d, base, r0, apex, r1);
     if (std::abs(c.A) * std::abs(double(l1 - l0)) < 1e-2) continue;
-    const ref::ConeQuadric<double> tc = ref::cone_quadric<double>(o, d, base, r0, apex, r1);
-    ref::ConeQuadric<double> sc;
+    const ConeQuadric<double> tc = cone_quadric<double>(o, d, base, r0, apex, r1);
+    ConeQuadric<double> sc;
     double t0, t1, s0, s1, shift;
-    if (!ref::cone_roots_textbook(tc, t0, t1) || !ref::cone_roots_careful(o, d, base, r0, apex, r1, sc, shift, s0, s1)) {
+    if (!cone_roots_textbook(tc, t0, t1) || !cone_roots_careful(o, d, base, r0, apex, r1, sc, shift, s0, s1)) {
       e.textbook = e.stable = INFINITY;  // the oracle hit and a double form missed
       continue;
     }

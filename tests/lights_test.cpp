@@ -1,4 +1,4 @@
-// Tests of lockstep's NFF light extension (core/nff.h): '#lockstep atten' and
+// Tests of lockstep's NFF light extension (io/nff.h): '#lockstep atten' and
 // '#lockstep spot'.
 //
 //   * parsing: the fields land in the Light, the direction is normalised, only
@@ -25,7 +25,7 @@
 
 #include "core/camera.h"
 #include "core/error.h"
-#include "core/nff.h"
+#include "io/nff.h"
 #include "core/shading.h"
 #include "optimized/ray_cast.h"
 #include "reference/ray_cast.h"

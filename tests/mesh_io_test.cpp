@@ -1,4 +1,4 @@
-// lockstep tests: mesh files (core/mesh_io.h) and welding and topology
+// lockstep tests: mesh files (io/mesh_io.h) and welding and topology
 // (core/mesh.h): what is written reads back exactly, in every format; bad files
 // are one InputError naming the file; topology counts what it says.
 #include <gtest/gtest.h>
@@ -9,7 +9,7 @@
 
 #include "core/error.h"
 #include "core/mesh.h"
-#include "core/mesh_io.h"
+#include "io/mesh_io.h"
 
 namespace lockstep {
 namespace {

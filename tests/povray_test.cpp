@@ -33,7 +33,7 @@
 //     negated) or every light moved must fall below it (balls-2: lit/dark
 //     58.9% for one light, N.L 9.4%; lights moved: N.L 4.0%);
 //   * DISABLED_Figures: the corpus' rt-pov-* SPD scenes at 128x128 (run with
-//     --gtest_also_run_disabled_tests; the figures in pairs/ray_trace.cpp and
+//     --gtest_also_run_disabled_tests; the figures in registry/ray_trace_row.cpp and
 //     README.md).
 #include <gtest/gtest.h>
 
@@ -50,7 +50,7 @@
 #include "core/shading.h"
 #include "core/timer.h"
 #include "optimized/ray_trace_povray.h"
-#include "pairs/loaders.h"
+#include "registry/loaders.h"
 #include "reference/ray_trace.h"
 
 namespace lockstep {

@@ -1,5 +1,5 @@
 // Tests of a run's shared resources (core/run_resources.h) and the embree
-// rows' one device per run (pairs/embree_device.h), issue #22:
+// rows' one device per run (registry/embree_device.h), issue #22:
 //
 //   * one run hands every asker the same object for a key, made once; another
 //     run makes its own (no global behind it);
@@ -17,7 +17,7 @@
 #include <memory>
 #include <stdexcept>
 
-#include "pairs/embree_device.h"
+#include "registry/embree_device.h"
 
 namespace lockstep {
 namespace {

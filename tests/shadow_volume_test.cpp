@@ -28,7 +28,7 @@
 #include <vector>
 
 #include "core/image.h"
-#include "core/nff.h"
+#include "io/nff.h"
 #include "core/raster.h"
 #include "props/raster/shadow_oracle.h"
 #include "reference/raster.h"

@@ -3,7 +3,7 @@
 //
 //   * Agree.*: analytic fields (corpus/volumes/*.field) and the corpus's neghip
 //     under several views and transfer functions: every frame within the row's
-//     own stated bound (FamilyImpl::agree, pairs/volume.cpp);
+//     own stated bound (FamilyImpl::agree, registry/volume_rows.cpp);
 //   * Mutant.*: the same frames drawn by VolPack from a wrong view (azimuth
 //     off by 90 degrees, elevation off by 30, the image upside down) must break
 //     that bound -- the check can fail;
@@ -27,8 +27,8 @@
 #include "core/family.h"
 #include "core/image.h"
 #include "core/timer.h"
-#include "pairs/loaders.h"
-#include "pairs/registry.h"
+#include "registry/loaders.h"
+#include "registry/registry.h"
 
 namespace lockstep {
 namespace {
@@ -117,7 +117,7 @@ const Family& volume() {
 
 const std::string kCorpus = LOCKSTEP_CORPUS_DIR "/volumes/";
 
-// The real CT and MRI where the one resolver says they are (pairs/loaders.h
+// The real CT and MRI where the one resolver says they are (registry/loaders.h
 // volumes_dir: $LOCKSTEP_VOLUMES_DIR, else ../shared/volumes), as the
 // benchmarks read them: a clone without them leaves those frames out.
 std::string shared_volumes() { return volumes_dir(); }
@@ -154,7 +154,7 @@ TEST(RealData, CtHeadFramesIncluded) {
 // Frames measured but not held to the bound: dense fields cut by the box
 // (values at the faces opaque), where VolPack's one-voxel apron around the
 // box and its n slices against the reference's n - 1 voxels of path differ
-// most (pairs/volume.cpp states the figures).
+// most (registry/volume_rows.cpp states the figures).
 std::vector<Frame> box_cut_frames() {
   const std::string tf = LOCKSTEP_TEST_DIR "/volpack/";
   return {
@@ -228,7 +228,7 @@ TEST(Mutant, WrongViewsBreakTheBound) {
   }
 }
 
-// The measurements behind pairs/volume.cpp's figures.
+// The measurements behind registry/volume_rows.cpp's figures.
 TEST(Measure, DISABLED_Figures) {
   const Family& f = volume();
   const FamilyImpl* vp = f.find("volpack");

@@ -20,8 +20,8 @@
 #include "core/family.h"
 #include "core/image.h"
 #include "core/volume.h"
-#include "pairs/loaders.h"
-#include "pairs/registry.h"
+#include "registry/loaders.h"
+#include "registry/registry.h"
 #include "reference/volume_render.h"
 
 namespace lockstep {

@@ -1,4 +1,4 @@
-// Tests of the volume reader (core/volume_io.h).
+// Tests of the volume reader (io/volume_io.h).
 //
 //   * real data: every header in ../shared/volumes reads with the dimensions,
 //     types and value ranges of its README (min/max from `teem-unu minmax`),
@@ -31,8 +31,8 @@
 #include <vector>
 
 #include "core/error.h"
-#include "core/volume_io.h"
-#include "pairs/loaders.h"
+#include "io/volume_io.h"
+#include "registry/loaders.h"
 
 namespace lockstep {
 namespace {
@@ -157,7 +157,7 @@ const RealVolume kRealVolumes[] = {
 };
 
 TEST(VolumeIo, RealVolumesReadWithTheirReadmeSizesAndRanges) {
-  // Where the one resolver says they are (pairs/loaders.h volumes_dir:
+  // Where the one resolver says they are (registry/loaders.h volumes_dir:
   // $LOCKSTEP_VOLUMES_DIR, else ../shared/volumes), as the benchmarks read them.
   const fs::path dir = volumes_dir();
   if (!fs::exists(dir / "cthead.nhdr"))

@@ -31,7 +31,7 @@
 
 #include "core/error.h"
 #include "core/transfer_function.h"
-#include "core/volume_io.h"
+#include "io/volume_io.h"
 #include "core/volume_render.h"
 #include "optimized/volume_raycast.h"
 #include "reference/volume_render.h"

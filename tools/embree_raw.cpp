@@ -48,7 +48,7 @@
 #include <vector>
 
 #include "core/camera.h"
-#include "core/nff.h"
+#include "io/nff.h"
 #include "core/timer.h"
 #include "optimized/embree_scene.h"
 #include "optimized/ray_cast.h"

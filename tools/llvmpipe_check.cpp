@@ -34,7 +34,7 @@
 #include <string>
 #include <vector>
 
-#include "core/nff.h"
+#include "io/nff.h"
 #include "core/timer.h"
 #include "optimized/raster.h"
 #include "optimized/raster_llvmpipe.h"

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "reference/synthetic_stack.h"
+#include "io/image_io.h"
 
 namespace {
 

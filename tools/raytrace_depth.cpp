@@ -26,7 +26,7 @@
 #include <vector>
 
 #include "core/error.h"
-#include "core/nff.h"
+#include "io/nff.h"
 #include "core/ray_trace.h"
 #include "core/timer.h"
 #include "optimized/ray_trace.h"

@@ -29,7 +29,7 @@
 #include <string>
 #include <vector>
 
-#include "core/nff.h"
+#include "io/nff.h"
 #include "core/shadow_map.h"
 #include "core/timer.h"
 #include "optimized/raster.h"

@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "core/volume_io.h"
+#include "io/volume_io.h"
 #include "optimized/volume_volpack.h"
 
 namespace {

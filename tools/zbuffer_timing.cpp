@@ -17,7 +17,7 @@
 #include <limits>
 #include <string>
 
-#include "core/nff.h"
+#include "io/nff.h"
 #include "core/timer.h"
 #include "optimized/raster.h"
 #include "reference/raster.h"

@@ -7,7 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "pairs/registry.h"
+#include "registry/registry.h"
 #include "props/composite/oracle.h"
 #include "reference/composite.h"
 

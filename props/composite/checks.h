@@ -55,7 +55,7 @@
 #include <vector>
 
 #include "core/family.h"
-#include "core/layers.h"
+#include "io/layers.h"
 #include "props/composite/stack_case.h"
 #include "props/verdict.h"
 
@@ -70,7 +70,7 @@ struct CompositeSubject {
   bool is_reference;
 };
 
-// The subjects of the registry's composite family (pairs/composite.cpp), the
+// The subjects of the registry's composite family (registry/composite_row.cpp), the
 // reference first: name and entry point from the row, float_ulps = the row's
 // FamilyImpl::accuracy (float ulps per over), levels8 = the family's agreement
 // tolerance in whole levels (0 for the reference itself).

@@ -1,7 +1,7 @@
 // lockstep props/composite: one generated compositing case, and its bit-exact text form.
 //
 // A StackCase is a small layer stack (1..8 layers of W x H pixels, W*H <= 64,
-// FRONT FIRST, as in core/layers.h) with everything the compositing contract
+// FRONT FIRST, as in io/layers.h) with everything the compositing contract
 // reads: each layer's Alpha, the Order, the Storage and early_stop. Float
 // stacks carry the float values; unorm8 stacks carry the 8-bit levels (the float
 // image of such a layer is q / 255, which the implementations ignore).
@@ -26,7 +26,7 @@
 #include <string>
 #include <vector>
 
-#include "core/layers.h"
+#include "io/layers.h"
 
 namespace lockstep::props::composite {
 

@@ -1,7 +1,7 @@
 // lockstep props/driver: the generic property driver (the only file that uses RapidCheck's
 // internals, rc::detail).
 //
-// For every family of the registry (pairs/registry.h), its provider
+// For every family of the registry (registry/registry.h), its provider
 // (props/families.cpp) lists the family's properties (props/property.h); each
 // becomes one GoogleTest test <Suite>.<name>, e.g.
 //   Accuracy.ray_cast__simd, Stability.grazing_rays__ray_sphere__reference,
@@ -39,7 +39,7 @@
 #include <gtest/gtest.h>
 #include <rapidcheck.h>
 
-#include "pairs/registry.h"
+#include "registry/registry.h"
 #include "props/driver/records.h"
 #include "props/driver/tally.h"
 #include "props/property.h"
@@ -252,8 +252,8 @@ RunResult run_property(const Property& prop, const RunOptions& opt) {
                           << " expected at 1e-6 significance): measure it and lower the cap";
       EXPECT_LE(k, cap) << id << ": known failure " << label << " on " << k << " of " << n << " " << per
                         << " " << prop.units << " (" << g3(n ? 100.0 * double(k) / double(n) : 0.0)
-                        << "%), over its stated max rate " << g3(100 * kf.max_rate) << "% (pairs/" << prop.family
-                        << ".cpp; at most " << cap << " expected at 1e-6 significance)";
+                        << "%), over its stated max rate " << g3(100 * kf.max_rate) << "% (the " << prop.family
+                        << " row in registry/; at most " << cap << " expected at 1e-6 significance)";
     }
   }
 
@@ -391,7 +391,7 @@ void register_all(RunResources& run) {
     if (!row) {
       const std::string fam(f.name);
       add("Registry", unique(fam + "_has_properties"), [fam] {
-        FAIL() << "family '" << fam << "' is in the registry (pairs/registry.cpp) but props/families.cpp has no "
+        FAIL() << "family '" << fam << "' is in the registry (registry/registry.cpp) but props/families.cpp has no "
                << "property provider for it: it is not tested";
       });
       continue;
@@ -423,7 +423,7 @@ void register_all(RunResources& run) {
     if (!registry().find(r.family)) {
       const std::string fam(r.family);
       add("Registry", unique(fam + "_is_registered"), [fam] {
-        FAIL() << "props/families.cpp has properties for '" << fam << "', which pairs/registry.cpp does not list";
+        FAIL() << "props/families.cpp has properties for '" << fam << "', which registry/registry.cpp does not list";
       });
     }
   add("Replay", "counterexamples", [] { replay_all(); });

@@ -42,9 +42,9 @@
 #include "core/camera.h"
 #include "core/family.h"
 #include "core/image.h"
-#include "core/nff.h"
+#include "io/nff.h"
 #include "core/output.h"
-#include "pairs/registry.h"
+#include "registry/registry.h"
 
 namespace rc::detail {
 TestListener& globalTestListener();  // RapidCheck's own, not in its public headers (as props/driver)

@@ -39,7 +39,7 @@ struct Hausdorff {
 // the tests).
 Hausdorff sphere_hausdorff(const Mesh& mesh, double r, double spacing);
 // The torus of core radius a (in the z = 0 plane, centred at the origin) and
-// tube radius b (core/volume_io.h's torus field).
+// tube radius b (io/volume_io.h's torus field).
 Hausdorff torus_hausdorff(const Mesh& mesh, double a, double b, double spacing);
 
 }  // namespace lockstep::props::marching_cubes

@@ -94,7 +94,7 @@
 #include "core/marching_cubes.h"
 #include "core/mesh.h"
 #include "core/volume.h"
-#include "pairs/mesh_kind.h"
+#include "kinds/mesh_kind.h"
 #include "props/gen/case_text.h"
 #include "props/gen/numbers.h"
 #include "props/marching_cubes/oracle.h"

@@ -1,6 +1,6 @@
 // lockstep_mc_study: marching cubes' speed against accuracy for BENCHMARKS.md
 // (issue #20): the sphere (radius 0.5) and the torus (radii 0.5, 0.25) of
-// core/volume_io.h sampled on [-1, 1]^3 at n = 16, 32, 64, 128, 256 samples a
+// io/volume_io.h sampled on [-1, 1]^3 at n = 16, 32, 64, 128, 256 samples a
 // side (h = 2 / (n - 1)); each implementation's extraction time on one thread
 // (best of 5, --quick 3; the volume sampled beforehand) and the two-sided Hausdorff
 // distance of its mesh to the analytic surface (oracle.h). CSV on stdout; the
@@ -41,8 +41,8 @@
 #include "core/family.h"
 #include "core/mesh.h"
 #include "core/timer.h"
-#include "core/volume_io.h"
-#include "pairs/registry.h"
+#include "io/volume_io.h"
+#include "registry/registry.h"
 #include "props/marching_cubes/oracle.h"
 #include "props/study/study.h"
 

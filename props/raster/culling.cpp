@@ -147,7 +147,7 @@ void culling_part(const Family& family, FamilyProperties& out) {
                                          culling_agree));
   // Every other implementation, in flat shading (what llvmpipe draws; each
   // triangle its own colour). llvmpipe: coverage only (its colours at edges
-  // are its own, pairs/raster.cpp), its `coverage` known failure capped.
+  // are its own, registry/raster_rows.cpp), its `coverage` known failure capped.
   for (const FamilyImpl& impl : family.impls) {
     if (&impl == &ref) continue;
     const bool peer = impl.known.label == "coverage";

@@ -19,7 +19,7 @@
 #include <cstdio>
 #include <cstring>
 
-#include "core/nff.h"
+#include "io/nff.h"
 #include "optimized/raster.h"
 #include "props/gen/numbers.h"
 #include "props/raster/parts.h"

@@ -4,7 +4,7 @@
 //       (triangle_soup, drawn with shading=flat, which llvmpipe can draw) through
 //       ref::zbuffer and opt::llvmpipe::zbuffer: one outcome per pixel, ok when
 //       both cover it or neither does. A pixel covered by one only is the row's
-//       known failure (pairs/raster.cpp: `coverage`, per pixel): llvmpipe
+//       known failure (registry/raster_rows.cpp: `coverage`, per pixel): llvmpipe
 //       transforms the vertices in float and snaps them itself (8 subpixel bits,
 //       as view_scene), so a pixel centre within a snapping step of a silhouette
 //       edge may fall on the other side; and its fill rule decides centres that
@@ -104,7 +104,7 @@ void cap_near_rate(const FamilyImpl& impl, const FamilyImpl& reference) {
       (unsigned long long)kCapSeed, cases, k, n, rate, cap, rate > 0 ? cap / rate : 0.0, kCapMargin,
       rate * kCapMargin, rate * kCapMargin >= cap ? ">=" : "<");
   EXPECT_GE(rate * kCapMargin, cap)
-      << impl.name << "'s coverage cap (pairs/raster.cpp, known failure '" << impl.known.label
+      << impl.name << "'s coverage cap (registry/raster_rows.cpp, known failure '" << impl.known.label
       << "') is " << cap << " per pixel, but the measured rate is " << rate << " (" << k << " of "
       << n << " pixels, " << cases << " flat_soup cases, seed " << kCapSeed << "): more than "
       << kCapMargin

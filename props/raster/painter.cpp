@@ -39,8 +39,8 @@
 #include <sstream>
 
 #include "core/error.h"
-#include "core/nff.h"
-#include "pairs/registry.h"
+#include "io/nff.h"
+#include "registry/registry.h"
 #include "props/gen/numbers.h"
 #include "props/property.h"
 #include "props/raster/painter_oracle.h"

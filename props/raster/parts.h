@@ -1,7 +1,7 @@
 // lockstep props/raster: the parts of the raster families' properties.
 //
 // Each part adds what it tests of the family it is given to out; it runs for
-// the families whose row names it (Family::properties, pairs/raster.cpp);
+// the families whose row names it (Family::properties, registry/raster_rows.cpp);
 // properties.cpp lists them by name. A new part: its file in props/raster/,
 // its declaration here, its line in kParts (properties.cpp), its name in the
 // rows it applies to, its file in props/CMakeLists.txt.

@@ -18,7 +18,7 @@
 // The parts of props/raster (one file each: visibility, painter, scanline,
 // interpolation, llvmpipe, ...) are functions `void X_part(const Family&,
 // FamilyProperties&)` declared in props/raster/parts.h and listed in kParts
-// below by name; a family's row (pairs/raster.cpp, Family::properties) names
+// below by name; a family's row (registry/raster_rows.cpp, Family::properties) names
 // the parts that apply to it, and each adds what it tests of that family.
 // props/families.cpp maps every raster family (zbuffer, scanline, painter) to
 // properties().
@@ -31,7 +31,7 @@
 #include "core/camera.h"
 #include "core/shading.h"
 #include "reference/ray_cast.h"
-#include "pairs/registry.h"
+#include "registry/registry.h"
 #include "props/property.h"
 #include "props/raster/parts.h"
 #include "props/raster/raster_case.h"
@@ -215,7 +215,7 @@ void cross_check_part(const Family& family, FamilyProperties& out) {
 }
 
 // Every part of props/raster, by the name a family's row lists it under
-// (Family::properties, pairs/raster.cpp): a family gets the parts it names.
+// (Family::properties, registry/raster_rows.cpp): a family gets the parts it names.
 FamilyProperties properties(const Family& family, RunResources&) {
   using Part = void (*)(const Family&, FamilyProperties&);
   struct Named {
@@ -246,7 +246,7 @@ FamilyProperties properties(const Family& family, RunResources&) {
     if (known) continue;
     const std::string fam(family.name), part(name);
     out.fixed.push_back({"Registry", fam + "__" + part + "_is_a_property_part", [fam, part] {
-                           FAIL() << "pairs/raster.cpp lists property part '" << part << "' for family " << fam
+                           FAIL() << "registry/raster_rows.cpp lists property part '" << part << "' for family " << fam
                                   << ", which props/raster/properties.cpp does not have";
                          }});
   }

@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "core/error.h"
-#include "core/nff.h"
+#include "io/nff.h"
 #include "props/gen/numbers.h"
 #include "reference/raster.h"
 

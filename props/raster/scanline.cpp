@@ -24,7 +24,7 @@
 #include <sstream>
 
 #include "core/error.h"
-#include "pairs/registry.h"
+#include "registry/registry.h"
 #include "props/gen/numbers.h"
 #include "props/property.h"
 #include "props/raster/parts.h"

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "core/nff.h"
+#include "io/nff.h"
 #include "optimized/raster.h"
 #include "props/raster/visibility.h"
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "core/metrics.h"
+#include "kinds/image_metrics.h"
 #include "optimized/raster.h"
 #include "props/raster/visibility.h"
 

@@ -27,10 +27,10 @@
 #include <random>
 #include <string>
 
-#include "core/metrics.h"
-#include "core/nff.h"
+#include "kinds/image_metrics.h"
+#include "io/nff.h"
 #include "core/timer.h"
-#include "pairs/registry.h"
+#include "registry/registry.h"
 #include "props/raster/exact_coverage.h"
 #include "props/raster/parts.h"
 #include "props/study/study.h"

@@ -14,7 +14,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "core/nff.h"
+#include "io/nff.h"
 #include "props/gen/numbers.h"
 #include "props/raster/exact_coverage.h"
 #include "props/raster/parts.h"

@@ -8,7 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "core/nff.h"
+#include "io/nff.h"
 
 namespace lockstep::props::ray_cast {
 

@@ -31,7 +31,7 @@ std::string ray_line(const Case& c, size_t i) { return "ray " + std::to_string(i
 
 bool is_tied(const OracleTrace& o, uint32_t p) { return std::find(o.tied.begin(), o.tied.end(), p) != o.tied.end(); }
 
-// The spot cone's edge is a second decision boundary in a render (core/nff.h):
+// The spot cone's edge is a second decision boundary in a render (io/nff.h):
 // inside the cone the light counts, outside it does not. A pixel whose hit
 // point p sits on the edge within the implementation's arithmetic may
 // legitimately differ. The decision is cos(angle) = -L.D >= cos(cutoff); in

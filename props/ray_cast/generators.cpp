@@ -226,7 +226,7 @@ Case scenes() {
     l.position = {*uniform(-10, 10), *uniform(-10, 10), *uniform(-10, 10)};
     l.has_color = *chance(1, 2);
     if (l.has_color) l.color = {*uniform(0.2, 1), *uniform(0.2, 1), *uniform(0.2, 1)};
-    // lockstep's NFF extension (core/nff.h): attenuation on about a third of the
+    // lockstep's NFF extension (io/nff.h): attenuation on about a third of the
     // lights, strong enough to matter at the scene's distances (5 .. 25) ...
     if (*chance(1, 3)) l.atten = {*uniform(0.05, 1), *uniform(0, 0.3), *uniform(0, 0.02)};
     // ... and a spot on about a third, aimed near the middle of the scene so

@@ -2,7 +2,7 @@
 //
 // Every number comes from props/gen/numbers.h (integers that shrink
 // meaningfully); closed meshes from meshes.h. Case generators are registered by
-// name; the typed rows (pairs/ray_cast.cpp) name the well-conditioned one of each
+// name; the typed rows (registry/ray_cast_row.cpp) name the well-conditioned one of each
 // row, and the stability generators are listed here with the subjects they
 // exercise.
 #pragma once

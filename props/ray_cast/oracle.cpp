@@ -528,7 +528,7 @@ PolygonAnswer polygon_query(const Ray& ray, const Scene& scene, uint32_t poly, b
 
 // ---------------------------------------------------------------- cones
 //
-// NFF's open cone (reference/ray_cone.h) with the axis a = apex - base left
+// NFF's open cone (core/cone_quadric.h) with the axis a = apex - base left
 // unnormalised, so that everything stays rational: with w = P - base and
 // L = a.a, P is on the side when
 //     L^2 |w|^2 - L (w.a)^2 = (r0 L + (r1 - r0) (w.a))^2   and   0 <= w.a <= L

@@ -1,6 +1,6 @@
 // lockstep props/ray_cast: the ray-casting family's properties, for the driver.
 //
-// For every subject (every implementation of every typed row of pairs/ray_cast.h):
+// For every subject (every implementation of every typed row of registry/ray_cast_row.h):
 //   Agreement.<row>__<impl>           non-reference implementations vs the reference, the row's generator
 //   Accuracy.<row>__<impl>            every implementation vs the oracle, the row's generator
 //   Render.<row>__<impl>              16x16 renders vs the reference (rows whose generator renders)

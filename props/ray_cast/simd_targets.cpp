@@ -8,10 +8,10 @@
 
 #include <string>
 
-#include "core/metrics.h"
-#include "core/nff.h"
+#include "kinds/image_metrics.h"
+#include "io/nff.h"
 #include "optimized/ray_cast.h"
-#include "pairs/ray_cast.h"
+#include "registry/ray_cast_row.h"
 
 namespace lockstep {
 namespace {

@@ -1,5 +1,5 @@
 // lockstep props/ray_cast: the subjects, one per (typed row, implementation) of
-// pairs/ray_cast.h, every one answering in the same type.
+// registry/ray_cast_row.h, every one answering in the same type.
 //
 // A subject answers, per ray of a Case, with a Hit: for a kernel (ray_sphere,
 // ray_plane, ray_polygon, ray_cone) the case's own primitive (prim 0 on a hit), for a trace
@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "pairs/ray_cast.h"
+#include "registry/ray_cast_row.h"
 #include "props/ray_cast/case.h"
 #include "props/ray_cast/oracle.h"
 
@@ -60,7 +60,7 @@ struct Subject {
   std::function<std::vector<Hit>(const Case&)> answer_polygons;
   // Subjects that render a frame (empty: none).
   std::function<Image(const Scene&, const FrameOptions&, FrameStats*)> render;
-  // Empty, or starts a run keeping its state across cases (pairs/ray_cast.h
+  // Empty, or starts a run keeping its state across cases (registry/ray_cast_row.h
   // CasterFns::session: the embree row's device); with_session() uses it.
   CasterRun (*session)(RunResources& run) = nullptr;
 };
@@ -70,7 +70,7 @@ struct Subject {
 // that a property binary makes one Embree device, the run's, not one per case.
 Subject with_session(const Subject& s, RunResources& run);
 
-// Every (row, implementation) of pairs/ray_cast.h, the reference of each row first.
+// Every (row, implementation) of registry/ray_cast_row.h, the reference of each row first.
 const std::vector<Subject>& all_subjects();
 const Subject& reference_of(const std::string& pair);
 

@@ -37,9 +37,9 @@
 #include <stdexcept>
 #include <string>
 
-#include "core/nff.h"
+#include "io/nff.h"
 #include "core/ray_trace.h"
-#include "pairs/ray_trace.h"
+#include "registry/ray_trace_row.h"
 
 namespace lockstep {
 namespace {

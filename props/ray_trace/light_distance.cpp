@@ -25,7 +25,7 @@
 // The exact answer, written here from core/shading.h's formulas at the exact
 // P: lit = ambient + the light's Phong term (kAmbient kd C + kd C Ip (n.l)),
 // shadowed = ambient alone (kAmbient kd C); the two differ by at least 0.4.
-// Every row of pairs/ray_trace.h, both entry points (the frame: the centre
+// Every row of registry/ray_trace_row.h, both entry points (the frame: the centre
 // pixel of a 5 x 5 render; the one-pixel tracer, whose ray tree must also
 // record the shadow ray as blocked or not), within 1e-5 per channel (the
 // frame's output is float; measured: largest error 2.9e-8 over the 480
@@ -41,7 +41,7 @@
 #include "core/ray_trace.h"
 #include "core/scene.h"
 #include "core/shading.h"
-#include "pairs/ray_trace.h"
+#include "registry/ray_trace_row.h"
 
 namespace lockstep {
 namespace {

@@ -2,7 +2,7 @@
 //
 // Cases are small NFF scenes written by the generators with every number as a
 // hex float, so a counterexample file (header, then `nff`, then the scene)
-// replays bit for bit. The typed row of pairs/ray_trace.h gives each
+// replays bit for bit. The typed row of registry/ray_trace_row.h gives each
 // implementation's frame and its one-pixel ray tree (TracePixelFn).
 //
 //   Laws.raytrace__reference       (part "laws") reflect() and refract() of
@@ -92,10 +92,10 @@
 #include <string>
 
 #include "core/error.h"
-#include "core/nff.h"
+#include "io/nff.h"
 #include "core/ray_trace.h"
 #include "core/shading.h"
-#include "pairs/ray_trace.h"
+#include "registry/ray_trace_row.h"
 #include "props/gen/case_text.h"
 #include "props/gen/numbers.h"
 #include "props/property.h"

@@ -73,7 +73,7 @@
 #include <vector>
 
 #include "core/camera.h"
-#include "core/nff.h"
+#include "io/nff.h"
 #include "core/ray_trace.h"
 #include "core/scene.h"
 #include "optimized/ray_trace.h"

@@ -33,7 +33,7 @@
 #include <sstream>
 #include <string>
 
-#include "core/nff.h"
+#include "io/nff.h"
 #include "core/shadow_map.h"
 #include "optimized/raster.h"
 #include "reference/raster.h"

@@ -55,7 +55,7 @@
 #include <string>
 #include <vector>
 
-#include "core/nff.h"
+#include "io/nff.h"
 #include "core/scene.h"
 #include "optimized/ray_trace.h"
 #include "props/study/study.h"

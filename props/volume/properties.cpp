@@ -1,9 +1,9 @@
 // lockstep props/volume: the volume-rendering families' properties (volume,
-// volume_iso, splat; pairs/volume.cpp lists the parts each runs).
+// volume_iso, splat; registry/volume_rows.cpp lists the parts each runs).
 //
 // A case is a small volume drawn by RapidCheck -- 4 to 40 samples per axis,
 // random anisotropic spacing and origin; smooth fields (a few Gaussian blobs),
-// rough ones (independent samples) or analytic ones (core/volume_io.h's
+// rough ones (independent samples) or analytic ones (io/volume_io.h's
 // sample_field: sphere, torus, gyroid, Marschner-Lobb, then stretched per axis)
 // -- a transfer function of 2 to 8 control points over the field's range (the
 // points below a random cut transparent, as ct-bone's, and a quarter of the
@@ -16,7 +16,7 @@
 //   Agreement.<family>__<impl>   (part "agreement") the implementation's image
 //       against the reference's at the same settings: every pixel's largest
 //       channel difference within the family's tolerance (Family::tol.abs,
-//       measured in float against double, pairs/volume.cpp: volume 6e-4 for a
+//       measured in float against double, registry/volume_rows.cpp: volume 6e-4 for a
 //       measured 3.7e-4; volume_iso measured 0, the same image; splat 5e-5
 //       for a measured 2.25e-5: the reference's footprints from tables, in
 //       float). Failures print the case (seed, volume, settings) and each
@@ -58,7 +58,7 @@
 #include "core/image.h"
 #include "core/transfer_function.h"
 #include "core/volume.h"
-#include "core/volume_io.h"
+#include "io/volume_io.h"
 #include "props/gen/case_text.h"
 #include "props/gen/numbers.h"
 #include "props/property.h"

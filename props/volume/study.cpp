@@ -36,10 +36,10 @@
 #include "core/camera.h"
 #include "core/mesh.h"
 #include "core/scene.h"
-#include "core/volume_io.h"
+#include "io/volume_io.h"
 #include "core/volume_render.h"
-#include "pairs/loaders.h"
-#include "pairs/registry.h"
+#include "registry/loaders.h"
+#include "registry/registry.h"
 #include "props/study/study.h"
 
 namespace lockstep {

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# OpenImageIO is a module opened on first use (core/oiio.h; issue #21,
+# OpenImageIO is a module opened on first use (io/oiio.h; issue #21,
 # "One-shot cost"): its ~250 shared libraries are mapped only by a call that
 # reads, writes or compares an image.
 #   oiio_module.sh LOCKSTEP SCENE.nff FIELD OUT_DIR [BINARY...]

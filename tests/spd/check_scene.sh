@@ -9,7 +9,7 @@
 # is not there: a clone without ../shared.
 set -uo pipefail
 lockstep=$1 stem=$2 shared=$3 out=$4
-# As the resolver reads it (pairs/loaders.h spd_dir): $LOCKSTEP_SPD_DIR first.
+# As the resolver reads it (registry/loaders.h spd_dir): $LOCKSTEP_SPD_DIR first.
 shared=${LOCKSTEP_SPD_DIR:-$shared}
 expected=$shared/$stem.nff
 if [[ ! -f $expected ]]; then

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Every data path goes through the one resolver (pairs/loaders.h): no code,
+# Every data path goes through the one resolver (registry/loaders.h): no code,
 # CMake file or test script names ../shared by path except the CMake variable
 # that is the resolver's build-time default (LOCKSTEP_SHARED_DIR), and no code
 # but the resolver and the benchmarks' note reads an SPD file from spd_dir()
@@ -14,11 +14,11 @@ paths=$(git ls-files '*.cpp' '*.h' '*CMakeLists.txt' '*.cmake' 'tests/*.sh' 'tes
         xargs grep -nE '(/|")\.\./shared|\.\./shared/' | grep -vE '^[^:]+:[0-9]+: *(//|#)' |
         grep -vE '^CMakeLists\.txt:[0-9]+:set\(LOCKSTEP_SHARED_DIR ')
 if [[ -n $paths ]]; then
-  echo "names ../shared by path instead of going through pairs/loaders.h (spd_dir, volumes_dir, load_spd):"
+  echo "names ../shared by path instead of going through registry/loaders.h (spd_dir, volumes_dir, load_spd):"
   echo "$paths"
   bad=1
 fi
-direct=$(git ls-files '*.cpp' '*.h' | grep -vE '^(pairs/loaders\.(h|cpp)|bench/bench_main\.cpp)$' |
+direct=$(git ls-files '*.cpp' '*.h' | grep -vE '^(registry/loaders\.(h|cpp)|bench/bench_main\.cpp)$' |
          xargs grep -nE 'spd_dir\(\)' | grep -vE '^[^:]+:[0-9]+: *//')
 if [[ -n $direct ]]; then
   echo "reads SPD files from spd_dir() itself instead of load_spd (which generates a missing scene):"

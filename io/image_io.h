@@ -1,0 +1,27 @@
+// lockstep io: image files (.exr, .png and every other format OpenImageIO
+// reads), through OpenImageIO in lockstep_oiio.so (io/oiio.h: the module is
+// opened by the first image read or written).
+#pragma once
+
+#include <string>
+
+#include "core/image.h"
+
+namespace lockstep {
+
+// Throws InputError when the file is missing or unreadable. Any channel count is
+// accepted: grey is replicated, a missing alpha is 1.
+Image read_image(const std::string& path);
+// Throws InputError when the file cannot be written; nothing is left behind then.
+// .exr files are zlib-compressed (lossless) one scanline per block at zlib level
+// 1 ("zips:1"): on a 1024^2 float RGBA z-buffer frame OpenEXR writes it 1.5-3x
+// faster than the default "zip" (16 scanlines, level 6), the file 3.5 MB
+// against 2.9 MB (issue #21, one-shot cost; the writer was most of a one-shot
+// render's own time). Any OpenEXR reader reads both.
+void write_image(const Image& image, const std::string& path);
+// The same with another OpenEXR compression for .exr files, e.g. "pxr24" (lossy:
+// floats rounded to 24 bits, relative error <= 2^-16; the golden images use it,
+// at a quarter of zip's size).
+void write_image(const Image& image, const std::string& path, const std::string& exr_compression);
+
+}  // namespace lockstep
