@@ -56,6 +56,8 @@ void print_help() {
       "      write one of Eric Haines' SPD scenes (balls, gears, mount, teapot, ...) as NFF\n"
       "  lockstep merge-reports OUT_DIR REPORT_DIR...\n"
       "      join the reports of a sharded verify run (--shard K/N) into one page, JSON and JUnit\n"
+      "  lockstep families\n"
+      "      print the registered families' names, one a line (for scripts)\n"
       "\n"
       "families and implementations (registry/registry.h): %s\n"
       "\n"
@@ -115,9 +117,27 @@ void print_version() {
   }
 }
 
+// `lockstep families`: the registry's family names, one a line, nothing else
+// (tests/layout_check.py reads it: every family has its docs page).
+int families_main(cli::Args args) {
+  for (const std::string_view a : args) {
+    if (a == "--help" || a == "-h") {
+      std::printf(
+          "usage: lockstep families\n"
+          "  print the name of every registered family (registry/registry.h), one a line, in the\n"
+          "  registry's order; `lockstep --version` lists each with its implementations\n");
+      return cli::kExitOk;
+    }
+    if (cli::is_option(a)) cli::unknown_option(a);
+    throw cli::UsageError("unexpected argument '" + std::string(a) + "'");
+  }
+  for (const lockstep::Family& f : lockstep::registry().families) std::printf("%s\n", std::string(f.name).c_str());
+  return cli::kExitOk;
+}
+
 int run(int argc, char** argv, std::string& sub) {
   std::vector<std::string_view> args(argv + 1, argv + argc);
-  if (args.empty()) throw cli::UsageError("missing subcommand (render, composite, isosurface, volume, trace, diff, verify, merge-reports or spd)");
+  if (args.empty()) throw cli::UsageError("missing subcommand (render, composite, isosurface, volume, trace, diff, verify, merge-reports, spd or families)");
   const std::string_view first = args.front();
   if (first == "--help" || first == "-h" || first == "help") {
     print_help();
@@ -146,9 +166,10 @@ int run(int argc, char** argv, std::string& sub) {
   if (first == "volume") return cli::volume_main(rest);
   if (first == "trace") return cli::trace_main(rest);
   if (first == "spd") return cli::spd_main(rest);
+  if (first == "families") return families_main(rest);
   sub.clear();
   if (cli::is_option(first)) cli::unknown_option(first);
-  throw cli::UsageError("unknown subcommand '" + std::string(first) + "' (render, composite, isosurface, volume, trace, diff, verify, merge-reports or spd)");
+  throw cli::UsageError("unknown subcommand '" + std::string(first) + "' (render, composite, isosurface, volume, trace, diff, verify, merge-reports, spd or families)");
 }
 
 }  // namespace
