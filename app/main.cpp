@@ -7,8 +7,9 @@
 // main() only dispatches and turns exceptions into exit codes (app/cli.h).
 #include <embree3/rtcore_config.h>
 #include "optimized/marching_cubes_vtk.h"
-#include "optimized/raster.h"
-#include "optimized/ray_cast.h"
+#include "optimized/zbuffer_simd.h"
+#include "optimized/zbuffer_llvmpipe.h"
+#include "optimized/ray_cast_simd.h"
 #include "optimized/volume_volpack.h"
 #include "optimized/ray_trace_povray.h"
 #include <cstdio>

@@ -35,13 +35,7 @@ namespace lockstep {
 
 namespace {
 
-// Floor of a / b for b > 0.
-int64_t floor_div(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
 
-// The edge function E_ab(P) of the fill rule, exact in int64 (|E| < 2^51).
-int64_t edge(int64_t ax, int64_t ay, int64_t bx, int64_t by, int64_t px, int64_t py) {
-  return (bx - ax) * (py - ay) - (by - ay) * (px - ax);
-}
 
 // Which side of the plane of t the point v lies on: +1 in front (larger W, nearer),
 // -1 behind, 0 on it. t has positive screen area, so orient3d's sign flips.
@@ -56,7 +50,7 @@ int side(const PainterTri& t, const Vec3& v) {
 bool in_closed(const PainterTri& t, int64_t x, int64_t y) {
   for (int i = 0; i < 3; ++i) {
     const int j = (i + 1) % 3;
-    if (edge(t.x[i], t.y[i], t.x[j], t.y[j], x, y) < 0) return false;
+    if (edge_function(t.x[i], t.y[i], t.x[j], t.y[j], x, y) < 0) return false;
   }
   return true;
 }
@@ -83,10 +77,10 @@ int witness_sign(const PainterTri& p, const PainterTri& q) {
     const int i2 = (i + 1) % 3;
     for (int k = 0; k < 3; ++k) {
       const int k2 = (k + 1) % 3;
-      const int64_t o1 = edge(p.x[i], p.y[i], p.x[i2], p.y[i2], q.x[k], q.y[k]);
-      const int64_t o2 = edge(p.x[i], p.y[i], p.x[i2], p.y[i2], q.x[k2], q.y[k2]);
-      const int64_t o3 = edge(q.x[k], q.y[k], q.x[k2], q.y[k2], p.x[i], p.y[i]);
-      const int64_t o4 = edge(q.x[k], q.y[k], q.x[k2], q.y[k2], p.x[i2], p.y[i2]);
+      const int64_t o1 = edge_function(p.x[i], p.y[i], p.x[i2], p.y[i2], q.x[k], q.y[k]);
+      const int64_t o2 = edge_function(p.x[i], p.y[i], p.x[i2], p.y[i2], q.x[k2], q.y[k2]);
+      const int64_t o3 = edge_function(q.x[k], q.y[k], q.x[k2], q.y[k2], p.x[i], p.y[i]);
+      const int64_t o4 = edge_function(q.x[k], q.y[k], q.x[k2], q.y[k2], p.x[i2], p.y[i2]);
       if (sgn(o1) * sgn(o2) >= 0 || sgn(o3) * sgn(o4) >= 0) continue;  // not a proper crossing
       const int s = -exact::orient3d(p.s[i], p.s[i2], q.s[k], q.s[k2]) * sgn(o1);
       if (s != 0) return s;
@@ -167,7 +161,7 @@ PainterTri painter_tri(const ScreenTri& t) {
   p.xmax = std::max({p.x[0], p.x[1], p.x[2]});
   p.ymin = std::min({p.y[0], p.y[1], p.y[2]});
   p.ymax = std::max({p.y[0], p.y[1], p.y[2]});
-  p.area = edge(p.x[0], p.y[0], p.x[1], p.y[1], p.x[2], p.y[2]);
+  p.area = edge_function(p.x[0], p.y[0], p.x[1], p.y[1], p.x[2], p.y[2]);
   return p;
 }
 
@@ -180,8 +174,8 @@ bool projections_disjoint(const PainterTri& p, const PainterTri& q) {
     const int j = (i + 1) % 3;
     bool q_out = true, p_out = true;
     for (int k = 0; k < 3; ++k) {
-      q_out = q_out && edge(p.x[i], p.y[i], p.x[j], p.y[j], q.x[k], q.y[k]) <= 0;
-      p_out = p_out && edge(q.x[i], q.y[i], q.x[j], q.y[j], p.x[k], p.y[k]) <= 0;
+      q_out = q_out && edge_function(p.x[i], p.y[i], p.x[j], p.y[j], q.x[k], q.y[k]) <= 0;
+      p_out = p_out && edge_function(q.x[i], q.y[i], q.x[j], q.y[j], p.x[k], p.y[k]) <= 0;
     }
     if (q_out || p_out) return true;
   }
@@ -239,8 +233,8 @@ bool nearer_at(const PainterTri& a, uint32_t ia, const PainterTri& b, uint32_t i
   double rows[6][3];
   for (int i = 0; i < 3; ++i) {
     const int j = (i + 1) % 3, k = (i + 2) % 3;
-    const int64_t ea = edge(a.x[j], a.y[j], a.x[k], a.y[k], sx, sy);
-    const int64_t eb = edge(b.x[j], b.y[j], b.x[k], b.y[k], sx, sy);
+    const int64_t ea = edge_function(a.x[j], a.y[j], a.x[k], a.y[k], sx, sy);
+    const int64_t eb = edge_function(b.x[j], b.y[j], b.x[k], b.y[k], sx, sy);
     rows[i][0] = a.s[i].z;
     rows[i][1] = double(ea);
     rows[i][2] = double(b.area);

@@ -1,5 +1,5 @@
 // lockstep core: the painter's plan, shared by every painter row (reference/painter.h,
-// optimized/painter.h): the painter's algorithm with the Newell-Newell-Sancha
+// optimized/painter_simd.h): the painter's algorithm with the Newell-Newell-Sancha
 // tests (Newell, Newell and Sancha 1972; Foley, van Dam, Feiner, Hughes,
 // "Computer Graphics: Principles and Practice", 2nd ed., 15.5.1), and the exact
 // predicates it decides with (Shewchuk 1997, "Adaptive precision floating-point

@@ -1,6 +1,6 @@
 // lockstep core: rasterization -- the contract every raster implementation
 // shares (the textbook ones: reference/raster.h, namespace ref; the fast ones:
-// optimized/raster.h), and the shared steps they all call: the settings
+// optimized/zbuffer_simd.h, optimized/zbuffer_llvmpipe.h), and the shared steps they all call: the settings
 // (core/raster_settings.cpp), the viewing pipeline, samples and depth
 // (core/viewing.cpp) and the shading of a fragment (core/raster_shading.cpp).
 //
@@ -136,6 +136,15 @@ std::vector<ParamSpec> raster_params();
 
 inline constexpr int kSubpixelBits = 8;
 inline constexpr int kSubpixel = 1 << kSubpixelBits;  // snapped units per pixel
+
+// Floor of a / b for b > 0 (C++ division truncates toward zero): the first
+// sample at or right of a snapped coordinate, in every rasterizer.
+inline int64_t floor_div(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+// The edge function E_ab(P) of the fill rule, exact in int64 for snapped
+// coordinates within the guard band (|E| < 2^51).
+inline int64_t edge_function(int64_t ax, int64_t ay, int64_t bx, int64_t by, int64_t px, int64_t py) {
+  return (bx - ax) * (py - ay) - (by - ay) * (px - ax);
+}
 // Clipping keeps every snapped vertex within kGuardBand pixels of the image
 // centre: coordinates below 2^25 units, edge-function products below 2^51, so
 // edge functions are exact in int64 and in double.

@@ -1,7 +1,7 @@
 // lockstep core: the ray-casting contract.
 //
 // Every ray-casting implementation (namespace ref: reference/ray_cast.h;
-// opt::simd, opt::embree, opt::autosel: optimized/ray_cast.h) provides functions
+// opt::simd, opt::embree, opt::autosel: optimized/ray_cast_simd.h, ray_cast_embree.h, ray_cast_auto.h) provides functions
 // of exactly the types below, and registry/ray_cast_row.cpp lists which implementation
 // provides which. Properties, benchmarks, the corpus and the CLI only ever call
 // them through the registry (registry/registry.h).

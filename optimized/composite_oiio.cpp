@@ -17,7 +17,8 @@
 // progress and statistics are reported.
 #include "core/error.h"
 #include "io/oiio.h"
-#include "optimized/composite.h"
+#include "optimized/composite_oiio.h"
+#include "optimized/composite_simd.h"
 
 namespace lockstep::opt::oiio {
 

@@ -34,7 +34,7 @@
 #include <vector>
 
 #include "core/error.h"
-#include "optimized/composite.h"
+#include "optimized/composite_simd.h"
 #include "optimized/tiling.h"
 
 #ifndef LOCKSTEP_COMPOSITE_SIMD_SHARED

@@ -24,7 +24,7 @@
 // Passes 1 and 2 are plain loops over bytes written so that the compiler
 // vectorises them (AVX2 at -march=x86-64-v3); every pass runs on slabs of z
 // over the frame's threads (optimized/tiling.h).
-#include "optimized/marching_cubes.h"
+#include "optimized/marching_cubes_simd.h"
 
 #include <algorithm>
 #include <bit>

@@ -1,4 +1,4 @@
-// lockstep optimized: the painter's algorithm (optimized/painter.h).
+// lockstep optimized: the painter's algorithm (optimized/painter_simd.h).
 //
 // The same plan as the reference (reference/painter.cpp), reached faster:
 //   * depth sort: Highway's vqsort (hwy/contrib/sort) on 64-bit keys whose high
@@ -33,8 +33,8 @@
 #include <mutex>
 
 #include "core/error.h"
-#include "optimized/painter.h"
-#include "optimized/raster.h"
+#include "optimized/painter_simd.h"
+#include "optimized/zbuffer_simd.h"
 #include "optimized/tiling.h"
 
 namespace lockstep::opt::simd {
@@ -43,7 +43,6 @@ namespace hn = hwy::HWY_NAMESPACE;
 
 namespace {
 
-int64_t floor_div(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
 int64_t ceil_div(int64_t a, int64_t b) { return -floor_div(-a, b); }
 
 // Float bits as an unsigned key with the same order.

@@ -55,7 +55,9 @@
 // build (about 0.2 us per primitive) dominates, but costs little in absolute terms.
 #include <string>
 
-#include "optimized/ray_cast.h"
+#include "optimized/ray_cast_simd.h"
+#include "optimized/ray_cast_embree.h"
+#include "optimized/ray_cast_auto.h"
 
 namespace lockstep::opt::autosel {
 

@@ -34,13 +34,14 @@
 
 #include "core/camera.h"
 #include "optimized/embree_scene.h"
-#include "optimized/ray_cast.h"
+#include "optimized/ray_cast_embree.h"
 #include "core/shading.h"
 #include "core/timer.h"
 #include "optimized/refine.h"
 #include "optimized/shade_simd.h"
 #include "optimized/simd_scene.h"
 #include "optimized/tiling.h"
+#include "optimized/ray_cast_simd.h"
 
 namespace lockstep::opt::embree {
 

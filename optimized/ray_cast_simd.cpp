@@ -29,7 +29,7 @@
 
 #include "core/camera.h"
 #include "optimized/cone_cull.h"
-#include "optimized/ray_cast.h"
+#include "optimized/ray_cast_simd.h"
 #include "optimized/ray_cast_simd_kernels.h"
 #include "optimized/ray_cone.h"
 #include "optimized/refine.h"

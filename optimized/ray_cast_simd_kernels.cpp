@@ -25,7 +25,7 @@
 #include <cmath>
 #include <utility>
 
-#include "optimized/ray_cast.h"
+#include "optimized/ray_cast_simd.h"
 
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "optimized/ray_cast_simd_kernels.cpp"

@@ -56,7 +56,7 @@
 #include "core/shading.h"
 #include "core/timer.h"
 #include "optimized/embree_scene.h"
-#include "optimized/ray_trace.h"
+#include "optimized/ray_trace_embree.h"
 #include "optimized/refine.h"
 #include "optimized/tiling.h"
 

@@ -92,8 +92,8 @@ HWY_AFTER_NAMESPACE();
 #include <vector>
 
 #include "core/error.h"
-#include "optimized/raster.h"
-#include "optimized/scanline.h"
+#include "optimized/zbuffer_simd.h"
+#include "optimized/scanline_simd.h"
 #include "optimized/tiling.h"
 
 namespace lockstep::opt::scanline_kernels {
@@ -109,7 +109,6 @@ namespace {
 
 namespace sk = scanline_kernels;
 
-int64_t floor_div(int64_t a, int64_t d) { return a >= 0 ? a / d : -((-a + d - 1) / d); }
 int64_t ceil_div(int64_t a, int64_t d) { return -floor_div(-a, d); }
 
 struct Column {

@@ -1,5 +1,5 @@
 // lockstep optimized: volume ray casting in float SIMD ray packets (see
-// optimized/volume_raycast.h; the contract: core/volume_render.h).
+// optimized/volume_raycast_simd.h; the contract: core/volume_render.h).
 //
 // A packet is N neighbouring pixels of a row (N = 8 float lanes on AVX2, 16 on
 // AVX-512; Highway compiles the kernels for each x86 target the build allows
@@ -459,7 +459,7 @@ HWY_AFTER_NAMESPACE();
 
 #include "core/timer.h"
 #include "optimized/tiling.h"
-#include "optimized/volume_raycast.h"
+#include "optimized/volume_raycast_simd.h"
 #include "reference/volume_render.h"
 
 namespace lockstep::opt::vr_kernels {

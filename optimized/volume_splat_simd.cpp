@@ -1,4 +1,4 @@
-// lockstep optimized: splatting (see optimized/volume_splat.h; the contract:
+// lockstep optimized: splatting (see optimized/volume_splat_simd.h; the contract:
 // core/volume_render.h; the reference: reference/volume_splat.cpp).
 //
 // The reference's method, its order and its sheets, computed faster:
@@ -352,7 +352,7 @@ HWY_AFTER_NAMESPACE();
 #include <vector>
 
 #include "optimized/tiling.h"
-#include "optimized/volume_splat.h"
+#include "optimized/volume_splat_simd.h"
 #include "reference/volume_render.h"
 
 namespace lockstep::opt::splat_kernels {

@@ -20,8 +20,8 @@
 #include <cmath>
 
 #include "core/shadow_map.h"
-#include "optimized/raster.h"
 #include "optimized/tiling.h"
+#include "optimized/zbuffer_simd.h"
 
 namespace lockstep::opt::simd {
 

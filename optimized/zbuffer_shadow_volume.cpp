@@ -27,8 +27,8 @@
 #include <limits>
 
 #include "core/shadow_volume.h"
-#include "optimized/raster.h"
 #include "optimized/tiling.h"
+#include "optimized/zbuffer_simd.h"
 
 namespace lockstep::opt::simd {
 
@@ -82,9 +82,6 @@ Face set_up(const ScreenTri& t, bool zfail, bool front, bool cap, int w, int h) 
   return f;
 }
 
-int64_t floor_div(int64_t a, int64_t b) {  // b > 0
-  return a >= 0 ? a / b : -((-a + b - 1) / b);
-}
 
 // Adds face f's stencil steps to the samples of tile [x0, x1) x [y0, y1).
 // z_visible: the visible depth per sample, NaN where nothing is drawn (so

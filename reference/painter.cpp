@@ -72,7 +72,7 @@ Image painter(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
           std::array<int64_t, 3> e;
           for (int v = 0; v < 3; ++v) {
             const int a = (v + 1) % 3, b = (v + 2) % 3;
-            e[v] = edge(pt.x[a], pt.y[a], pt.x[b], pt.y[b], sx, sy);
+            e[v] = edge_function(pt.x[a], pt.y[a], pt.x[b], pt.y[b], sx, sy);
           }
           if (!painter_covers(mesh.tris[t], e)) continue;
           const size_t idx = (size_t(j) * size_t(w) + size_t(i)) * size_t(spp) + size_t(k);

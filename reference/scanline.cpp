@@ -47,8 +47,6 @@ namespace lockstep {
 
 namespace {
 
-// Integer division rounding down / up (d > 0).
-int64_t floor_div(int64_t a, int64_t d) { return a >= 0 ? a / d : -((-a + d - 1) / d); }
 int64_t ceil_div(int64_t a, int64_t d) { return -floor_div(-a, d); }
 
 // ---------------------------------------------------------------- sample rows

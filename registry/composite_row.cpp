@@ -8,7 +8,8 @@
 
 #include "io/layers.h"
 #include "kinds/image_kind.h"
-#include "optimized/composite.h"
+#include "optimized/composite_simd.h"
+#include "optimized/composite_oiio.h"
 #include "reference/composite.h"
 #include "reference/synthetic_stack.h"
 

@@ -6,13 +6,14 @@
 
 #include "core/error.h"
 #include "kinds/image_kind.h"
-#include "optimized/painter.h"
-#include "optimized/raster.h"
+#include "optimized/painter_simd.h"
+#include "optimized/zbuffer_simd.h"
+#include "optimized/zbuffer_llvmpipe.h"
 #include "optimized/raster_llvmpipe.h"
 #include "reference/painter.h"
 #include "reference/raster.h"
 #include "reference/scanline.h"
-#include "optimized/scanline.h"
+#include "optimized/scanline_simd.h"
 #include "registry/loaders.h"
 
 namespace lockstep {

@@ -9,7 +9,9 @@
 
 #include "kinds/image_kind.h"
 #include "optimized/embree_scene.h"
-#include "optimized/ray_cast.h"
+#include "optimized/ray_cast_simd.h"
+#include "optimized/ray_cast_embree.h"
+#include "optimized/ray_cast_auto.h"
 #include "optimized/ray_cast_simd_kernels.h"
 #include "optimized/ray_cone.h"
 #include "registry/embree_device.h"

@@ -7,7 +7,7 @@
 #include "kinds/image_kind.h"
 #include "core/scene.h"
 #include "optimized/embree_scene.h"
-#include "optimized/ray_trace.h"
+#include "optimized/ray_trace_embree.h"
 #include "optimized/ray_trace_povray.h"
 #include "registry/embree_device.h"
 #include "registry/loaders.h"

@@ -16,7 +16,8 @@
 
 #include "core/error.h"
 #include "io/layers.h"
-#include "optimized/composite.h"
+#include "optimized/composite_simd.h"
+#include "optimized/composite_oiio.h"
 #include "optimized/tiling.h"
 #include "registry/registry.h"
 #include "reference/composite.h"

@@ -27,7 +27,8 @@
 #include "core/error.h"
 #include "io/nff.h"
 #include "core/shading.h"
-#include "optimized/ray_cast.h"
+#include "optimized/ray_cast_simd.h"
+#include "optimized/ray_cast_embree.h"
 #include "reference/ray_cast.h"
 
 namespace lockstep {

@@ -33,7 +33,7 @@
 #include "core/transfer_function.h"
 #include "io/volume_io.h"
 #include "core/volume_render.h"
-#include "optimized/volume_raycast.h"
+#include "optimized/volume_raycast_simd.h"
 #include "reference/volume_render.h"
 
 namespace lockstep {

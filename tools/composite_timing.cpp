@@ -23,7 +23,8 @@
 #include <thread>
 #include <vector>
 
-#include "optimized/composite.h"
+#include "optimized/composite_simd.h"
+#include "optimized/composite_oiio.h"
 #include "optimized/tiling.h"
 #include "reference/synthetic_stack.h"
 

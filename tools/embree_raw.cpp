@@ -17,7 +17,7 @@
 //   raw robust: the same with RTC_SCENE_FLAG_ROBUST, which the row sets on any
 //        scene with triangles (watertight shared edges, a property the row is
 //        tested for; optimized/embree_scene.cpp): raw Embree doing the row's job;
-//   row: opt::embree::render_unshaded (optimized/ray_cast.h: the ray_cast
+//   row: opt::embree::render_unshaded (optimized/ray_cast_embree.h: the ray_cast
 //        embree row's own traversal, hits refined as it does, shading off; its
 //        BVH build timed inside, FrameStats::build_seconds) and the shaded
 //        opt::embree::render, both with one device made before (a session's),
@@ -51,7 +51,7 @@
 #include "io/nff.h"
 #include "core/timer.h"
 #include "optimized/embree_scene.h"
-#include "optimized/ray_cast.h"
+#include "optimized/ray_cast_embree.h"
 
 using namespace lockstep;
 

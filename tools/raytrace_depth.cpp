@@ -29,7 +29,7 @@
 #include "io/nff.h"
 #include "core/ray_trace.h"
 #include "core/timer.h"
-#include "optimized/ray_trace.h"
+#include "optimized/ray_trace_embree.h"
 
 using namespace lockstep;
 

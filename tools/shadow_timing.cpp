@@ -32,7 +32,7 @@
 #include "io/nff.h"
 #include "core/shadow_map.h"
 #include "core/timer.h"
-#include "optimized/raster.h"
+#include "optimized/zbuffer_simd.h"
 #include "reference/raster.h"
 #include "reference/shadow_map.h"
 

@@ -34,7 +34,7 @@
 #include "kinds/image_metrics.h"
 #include "core/raster.h"
 #include "core/timer.h"
-#include "optimized/raster.h"
+#include "optimized/zbuffer_simd.h"
 #include "registry/loaders.h"
 #include "registry/registry.h"
 #include "props/study/study.h"

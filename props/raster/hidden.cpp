@@ -20,7 +20,7 @@
 #include <cstring>
 
 #include "io/nff.h"
-#include "optimized/raster.h"
+#include "optimized/zbuffer_simd.h"
 #include "props/gen/numbers.h"
 #include "props/raster/parts.h"
 

@@ -23,7 +23,7 @@
 #include <cstdio>
 #include <random>
 
-#include "optimized/scanline.h"
+#include "optimized/scanline_simd.h"
 #include "props/raster/parts.h"
 #include "reference/scanline.h"
 

@@ -14,7 +14,7 @@
 //       raster_case.h (Phong, culling), the frame equals ref::zbuffer's within
 //       1/255 per pixel; a pixel over it is explained only when its centre's
 //       visible triangle differs at a depth tie.
-#include "optimized/scanline.h"
+#include "optimized/scanline_simd.h"
 
 #include <gtest/gtest.h>
 

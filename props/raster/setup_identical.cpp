@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "io/nff.h"
-#include "optimized/raster.h"
+#include "optimized/zbuffer_simd.h"
 #include "props/raster/visibility.h"
 
 namespace lockstep::props::raster::vis {

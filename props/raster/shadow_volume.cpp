@@ -46,7 +46,7 @@
 
 #include "props/gen/numbers.h"
 #include "props/raster/parts.h"
-#include "optimized/raster.h"
+#include "optimized/zbuffer_simd.h"
 #include "props/raster/shadow_oracle.h"
 #include "reference/raster.h"
 #include "reference/ray_trace.h"

@@ -10,7 +10,7 @@
 
 #include "kinds/image_metrics.h"
 #include "io/nff.h"
-#include "optimized/ray_cast.h"
+#include "optimized/ray_cast_simd.h"
 #include "registry/ray_cast_row.h"
 
 namespace lockstep {

@@ -76,7 +76,7 @@
 #include "io/nff.h"
 #include "core/ray_trace.h"
 #include "core/scene.h"
-#include "optimized/ray_trace.h"
+#include "optimized/ray_trace_embree.h"
 #include "reference/ray_cast.h"
 #include "reference/ray_trace.h"
 

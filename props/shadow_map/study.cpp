@@ -57,9 +57,9 @@
 
 #include "io/nff.h"
 #include "core/scene.h"
-#include "optimized/ray_trace.h"
+#include "optimized/ray_trace_embree.h"
 #include "props/study/study.h"
-#include "optimized/raster.h"
+#include "optimized/zbuffer_simd.h"
 
 namespace lockstep {
 namespace {

@@ -1,9 +1,6 @@
-// lockstep optimized: rasterization (declarations; the contract is core/raster.h).
-//
-//   simd      optimized/zbuffer_simd.cpp  Highway edge functions over tiles, TBB
-//   llvmpipe  optimized/raster_llvmpipe.cpp  Mesa's software rasteriser through OSMesa
-//             (a production peer; built only where libOSMesa is found:
-//             LOCKSTEP_HAVE_OSMESA)
+// lockstep optimized: the z-buffer with Highway edge functions over tiles on
+// TBB threads (optimized/zbuffer_simd.cpp and its kernels), the contract of
+// core/raster.h; its shadow maps and shadow volumes too.
 #pragma once
 
 #include "core/raster.h"
@@ -77,16 +74,5 @@ namespace opt {
 // The Highway target the z-buffer kernels dispatch to (for the tests).
 const char* zsimd_target_name();
 }  // namespace opt
-
-namespace opt::llvmpipe {
-// True when this build has the OSMesa row; version() then names Mesa's version.
-bool available();
-std::string version();
-// Why these settings are beyond the row (shading other than flat or gouraud,
-// spp > 1, silhouettes, affine interpolation), or "" when it can draw them
-// (FamilyImpl::unsupported; zbuffer throws InputError with the same words).
-std::string unsupported(const Params& params);
-Image zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats);
-}  // namespace opt::llvmpipe
 
 }  // namespace lockstep
