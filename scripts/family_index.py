@@ -208,7 +208,8 @@ def family_rows(src, files, keys):
                    re.findall(r"\b(ref|opt::\w+)::(\w+)\b", body)}
             for k in keys:
                 if squash(m.group(1)) in {squash(s) for s in STEMS[k]}:
-                    rows.setdefault(k, set()).add(f)
+                    rows.setdefault(k, set()).update(
+                        g for g in files if os.path.splitext(g)[0] == os.path.splitext(f)[0])
                     for top, fn in fns:  # a name only one header of its floor declares
                         hs = [h for h in headers if h.startswith(top + "/") and
                               re.search(r"\b%s\s*\(" % fn, read(src, h))]
