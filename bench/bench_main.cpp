@@ -12,7 +12,7 @@
 //                                 output samples (pixels) per second;
 //                                 counters build_ms (Embree BVH) and the input's own
 //
-// Reproduce the tables in BENCHMARKS.md with scripts/bench.sh. The reference is
+// Reproduce the tables in BENCHMARKS.md with bench/run.sh. The reference is
 // scalar and single-threaded by design, so it only runs with threads:1, and on
 // scenes above 5000 primitives at 128x128 instead of 512x512 (rays/s is per ray;
 // brute force costs the same for every ray, so the rate carries over).

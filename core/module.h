@@ -10,11 +10,11 @@
 //                                                     whose first field is an int abi number;
 //   void lockstep_peer_version(char*, unsigned long)  the library's version, written at
 //                                                     build time to NAME.version beside it
-//                                                     (tools/peer_version.cpp).
+//                                                     (cmake/peer_version.cpp).
 //
 // Where a module is looked for, first hit wins:
 //   $LOCKSTEP_PEER_DIR                 (the override, e.g. an installed layout)
-//   the executable's own folder        (build/lockstep, build/lockstep_llvmpipe_check)
+//   the executable's own folder        (build/lockstep, build/bench/lockstep_llvmpipe_check)
 //   the folder above it                (build/bench/lockstep_bench, build/props/lockstep_props,
 //                                       build/tests/lockstep_volpack_test)
 //

@@ -213,7 +213,7 @@ enum class Arith : uint8_t { kFloat, kDouble };
 // Nothing in it depends on the distance the hit was seen from: only on the
 // size of the primitive's coordinates in the frame (the scene's scale, and
 // for double rows its distance from the world origin). 32: measured, the
-// failure map (props/ray_trace/study.cpp) and the property Far find acne in
+// failure map (bench/studies/ray_trace_study.cpp) and the property Far find acne in
 // embree with 1 and none with 4 or more; 32 keeps 8x over that, and a
 // smaller offset leaks less and moves shadow rays less off the reference's
 // (256 gave 18 pixels over 1/255 on corpus rt-pov-tree-11, whose ground's

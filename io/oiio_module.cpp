@@ -380,7 +380,7 @@ extern "C" __attribute__((visibility("default"))) const void* lockstep_peer_api(
   return &lockstep::oiio::kApi;
 }
 
-// For tools/peer_version.cpp at build time: the version `lockstep --version`
+// For cmake/peer_version.cpp at build time: the version `lockstep --version`
 // prints (the header's, as it printed before the module: e.g. "2.4.7.1").
 extern "C" __attribute__((visibility("default"))) void lockstep_peer_version(char* out,
                                                                              unsigned long size) {

@@ -45,7 +45,7 @@ namespace {
 // disk) and far-sphere-translated, Agreement, Render, the ray-tracing
 // properties. At 256 the user geometry took nearly all of balls-4 and balls-5
 // (6561 of 7381, 65610 of 66430 spheres): a BVH build 1.8x raw Embree's on
-// balls-5 and slower traversal (tools/embree_raw.cpp). So the double path is
+// balls-5 and slower traversal (bench/timing/embree_raw.cpp). So the double path is
 // kept only beyond what the properties cover.
 constexpr double kFarRatio = 1e6;
 
@@ -303,7 +303,7 @@ void attach_triangles(EmbreeScene& es, const Scene& scene, const BuildOptions& o
   // primary rays), a plane's visible side is the same for all of them: the
   // side the origin is on. If the origin is clearly in front of every one-sided
   // triangle, no hit can be on a back face and the filter is not needed (the
-  // balls scenes' ground: about 1.3x on balls-1, tools/embree_raw.cpp).
+  // balls scenes' ground: about 1.3x on balls-1, bench/timing/embree_raw.cpp).
   bool filter = options.eye_reach < 0;
   for (uint32_t k = 0; k < n; ++k) {
     for (int a = 0; a < 3; ++a) idx[3 * k + a] = scene.tri_vertex[k][a];
@@ -371,7 +371,7 @@ std::unique_ptr<EmbreeScene> build_scene(const Scene& scene, const Frame& frame,
   if (!es->scene) throw std::runtime_error("embree: cannot create scene");
   // Robust traversal (no shortcuts that may miss a shared edge) matters for
   // triangle meshes' watertightness; spheres-only scenes go without it, as raw
-  // Embree does by default (tools/embree_raw.cpp).
+  // Embree does by default (bench/timing/embree_raw.cpp).
   if (scene.triangle_count() > 0) rtcSetSceneFlags(es->scene, RTC_SCENE_FLAG_ROBUST);
   attach_spheres(*es, scene, options);
   attach_triangles(*es, scene, options);

@@ -44,7 +44,7 @@ struct ErrorLog {
 // An Embree device, shared: copies refer to one RTCDevice, released with the
 // last copy. Making one costs about as much as a small scene's BVH (tens of
 // ms in a fresh process: Embree's start-up, its ISA dispatch and TBB's
-// arena; tools/embree_raw.cpp measures it), so a process keeps one and passes
+// arena; bench/timing/embree_raw.cpp measures it), so a process keeps one and passes
 // it to every build (BuildOptions::device): verify, the property binary and
 // the benchmarks through the embree rows' sessions, which take the run's one
 // device (registry/embree_device.h), the CLI by rendering once per process.

@@ -36,7 +36,7 @@ namespace lockstep::opt::vtk {
 
 bool available() { return !peer::find_module("vtk").empty(); }
 
-// Recorded beside the module when it was built (tools/peer_version.cpp), so
+// Recorded beside the module when it was built (cmake/peer_version.cpp), so
 // that --version does not load VTK.
 std::string version() {
   const std::string v = peer::recorded_version("vtk");

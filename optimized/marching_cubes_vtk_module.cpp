@@ -122,7 +122,7 @@ extern "C" __attribute__((visibility("default"))) const void* lockstep_peer_api(
   return &lockstep::opt::vtk::kApi;
 }
 
-// For tools/peer_version.cpp at build time: the string --version prints.
+// For cmake/peer_version.cpp at build time: the string --version prints.
 extern "C" __attribute__((visibility("default"))) void lockstep_peer_version(char* out,
                                                                              unsigned long size) {
   const std::string v = lockstep::opt::vtk::version_string();

@@ -4,7 +4,7 @@
 // a module of its own, lockstep_peer_NAME.so (CMakeLists.txt), that holds the
 // only code linked against the peer library. The rest of the binary links
 // none of them: `lockstep --version`, `diff` and our own rows do not load
-// Mesa, LLVM, VTK or VolPack (measured by scripts/oneshot.sh). The host side
+// Mesa, LLVM, VTK or VolPack (measured by bench/scripts/oneshot.sh). The host side
 // of each row (optimized/raster_llvmpipe.cpp, marching_cubes_vtk.cpp,
 // volume_volpack.cpp) prepares the call, opens the module here and calls the
 // one table of functions it exports (lockstep_peer_api).
@@ -13,7 +13,7 @@
 // looked for: $LOCKSTEP_PEER_DIR first, then beside the executable and the
 // folder above it), as OpenImageIO's lockstep_oiio.so is. Beside each module,
 // lockstep_peer_NAME.version (written when it is built, by
-// tools/peer_version.cpp) names the peer library's version, so that --version
+// cmake/peer_version.cpp) names the peer library's version, so that --version
 // says it without opening the module.
 //
 // No state of ours outlives a call: the dynamic loader keeps its own count of

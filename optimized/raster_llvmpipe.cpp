@@ -43,7 +43,7 @@
 // context: only its first frame pays that (the row's FamilyImpl::session, so
 // the benchmarks time llvmpipe as its users run it, its cold first frame in
 // first_ms). The float colour buffer costs a fixed ~7 ms a frame at 1024^2
-// (clear, and OSMesa's copy into the image). tools/llvmpipe_check.cpp
+// (clear, and OSMesa's copy into the image). bench/timing/llvmpipe_check.cpp
 // `time` separates the phases.
 //
 // Module: the GL calls are in optimized/raster_llvmpipe_module.cpp, built as
@@ -172,7 +172,7 @@ std::string Context::renderer() { return api_->renderer(handle_); }
 bool available() { return !peer::find_module("llvmpipe").empty(); }
 
 std::string version() {
-  // Recorded beside the module when it was built (tools/peer_version.cpp): the
+  // Recorded beside the module when it was built (cmake/peer_version.cpp): the
   // module is not opened here, so --version does not load Mesa and LLVM.
   std::string v = peer::recorded_version("llvmpipe");
   if (v.empty())

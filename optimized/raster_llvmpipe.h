@@ -3,7 +3,7 @@
 // (optimized/zbuffer_llvmpipe.h) is one Context and one draw(); a Session keeps one
 // Context across frames, as an application keeps its GL context (the row's
 // FamilyImpl::session, used by the benchmarks' frame loop), and the hand-run
-// timing tool (tools/llvmpipe_check.cpp, `time`) keeps one Context and draws
+// timing tool (bench/timing/llvmpipe_check.cpp, `time`) keeps one Context and draws
 // many times, to separate the one-shot costs (context, LLVM shader
 // compilation) from the frame.
 //

@@ -186,7 +186,7 @@ extern "C" __attribute__((visibility("default"))) const void* lockstep_peer_api(
   return &lockstep::opt::llvmpipe::kApi;
 }
 
-// For tools/peer_version.cpp at build time: the string --version prints,
+// For cmake/peer_version.cpp at build time: the string --version prints,
 // written into out (size bytes, cut if longer).
 extern "C" __attribute__((visibility("default"))) void lockstep_peer_version(char* out,
                                                                              unsigned long size) {

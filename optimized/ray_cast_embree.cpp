@@ -128,7 +128,7 @@ void trace_with(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hi
 
 namespace {
 
-// The frame; shade = false: the hits only (tools/embree_raw.cpp compares that
+// The frame; shade = false: the hits only (bench/timing/embree_raw.cpp compares that
 // with raw Embree), each pixel's refined t written as its grey level.
 Image render_frame(const Scene& scene, const FrameOptions& opts, FrameStats* stats, const Device& device,
                    bool shade) {
@@ -158,7 +158,7 @@ Image render_frame(const Scene& scene, const FrameOptions& opts, FrameStats* sta
   constexpr int kTileW = 32, kTileH = 8;
   // One tile: the scratch lives on the stack of the thread that runs it.
   //
-  // The per-ray work outside Embree is kept small (tools/embree_raw.cpp measures
+  // The per-ray work outside Embree is kept small (bench/timing/embree_raw.cpp measures
   // the row against raw Embree): the packet's constant fields are set once per
   // tile, the eight directions are computed side by side (the same double
   // operations, in the same order, as camera_dir / length / divide, so the same

@@ -19,7 +19,7 @@ Image render(const Scene& scene, const FrameOptions& opts, FrameStats* stats);
 // On a device kept across frames (a session's).
 Image render_with(const Scene& scene, const FrameOptions& opts, FrameStats* stats,
                   const Device& device);
-// The same traversal with shading off: each pixel's t, grey (tools/embree_raw.cpp).
+// The same traversal with shading off: each pixel's t, grey (bench/timing/embree_raw.cpp).
 Image render_unshaded(const Scene& scene, const FrameOptions& opts, FrameStats* stats,
                       const Device& device);
 }  // namespace opt::embree

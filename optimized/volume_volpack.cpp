@@ -140,7 +140,7 @@ void inverse_prematrix(const Volume& v, double m[4][4]) {
 
 bool available() { return !peer::find_module("volpack").empty(); }
 
-// Recorded beside the module when it was built (tools/peer_version.cpp), so
+// Recorded beside the module when it was built (cmake/peer_version.cpp), so
 // that --version does not load VolPack.
 std::string version() {
   const std::string v = peer::recorded_version("volpack");

@@ -31,7 +31,7 @@ std::string version();
 Image volume_raycast(const Volume& volume, const FrameOptions& options, FrameStats* stats);
 
 // VolPack's three ways to draw the same frame, for the hand-run timing tool
-// (tools/volpack_timing.cpp): from the classified run-length volume (the
+// (bench/timing/volpack_timing.cpp): from the classified run-length volume (the
 // row's), from the raw voxels classified on the fly, and the raw voxels with a
 // min-max octree skipping transparent regions.
 enum class Path { kClassified, kRaw, kRawOctree };

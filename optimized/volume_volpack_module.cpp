@@ -90,7 +90,7 @@ extern "C" __attribute__((visibility("default"))) const void* lockstep_peer_api(
   return &lockstep::opt::volpack::kApi;
 }
 
-// For tools/peer_version.cpp at build time: the string --version prints
+// For cmake/peer_version.cpp at build time: the string --version prints
 // (volpack.h's own version string; Debian 12's libvolpack1-dev 1.0b3 says "1.1").
 extern "C" __attribute__((visibility("default"))) void lockstep_peer_version(char* out,
                                                                              unsigned long size) {

@@ -138,7 +138,7 @@ Family zbuffer_family() {
   // view_scene's triangles (the same tessellation, culling and lighting) from
   // their world positions through its own float pipeline, 8 subpixel bits and a
   // 24-bit depth buffer, into a float colour buffer. Measured against the
-  // reference (tools/llvmpipe_check.cpp agree, tetra-3, mount-3, gears-2,
+  // reference (bench/timing/llvmpipe_check.cpp agree, tetra-3, mount-3, gears-2,
   // teapot-2, sombrero-2 at 512^2 and 1024^2, flat and Gouraud):
   //   coverage  identical on all 20 frames. On random triangle soups
   //             (LlvmpipeCoverage, 1000 cases) 4 of 367462 pixels differ

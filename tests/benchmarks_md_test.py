@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""scripts/benchmarks_md.py on copies of bench/results: the verdicts follow the
+"""bench/scripts/benchmarks_md.py on copies of bench/results: the verdicts follow the
 data, a lockstep-table/1 file becomes a section with its targets in the
 summary, a hand-edited page fails --check, and bad input is one clear error
 (exit 2) with nothing written.
@@ -15,7 +15,7 @@ import tempfile
 import unittest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-GEN = os.path.join(ROOT, "scripts", "benchmarks_md.py")
+GEN = os.path.join(ROOT, "bench", "scripts", "benchmarks_md.py")
 
 
 def read(path):
@@ -134,6 +134,22 @@ class Generator(unittest.TestCase):
         t[0]["value"] = "simd / "
         save(self.targets, t)
         self.assert_error(r"targets\.json:\d+: 'simd / ': invalid syntax")
+
+    def test_partial_results(self):
+        """A target whose expression fails on the results (a quick run's: no such rows) is an
+        error, and with --partial (bench/run.sh --quick) a target not measured; a disallowed
+        expression stays an error."""
+        t = load(self.targets)
+        t[0]["value"] = "[simd][1]"
+        save(self.targets, t)
+        self.assert_error(r"targets\.json:\d+: '\[simd\]\[1\]': IndexError")
+        r = run("--partial", "--results", self.results, "--targets", self.targets, "--out", self.out)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("not measured (partial results:", self.row(read(self.out), t[0]["text"]))
+        t[0]["value"] = "simd.__class__"
+        save(self.targets, t)
+        r = run("--partial", "--results", self.results, "--targets", self.targets, "--out", self.out)
+        self.assertEqual(r.returncode, 2, r.stderr)
 
 
 if __name__ == "__main__":

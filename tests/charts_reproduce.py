@@ -29,7 +29,7 @@ def main():
     for script, csv, table, chart in CASES:
         out = os.path.join(scratch, table)
         args = [os.path.join(src, "bench/results", csv)] + ([scratch] if chart else []) + [out]
-        r = subprocess.run([sys.executable, os.path.join(src, "scripts", script), *args], capture_output=True, text=True,
+        r = subprocess.run([sys.executable, os.path.join(src, "bench", "scripts", script), *args], capture_output=True, text=True,
                            cwd=src)
         if r.returncode != 0:
             print(f"FAIL {script}: exit {r.returncode}\n{r.stderr[-2000:]}")

@@ -16,10 +16,12 @@ reference: core io kinds
 optimized: core io kinds
 registry: core io kinds reference optimized spd
 spd:
+# props/ is below bench/ (the studies use the oracles, not the other way).
 props: core io kinds reference optimized registry
 bench: core io kinds reference optimized registry props
 app: core io kinds reference optimized registry spd
-tools: core io kinds reference optimized registry
+corpus: core io kinds reference
+cmake:
 tests: core io kinds reference optimized registry props spd
 '
 # Still to go (issue 31): the simd volume rows hand degenerate volumes and

@@ -171,7 +171,7 @@ Rendered render(const Row& r, const std::string& text, const std::string& tag) {
     o.threads = 1;
     // The ray tracer's secondary rays start a fixed eps from the surface, a
     // length that does not scale with the scene (the acne study's subject,
-    // props/ray_trace/study.cpp): here it runs as a ray caster (depth 1, no
+    // bench/studies/ray_trace_study.cpp): here it runs as a ray caster (depth 1, no
     // shadow rays), which draws every primitive the way the tracer does.
     for (const ParamSpec& p : r.family->params)
       if (p.name == "shadows") o.params.set("shadows", "none"), o.params.set("depth", "1");

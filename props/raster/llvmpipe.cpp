@@ -24,7 +24,7 @@
 //       times 2).
 //
 // Only coverage is judged here. Depth and colour agreement on the SPD scenes is
-// measured by tools/llvmpipe_check.cpp and written in the row's comment.
+// measured by bench/timing/llvmpipe_check.cpp and written in the row's comment.
 #include <gtest/gtest.h>
 
 #include <cmath>

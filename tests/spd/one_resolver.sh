@@ -4,7 +4,7 @@
 # that is the resolver's build-time default (LOCKSTEP_SHARED_DIR), and no code
 # but the resolver and the benchmarks' note reads an SPD file from spd_dir()
 # itself (load_spd generates the scene when the file is not there; a direct
-# read fails in a clone without ../shared, as props/raster/cones_study.cpp did).
+# read fails in a clone without ../shared, as bench/studies/cones_study.cpp did).
 #   one_resolver.sh SOURCE_DIR
 # Comment lines are not code; messages ("a clone without ../shared") are not paths.
 set -uo pipefail
