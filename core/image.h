@@ -1,9 +1,10 @@
 // lockstep core: float RGBA images and their files.
 //
-// Pixels are linear float RGBA, row 0 at the top. Files go through
-// OpenImageIO, so the format follows the extension (.png, .exr, .tif, ...);
-// its calls are in the module lockstep_oiio.so, opened by the first read or
-// write (core/oiio.h).
+// Pixels are linear float RGBA, row 0 at the top. The format follows the
+// extension (.png, .exr, .tif, ...). The functions are defined in
+// io/image_file.cpp: .exr and .png go through OpenEXR and libpng directly,
+// every other format through OpenImageIO, whose calls are in the module
+// lockstep_oiio.so, opened by the first read or write that needs it (core/oiio.h).
 // Writing is atomic: the image goes to a temporary file in the same folder that
 // is renamed into place only when complete, so a failure never leaves a
 // half-written output behind.
@@ -134,5 +135,8 @@ void write_image(const Image& image, const std::string& path);
 // floats rounded to 24 bits, relative error <= 2^-16; the golden images use it,
 // at a quarter of zip's size).
 void write_image(const Image& image, const std::string& path, const std::string& exr_compression);
+// Whether a writer exists for path's extension (.exr and .png without opening
+// OpenImageIO's module; any other extension asks it).
+bool image_has_writer(const std::string& path);
 
 }  // namespace lockstep

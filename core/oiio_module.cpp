@@ -1,6 +1,6 @@
 // lockstep core: every OpenImageIO call, built as the module lockstep_oiio.so
 // (see core/oiio.h: why, and the table it exports). The code is what
-// core/image.cpp, core/layers.cpp, core/metrics.cpp, core/output_image.cpp,
+// core/image.cpp (now io/image_file.cpp), core/layers.cpp, core/metrics.cpp, core/output_image.cpp,
 // app/verify_case.cpp and optimized/composite_oiio.cpp ran before they opened
 // it, unchanged but for how errors leave: each table function catches what its
 // body throws and hands it back as an oiio::Error. Nothing here calls into
@@ -43,7 +43,7 @@ bool guarded(Error* err, Body&& body) {
   return false;
 }
 
-// ---------------------------------------------------------------- images (core/image.cpp)
+// ------------------------------------------------------- images (io/image_file.cpp)
 
 Image read_image_body(const std::string& path) {
   const QuietStderr quiet;  // libpng's own lines; the error comes back through OIIO
