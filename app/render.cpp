@@ -200,9 +200,9 @@ int render_as(const std::string& who, const std::string& forced_algo, Args args)
   if (!family.sized && width > 0) throw UsageError("--size does not apply to " + std::string(family.name));
 
   // The output path is checked beside the work, on a thread of its own: for an
-  // image that check opens OpenImageIO (lockstep_oiio.so, ~250 libraries,
-  // about 0.2 s), which then overlaps loading and rendering instead of coming
-  // before them. What the check finds at once (no such folder, no extension)
+  // image in a format other than .exr and .png that check opens OpenImageIO
+  // (lockstep_oiio.so, ~250 libraries, about 0.2 s), which then overlaps
+  // loading and rendering instead of coming before them. What the check finds at once (no such folder, no extension)
   // is reported before rendering (it has thrown by the time the input is
   // loaded); an unknown format may be reported after it. Either way nothing is
   // written: the check is joined before the output is.

@@ -1,9 +1,8 @@
 // lockstep core: float RGBA images and their files.
 //
-// Pixels are linear float RGBA, row 0 at the top. Files go through
-// OpenImageIO, so the format follows the extension (.png, .exr, .tif, ...);
-// its calls are in the module lockstep_oiio.so, opened by the first read or
-// write (io/oiio.h).
+// Pixels are linear float RGBA, row 0 at the top. Files: io/image_io.h (the
+// format follows the extension: .exr and .png through OpenEXR and libpng,
+// every other format through OpenImageIO's module).
 // Writing is atomic: the image goes to a temporary file in the same folder that
 // is renamed into place only when complete, so a failure never leaves a
 // half-written output behind.

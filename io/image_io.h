@@ -1,6 +1,8 @@
-// lockstep io: image files (.exr, .png and every other format OpenImageIO
-// reads), through OpenImageIO in lockstep_oiio.so (io/oiio.h: the module is
-// opened by the first image read or written).
+// lockstep io: image files. The format follows the extension: .exr and .png
+// through OpenEXR and libpng directly (io/image_exr.cpp, io/image_png.cpp),
+// every other format, every file those decline and every failure through
+// OpenImageIO in lockstep_oiio.so (io/oiio.h), opened by the first read or
+// write that needs it. Writing is atomic (a temporary file renamed into place).
 #pragma once
 
 #include <string>
@@ -23,5 +25,8 @@ void write_image(const Image& image, const std::string& path);
 // floats rounded to 24 bits, relative error <= 2^-16; the golden images use it,
 // at a quarter of zip's size).
 void write_image(const Image& image, const std::string& path, const std::string& exr_compression);
+// Whether a writer exists for path's extension (.exr and .png without opening
+// OpenImageIO's module; any other extension asks it).
+bool image_has_writer(const std::string& path);
 
 }  // namespace lockstep

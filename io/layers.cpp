@@ -1,7 +1,9 @@
 // lockstep io: layer stacks -- the .stack reader and layer loading.
 //
-// Layers go through OpenImageIO (read_layer's body is in io/oiio_module.cpp,
-// the module lockstep_oiio.so opened on first use: io/oiio.h). Integer
+// Layers are read by read_layer (io/image_io.cpp: .exr and .png through
+// OpenEXR and libpng, the rest through OpenImageIO, whose body is in
+// io/oiio_module.cpp, the module lockstep_oiio.so opened on first use:
+// io/oiio.h). Integer
 // formats (PNG, 8-bit TIFF, ...) are read with the `oiio:UnassociatedAlpha`
 // config so that OIIO hands back the file's straight values instead of premultiplying them on the way in; float
 // formats (EXR) are premultiplied by OpenEXR's definition. An explicit override
@@ -17,7 +19,6 @@
 #include <fstream>
 
 #include "core/error.h"
-#include "io/oiio.h"
 
 namespace lockstep {
 
@@ -42,13 +43,6 @@ void check_same_size(const Layer& first, const Layer& l, const std::string& file
 }
 
 }  // namespace
-
-Layer read_layer(const std::string& path, std::optional<Alpha> alpha_override) {
-  Layer layer;
-  oiio::Error err;
-  if (!oiio::api().read_layer(path, alpha_override ? &*alpha_override : nullptr, &layer, &err)) oiio::raise(err);
-  return layer;
-}
 
 LayerStack read_stack(const std::string& path, std::optional<Alpha> alpha_override) {
   namespace fs = std::filesystem;

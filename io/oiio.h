@@ -6,10 +6,11 @@
 // (issue #21, one-shot cost). So no binary of ours links it: the calls live in
 // io/oiio_module.cpp, built as lockstep_oiio.so beside the lockstep binary
 // (found and opened by core/module.h, like the peer rows' modules), and the
-// functions that need them (read_image, write_image, read_layer,
-// compare_images, error_heatmap, the image output kind's check of an output
-// path, verify's beside picture, the composite family's oiio row) open it the
-// first time one of them runs. `lockstep --version` reads OpenImageIO's
+// functions that need them (read_image, write_image, read_layer and the
+// image output kind's check of an output path for any format but .exr and
+// .png, which io/image_io.cpp reads and writes without it; compare_images,
+// error_heatmap, verify's beside picture, the composite family's oiio row)
+// open it the first time one of them runs. `lockstep --version` reads OpenImageIO's
 // version from lockstep_oiio.version, written beside the module when it is
 // built, so it does not open it.
 //

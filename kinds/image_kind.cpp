@@ -9,7 +9,6 @@
 
 #include "core/error.h"
 #include "core/family.h"
-#include "io/oiio.h"
 #include "io/image_io.h"
 
 namespace lockstep {
@@ -35,7 +34,7 @@ Output read(const std::string& path) { return make_output<Image>(read_image(path
 void write_golden(const Output& o, const std::string& path) { write_image(img(o), path, "pxr24"); }
 
 // Fails (InputError) before any work is done when path cannot become an image:
-// its folder does not exist or OpenImageIO knows no writer for its extension.
+// its folder does not exist or no writer is known for its extension.
 void check_path(const std::string& path) {
   namespace fs = std::filesystem;
   const fs::path p(path);
@@ -44,7 +43,7 @@ void check_path(const std::string& path) {
   if (!fs::is_directory(dir, ec)) throw InputError(path, 0, "cannot write image: folder " + dir.string() + " does not exist");
   if (fs::is_directory(p, ec)) throw InputError(path, 0, "cannot write image: is a folder");
   if (p.extension().empty()) throw InputError(path, 0, "cannot write image: no extension to pick the format (.png, .exr, .tif, ...)");
-  if (!oiio::api().has_writer(path))  // lockstep_oiio.so (io/oiio.h)
+  if (!image_has_writer(path))  // .exr, .png; else lockstep_oiio.so (io/oiio.h)
     throw InputError(path, 0, "cannot write image: unknown format '" + p.extension().string() + "'");
 }
 

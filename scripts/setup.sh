@@ -18,6 +18,7 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libembree-dev libcgal-dev libgmp-dev libmpfr-dev
   libopenimageio-dev openimageio-tools
+  libopenexr-dev libpng-dev  # .exr and .png without OpenImageIO (io/image_exr.cpp, io/image_png.cpp)
   libbenchmark-dev librapidcheck-dev libgtest-dev
   libtbb-dev libhwy-dev gnuplot-nox
   libosmesa6-dev libgl-dev  # the zbuffer family's llvmpipe row (Mesa OSMesa; GL/gl.h, GL/glext.h)

@@ -115,6 +115,19 @@ cmds = {  # name: (command, the input whose first open is "first work", bench be
         [L, "render", sombrero, "--algo", "painter", "--impl", "simd", "--shading", "flat", *one, "--size",
          "1024x1024", "-o", os.path.join(tmp, "p.exr")], "sombrero-2.nff",
         "frame/painter/sombrero-2/flat/simd/threads:1/"),
+    # Issue #31 item 6: a small render to .exr and .png maps no OpenImageIO (io/).
+    "render ray_cast balls-1 256^2 -> EXR": (
+        [L, "render", os.path.join(spd, "balls-1.nff"), "--size", "256x256", "-o", os.path.join(tmp, "rc.exr")],
+        "balls-1.nff", None),
+    "render ray_cast balls-1 256^2 -> PNG": (
+        [L, "render", os.path.join(spd, "balls-1.nff"), "--size", "256x256", "-o", os.path.join(tmp, "rc.png")],
+        "balls-1.nff", None),
+    "render raytrace balls-1 256^2 -> EXR": (
+        [L, "render", os.path.join(spd, "balls-1.nff"), "--algo", "raytrace", "--size", "256x256", "-o",
+         os.path.join(tmp, "rt.exr")], "balls-1.nff", None),
+    "render raytrace balls-1 256^2 -> PNG": (
+        [L, "render", os.path.join(spd, "balls-1.nff"), "--algo", "raytrace", "--size", "256x256", "-o",
+         os.path.join(tmp, "rt.png")], "balls-1.nff", None),
     "render ray_cast simd balls-3 512^2": (
         [L, "render", os.path.join(spd, "balls-3.nff"), "--impl", "simd", *one, "--size", "512x512", "-o",
          os.path.join(tmp, "r.exr")], "balls-3.nff", "frame/ray_cast/balls-3/simd/threads:1/"),
@@ -140,6 +153,10 @@ if before:  # an older build beside this one, alternated with it (ONESHOT_NOTE s
     cmds["render zbuffer simd sombrero-2 1024^2 -> PNG, BEFORE's binary"] = (
         [ob, "render", sombrero, "--algo", "zbuffer", "--impl", "simd", "--shading", "flat", *one, "--size",
          "1024x1024", "-o", os.path.join(tmp, "zb.png")], "sombrero-2.nff", None)
+    for ext in ("exr", "png"):
+        cmds[f"render raytrace balls-1 256^2 -> {ext.upper()}, BEFORE's binary"] = (
+            [ob, "render", os.path.join(spd, "balls-1.nff"), "--algo", "raytrace", "--size", "256x256", "-o",
+             os.path.join(tmp, "rtb." + ext)], "balls-1.nff", None)
 if "llvmpipe" not in subprocess.run([L, "--version"], capture_output=True, text=True).stdout:
     del cmds["render zbuffer llvmpipe sombrero-2 1024^2 (peer)"]
 quick = os.environ.get("ONESHOT_QUICK") == "1"  # bench/run.sh --quick: the commands the targets name, once
