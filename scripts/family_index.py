@@ -20,7 +20,7 @@ family, else the manifest's default family).
 
 What a file is follows from its top folder (core/: contract, reference/,
 optimized/, registry/: row, docs/, tests/, ...) and, in the measurement folders
-(props/, bench/, tools/, scripts/), from its name and kind: a name with
+(props/, bench/, scripts/), from its name and kind: a name with
 "study" is a study, a C++ file that includes <benchmark/benchmark.h> a Google
 Benchmark, other C++ files in props/ properties and elsewhere timing programs,
 .py/.sh files scripts, data and pictures results and charts. So files may

@@ -27,6 +27,7 @@
 #include <random>
 #include <string>
 
+#include "bench/studies/study.h"
 #include "kinds/image_metrics.h"
 #include "io/nff.h"
 #include "core/timer.h"

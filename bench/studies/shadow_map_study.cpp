@@ -55,6 +55,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/studies/study.h"
 #include "io/nff.h"
 #include "core/scene.h"
 #include "optimized/ray_trace_embree.h"
