@@ -6,12 +6,7 @@
 //
 // main() only dispatches and turns exceptions into exit codes (app/cli.h).
 #include <embree3/rtcore_config.h>
-#include "optimized/marching_cubes_vtk.h"
-#include "optimized/zbuffer_simd.h"
-#include "optimized/zbuffer_llvmpipe.h"
 #include "optimized/ray_cast_simd.h"
-#include "optimized/volume_volpack.h"
-#include "optimized/ray_trace_povray.h"
 #include <cstdio>
 #include <exception>
 #include <new>
@@ -78,36 +73,16 @@ void print_version() {
   std::printf("lockstep %s (simd: Highway target %s; embree %d.%d.%d; OpenImageIO %s)\n", LOCKSTEP_VERSION,
               lockstep::opt::simd::target_name(), RTC_VERSION_MAJOR, RTC_VERSION_MINOR, RTC_VERSION_PATCH,
               oiio.c_str());
-  // Peer rows: each is a module beside the binary (optimized/peer_module.h),
-  // built only where its library was found at configure time. Their versions
-  // were recorded when the modules were built: nothing here loads a peer library.
-  auto peer_line = [](const char* row, bool available, const std::string& version,
-                      const char* module, const char* install) {
-    if (available)
-      std::printf("  %s row: built (%s; module %s)\n", row, version.c_str(), module);
-    else
-      std::printf(
-          "  %s row: not built (no %s found beside the binary: built only where cmake found its "
-          "library; %s)\n",
-          row, module, install);
-  };
-  peer_line(
-      "llvmpipe", lockstep::opt::llvmpipe::available(),
-      lockstep::opt::llvmpipe::available() ? "OSMesa: " + lockstep::opt::llvmpipe::version() : "",
-      "lockstep_peer_llvmpipe.so", "scripts/setup.sh installs libosmesa6-dev");
-  peer_line("vtk", lockstep::opt::vtk::available(), lockstep::opt::vtk::version(),
-            "lockstep_peer_vtk.so", "scripts/setup.sh --peers installs libvtk9-dev");
-  peer_line("volpack", lockstep::opt::volpack::available(), lockstep::opt::volpack::version(),
-            "lockstep_peer_volpack.so", "scripts/setup.sh installs libvolpack1-dev");
-  // POV-Ray is a program the povray row runs as a process: no module; its path
-  // and version were recorded when cmake found it.
-  if (lockstep::opt::povray::available())
-    std::printf("  povray row: built (%s; program %s, run as a process)\n", lockstep::opt::povray::version().c_str(),
-                lockstep::opt::povray::program().c_str());
-  else
-    std::printf(
-        "  povray row: not built (no povray program found when cmake ran%s; scripts/setup.sh installs povray)\n",
-        lockstep::opt::povray::program().empty() ? "" : (", or " + lockstep::opt::povray::program() + " is gone").c_str());
+  // Peer rows, from the registry (core/family.h PeerRow): a module beside the
+  // binary or a program, built only where its library was found at configure
+  // time. Their versions were recorded then: nothing here loads a peer library.
+  for (const lockstep::Family& f : lockstep::registry().families)
+    for (const lockstep::PeerRow& p : f.peer_rows) {
+      if (p.built)
+        std::printf("  %s row: built (%s; %s)\n", p.row.c_str(), p.version.c_str(), p.runs_as.c_str());
+      else
+        std::printf("  %s row: not built (%s)\n", p.row.c_str(), p.missing.c_str());
+    }
   // Every family and implementation built into this binary; peers are production libraries.
   for (const lockstep::Family& f : lockstep::registry().families) {
     std::printf("  %-10s", std::string(f.name).c_str());

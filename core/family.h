@@ -267,6 +267,33 @@ struct BenchInput {
   bool reference = true;             // false: the reference is not timed on it (it would take minutes)
 };
 
+// A production library's row this family may have, built or not: what
+// `lockstep --version` says of it. The row is in Family::impls only when built
+// (its library was found at configure time); this entry is there either way.
+struct PeerRow {
+  std::string row;      // "llvmpipe"
+  bool built = false;
+  std::string version;  // built: "OSMesa: 23.2.1"
+  std::string runs_as;  // built: "module lockstep_peer_llvmpipe.so"
+  std::string missing;  // not built: why, and how to get it
+};
+
+// A peer row that lives in a module beside the binary (optimized/peer_module.h):
+// built where cmake found its library; `install` says how to get it.
+inline PeerRow module_peer(std::string row, bool built, std::string version, const std::string& module,
+                           const std::string& install) {
+  PeerRow p;
+  p.row = std::move(row);
+  p.built = built;
+  if (built) {
+    p.version = std::move(version);
+    p.runs_as = "module " + module;
+  } else {
+    p.missing = "no " + module + " found beside the binary: built only where cmake found its library; " + install;
+  }
+  return p;
+}
+
 struct Family {
   std::string_view name;     // "ray_cast"
   std::string_view what;     // one line for --help
@@ -290,6 +317,7 @@ struct Family {
   std::vector<ParamSpec> params;  // settings the family understands (FrameOptions::params)
   // Throws InputError(source, 0, ...) naming the bad setting; may be empty when params is.
   std::function<void(const Params&)> check_params;
+  std::vector<PeerRow> peer_rows;  // the peers above, built or not (--version)
 
   const FamilyImpl& reference() const { return impls.front(); }
   const FamilyImpl* find(std::string_view n) const {

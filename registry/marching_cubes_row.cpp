@@ -107,6 +107,8 @@ Family marching_cubes_family() {
     impls.push_back({"vtk", opt::vtk::marching_cubes, 0, {"other_separation", 0.995, "ambiguous"},
                      "VTK vtkFlyingEdges3D", true});
   f.impls = erase_all<Volume, Mesh>(impls);
+  f.peer_rows.push_back(module_peer("vtk", opt::vtk::available(), opt::vtk::version(), "lockstep_peer_vtk.so",
+                                    "scripts/setup.sh --peers installs libvtk9-dev"));
   f.params = mc::params();
   f.check_params = [](const Params& p) { mc::settings(p, "settings"); };
   f.bench = bench_volumes;

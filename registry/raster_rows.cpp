@@ -178,6 +178,10 @@ Family zbuffer_family() {
     impls.push_back({"llvmpipe", opt::llvmpipe::zbuffer, 0, {"coverage", 3e-5, "pixel"}, "Mesa llvmpipe (OSMesa)",
                      true, llvmpipe_unsupported});
   f.impls = erase_all<Scene>(impls);
+  f.peer_rows.push_back(module_peer(
+      "llvmpipe", opt::llvmpipe::available(),
+      opt::llvmpipe::available() ? "OSMesa: " + opt::llvmpipe::version() : "", "lockstep_peer_llvmpipe.so",
+      "scripts/setup.sh installs libosmesa6-dev"));
   refuse_shadows(f);
   // The benchmarks time llvmpipe with its context kept across frames, as an
   // application keeps its GL context (the first frame, context and shader

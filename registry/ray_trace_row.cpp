@@ -162,6 +162,19 @@ Family ray_trace_family() {
     t.agree = povray_agree();
     f.impls.push_back(erase(t));
   }
+  // It is a program, not a module: its path and version were recorded when cmake found it.
+  PeerRow pov;
+  pov.row = "povray";
+  pov.built = opt::povray::available();
+  if (pov.built) {
+    pov.version = opt::povray::version();
+    pov.runs_as = "program " + opt::povray::program() + ", run as a process";
+  } else {
+    pov.missing = "no povray program found when cmake ran" +
+                  (opt::povray::program().empty() ? std::string() : ", or " + opt::povray::program() + " is gone") +
+                  "; scripts/setup.sh installs povray";
+  }
+  f.peer_rows.push_back(std::move(pov));
   // The benchmarks keep one Embree device across frames, as an application
   // does (optimized/embree_scene.h Device): a session owns it.
   // (The device is made at the session's first frame.) That session serves any

@@ -37,4 +37,5 @@ struct Registry {
 // Built once, on first use; immutable.
 const Registry& registry();
 
+
 }  // namespace lockstep

@@ -135,6 +135,8 @@ Family volume_family() {
     impls.push_back({"volpack", opt::volpack::volume_raycast, 0, {}, "VolPack 1.0b3 (shear-warp)", false, nullptr,
                      volpack_agree()});
   f.impls = erase_all<Volume, Image>(impls);
+  f.peer_rows.push_back(module_peer("volpack", opt::volpack::available(), opt::volpack::version(),
+                                    "lockstep_peer_volpack.so", "scripts/setup.sh installs libvolpack1-dev"));
   // error=E (core/volume_render.h choose_for_error): the row itself draws the
   // converged image (step 1/16, eps 0) and the candidates at full size, and the
   // frame returned is the one whose error was measured, so the figure on the
