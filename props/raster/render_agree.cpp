@@ -23,27 +23,15 @@
 
 #include "core/shading.h"
 #include "props/raster/parts.h"
+#include "props/raster/visibility.h"
 #include "reference/raster.h"
 
 namespace lockstep::props::raster {
 
 namespace {
 
-// The stored depth of mesh triangle t at sample (px, py) (1/256 px), as the
-// reference computes it (perspective-correct: affine in 1/z on screen).
-double ref_depth(const ScreenMesh& m, const RasterSettings& s, uint32_t t, int64_t px, int64_t py) {
-  const auto& v = m.tris[t].v;
-  double l[3];
-  for (int e = 0; e < 3; ++e) {
-    const auto& a = v[size_t((e + 1) % 3)];
-    const auto& b = v[size_t((e + 2) % 3)];
-    l[e] = double(int64_t(b.x - a.x) * (py - a.y) - int64_t(b.y - a.y) * (px - a.x));
-  }
-  const double area = double(int64_t(v[1].x - v[0].x) * (v[2].y - v[0].y) -
-                             int64_t(v[1].y - v[0].y) * (v[2].x - v[0].x));
-  const double inv_z = l[0] / area / v[0].z + l[1] / area / v[1].z + l[2] / area / v[2].z;
-  return stored_depth(s.depth, 1 / inv_z, m.near_z, m.far_z);
-}
+// The stored depth as the reference computes it: props/raster/visibility.h.
+using vis::ref_depth;
 
 // Whether mesh triangle t owns sample (px, py): the top-left rule on the exact
 // edge functions (a ScreenTri has positive area).

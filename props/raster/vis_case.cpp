@@ -338,7 +338,7 @@ template void broken<1>(const ScreenMesh&, const RasterSettings&, Visibility&);
 
 // ---------------------------------------------------------------- checks
 
-// The stored depth of triangle t at sample (px, py), as the reference computes it.
+// (props/raster/visibility.h)
 double ref_depth(const ScreenMesh& m, const RasterSettings& s, uint32_t t, int64_t px, int64_t py) {
   const auto& v = m.tris[t].v;
   double l[3];

@@ -38,6 +38,10 @@ struct Subject {
   VisFn fn;
 };
 
+// The stored depth of mesh triangle t at sample (px, py) (1/256 px), as the
+// reference computes it (perspective-correct: affine in 1/z on screen).
+double ref_depth(const ScreenMesh& m, const RasterSettings& s, uint32_t t, int64_t px, int64_t py);
+
 // opt::simd::zbuffer_visibility on one thread.
 void simd_1(const ScreenMesh& m, const RasterSettings& s, Visibility& v);
 // Mutant: drawn in reverse with a strict depth test (the last of equal depths kept).

@@ -1,4 +1,4 @@
-// lockstep props/shadow_map: properties of shadow maps (core/shadow_map.h),
+// lockstep props/raster: the z-buffer's shadow maps, their properties (core/shadow_map.h),
 // RapidCheck under GoogleTest (ctest runs each; RC_PARAMS="max_success=1000"
 // for a deep run).
 //
