@@ -242,6 +242,12 @@ struct FamilyImpl {
   // an Embree device): `lockstep verify` then starts one session per row for
   // the whole run rather than making that state again for every frame.
   bool session_any_input = false;
+  // True when each frame runs another program (the povray row: a process a
+  // frame, about 0.7 s, most of it POV-Ray's own 50 ms polling between its
+  // threads). Property sweeps that draw every row in every case may check such
+  // a row on a stated sample of their cases (props/dropped/range.cpp: one case
+  // in four, every case in deep mode); they say so in their tally.
+  bool frame_is_process = false;
 
   // The tolerance this row is held to against the reference.
   const Tolerance& tolerance(const Tolerance& family_tol) const { return agree ? *agree : family_tol; }
@@ -362,6 +368,7 @@ struct TypedImpl {
   bool threaded = true;
   std::string (*unsupported)(const Params&) = nullptr;  // see FamilyImpl::unsupported
   std::optional<Tolerance> agree = {};                   // see FamilyImpl::agree
+  bool frame_is_process = false;                         // see FamilyImpl::frame_is_process
 };
 
 template <class In>
@@ -388,6 +395,7 @@ FamilyImpl erase(const TypedImpl<In, Out>& t) {
   i.threaded = t.threaded;
   i.unsupported = t.unsupported;
   i.agree = t.agree;
+  i.frame_is_process = t.frame_is_process;
   return i;
 }
 

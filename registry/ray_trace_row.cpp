@@ -160,6 +160,7 @@ Family ray_trace_family() {
     static const std::string peer = opt::povray::version() + " (process)";
     TypedImpl<Scene> t{"povray", opt::povray::trace_render, 0, {}, peer};
     t.agree = povray_agree();
+    t.frame_is_process = true;
     f.impls.push_back(erase(t));
   }
   // It is a program, not a module: its path and version were recorded when cmake found it.
