@@ -16,6 +16,7 @@
 
 #include "app/cli.h"
 #include "app/verify.h"  // merge_reports_main
+#include "core/process_memory.h"
 #include "io/oiio.h"
 
 namespace cli = lockstep::cli;
@@ -151,6 +152,8 @@ int run(int argc, char** argv, std::string& sub) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // One command a process: what it frees, it reuses (core/process_memory.h).
+  lockstep::keep_freed_memory();
   std::string sub;
   try {
     return run(argc, argv, sub);

@@ -18,7 +18,7 @@
 // brute force costs the same for every ray, so the rate carries over).
 #include <benchmark/benchmark.h>
 
-#include <malloc.h>
+#include <malloc.h>  // malloc_trim: the cold run
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -38,6 +38,7 @@
 
 #include "core/error.h"
 #include "core/output.h"
+#include "core/process_memory.h"
 #include "core/timer.h"
 #include "optimized/tiling.h"
 #include "registry/loaders.h"
@@ -285,8 +286,7 @@ int main(int argc, char** argv) {
   // is the first_ms counter, see register_frames). Big blocks then come one
   // after another from the heap: Image's allocator keeps them a page apart
   // (core/image.h), which the compositor's speed depends on.
-  mallopt(M_MMAP_MAX, 0);
-  mallopt(M_TRIM_THRESHOLD, std::numeric_limits<int>::max());
+  lockstep::keep_freed_memory();
   // Inputs that live beside the repository: the SPD scenes are generated when
   // absent (registry/loaders.h); the real volumes cannot be, and their frames go.
   if (!std::filesystem::is_directory(lockstep::spd_dir()))

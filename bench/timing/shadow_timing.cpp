@@ -18,7 +18,6 @@
 //     ref::zbuffer against opt::simd::zbuffer on 1 and 2 threads; the images
 //     must be equal.
 // Exit 1 when something is not equal.
-#include <malloc.h>
 
 #include <algorithm>
 #include <cmath>
@@ -31,6 +30,7 @@
 
 #include "io/nff.h"
 #include "core/shadow_map.h"
+#include "core/process_memory.h"
 #include "core/timer.h"
 #include "optimized/zbuffer_simd.h"
 #include "reference/raster.h"
@@ -85,8 +85,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: %s SCENE.nff [SIZE [MAP_SIZE [REPS]]]\n", argv[0]);
     return 2;
   }
-  mallopt(M_MMAP_MAX, 0);
-  mallopt(M_TRIM_THRESHOLD, std::numeric_limits<int>::max());
+  lockstep::keep_freed_memory();
   const Scene scene = read_nff(argv[1]);
   const int size = argc > 2 ? std::atoi(argv[2]) : 512;
   const std::string map_size = argc > 3 ? argv[3] : "1024";

@@ -7,7 +7,6 @@
 // visibility pass alone on 1 and 2 threads (best of REPS), triangles and pixels
 // per second, and the agreement of the two frames (largest channel error,
 // fraction of pixels over 1/255, depth).
-#include <malloc.h>
 
 #include <algorithm>
 #include <cmath>
@@ -18,6 +17,7 @@
 #include <string>
 
 #include "io/nff.h"
+#include "core/process_memory.h"
 #include "core/timer.h"
 #include "optimized/zbuffer_simd.h"
 #include "reference/raster.h"
@@ -52,8 +52,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   // As bench/: frames come from the heap and go back to it (no fresh pages per frame).
-  mallopt(M_MMAP_MAX, 0);
-  mallopt(M_TRIM_THRESHOLD, std::numeric_limits<int>::max());
+  lockstep::keep_freed_memory();
   const Scene scene = read_nff(argv[1]);
   const int size = argc > 2 ? std::atoi(argv[2]) : 1024;
   const std::string shading = argc > 3 ? argv[3] : "flat";

@@ -1,11 +1,12 @@
 #!/usr/bin/env python3
 """lockstep merge-reports: four shards' reports merged are one run's report.
 
-usage: merge_reports.py LOCKSTEP CORPUS_DIR OUT_DIR [verify args...]
+usage: merge_reports.py LOCKSTEP WHOLE SHARDS_DIR OUT_DIR
 
-Runs `lockstep verify CORPUS_DIR --report OUT/whole --json OUT/whole.json
---junit OUT/whole.xml` once, and as four shards (--shard K/4 --report
-OUT/shard-K), merges the shards into OUT/merged and checks:
+WHOLE is one unsharded run of the corpus (verify.corpus: WHOLE/ its report,
+WHOLE.json its --json, WHOLE.xml its --junit); SHARDS_DIR holds the same
+corpus verified as four shards (verify.shards: shard-K/ with --report and
+shard-K.json with --json, K = 0..3). merges the shards into OUT/merged and checks:
   * merge-reports exits as the unsharded run does (0 all pass, 1 some fail);
   * OUT/merged/verify.json has exactly the unsharded JSON's rows, field for
     field except the timing fields (seconds, speedup), and its case count;
@@ -63,30 +64,27 @@ def untimed(rows):
 
 
 def main():
-    lockstep, corpus, out = sys.argv[1:4]
-    extra = sys.argv[4:]
+    lockstep, whole_dir, shards_dir, out = sys.argv[1:5]
     shutil.rmtree(out, ignore_errors=True)
     os.makedirs(out)
     p = lambda *a: os.path.join(out, *a)
-    whole = run([lockstep, "verify", corpus, "--report", p("whole"), "--json", p("whole.json"), "--junit",
-                 p("whole.xml")] + extra)
-    if whole.returncode not in (0, 1):
-        fail(f"verify exit {whole.returncode}\n{whole.stderr[-1500:]}")
-    shards = [p(f"shard-{k}") for k in range(4)]
-    for k, d in enumerate(shards):
-        r = run([lockstep, "verify", corpus, "--shard", f"{k}/4", "--report", d, "--json", d + ".json"] + extra)
-        if r.returncode not in (0, 1):
-            fail(f"shard {k}: exit {r.returncode}\n{r.stderr[-1500:]}")
+    shards = [os.path.join(shards_dir, f"shard-{k}") for k in range(4)]
+    for d in shards:
+        if not os.path.isfile(os.path.join(d, "report.json")) or not os.path.isfile(d + ".json"):
+            fail(f"{d}: no shard report (verify.shards writes them)")
+    a = json.load(open(whole_dir + ".json"))
+    # merge-reports exits as the one run did: 0 when every row passed, else 1.
+    whole_exit = 0 if a["pass"] else 1
     merged = p("merged")
-    m = run([lockstep, "merge-reports", merged] + shards, expect=whole.returncode)
+    m = run([lockstep, "merge-reports", merged] + shards, expect=whole_exit)
 
-    a, b = json.load(open(p("whole.json"))), json.load(open(p("merged", "verify.json")))
+    b = json.load(open(p("merged", "verify.json")))
     if a["cases"] != b["cases"] or a["pass"] != b["pass"]:
         fail(f"merged cases/pass {b['cases']}/{b['pass']}, one run {a['cases']}/{a['pass']}")
     if untimed(a["rows"]) != untimed(b["rows"]):
         diff = set(untimed(a["rows"])) ^ set(untimed(b["rows"]))
         fail(f"merged rows differ from one run's ({len(a['rows'])} vs {len(b['rows'])}): {sorted(diff)[:3]}")
-    ta, tb = testcases(p("whole.xml")), testcases(p("merged", "verify.xml"))
+    ta, tb = testcases(whole_dir + ".xml"), testcases(p("merged", "verify.xml"))
     if ta != tb:
         fail(f"merged JUnit testcases differ: {sorted(set(ta) ^ set(tb))[:5]}")
     rep = json.load(open(p("merged", "report.json")))
@@ -101,7 +99,7 @@ def main():
 
     # The shards' --json files merge into the same rows, without pictures.
     mj = p("merged-json")
-    run([lockstep, "merge-reports", mj] + [d + ".json" for d in shards], expect=whole.returncode)
+    run([lockstep, "merge-reports", mj] + [d + ".json" for d in shards], expect=whole_exit)
     c = json.load(open(os.path.join(mj, "verify.json")))
     nopics = lambda rows: untimed([dict(r, view="", difference="", judged="") for r in rows])
     if c["cases"] != a["cases"] or nopics(a["rows"]) != nopics(c["rows"]) or any(
