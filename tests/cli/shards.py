@@ -11,15 +11,6 @@ shard exits 0, no (case, impl) row is in two shards, their union is the
 unsharded run's rows exactly, and no shard's measured cost (corpus/costs.txt)
 exceeds the largest case's or 1.5x the mean shard's, whichever is larger.
 Prints the shards' sizes. Leaves the shards' reports for verify.merge_reports.
-"""lockstep verify --shard: four shards together give exactly the rows of one run.
-
-usage: shards.py LOCKSTEP CORPUS_DIR OUT_DIR
-Runs verify once unsharded and as 4 shards (shards 0 and 1 through --shard K/4,
-shards 2 and 3 through GTEST_TOTAL_SHARDS/GTEST_SHARD_INDEX, which must touch
-GTEST_SHARD_STATUS_FILE), each with --json, and checks: every shard exits 0,
-no (case, impl) row is in two shards, their union is the unsharded run's rows
-exactly, and no shard's measured cost (corpus/costs.txt) exceeds the largest
-case's or 1.5x the mean shard's, whichever is larger. Prints the shards' sizes.
 """
 import json
 import os
