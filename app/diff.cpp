@@ -4,9 +4,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <set>
-#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -16,6 +14,7 @@
 #include "kinds/image_kind.h"
 #include "kinds/image_metrics.h"
 #include "io/image_io.h"
+#include "io/tokenizer.h"
 
 namespace lockstep::cli {
 
@@ -56,26 +55,21 @@ using Pair = std::pair<std::string, std::string>;
 
 // The pairs of a list file: 'A B' per line, '#' comments; errors name file:line.
 std::vector<Pair> read_list(const std::string& path) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw InputError(path, 0, "cannot read the list: no such file");
-  if (fs::is_directory(path, ec)) throw InputError(path, 0, "cannot read the list: is a folder");
-  std::ifstream in(path);
-  if (!in) throw InputError(path, 0, "cannot read the list");
+  const std::string text = text::read_text_file(path,
+                                                {.missing = "cannot read the list: no such file",
+                                                 .folder = "cannot read the list: is a folder",
+                                                 .unreadable = "cannot read the list",
+                                                 .read_error = "cannot read the list"},
+                                                text::kMaxListBytes);
   std::vector<Pair> pairs;
-  std::string line;
-  for (int n = 1; std::getline(in, line); ++n) {
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    const size_t first = line.find_first_not_of(" \t");
-    if (first == std::string::npos || line[first] == '#') continue;
-    std::istringstream words(line);
-    std::vector<std::string> w;
-    for (std::string x; words >> x;) w.push_back(x);
+  text::Tokenizer in(text, path, {.comments = text::Comments::line_start});
+  std::error_code ec;
+  while (in.next()) {
+    const auto& w = in.words();
     if (w.size() != 2)
-      throw InputError(path, n,
-                       "expected two image paths 'A B', got " + std::to_string(w.size()) +
-                           " field" + (w.size() == 1 ? "" : "s"));
-    for (const std::string& f : w)
-      if (!fs::is_regular_file(f, ec)) throw InputError(path, n, "image " + f + " does not exist");
+      in.fail("expected two image paths 'A B', got " + std::to_string(w.size()) + " field" + (w.size() == 1 ? "" : "s"));
+    for (const std::string_view f : w)
+      if (!fs::is_regular_file(f, ec)) in.fail("image " + std::string(f) + " does not exist");
     pairs.emplace_back(w[0], w[1]);
   }
   if (pairs.empty()) throw InputError(path, 0, "the list names no pair");

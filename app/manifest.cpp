@@ -1,9 +1,8 @@
 // lockstep verify: reading corpus/manifest.txt (its format: the comment at its top).
 #include <cctype>
-#include <fstream>
-#include <sstream>
 
 #include "app/verify.h"
+#include "io/tokenizer.h"
 #include "registry/loaders.h"
 #include "spd/spd.h"
 
@@ -29,19 +28,20 @@ std::vector<std::string> split(std::string_view s, char sep) {
 
 std::vector<Case> read_manifest(const fs::path& dir) {
   const std::string path = (dir / "manifest.txt").string();
-  std::ifstream f(path);
-  if (!f) throw InputError(path, 0, fs::is_directory(dir) ? "cannot open the manifest" : "no such corpus folder");
+  const char* cannot = fs::is_directory(dir) ? "cannot open the manifest" : "no such corpus folder";
+  const std::string text = text::read_text_file(
+      path,
+      {.missing = cannot,
+       .folder = "cannot read the manifest",
+       .unreadable = cannot,
+       .read_error = "cannot read the manifest"},
+      text::kMaxListBytes);
   std::vector<Case> cases;
-  std::string text;
-  int line_no = 0;
-  while (std::getline(f, text)) {
-    ++line_no;
-    if (const size_t hash = text.find('#'); hash != std::string::npos) text.resize(hash);
-    std::istringstream words(text);
-    std::vector<std::string> w;
-    for (std::string x; words >> x;) w.push_back(x);
-    if (w.empty()) continue;
-    auto fail = [&](const std::string& what) -> void { throw InputError(path, line_no, what); };
+  text::Tokenizer in(text, path, {.comments = text::Comments::anywhere});
+  while (in.next()) {
+    const int line_no = in.line_no();
+    std::vector<std::string> w(in.words().begin(), in.words().end());
+    auto fail = [&](const std::string& what) -> void { in.fail(what); };
     Case c;
     c.line = line_no;
     // The optional family column: a line starting with a family's name.
@@ -141,7 +141,6 @@ std::vector<Case> read_manifest(const fs::path& dir) {
     }
     cases.push_back(std::move(c));
   }
-  if (f.bad()) throw InputError(path, 0, "cannot read the manifest");
   if (cases.empty()) throw InputError(path, 0, "no cases in the manifest");
   return cases;
 }

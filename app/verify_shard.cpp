@@ -11,9 +11,10 @@
 #include <cstdlib>
 #include <fstream>
 #include <map>
-#include <sstream>
 
 #include "app/verify.h"
+#include "io/text.h"
+#include "io/tokenizer.h"
 
 namespace lockstep::cli {
 
@@ -22,19 +23,15 @@ namespace fs = std::filesystem;
 std::vector<std::pair<std::string, double>> read_costs(const fs::path& corpus_dir) {
   std::vector<std::pair<std::string, double>> out;
   const fs::path path = corpus_dir / "costs.txt";
-  std::ifstream f(path);
-  if (!f) return out;
-  std::string line;
-  for (int no = 1; std::getline(f, line); ++no) {
-    if (const size_t h = line.find('#'); h != std::string::npos) line.resize(h);
-    std::istringstream w(line);
-    std::string name, secs, extra;
-    if (!(w >> name)) continue;
-    char* end = nullptr;
-    const double s = (w >> secs) ? std::strtod(secs.c_str(), &end) : -1;
-    if (secs.empty() || end != secs.c_str() + secs.size() || !(s >= 0 && s < 1e6) || (w >> extra))
-      throw InputError(path.string(), no, "expected 'case seconds', got '" + line + "'");
-    out.emplace_back(name, s);
+  if (!std::ifstream(path)) return out;
+  const std::string text = text::read_text_file(path.string(), {}, text::kMaxListBytes);
+  text::Tokenizer in(text, path.string(), {.comments = text::Comments::anywhere});
+  while (in.next()) {
+    const auto& w = in.words();
+    double s = -1;
+    if (w.size() != 2 || !text::parse_double(w[1], s) || !(s >= 0 && s < 1e6))
+      in.fail("expected 'case seconds', got '" + std::string(in.line()) + "'");
+    out.emplace_back(std::string(w[0]), s);
   }
   return out;
 }

@@ -14,7 +14,7 @@
 // so an image converges as dt shrinks instead of growing more opaque. Colours
 // are straight (not premultiplied); the renderer weights them by alpha'.
 //
-// A transfer function file (.tf): text, '#' starts a comment, one control
+// A transfer function file (.tf, read by io/transfer_function_io.h): text, '#' starts a comment, one control
 // point per line, five numbers: value r g b alpha. Values strictly increase
 // from line to line; r, g, b and alpha lie in [0, 1]; at least one point and
 // at most kMaxControlPoints. Anything else (a missing or extra number, text,
@@ -54,10 +54,7 @@ struct TransferFunction {
 
 // The preset's name list for --help: "ct-bone|ct-skin|mri|ramp".
 const char* transfer_presets();
-// A preset by name, or a .tf file; InputError(path, line, ...) on a bad file,
-// InputError(spec, 0, ...) for a name that is neither a preset nor a file.
-TransferFunction read_transfer_function(const std::string& spec);
-// Parses .tf text (source names it in errors).
-TransferFunction parse_transfer_function(const std::string& text, const std::string& source);
+// The preset of that name; no points when there is none.
+TransferFunction transfer_preset(const std::string& name);
 
 }  // namespace lockstep

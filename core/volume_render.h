@@ -63,9 +63,7 @@ struct Settings {
                               // converged image stays under it (choose_for_error; registry/volume_rows.cpp)
 };
 
-// Throws InputError(source, 0, ...) naming a bad or missing setting (a bad .tf
-// file: InputError(file, line, ...)).
-Settings settings(const Params& p, const std::string& source, Mode mode);
+// The settings each mode takes (read from Params by vr::settings, io/volume_settings.h).
 std::vector<ParamSpec> params(Mode mode);
 
 // ---------------------------------------------------------------- the view

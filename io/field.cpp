@@ -19,6 +19,7 @@
 
 #include "core/error.h"
 #include "io/text.h"
+#include "io/tokenizer.h"
 #include "io/volume_io.h"
 
 namespace lockstep {
@@ -188,22 +189,12 @@ FieldSpec read_field_spec(const std::string& path) {
   } keys[] = {{"size", &size_e, 1},     {"bounds", &bounds, 2}, {"radius", &radius, 1}, {"radii", &radii, 2},
               {"periods", &periods, 1}, {"alpha", &alpha, 1},   {"fm", &fm, 1}};
 
-  size_t pos = 0;
-  int line_no = 0;
-  while (pos < text.size()) {
-    size_t end = text.find('\n', pos);
-    if (end == std::string::npos) end = text.size();
-    std::string_view line(text.data() + pos, end - pos);
-    pos = end + 1;
-    ++line_no;
-    if (line.find('\0') != std::string_view::npos)
-      throw InputError(path, line_no, "binary data (NUL byte) in a text file");
-    const size_t hash = line.find('#');
-    if (hash != std::string_view::npos) line = line.substr(0, hash);
-    const auto w = words(line);
-    if (w.empty()) continue;
+  Tokenizer in(text, path, {.comments = Comments::anywhere});
+  while (in.next()) {
+    const int line_no = in.line_no();
+    const auto& w = in.words();
     const std::string key(w[0]);
-    auto fail = [&](const std::string& what) -> void { throw InputError(path, line_no, what); };
+    auto fail = [&](const std::string& what) -> void { in.fail(what); };
     if (key == "field") {
       if (field_line) fail("a second 'field' line (the first is on line " + std::to_string(field_line) + ")");
       if (w.size() != 2) fail("'field' takes one name: sphere, torus, gyroid or marschner_lobb");
@@ -229,11 +220,9 @@ FieldSpec read_field_spec(const std::string& path) {
       fail("'" + key + "' takes " + std::to_string(k->count) + " value(s), got " + std::to_string(w.size() - 1));
     k->entry->line = line_no;
     for (size_t i = 1; i < w.size(); ++i) {
-      const std::string s(w[i]);
-      char* e = nullptr;
-      const double x = std::strtod(s.c_str(), &e);
-      if (e == s.c_str() || *e != '\0') fail("not a number: " + quoted(s));
-      if (!std::isfinite(x)) fail("number out of range (NaN, Inf or overflow): " + quoted(s));
+      double x = 0;
+      if (!parse_double(w[i], x)) fail("not a number: " + quoted(w[i]));
+      if (!std::isfinite(x)) fail("number out of range (NaN, Inf or overflow): " + quoted(w[i]));
       k->entry->values.push_back(x);
     }
   }

@@ -16,20 +16,13 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 
 #include "core/error.h"
+#include "io/tokenizer.h"
 
 namespace lockstep {
 
 namespace {
-
-std::string trim(const std::string& s) {
-  const size_t b = s.find_first_not_of(" \t\r");
-  if (b == std::string::npos) return {};
-  const size_t e = s.find_last_not_of(" \t\r");
-  return s.substr(b, e - b + 1);
-}
 
 // Size mismatch message naming both files.
 void check_same_size(const Layer& first, const Layer& l, const std::string& file, int line) {
@@ -46,11 +39,12 @@ void check_same_size(const Layer& first, const Layer& l, const std::string& file
 
 LayerStack read_stack(const std::string& path, std::optional<Alpha> alpha_override) {
   namespace fs = std::filesystem;
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw InputError(path, 0, "cannot read stack: no such file");
-  if (fs::is_directory(path, ec)) throw InputError(path, 0, "cannot read stack: is a directory");
-  std::ifstream f(path);
-  if (!f) throw InputError(path, 0, "cannot read stack: cannot open file");
+  const std::string text = text::read_text_file(path,
+                                                {.missing = "cannot read stack: no such file",
+                                                 .folder = "cannot read stack: is a directory",
+                                                 .unreadable = "cannot read stack: cannot open file",
+                                                 .read_error = "cannot read stack: read error"},
+                                                text::kMaxListBytes);
   const fs::path folder = fs::path(path).parent_path();
 
   LayerStack stack;
@@ -62,53 +56,42 @@ LayerStack read_stack(const std::string& path, std::optional<Alpha> alpha_overri
     int line;
   };
   std::vector<Entry> entries;
-  std::string raw;
-  int line = 0;
-  while (std::getline(f, raw)) {
-    ++line;
-    const std::string s = trim(raw);
-    if (s.empty() || s[0] == '#') continue;
-    const size_t sp = s.find_first_of(" \t");
-    if (sp == std::string::npos) {
+  text::Tokenizer in(text, path, {.comments = text::Comments::line_start});
+  while (in.next()) {
+    const auto& w = in.words();
+    if (w.size() == 1) {
       // One word: a layer's file name. File names need an extension (OIIO picks
       // the format from it), so a bare word is a misspelt keyword.
+      const std::string s(w[0]);
       if (s.find('.') == std::string::npos && s.find('/') == std::string::npos)
-        throw InputError(path, line,
-                         "unknown keyword '" + s + "' (or a layer file without an extension)");
-      entries.push_back({s, line});
+        in.fail("unknown keyword '" + s + "' (or a layer file without an extension)");
+      entries.push_back({s, in.line_no()});
       continue;
     }
-    const std::string key = s.substr(0, sp);
-    const std::string value = trim(s.substr(sp));
+    const std::string key(w[0]);
+    const std::string value(in.rest(1));
     if (key == "alpha") {
       stack_alpha = parse_alpha(value);
-      if (!stack_alpha)
-        throw InputError(path, line,
-                         "alpha must be 'straight' or 'premultiplied', not '" + value + "'");
+      if (!stack_alpha) in.fail("alpha must be 'straight' or 'premultiplied', not '" + value + "'");
     } else if (key == "order") {
       const auto o = parse_order(value);
-      if (!o) throw InputError(path, line, "order must be 'ftb' or 'btf', not '" + value + "'");
+      if (!o) in.fail("order must be 'ftb' or 'btf', not '" + value + "'");
       stack.order = *o;
     } else if (key == "storage") {
       storage = parse_storage(value);
-      if (!storage)
-        throw InputError(path, line, "storage must be 'float' or 'unorm8', not '" + value + "'");
+      if (!storage) in.fail("storage must be 'float' or 'unorm8', not '" + value + "'");
     } else if (key == "early_stop") {
       if (value == "on" || value == "yes" || value == "1") {
         stack.early_stop = true;
       } else if (value == "off" || value == "no" || value == "0") {
         stack.early_stop = false;
       } else {
-        throw InputError(path, line, "early_stop must be 'on' or 'off', not '" + value + "'");
+        in.fail("early_stop must be 'on' or 'off', not '" + value + "'");
       }
     } else {
-      throw InputError(
-          path, line,
-          "unknown keyword '" + key +
-              "' (expected alpha, order, storage, early_stop, or one layer file per line)");
+      in.fail("unknown keyword '" + key + "' (expected alpha, order, storage, early_stop, or one layer file per line)");
     }
   }
-  if (f.bad()) throw InputError(path, 0, "cannot read stack: read error");
   if (entries.empty()) throw InputError(path, 0, "stack has no layers");
 
   const std::optional<Alpha> alpha = alpha_override ? alpha_override : stack_alpha;

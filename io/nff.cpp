@@ -1,16 +1,15 @@
 #include "io/nff.h"
 
 #include <algorithm>
-#include <cerrno>
+#include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <vector>
 
 #include "core/error.h"
+#include "io/text.h"
+#include "io/tokenizer.h"
 
 namespace lockstep {
 
@@ -18,92 +17,28 @@ namespace {
 
 constexpr std::string_view kExtension = "#lockstep";
 
-// A cursor over the file's lines that knows where it is, so every error names a line.
-class Lines {
+// The tokenizer (io/tokenizer.h) with NFF's field readers: every error names a line.
+class Lines : public text::Tokenizer {
  public:
-  Lines(std::string_view text, const std::string& name) : text_(text), name_(name) {}
+  Lines(std::string_view text, const std::string& name)
+      : Tokenizer(text, name, {.comments = text::Comments::anywhere, .directive = kExtension}) {}
 
-  // Advances to the next line that is not blank or a comment; false at end of file.
-  bool next() {
-    while (pos_ < text_.size()) {
-      size_t end = text_.find('\n', pos_);
-      if (end == std::string_view::npos) end = text_.size();
-      std::string_view line = text_.substr(pos_, end - pos_);
-      pos_ = end + 1;
-      ++line_no_;
-      if (line.find('\0') != std::string_view::npos) fail("binary data (NUL byte) in a text file");
-      // A '#' starts a comment, except lockstep's extension lines, whose first
-      // word is exactly "#lockstep": they are kept (words()[0] == "#lockstep"),
-      // up to a further '#'.
-      const size_t first = line.find_first_not_of(" \t\r\v\f");
-      const bool extension = first != std::string_view::npos && line.substr(first).starts_with(kExtension) &&
-                             (first + kExtension.size() == line.size() ||
-                              std::isspace(static_cast<unsigned char>(line[first + kExtension.size()])));
-      const size_t hash = line.find('#', extension ? first + 1 : 0);
-      if (hash != std::string_view::npos) line = line.substr(0, hash);
-      split(line);
-      if (!words_.empty()) return true;
-    }
-    words_.clear();
-    return false;
-  }
-  // Like next(), but the file must not end here.
-  void require_next(const char* what) {
-    if (!next()) fail_at_end(std::string("file ends early: expected ") + what);
-  }
-  // An error about the end of the file, reported on the line after the last one.
-  [[noreturn]] void fail_at_end(const std::string& what) {
-    ++line_no_;
-    fail(what);
-  }
-
-  const std::vector<std::string_view>& words() const { return words_; }
-  int line() const { return line_no_; }
-  const std::string& name() const { return name_; }
-  [[noreturn]] void fail(const std::string& what) const { throw InputError(name_, line_no_, what); }
-
-  void expect_count(size_t n, const char* what) const {
-    if (words_.size() < n) fail(std::string("missing fields: ") + what);
-    if (words_.size() > n) fail("unexpected extra field '" + std::string(words_[n]) + "' after " + what);
-  }
+  int line() const { return line_no(); }
   double number(size_t i) const {
-    const std::string s(words_.at(i));
-    char* end = nullptr;
-    errno = 0;
-    const double v = std::strtod(s.c_str(), &end);
-    if (end == s.c_str() || *end != '\0') fail("not a number: '" + s + "'");
+    const std::string_view s = words().at(i);
+    double v = 0;
+    if (!text::parse_double(s, v)) fail("not a number: '" + std::string(s) + "'");
     // ERANGE also flags underflow (1e-320 reads as a denormal or 0): only overflow is an error.
-    if (!std::isfinite(v)) fail("number out of range (NaN, Inf or overflow): '" + s + "'");
+    if (!std::isfinite(v)) fail("number out of range (NaN, Inf or overflow): '" + std::string(s) + "'");
     return v;
   }
   long integer(size_t i) const {
-    const std::string s(words_.at(i));
-    char* end = nullptr;
-    errno = 0;
-    const long v = std::strtol(s.c_str(), &end, 10);
-    if (end == s.c_str() || *end != '\0' || errno == ERANGE) fail("not an integer: '" + s + "'");
+    const std::string_view s = words().at(i);
+    long v = 0;
+    if (!text::parse_long(s, v)) fail("not an integer: '" + std::string(s) + "'");
     return v;
   }
   Vec3 vec3(size_t i) const { return {number(i), number(i + 1), number(i + 2)}; }
-
- private:
-  void split(std::string_view line) {
-    words_.clear();
-    size_t i = 0;
-    while (i < line.size()) {
-      while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
-      size_t j = i;
-      while (j < line.size() && !std::isspace(static_cast<unsigned char>(line[j]))) ++j;
-      if (j > i) words_.push_back(line.substr(i, j - i));
-      i = j;
-    }
-  }
-
-  std::string_view text_;
-  const std::string& name_;
-  size_t pos_ = 0;
-  int line_no_ = 0;
-  std::vector<std::string_view> words_;
 };
 
 // A #lockstep line that does not follow a light.
@@ -373,14 +308,9 @@ Scene parse_nff(std::string_view text, const std::string& name) {
 }
 
 Scene read_nff(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw InputError(path, 0, "is a folder, not an NFF file");
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw InputError(path, 0, std::filesystem::exists(path, ec) ? "cannot open file" : "no such file");
-  std::ostringstream ss;
-  ss << f.rdbuf();
-  if (f.bad()) throw InputError(path, 0, "cannot read file");
-  return parse_nff(ss.str(), path);
+  const std::string text = text::read_text_file(
+      path, {.folder = "is a folder, not an NFF file", .unreadable = "cannot open file"}, SIZE_MAX);
+  return parse_nff(text, path);
 }
 
 }  // namespace lockstep

@@ -26,6 +26,7 @@
 
 #include "core/error.h"
 #include "io/text.h"
+#include "io/tokenizer.h"
 #include "io/volume_io.h"
 
 namespace lockstep {
@@ -181,27 +182,21 @@ NrrdHeader scan_nrrd_header(const std::string& path) {
   const std::string text = read_prefix(path, std::min(file_size, kMaxHeaderBytes));
 
   NrrdHeader h;
-  size_t pos = 0;
-  int line_no = 0;
-  // The lines, '\n'-terminated ('\r' before it dropped), up to the first empty line.
-  while (pos < text.size()) {
-    size_t end = text.find('\n', pos);
-    const bool last = end == std::string::npos;
-    if (last) {
-      if (text.size() == kMaxHeaderBytes && file_size > kMaxHeaderBytes)
-        throw InputError(path, line_no + 1, "header longer than 1 MiB (no blank line ends it)");
-      end = text.size();
-    }
-    std::string_view line(text.data() + pos, end - pos);
-    pos = last ? end : end + 1;
-    ++line_no;
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+  // The lines, '\n'-terminated ('\r' before it dropped), up to the first empty line
+  // (the data may follow it: each line is looked at only when reached).
+  // NUL bytes are looked for below, after the checks for the header's end.
+  Tokenizer in(text, path, {.comments = Comments::none, .nul = nullptr});
+  while (in.next_line()) {
+    const int line_no = in.line_no();
+    const std::string_view line = in.line();
+    if (!in.terminated() && text.size() == kMaxHeaderBytes && file_size > kMaxHeaderBytes)
+      in.fail("header longer than 1 MiB (no blank line ends it)");
     if (line.empty()) {
       h.header_ends = true;
-      h.data_offset = pos;
+      h.data_offset = in.offset();
       break;
     }
-    if (line.find('\0') != std::string_view::npos) throw InputError(path, line_no, "NUL byte in the NRRD header");
+    if (line.find('\0') != std::string_view::npos) in.fail("NUL byte in the NRRD header");
     if (line_no == 1) {
       if (!(line.size() == 8 && line.substr(0, 7) == "NRRD000" && line[7] >= '1' && line[7] <= '5'))
         throw InputError(path, 1, "not a NRRD file: the first line is " + quoted(line) + ", not NRRD0001..NRRD0005");

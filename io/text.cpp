@@ -110,16 +110,52 @@ bool parse_size(std::string_view s, size_t& out) {
   return true;
 }
 
+namespace {
+
+// s NUL-terminated for strtod and strtol: on the stack when short (numbers are).
+class CString {
+ public:
+  explicit CString(std::string_view s) {
+    if (s.size() < sizeof small_) {
+      std::memcpy(small_, s.data(), s.size());
+      small_[s.size()] = '\0';
+    } else {
+      large_.assign(s);
+      c_ = large_.c_str();
+    }
+  }
+  CString(const CString&) = delete;
+  CString& operator=(const CString&) = delete;
+  const char* c_str() const { return c_; }
+
+ private:
+  char small_[64];
+  std::string large_;
+  const char* c_ = small_;
+};
+
+}  // namespace
+
 // A strict signed decimal within long's range.
 bool parse_long(std::string_view s, long& out) {
-  const std::string t(s);
-  if (t.empty()) return false;
+  if (s.empty()) return false;
+  const CString t(s);
   char* end = nullptr;
   errno = 0;
   const long v = std::strtol(t.c_str(), &end, 10);
-  if (end == t.c_str() || *end != '\0' || errno == ERANGE) return false;
+  if (end != t.c_str() + s.size() || errno == ERANGE) return false;
   out = v;
   return true;
+}
+
+bool parse_double(std::string_view s, double& out, bool* range_error) {
+  if (s.empty()) return false;
+  const CString t(s);
+  char* end = nullptr;
+  errno = 0;
+  out = std::strtod(t.c_str(), &end);
+  if (range_error) *range_error = errno == ERANGE;
+  return end == t.c_str() + s.size();
 }
 
 }  // namespace lockstep::text

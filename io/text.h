@@ -1,5 +1,5 @@
-// lockstep io: the small text steps the file readers share (NRRD headers,
-// .field files): trimming, splitting into words, quoting a word for a message,
+// lockstep io: the small text steps the file readers share (with their tokenizer,
+// io/tokenizer.h): trimming, splitting into words, quoting a word for a message,
 // numbers parsed whole or refused, and the guarded first read of a file.
 #pragma once
 
@@ -31,5 +31,9 @@ std::string read_prefix(const std::string& path, size_t max_bytes);
 // false on anything else or on overflow.
 bool parse_size(std::string_view s, size_t& out);
 bool parse_long(std::string_view s, long& out);
+// strtod over all of s: false when s is empty or not all of it is the number
+// (NaN and Inf pass: check isfinite). range_error: strtod set ERANGE (overflow,
+// or underflow to a denormal or 0).
+bool parse_double(std::string_view s, double& out, bool* range_error = nullptr);
 
 }  // namespace lockstep::text

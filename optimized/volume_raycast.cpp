@@ -51,6 +51,7 @@
 
 #include "core/volume.h"
 #include "core/volume_render.h"
+#include "io/volume_settings.h"
 
 namespace lockstep::opt::vr_kernels {
 

@@ -53,6 +53,7 @@
 #include "core/math.h"
 #include "core/volume.h"
 #include "core/volume_render.h"
+#include "io/volume_settings.h"
 
 namespace lockstep::opt::splat_kernels {
 

@@ -64,6 +64,7 @@
 #include "core/error.h"
 #include "core/timer.h"
 #include "core/volume_render.h"
+#include "io/volume_settings.h"
 #include "optimized/peer_module.h"
 
 namespace lockstep::opt::volpack {

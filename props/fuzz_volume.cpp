@@ -41,7 +41,7 @@
 #include <vector>
 
 #include "core/error.h"
-#include "core/transfer_function.h"
+#include "io/transfer_function_io.h"
 #include "io/volume_io.h"
 
 namespace rc::detail {

@@ -17,6 +17,7 @@
 #include <string>
 
 #include "core/volume_render.h"
+#include "io/volume_settings.h"
 #include "reference/volume_render.h"
 
 namespace lockstep::ref {

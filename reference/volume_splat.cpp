@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "core/volume_render.h"
+#include "io/volume_settings.h"
 #include "reference/volume_render.h"
 
 namespace lockstep::ref {

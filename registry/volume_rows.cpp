@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "kinds/image_kind.h"
 #include "core/volume_render.h"
+#include "io/volume_settings.h"
 #include "optimized/volume_raycast_simd.h"
 #include "optimized/volume_splat_simd.h"
 #include "optimized/volume_volpack.h"

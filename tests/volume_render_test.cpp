@@ -30,9 +30,10 @@
 #include <string>
 
 #include "core/error.h"
-#include "core/transfer_function.h"
+#include "io/transfer_function_io.h"
 #include "io/volume_io.h"
 #include "core/volume_render.h"
+#include "io/volume_settings.h"
 #include "optimized/volume_raycast_simd.h"
 #include "reference/volume_render.h"
 

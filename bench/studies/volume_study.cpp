@@ -39,6 +39,7 @@
 #include "core/scene.h"
 #include "io/volume_io.h"
 #include "core/volume_render.h"
+#include "io/volume_settings.h"
 #include "registry/loaders.h"
 #include "registry/registry.h"
 
