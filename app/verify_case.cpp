@@ -14,29 +14,18 @@
 //      fails. On the samples both show, outputs are compared with the
 //      reference too.
 // A case's `beside` picture (another renderer's image of the scene) is put in
-// its report folder as beside.png, scaled to the frame's size; never judged.
+// its report folder by the kind (save_beside), scaled to the frame's size;
+// never judged.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
 #include "app/run.h"
 #include "app/verify.h"
-#include "io/oiio.h"
 
 namespace lockstep::cli {
 
 namespace fs = std::filesystem;
-
-namespace {
-
-// c.beside scaled to w x h (a filtered resize), written to case_dir/beside.png.
-void write_beside(const Case& c, const fs::path& case_dir, int w, int h) {
-  // OpenImageIO's resize, in lockstep_oiio.so (io/oiio.h).
-  oiio::Error err;
-  if (!oiio::api().write_resized(c.beside, (case_dir / "beside.png").string(), w, h, &err)) oiio::raise(err);
-}
-
-}  // namespace
 
 std::vector<Row> verify_case(const Case& c, const VerifyOptions& o, std::vector<std::string>& verdicts,
                              RowSessions& sessions) {
@@ -111,7 +100,7 @@ std::vector<Row> verify_case(const Case& c, const VerifyOptions& o, std::vector<
     rr.golden = view(golden, "golden");
   }
   if (r_ref.ok) rr.view = view(r_ref.out, "reference");
-  if (!o.no_report && !c.beside.empty()) write_beside(c, case_dir, w, h);
+  if (!o.no_report && !c.beside.empty()) kind.save_beside(c.beside, w, h, (case_dir / kBesideStem).string());
   if (rr.dropped != 0) rr.note += (rr.note.empty() ? "" : "; ") + rr.dropped_why;
 
   // The analytic judge, if any: the reference must do what the manifest expects.
