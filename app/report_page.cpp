@@ -20,11 +20,12 @@
 //            "work": integer (what the reference run did, in "unit": FrameStats::items; 0 when
 //            not counted), "unit": the family's unit ("rays", "triangles", "pixels", "cubes"),
 //            "beside", "beside_from": another renderer's picture of the scene (the case's
-//            folder's beside.png, and the corpus file it was scaled from), never judged;
-//            present only for cases that have one }
+//            folder's beside picture, written by the kind's save_beside, and the corpus
+//            file it was scaled from), never judged; present only for cases that have one }
 //
 // DIR/<case>/pixels.js: lockstepPixels("<case>", {"<case>/<file>.png": "data:image/png;base64,...",
-// ...}) with every PNG of the case folder, for the page's pixel readout (images read from file://
+// ...}) with every picture of the case folder (the files with the kind's picture_extension, as
+// data: URIs of its picture_type), for the page's pixel readout (images read from file://
 // taint a canvas; data: URIs loaded by a script do not).
 #include "app/report_page.h"
 
@@ -70,18 +71,20 @@ std::string read_bytes(const fs::path& p) {
   return s.str();
 }
 
-// The case folder's PNGs as data: URIs (a file per case, loaded when the case is opened).
-void write_pixels(const fs::path& dir, const std::string& name) {
-  const fs::path case_dir = dir / name;
-  std::vector<fs::path> pngs;
+// The case folder's pictures as data: URIs (a file per case, loaded when the case is opened).
+void write_pixels(const fs::path& dir, const Case& c) {
+  const OutputKind& k = *c.family->kind;
+  const fs::path case_dir = dir / c.name;
+  std::vector<fs::path> pictures;
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(case_dir, ec))
-    if (e.path().extension() == ".png") pngs.push_back(e.path());
-  std::sort(pngs.begin(), pngs.end());
-  std::string js = "lockstepPixels(" + json_string(name) + ", {";
-  for (size_t i = 0; i < pngs.size(); ++i)
-    js += (i ? ",\n  " : "\n  ") + json_string(name + "/" + pngs[i].filename().string()) +
-          ": \"data:image/png;base64," + base64(read_bytes(pngs[i])) + "\"";
+    if (e.path().extension() == k.picture_extension) pictures.push_back(e.path());
+  std::sort(pictures.begin(), pictures.end());
+  const std::string uri = "data:" + std::string(k.picture_type) + ";base64,";
+  std::string js = "lockstepPixels(" + json_string(c.name) + ", {";
+  for (size_t i = 0; i < pictures.size(); ++i)
+    js += (i ? ",\n  " : "\n  ") + json_string(c.name + "/" + pictures[i].filename().string()) +
+          ": \"" + uri + base64(read_bytes(pictures[i])) + "\"";
   js += "\n});\n";
   write_whole(case_dir / "pixels.js", js);
 }
@@ -127,7 +130,7 @@ std::string report_data(const std::vector<Case>& cases, const std::vector<Row>& 
       << ", \"golden\": " << json_string(golden) << ", \"work\": " << work
       << ", \"unit\": " << json_string(std::string(c.family->unit));
     if (!c.beside.empty())
-      s << ", \"beside\": " << json_string(c.name + "/beside.png")
+      s << ", \"beside\": " << json_string(c.name + "/" + beside_file(c))
         << ", \"beside_from\": " << json_string(c.beside_name);
     s << "}";
   }
@@ -138,9 +141,8 @@ std::string report_data(const std::vector<Case>& cases, const std::vector<Row>& 
   return s.str();
 }
 
-void write_page(const fs::path& dir, const std::string& data,
-                const std::vector<std::string>& case_names) {
-  for (const std::string& name : case_names) write_pixels(dir, name);
+void write_page(const fs::path& dir, const std::string& data, const std::vector<Case>& cases) {
+  for (const Case& c : cases) write_pixels(dir, c);
   // Inside <script>, "</" could end the block: JSON allows "<\/" for it.
   std::string safe;
   safe.reserve(data.size());

@@ -181,9 +181,7 @@ int verify_main(Args args) {
   if (!junit.empty()) write_junit(junit, rows);
   if (!o.no_report) {
     write_report(o.report_dir, cases, rows, verdicts, all_pass, o.threads);
-    std::vector<std::string> names;
-    for (const Case& c : cases) names.push_back(c.name);
-    write_page(o.report_dir, report_data(cases, rows, verdicts, o.threads), names);
+    write_page(o.report_dir, report_data(cases, rows, verdicts, o.threads), cases);
     std::fprintf(stderr, "lockstep verify: report in %s and %s\n", (o.report_dir / "index.html").string().c_str(),
                  (o.report_dir / "report.md").string().c_str());
   }

@@ -12,6 +12,7 @@
 
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "app/cli.h"
@@ -83,6 +84,13 @@ void load_inputs(std::vector<Case>& cases);
 std::vector<Row> verify_case(const Case& c, const VerifyOptions& o, std::vector<std::string>& verdicts,
                              RowSessions& sessions);
 
+// The file of a case's beside picture in its report folder: kBesideStem and
+// the kind's picture extension ("beside.png").
+inline constexpr std::string_view kBesideStem = "beside";
+inline std::string beside_file(const Case& c) {
+  return std::string(kBesideStem) + std::string(c.family->kind->picture_extension);
+}
+
 // app/report.cpp
 void print_header();
 void print_row(const Row& r);
@@ -103,13 +111,14 @@ void write_whole(const std::filesystem::path& path, const std::string& text);
 
 // app/report_page.cpp: DIR/index.html, the page people look at (template in
 // app/report_page.h), filled from DIR/report.json (schema lockstep-report/1,
-// documented there); each case folder gets pixels.js, its PNGs as data: URIs
-// for the page's pixel readout.
+// documented there); each case folder gets pixels.js, its pictures (the kind's
+// picture_extension) as data: URIs for the page's pixel readout.
 std::string report_data(const std::vector<Case>& cases, const std::vector<Row>& rows,
                         const std::vector<std::string>& verdicts, int threads);
 // Writes DIR/report.json (data as given), DIR/index.html, and DIR/<case>/pixels.js
-// for every case of data's rows.
-void write_page(const std::filesystem::path& dir, const std::string& data, const std::vector<std::string>& case_names);
+// for every case of cases.
+void write_page(const std::filesystem::path& dir, const std::string& data,
+                const std::vector<Case>& cases);
 
 // app/merge_reports.cpp
 int merge_reports_main(Args args);

@@ -143,6 +143,13 @@ struct OutputKind {
   // Both write path_stem + the kind's extension and return that file name.
   std::string (*save_view)(const Output&, const std::string& path_stem);
   std::string (*save_difference)(const Output& a, const Output& b, const Tolerance& tol, const std::string& path_stem);
+  // Another renderer's picture of the scene (a case's beside=, a file), scaled
+  // to width x height to sit beside the outputs; written and named as above.
+  std::string (*save_beside)(const std::string& picture, int width, int height, const std::string& path_stem);
+  // The pictures the three write: their extension and media type (the report
+  // page reads a case's pictures back as data: URIs for its pixel readout).
+  std::string_view picture_extension;  // ".png"
+  std::string_view picture_type;       // "image/png"
 
   // What a run produced: its size in words ("512x512") and in samples.
   std::string (*shape)(const Output&);

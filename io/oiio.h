@@ -9,7 +9,7 @@
 // functions that need them (read_image, write_image, read_layer and the
 // image output kind's check of an output path for any format but .exr and
 // .png, which io/image_io.cpp reads and writes without it; compare_images,
-// error_heatmap, verify's beside picture, the composite family's oiio row)
+// error_heatmap, the kinds' beside picture, the composite family's oiio row)
 // open it the first time one of them runs. `lockstep --version` reads OpenImageIO's
 // version from lockstep_oiio.version, written beside the module when it is
 // built, so it does not open it.

@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "core/family.h"
 #include "io/image_io.h"
+#include "io/oiio.h"
 
 namespace lockstep {
 
@@ -81,15 +82,16 @@ std::string describe_tolerance(const Tolerance& t) {
 
 // ---------------------------------------------------------------- report
 
+// The report's pictures: PNG (8 bits), which every browser shows.
+constexpr std::string_view kPictureExtension = ".png";
+
 std::string save_view(const Output& o, const std::string& stem) {
-  write_image(img(o), stem + ".png");
-  return stem + ".png";
+  return save_picture(img(o), stem);
 }
 
 // Heat map: black = identical, blue to red = 0 to tol.abs (red: at or over it).
 std::string save_difference(const Output& a, const Output& b, const Tolerance& tol, const std::string& stem) {
-  write_image(error_heatmap(img(a), img(b), tol.abs), stem + ".png");
-  return stem + ".png";
+  return save_picture(error_heatmap(img(a), img(b), tol.abs), stem);
 }
 
 // ---------------------------------------------------------------- counts
@@ -173,6 +175,21 @@ Agreement compare_covered(const Image& a, const Image& b, const Vec3& bg, const 
 
 }  // namespace
 
+std::string save_picture(const Image& image, const std::string& path_stem) {
+  const std::string path = path_stem + std::string(kPictureExtension);
+  write_image(image, path);
+  return path;
+}
+
+std::string save_picture_scaled(const std::string& picture, int width, int height,
+                                const std::string& path_stem) {
+  const std::string path = path_stem + std::string(kPictureExtension);
+  // OpenImageIO's resize, in lockstep_oiio.so (io/oiio.h).
+  oiio::Error err;
+  if (!oiio::api().write_resized(picture, path, width, height, &err)) oiio::raise(err);
+  return path;
+}
+
 CompareOptions compare_options(const Tolerance& tol) {
   CompareOptions c;
   c.fail_threshold = tol.abs;
@@ -200,6 +217,9 @@ const OutputKind& image_kind() {
       .describe_tolerance = describe_tolerance,
       .save_view = save_view,
       .save_difference = save_difference,
+      .save_beside = save_picture_scaled,
+      .picture_extension = kPictureExtension,
+      .picture_type = "image/png",
       .shape = shape,
       .count = count,
       .check_frame = check_frame,

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -19,6 +20,17 @@ const OutputKind& image_kind();
 
 // A Tolerance as idiff's options (fail_percent in percent).
 CompareOptions compare_options(const Tolerance& tol);
+
+// ---------------------------------------------------------------- report pictures
+
+// Every kind's pictures for the report are images in the image kind's picture
+// format (OutputKind::picture_extension, PNG); the mesh kind draws its own.
+// image to path_stem + the extension; returns that file name.
+std::string save_picture(const Image& image, const std::string& path_stem);
+// The picture file (any format OpenImageIO reads) scaled to width x height (a
+// filtered resize, 8 bits) to path_stem + the extension; returns that file name.
+std::string save_picture_scaled(const std::string& picture, int width, int height,
+                                const std::string& path_stem);
 
 // ---------------------------------------------------------------- coverage judges
 

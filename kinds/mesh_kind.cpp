@@ -11,6 +11,7 @@
 #include "io/mesh_io.h"
 #include "core/scene.h"
 #include "io/image_io.h"
+#include "kinds/image_kind.h"
 
 namespace lockstep {
 
@@ -98,8 +99,7 @@ std::string draw(const Scene& s, const std::string& stem, MeshDraw rasterize) {
   o.width = o.height = 512;
   o.params.set("shading", "phong");
   o.params.set("cull", "none");  // both sides: a misoriented patch shows
-  write_image(rasterize(s, o), stem + ".png");
-  return stem + ".png";
+  return save_picture(rasterize(s, o), stem);
 }
 
 // ---------------------------------------------------------------- the kind's functions
@@ -290,6 +290,10 @@ OutputKind base() {
       .describe_tolerance = describe_tolerance,
       .save_view = nullptr,        // set by mesh_kind<Draw>() (kinds/mesh_kind.h)
       .save_difference = nullptr,  // the same
+      // Pictures as the image kind's (kinds/image_kind.h).
+      .save_beside = save_picture_scaled,
+      .picture_extension = image_kind().picture_extension,
+      .picture_type = image_kind().picture_type,
       .shape = shape,
       .count = count,
       .check_frame = check_frame,

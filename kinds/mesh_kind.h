@@ -11,7 +11,8 @@
 //               z-buffer family's simd row: a PNG, Phong
 //               from two lights), and the second mesh drawn with each triangle
 //               coloured by its vertices' distance to the first (blue 0, red at
-//               Tolerance::abs)
+//               Tolerance::abs); pictures as the image kind's (PNG), another
+//               renderer's picture (a case's beside=) scaled as there
 // The kind sits below the implementations (kinds/ includes no reference/ or
 // optimized/ file), so the rasterizer comes in as a template argument:
 // registry/marching_cubes_row.cpp asks for mesh_kind<its drawer>().

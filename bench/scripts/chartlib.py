@@ -1,9 +1,36 @@
-"""What the chart scripts share (bench/scripts/*_chart.py): the machine line and the
-Markdown table they print beside the lockstep-table/1 JSON they write."""
+"""What the chart and table scripts share (bench/scripts/*_chart.py, *_charts.py,
+*_table.py): their command line, the machine line and the Markdown table they print
+beside the lockstep-table/1 JSON they write."""
 import os
 import platform
 import re
 import sys
+import types
+
+
+def args(doc, argv=None):
+    """The command line (argv, default sys.argv[1:]) as the usage line of doc (the
+    script's __doc__) names it: "usage: x.py STUDY_CSV [BENCH_JSON] OUT_DIR" gives
+    .study_csv, .bench_json and .out_dir (names lower case, other than letters,
+    digits and _ made _). Optional ([NAME]) arguments take what is given beyond the
+    required ones, left to right; those not given are None. Any other count of
+    arguments exits (status 1) with doc."""
+    argv = sys.argv[1:] if argv is None else argv
+    usage = next(line for line in doc.splitlines() if line.startswith("usage:"))
+    words = usage.split()[2:]
+    spare = len(argv) - sum(not w.startswith("[") for w in words)  # optional ones given
+    if not 0 <= spare <= sum(w.startswith("[") for w in words):
+        sys.exit(doc)
+    given = iter(argv)
+    out = types.SimpleNamespace()
+    for word in words:
+        value = None
+        if not word.startswith("["):
+            value = next(given)
+        elif spare > 0:
+            value, spare = next(given), spare - 1
+        setattr(out, re.sub(r"\W", "_", word.strip("[]")).lower(), value)
+    return out
 
 
 def machine():

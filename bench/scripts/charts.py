@@ -14,7 +14,8 @@ import json
 import os
 import re
 import subprocess
-import sys
+
+import chartlib
 
 
 def load(path):
@@ -188,9 +189,8 @@ plot '{out}/accuracy.dat' using 1:2 with points pt 7 ps 1.5 title 'max error', \
     subprocess.run(["gnuplot"], input=gp, text=True, check=True)
 
 
-def main():
-    bench_json, out = sys.argv[1], sys.argv[-1]
-    acc_csv = sys.argv[2] if len(sys.argv) > 3 else None
+def main(a):
+    bench_json, acc_csv, out = a.bench_json, a.accuracy_csv, a.out_dir
     os.makedirs(out, exist_ok=True)
     ctx, rows = load(bench_json)
     print(frames_table(rows))
@@ -333,10 +333,11 @@ def stability_table(path):
 
 
 if __name__ == "__main__":
-    main()
-    rows = load(sys.argv[1])[1]
+    args = chartlib.args(__doc__)
+    main(args)
+    rows = load(args.bench_json)[1]
     if composite_frames(rows)[0]:
         print("\n" + composite_table(rows))
-    composite(rows, sys.argv[-1])
+    composite(rows, args.out_dir)
     if os.environ.get("LOCKSTEP_STABILITY_CSV") and os.path.exists(os.environ["LOCKSTEP_STABILITY_CSV"]):
         print("\n" + stability_table(os.environ["LOCKSTEP_STABILITY_CSV"]))

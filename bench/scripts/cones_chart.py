@@ -131,13 +131,12 @@ def write_json(size, rows, path):
 
 
 def main():
-    if len(sys.argv) not in (3, 4):
-        sys.exit(__doc__)
-    size, rows = load(sys.argv[1])
-    out = sys.argv[2]
+    a = chartlib.args(__doc__)
+    size, rows = load(a.study_csv)
+    out = a.out_dir
     print(table(rows))
-    if len(sys.argv) == 4:
-        write_json(size, rows, sys.argv[3])
+    if a.json_out:
+        write_json(size, rows, a.json_out)
     dat = os.path.join(out, "cones_tess.dat")
     scenes = list(dict.fromkeys(r["scene"] for r in rows))
     floor = 0.5  # zero pixels on the log axis: drawn at the floor

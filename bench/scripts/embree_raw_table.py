@@ -25,9 +25,8 @@ COMMAND = ("ninja -C build lockstep_embree_raw && for run in 1 2 3; do for s in 
 
 
 def main():
-    if len(sys.argv) != 3:
-        sys.exit(__doc__)
-    recs = chartlib.load_csv(sys.argv[1], lambda r: {k: (v if k == "scene" else float(v)) for k, v in r.items()})
+    a = chartlib.args(__doc__)
+    recs = chartlib.load_csv(a.embree_raw_csv, lambda r: {k: (v if k == "scene" else float(v)) for k, v in r.items()})
     # The row's rate against raw's within each process (the two alternate there,
     # so they share that process's conditions: the rates alone vary by 15%
     # between processes on this machine), then the median over the processes,
@@ -91,7 +90,7 @@ def main():
                     "runs"],
         "rows": rows,
     }
-    chartlib.write_table(doc, sys.argv[2])
+    chartlib.write_table(doc, a.json_out)
 
 
 if __name__ == "__main__":

@@ -14,7 +14,8 @@ Prints the markdown table used in BENCHMARKS.md.
 """
 import os
 import subprocess
-import sys
+
+import chartlib
 
 
 def load(csv):
@@ -40,8 +41,9 @@ def table(rows):
 
 
 def main():
-    csv, out = sys.argv[1], sys.argv[2]
-    rows = load(csv)
+    a = chartlib.args(__doc__)
+    out = a.out_dir
+    rows = load(a.study_csv)
     print(table(rows))
     dat = os.path.join(out, "mc_accuracy.dat")
     series = sorted({(r["field"], r["impl"]) for r in rows})

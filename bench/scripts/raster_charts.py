@@ -21,7 +21,8 @@ import json
 import os
 import re
 import subprocess
-import sys
+
+import chartlib
 
 
 def sections(path):
@@ -312,12 +313,10 @@ plot {plots}
 
 
 def main():
-    if len(sys.argv) not in (3, 4):
-        print(__doc__)
-        sys.exit(2)
-    out = sys.argv[-1]
+    a = chartlib.args(__doc__)
+    out = a.out_dir
     os.makedirs(out, exist_ok=True)
-    sec = sections(sys.argv[1])
+    sec = sections(a.study_csv)
     if "tessellation" in sec:
         print("\n### Tessellation: z-buffer (Phong per sample) against ray casting\n")
         print(tessellation_table(sec["tessellation"]))
@@ -337,12 +336,12 @@ def main():
         print("\n### The painter's failure map (random 64x64 flat scenes, against the z-buffer)\n")
         print(painter_table(sec["painter"]))
         painter(sec["painter"], out)
-    if len(sys.argv) == 4:
+    if a.bench_json:
         print("\n### The z-buffer at 1024^2: ms per frame (warm; cold first frame in brackets)\n")
-        print(zbuffer_table(sys.argv[2]))
+        print(zbuffer_table(a.bench_json))
         print("\n### Every raster implementation at 1024^2: Mtris/s / Mpix/s (warm)\n")
-        print(every_impl_table(sys.argv[2]))
-        bench(sys.argv[2], out)
+        print(every_impl_table(a.bench_json))
+        bench(a.bench_json, out)
 
 
 if __name__ == "__main__":

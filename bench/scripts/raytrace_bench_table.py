@@ -31,9 +31,8 @@ def rate(x):
 
 
 def main():
-    if len(sys.argv) != 3:
-        sys.exit(__doc__)
-    ctx, rows = charts.load(sys.argv[1])
+    a = chartlib.args(__doc__)
+    ctx, rows = charts.load(a.raytrace_json)
     rows = dict(rows)
     keys = chartlib.bench_keys(rows, r"frame/raytrace/([^/]+)/depth([0-9]+)/([^/]+)/threads:([0-9]+)",
                                lambda m: (m.group(1), int(m.group(2))))
@@ -78,7 +77,7 @@ def main():
                     "embree / reference (1T)", "mix"],
         "rows": body,
     }
-    chartlib.write_table(doc, sys.argv[2])
+    chartlib.write_table(doc, a.json_out)
 
 
 if __name__ == "__main__":

@@ -153,14 +153,13 @@ def write_json(rows, path):
 
 
 def main():
-    if len(sys.argv) not in (3, 4):
-        sys.exit(__doc__)
-    rows = load(sys.argv[1])
-    out = sys.argv[2]
+    a = chartlib.args(__doc__)
+    rows = load(a.study_csv)
+    out = a.out_dir
     eyes = sorted({r["eye"] for r in rows})
     print(table(rows))
-    if len(sys.argv) == 4:
-        write_json(rows, sys.argv[3])
+    if a.json_out:
+        write_json(rows, a.json_out)
     dat = os.path.join(out, "raytrace_acne.dat")
     ds = sorted({r["d"] for r in rows})
     floor = 1e-5  # a zero on the log axis: drawn at the floor

@@ -40,10 +40,9 @@ def pct(n, total):
 
 
 def main():
-    if len(sys.argv) != 4:
-        sys.exit(__doc__)
-    rows = load(sys.argv[1])
-    out, json_out = sys.argv[2], sys.argv[3]
+    a = chartlib.args(__doc__)
+    rows = load(a.depth_csv)
+    out, json_out = a.out_dir, a.json_out
     scenes = []
     for r in rows:
         if r["scene"] not in scenes:

@@ -42,9 +42,8 @@ def runs(ab, side):
 
 
 def main():
-    if len(sys.argv) != 3:
-        sys.exit(__doc__)
-    ab = sys.argv[1]
+    a = chartlib.args(__doc__)
+    ab = a.ab_dir
     single, _ = runs(ab, "single")
     stream, ctx = runs(ab, "stream")
     loads = []
@@ -102,7 +101,7 @@ def main():
                     "single wall ms", "stream wall ms", "wall ratio", "stream rays/s (wall)"],
         "rows": body,
     }
-    chartlib.write_table(doc, sys.argv[2])
+    chartlib.write_table(doc, a.json_out)
 
 
 if __name__ == "__main__":

@@ -25,9 +25,8 @@ COMMAND = ("./build/bench/lockstep_bench --benchmark_filter='^frame/zbuffer/.*-s
 
 
 def main():
-    if len(sys.argv) != 3:
-        sys.exit(__doc__)
-    ctx, rows = charts.load(sys.argv[1])
+    a = chartlib.args(__doc__)
+    ctx, rows = charts.load(a.shadows_bench_json)
     rows = dict(rows)
     keys = chartlib.bench_keys(rows, r"frame/zbuffer/([^/]+)/phong-shadows-([a-z]+)/([^/]+)/threads:([0-9]+)",
                                lambda m: (m.group(1), m.group(2)))
@@ -65,7 +64,7 @@ def main():
         "columns": ["scene", "shadows", "reference 1T ms", "simd 1T ms", "simd 2T ms", "reference / simd (1T)"],
         "rows": body,
     }
-    chartlib.write_table(doc, sys.argv[2])
+    chartlib.write_table(doc, a.json_out)
 
 
 if __name__ == "__main__":

@@ -8,7 +8,8 @@ Prints the markdown tables on stdout.
 """
 import os
 import subprocess
-import sys
+
+import chartlib
 
 
 def sections(path):
@@ -137,18 +138,17 @@ plot {plot}, f(x) with lines dashtype 2 title 'h^2'
 
 
 def main():
-    if len(sys.argv) != 3:
-        sys.exit(__doc__)
-    s = sections(sys.argv[1])
-    os.makedirs(sys.argv[2], exist_ok=True)
+    a = chartlib.args(__doc__)
+    s = sections(a.study_csv)
+    os.makedirs(a.out_dir, exist_ok=True)
     if "step" in s:
         print("\n### Ray casting: ms per frame and mean error against the step (truth: simd at step 1/16)\n")
         print(step_table(s["step"]))
-        step(s["step"], sys.argv[2])
+        step(s["step"], a.out_dir)
     if "cross" in s:
         print("\n### Marching cubes through the z-buffer against the ray-cast isosurface\n")
         print(cross_table(s["cross"]))
-        cross(s["cross"], sys.argv[2])
+        cross(s["cross"], a.out_dir)
 
 
 if __name__ == "__main__":
