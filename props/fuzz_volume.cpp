@@ -20,12 +20,12 @@
 // A .field file asking for more than 64^3 samples is checked by read_field_spec
 // only (sampling 1024^3 would take seconds).
 //
-// Cases: 50x RapidCheck's max_success per property (each case writes and
-// reads a file: 5000 cases take under 2 s, a few seconds under the
-// sanitizers); LOCKSTEP_DEEP=1 makes that at least 50000.
+// Cases: 50x every property's count (each case writes and reads a file: 5000
+// cases take under 2 s, a few seconds under the sanitizers); LOCKSTEP_DEEP=1
+// makes that 50000. Seeds fixed per property, as every property binary's
+// (props/driver/rc_run.h); scripts/fuzz.sh draws random ones.
 #include <gtest/gtest.h>
 #include <rapidcheck.h>
-#include <rapidcheck/gtest.h>
 #include <unistd.h>
 #include <zlib.h>
 
@@ -43,10 +43,7 @@
 #include "core/error.h"
 #include "io/transfer_function_io.h"
 #include "io/volume_io.h"
-
-namespace rc::detail {
-TestListener& globalTestListener();
-}
+#include "props/driver/rc_run.h"
 
 namespace {
 
@@ -441,27 +438,17 @@ void read_ok(const Seed& seed, const std::string& bytes) {
   }
 }
 
-rc::detail::TestParams params() {
-  rc::detail::TestParams p = rc::detail::configuration().testParams;
-  p.maxSuccess *= 50;
-  if (const char* deep = std::getenv("LOCKSTEP_DEEP"); deep && *deep && std::atol(deep) != 0)
-    p.maxSuccess = std::max(p.maxSuccess, std::atol(deep) > 1 ? int(std::atol(deep)) * 50 : 50000);
-  return p;
-}
-
+// 50 times the usual case count (parsing is cheap); seed, RC_PARAMS and
+// LOCKSTEP_DEEP as every property's (props/driver/rc_run.h).
 template <class F>
 void check(const std::string& id, F f) {
-  rc::detail::TestMetadata meta;
-  meta.id = id;
-  meta.description = id;
-  const auto p = params();
-  const auto result = rc::detail::checkProperty(rc::detail::toProperty(f), meta, p, rc::detail::globalTestListener(),
-                                                rc::detail::configuration().reproduce);
-  std::ostringstream ss;
-  rc::detail::printResultMessage(result, ss);
-  std::cout << "[ lockstep ] " << id << " (seed " << p.seed << ", max_success " << p.maxSuccess << "): " << ss.str()
-            << "\n";
-  if (!result.template is<rc::detail::SuccessResult>()) FAIL() << ss.str() << "\nseed " << p.seed;
+  namespace rr = lockstep::props::rc_run;
+  const rr::Params p = rr::params(id, 50);
+  rr::print_seed("lockstep", id, p, rr::ctest_line());
+  const rr::Result r = rr::check(id, p, f);
+  std::cout << "[ lockstep ] " << id << " (seed " << p.seed << ", max_success " << p.max_success
+            << "): " << r.message << "\n";
+  if (!r.passed) rr::report(r, p);
 }
 
 const std::vector<Seed>& seeds() {

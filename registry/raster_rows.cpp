@@ -216,7 +216,7 @@ Family zbuffer_family() {
   // props/raster: the parts that test the z-buffer (the other raster families
   // are checked against it).
   f.properties = {"cross_check", "culling", "render_agree", "supersampling", "visibility", "llvmpipe", "hidden",
-                  "shadow_volume", "first_drawn"};
+                  "shadow_volume", "shadow_map", "first_drawn"};
   return f;
 }
 

@@ -1,5 +1,5 @@
-// lockstep props/driver: the generic property driver (the only file that uses RapidCheck's
-// internals, rc::detail).
+// lockstep props/driver: the generic property driver (RapidCheck runs through
+// rc_run.h, the seed and case-count rule every property binary shares).
 //
 // For every family of the registry (registry/registry.h), its provider
 // (props/families.cpp) lists the family's properties (props/property.h); each
@@ -40,13 +40,10 @@
 #include <rapidcheck.h>
 
 #include "registry/registry.h"
+#include "props/driver/rc_run.h"
 #include "props/driver/records.h"
 #include "props/driver/tally.h"
 #include "props/property.h"
-
-namespace rc::detail {
-TestListener& globalTestListener();
-}
 
 namespace lockstep::props::driver {
 namespace {
@@ -58,22 +55,6 @@ namespace fs = std::filesystem;
 const char* env(const char* name) {
   const char* v = std::getenv(name);
   return v && *v ? v : nullptr;
-}
-
-// The seed is fixed per property (a hash of its id) unless RC_PARAMS gives one,
-// LOCKSTEP_RANDOM_SEED=1 asks for RapidCheck's random seed, or deep mode is on:
-// `ctest` (and CI) run the same cases every time, and deep mode explores new ones.
-rc::detail::TestParams params(const std::string& property) {
-  rc::detail::TestParams p = rc::detail::configuration().testParams;
-  const char* given = env("RC_PARAMS");
-  if (!env("LOCKSTEP_RANDOM_SEED") && !(given && std::string(given).find("seed") != std::string::npos) &&
-      !env("LOCKSTEP_DEEP"))
-    p.seed = std::hash<std::string>{}(property) & 0xffffffffffffull;
-  if (const char* deep = env("LOCKSTEP_DEEP")) {
-    const long n = std::atol(deep);
-    if (n != 0) p.maxSuccess = std::max(p.maxSuccess, n > 1 ? int(n) : 1000);
-  }
-  return p;
 }
 
 // Shrinking a case of 20 rays can take minutes; past this many runs after the
@@ -102,7 +83,11 @@ struct RunResult {
 
 RunResult run_property(const Property& prop, const RunOptions& opt) {
   const std::string id = prop.id();
-  const rc::detail::TestParams p = params(id);
+  // The seed fixed per property (a hash of its id) unless RC_PARAMS gives one,
+  // LOCKSTEP_RANDOM_SEED=1 asks for RapidCheck's random seed, or deep mode is
+  // on: `ctest` (and CI) run the same cases every time, and deep mode explores
+  // new ones (rc_run.h).
+  const rc_run::Params p = rc_run::params(id);
   const bool save_failures = opt.report && !env("LOCKSTEP_NO_SAVE");
   const long save_classified =
       opt.report && prop.save_classified && env("LOCKSTEP_SAVE_CLASSIFIED") ? std::atol(env("LOCKSTEP_SAVE_CLASSIFIED"))
@@ -165,34 +150,26 @@ RunResult run_property(const Property& prop, const RunOptions& opt) {
   // finds something, crashes or times out can be replayed with it, and ctest
   // keeps the line whether the test passes or not (ctest -V,
   // Testing/Temporary/LastTest.log). Deep mode draws a random seed on purpose.
-  std::cout << "[ lockstep ] " << id << ": seed " << p.seed << ", max_success " << p.maxSuccess
-            << (env("LOCKSTEP_DEEP") ? " (deep)" : "") << "; replay: RC_PARAMS=\"seed=" << p.seed
-            << " max_success=" << p.maxSuccess << "\""
-            << (opt.report ? " ctest -R '" + prop.test_name() + "$'" : std::string(" (a mutant's run)"))
-            << std::endl;
-  rc::detail::TestMetadata meta;
-  meta.id = id;
-  meta.description = id;
+  rc_run::print_seed("lockstep", id, p,
+                     opt.report ? "ctest -R '" + prop.test_name() + "$'" : std::string("(a mutant's run)"));
   const auto start = std::chrono::steady_clock::now();
-  const auto result = rc::detail::checkProperty(rc::detail::toProperty(body), meta, p,
-                                                rc::detail::globalTestListener(),
-                                                rc::detail::configuration().reproduce);
+  const rc_run::Result result = rc_run::check(id, p, body);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   RunResult out;
   out.first_failing_case = first_fail;
-  out.passed = result.template is<rc::detail::SuccessResult>() && !(measure && measured_unexplained > 0);
-  if (!result.template is<rc::detail::SuccessResult>()) {
-    std::ostringstream ss;
-    rc::detail::printResultMessage(result, ss);
-    out.message = ss.str() + "\nseed " + std::to_string(p.seed) + "; last failure: " + last_failure +
-                  (failure_file.empty() ? "" : "\ncounterexample written to " + failure_file.string());
-  }
+  out.passed = result.passed && !(measure && measured_unexplained > 0);
+  const std::string more =
+      "; last failure: " + last_failure +
+      (failure_file.empty() ? "" : "\ncounterexample written to " + failure_file.string());
+  if (!result.passed)
+    out.message = result.message + "\nseed " + std::to_string(p.seed) + ", max_success " +
+                  std::to_string(p.max_success) + more;
   if (!opt.report) return out;
 
   // Report.
   std::cout << "[ lockstep ] " << id << ": " << tally.cases << " cases, " << tally.rays << " " << prop.units << " ("
-            << "seed " << p.seed << ", max_success " << p.maxSuccess << ", " << g3(seconds) << " s): ok " << tally.ok
+            << "seed " << p.seed << ", max_success " << p.max_success << ", " << g3(seconds) << " s): ok " << tally.ok
             << ", explained " << tally.explained << ", unexplained " << tally.unexplained << ", skipped "
             << tally.skipped << "\n";
   if (!tally.labels.empty())
@@ -261,15 +238,7 @@ RunResult run_property(const Property& prop, const RunOptions& opt) {
     ADD_FAILURE() << id << ": " << measured_unexplained << " of " << tally.cases
                   << " cases had unexplained outcomes (measurement mode: no shrinking); first: " << measured_first;
   }
-  if (!result.template is<rc::detail::SuccessResult>()) {
-    ADD_FAILURE() << out.message;
-  } else {
-    const auto& success = result.template get<rc::detail::SuccessResult>();
-    if (!success.distribution.empty()) {
-      rc::detail::printResultMessage(result, std::cout);
-      std::cout << "\n";
-    }
-  }
+  rc_run::report(result, p, more);
   return out;
 }
 

@@ -24,7 +24,8 @@
 //     reference ray caster's plane offset d = -n.v0 and the simd rows' hit
 //     refinement are not exact there, so this check uses the family's own
 //     tolerance against the base image (its verify budget).
-// LOCKSTEP_DEEP=1: 1000 cases per property (default 100); RC_PARAMS as usual.
+// LOCKSTEP_DEEP=1: 1000 cases per property (default 100); RC_PARAMS as usual
+// (seeds and counts: props/driver/rc_run.h, as every property binary's).
 #include <gtest/gtest.h>
 #include <rapidcheck.h>
 
@@ -44,11 +45,8 @@
 #include "core/image.h"
 #include "io/nff.h"
 #include "core/output.h"
+#include "props/driver/rc_run.h"
 #include "registry/registry.h"
-
-namespace rc::detail {
-TestListener& globalTestListener();  // RapidCheck's own, not in its public headers (as props/driver)
-}
 
 namespace lockstep {
 namespace {
@@ -182,15 +180,6 @@ Rendered render(const Row& r, const std::string& text, const std::string& tag) {
   }
   fs::remove(path);
   return out;
-}
-
-int cases() {
-  if (const char* deep = std::getenv("LOCKSTEP_DEEP")) {
-    const long n = std::atol(deep);
-    if (n > 1) return int(n);
-    if (n == 1) return 1000;
-  }
-  return 100;
 }
 
 // Far: a pixel over the tolerance whose primary ray passes, in the base scene,
@@ -337,56 +326,23 @@ void check_case(const std::string& base_text, const std::string& text, Tally& ta
   }
 }
 
-const char* env(const char* name) {
-  const char* v = std::getenv(name);
-  return v && *v ? v : nullptr;
-}
-
-// As props/driver: the seed is fixed per property (a hash of its name) unless
-// RC_PARAMS gives one or deep mode is on (RapidCheck's random seed, on
-// purpose), so that ctest runs the same cases every time; RC_PARAMS'
-// max_success, when given, wins over cases() (a replay needs the same count).
-rc::detail::TestParams params(const std::string& name) {
-  rc::detail::TestParams p = rc::detail::configuration().testParams;
-  const std::string given = env("RC_PARAMS") ? env("RC_PARAMS") : "";
-  if (given.find("seed") == std::string::npos && !env("LOCKSTEP_DEEP"))
-    p.seed = std::hash<std::string>{}(name)&0xffffffffffffull;
-  if (given.find("max_success") == std::string::npos) p.maxSuccess = cases();
-  return p;
-}
-
 bool run(const char* name, const rc::Gen<std::pair<std::string, std::string>>& gen, bool family_tol,
          double abs_tol, bool edge_ties = false) {
   Tally tally;
-  rc::detail::TestMetadata meta;
-  meta.id = name;
-  meta.description = name;
-  const rc::detail::TestParams p = params(name);
-  // The seed first, flushed: a run that fails, crashes or times out can be
-  // replayed from ctest's log (Testing/Temporary/LastTest.log).
-  const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
-  std::printf(
-      "[ dropped ] %s: seed %llu, max_success %d%s; replay: RC_PARAMS=\"seed=%llu max_success=%d\" "
-      "ctest -R "
-      "'dropped.Dropped.%s$'\n",
-      name, (unsigned long long)p.seed, p.maxSuccess, env("LOCKSTEP_DEEP") ? " (deep)" : "",
-      (unsigned long long)p.seed, p.maxSuccess, test.c_str());
-  std::fflush(stdout);
-  const auto result = rc::detail::checkProperty(
-      rc::detail::toProperty([&] {
-        const auto [base, text] = *gen;
-        ++tally.cases;
-        check_case(base, text, tally, family_tol, abs_tol, edge_ties);
-      }),
-      meta, p, rc::detail::globalTestListener(), rc::detail::configuration().reproduce);
+  // As every property binary's (props/driver/rc_run.h): the seed fixed per
+  // property (a hash of its name) unless RC_PARAMS gives one or deep mode is
+  // on; RC_PARAMS' max_success wins (a replay needs the same count). The seed
+  // first, flushed: a run that fails, crashes or times out can be replayed
+  // from ctest's log (Testing/Temporary/LastTest.log).
+  const props::rc_run::Params p = props::rc_run::params(name);
+  props::rc_run::print_seed("dropped", name, p, props::rc_run::ctest_line("dropped."));
+  const props::rc_run::Result result = props::rc_run::check(name, p, [&] {
+    const auto [base, text] = *gen;
+    ++tally.cases;
+    check_case(base, text, tally, family_tol, abs_tol, edge_ties);
+  });
   tally.print(name);
-  if (!result.template is<rc::detail::SuccessResult>()) {
-    std::ostringstream os;
-    rc::detail::printResultMessage(result, os);
-    ADD_FAILURE() << os.str() << "\nseed " << p.seed << ", max_success " << p.maxSuccess;
-    return false;
-  }
-  return true;
+  return props::rc_run::report(result, p);
 }
 
 int exponent_gen(bool tiny) { return tiny ? -*rc::gen::inRange(50, 101) : *rc::gen::inRange(50, 101); }

@@ -74,8 +74,12 @@ struct PainterMapCase {
 std::vector<PainterMapCase> painter_failure_map(const FamilyImpl& impl, const std::string& kind,
                                                 int cases, uint64_t seed);
 
-// Shadow volumes against shadow rays on random triangle scenes (shadow_volume.cpp).
+// The z-buffer's two shadow settings, parts of its properties:
+// shadows=volume against shadow rays on random triangle scenes (shadow_volume.cpp);
 void shadow_volume_part(const Family& family, FamilyProperties& out);
+// shadows=map: cube faces, texels, no occluder = no shadow, agreement with shadow
+// rays (shadow_map.cpp).
+void shadow_map_part(const Family& family, FamilyProperties& out);
 
 // Coplanar duplicates: the first drawn wins every tie, every row, every depth
 // format and draw order (first_drawn.cpp).

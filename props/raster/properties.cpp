@@ -234,6 +234,7 @@ FamilyProperties properties(const Family& family, RunResources&) {
       {"painter", painter_part},
       {"hidden", hidden_part},
       {"shadow_volume", shadow_volume_part},
+      {"shadow_map", shadow_map_part},
       {"first_drawn", first_drawn_part},
   };
   FamilyProperties out;

@@ -1,31 +1,32 @@
-// lockstep props/raster: the z-buffer's shadow maps, their properties (core/shadow_map.h),
-// RapidCheck under GoogleTest (ctest runs each; RC_PARAMS="max_success=1000"
-// for a deep run).
+// lockstep props/raster: the z-buffer's shadow maps (shadows=map, a setting of
+// the zbuffer family; core/shadow_map.h), the part "shadow_map" of its
+// properties: fixed tests of lockstep_props, each running its RapidCheck
+// property through props/driver/rc_run.h (a seed fixed per property; 100 cases,
+// LOCKSTEP_DEEP=1: 1000).
 //
-//   CubeFace.EveryDirectionOnce  any direction (random, and on the cube's
-//       edges and corners: components equal in magnitude, or 0) falls in the
-//       closed frustum of the face cube_face gives it, and in the open
-//       frustum of no other face: the six faces cover every direction exactly
-//       once. CubeFace.MutantCaught: the same check of a wrong face selection
-//       (the second-largest axis) must fail.
-//   CubeFace.TexelRoundTrip  the direction through a texel's centre finds
-//       that texel again (any face, map sizes 1..4096).
-//   NoOccluder.SameAsUnshadowed  a tilted ground quad lit by a light in front
-//       of it (meeting every point within 78 degrees of its normal), a
-//       triangle beyond the light
+//   ShadowMaps.zbuffer__cube_face_every_direction_once  any direction (random,
+//       and on the cube's edges and corners: components equal in magnitude, or
+//       0) falls in the closed frustum of the face cube_face gives it, and in
+//       the open frustum of no other face: the six faces cover every direction
+//       exactly once. ShadowMaps.zbuffer__cube_face_mutant_caught: the same
+//       check of a wrong face selection (the second-largest axis) must fail.
+//   ShadowMaps.zbuffer__texel_round_trip  the direction through a texel's
+//       centre finds that texel again (any face, map sizes 1..4096).
+//   ShadowMaps.zbuffer__no_occluder_same_as_unshadowed  a tilted ground quad
+//       lit by a light in front of it (meeting every point within 78 degrees
+//       of its normal), a triangle beyond the light
 //       (nothing between the light and any surface): the reference's frame
 //       with shadows=map (default bias, random map size 64..1024) equals the
 //       frame with shadows=none bit for bit but on rare acne texels, at most
 //       kNoOccluderAcneRate of the pixels over the run; the simd row's
 //       shadowed frame equals the reference's within 1/255.
-//   Agree.ShadowRays  the same ground with one to three triangles floating
-//       between it and the light: per pixel against the reference ray
-//       tracer (depth 1, shadow rays), wrong pixels (over 1/255, where the
-//       two agree without shadows) at most kAgreeRate of the compared pixels
-//       over the run, at map_size 1024 and the default bias.
+//   ShadowMaps.zbuffer__agree_shadow_rays  the same ground with one to three
+//       triangles floating between it and the light: per pixel against the
+//       reference ray tracer (depth 1, shadow rays), wrong pixels (over 1/255,
+//       where the two agree without shadows) at most kAgreeRate of the
+//       compared pixels over the run, at map_size 1024 and the default bias.
 #include <gtest/gtest.h>
 #include <rapidcheck.h>
-#include <rapidcheck/gtest.h>
 
 #include <cmath>
 #include <cstdio>
@@ -36,10 +37,12 @@
 #include "io/nff.h"
 #include "core/shadow_map.h"
 #include "optimized/zbuffer_simd.h"
+#include "props/driver/rc_run.h"
+#include "props/raster/parts.h"
 #include "reference/raster.h"
 #include "reference/ray_trace.h"
 
-namespace lockstep {
+namespace lockstep::props::raster {
 namespace {
 
 // ---------------------------------------------------------------- cube faces
@@ -78,7 +81,10 @@ void every_direction_once(const std::function<int(const Vec3&)>& face_of, const 
     if (g != f) RC_ASSERT(!in_frustum(g, d, false));
 }
 
-RC_GTEST_PROP(CubeFace, EveryDirectionOnce, ()) { every_direction_once(cube_face, *direction()); }
+void cube_face_every_direction_once() {
+  rc_run::run("shadow_maps.cube_face_every_direction_once.zbuffer",
+              [] { every_direction_once(cube_face, *direction()); });
+}
 
 // The second-largest axis's face: a plausible slip (the wrong comparison).
 int wrong_face(const Vec3& d) {
@@ -87,21 +93,25 @@ int wrong_face(const Vec3& d) {
   return d.x >= 0 ? 0 : 1;
 }
 
-TEST(CubeFace, MutantCaught) {
-  const auto result =
-      rc::detail::checkTestable([] { every_direction_once(wrong_face, *direction()); });
-  EXPECT_FALSE(result.template is<rc::detail::SuccessResult>())
-      << "a wrong face selection passed the check";
+void cube_face_mutant_caught() {
+  const std::string name = "shadow_maps.cube_face_mutant_caught.zbuffer";
+  const rc_run::Params p = rc_run::params(name);
+  rc_run::print_seed("lockstep", name, p, rc_run::ctest_line());
+  const rc_run::Result r =
+      rc_run::check(name, p, [] { every_direction_once(wrong_face, *direction()); });
+  EXPECT_FALSE(r.passed) << "a wrong face selection passed the check";
 }
 
-RC_GTEST_PROP(CubeFace, TexelRoundTrip, ()) {
-  const int n = *rc::gen::inRange(1, 4097);
-  const int f = *rc::gen::inRange(0, kCubeFaces);
-  const int i = *rc::gen::inRange(0, n), j = *rc::gen::inRange(0, n);
-  const CubeTexel t = cube_texel(cube_direction(f, i + 0.5, j + 0.5, n), n);
-  RC_ASSERT(t.face == f);
-  RC_ASSERT(t.i == i);
-  RC_ASSERT(t.j == j);
+void texel_round_trip() {
+  rc_run::run("shadow_maps.texel_round_trip.zbuffer", [] {
+    const int n = *rc::gen::inRange(1, 4097);
+    const int f = *rc::gen::inRange(0, kCubeFaces);
+    const int i = *rc::gen::inRange(0, n), j = *rc::gen::inRange(0, n);
+    const CubeTexel t = cube_texel(cube_direction(f, i + 0.5, j + 0.5, n), n);
+    RC_ASSERT(t.face == f);
+    RC_ASSERT(t.i == i);
+    RC_ASSERT(t.j == j);
+  });
 }
 
 // ---------------------------------------------------------------- scenes
@@ -190,9 +200,9 @@ double max_diff(const Image& a, const Image& b, int x, int y) {
 // about 1,000 runs); each one is printed with its scene.
 constexpr double kNoOccluderAcneRate = 5e-5;
 
-TEST(NoOccluder, SameAsUnshadowed) {
+void no_occluder_same_as_unshadowed() {
   long pixels = 0, acne = 0;
-  const auto result = rc::detail::checkTestable([&] {
+  const bool passed = rc_run::run("shadow_maps.no_occluder_same_as_unshadowed.zbuffer", [&] {
     Ground g;
     ground(g);
     // A triangle beyond the light, on the far side of the plane through the
@@ -224,9 +234,9 @@ TEST(NoOccluder, SameAsUnshadowed) {
         RC_ASSERT(max_diff(simd, shadowed, x, y) <= 1.0 / 255);
       }
   });
-  ASSERT_TRUE(result.template is<rc::detail::SuccessResult>());
+  ASSERT_TRUE(passed);
   const double rate = pixels ? double(acne) / double(pixels) : 0;
-  std::printf("NoOccluder.SameAsUnshadowed: %ld acne pixels of %ld (%.3g; bound %.3g)\n", acne,
+  std::printf("ShadowMaps.zbuffer__no_occluder_same_as_unshadowed: %ld acne pixels of %ld (%.3g; bound %.3g)\n", acne,
               pixels, rate, kNoOccluderAcneRate);
   EXPECT_LE(rate, kNoOccluderAcneRate);
 }
@@ -236,9 +246,9 @@ TEST(NoOccluder, SameAsUnshadowed) {
 // The bound: about 3x the worst 100-case run.
 constexpr double kAgreeRate = 0.003;
 
-TEST(Agree, ShadowRays) {
+void agree_shadow_rays() {
   long compared = 0, wrong = 0;
-  const auto result = rc::detail::checkTestable([&] {
+  const bool passed = rc_run::run("shadow_maps.agree_shadow_rays.zbuffer", [&] {
     Ground g;
     ground(g);
     const int k = *rc::gen::inRange(1, 4);
@@ -264,12 +274,27 @@ TEST(Agree, ShadowRays) {
         if (max_diff(map, oracle, x, y) > 1.0 / 255) ++wrong;
       }
   });
-  ASSERT_TRUE(result.template is<rc::detail::SuccessResult>());
+  ASSERT_TRUE(passed);
   const double rate = compared ? double(wrong) / double(compared) : 0;
-  std::printf("Agree.ShadowRays: %ld wrong of %ld compared pixels (%.4g)\n", wrong, compared, rate);
+  std::printf("ShadowMaps.zbuffer__agree_shadow_rays: %ld wrong of %ld compared pixels (%.4g)\n", wrong, compared, rate);
   EXPECT_GT(compared, 1000);
   EXPECT_LE(rate, kAgreeRate);
 }
 
 }  // namespace
-}  // namespace lockstep
+
+void shadow_map_part(const Family& family, FamilyProperties& out) {
+  const std::string fam(family.name);
+  struct Named {
+    const char* name;
+    void (*body)();
+  };
+  for (const Named& t : {Named{"cube_face_every_direction_once", cube_face_every_direction_once},
+                         Named{"cube_face_mutant_caught", cube_face_mutant_caught},
+                         Named{"texel_round_trip", texel_round_trip},
+                         Named{"no_occluder_same_as_unshadowed", no_occluder_same_as_unshadowed},
+                         Named{"agree_shadow_rays", agree_shadow_rays}})
+    out.fixed.push_back({"ShadowMaps", fam + "__" + t.name, t.body});
+}
+
+}  // namespace lockstep::props::raster

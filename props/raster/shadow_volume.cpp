@@ -1,5 +1,7 @@
-// lockstep props/raster: shadow volumes (reference/shadow_volume.h) against
-// shadow rays (issue #22).
+// lockstep props/raster: the z-buffer's shadow volumes (shadows=volume, a
+// setting of the zbuffer family; reference/shadow_volume.h) against shadow rays
+// (issue #22): the part "shadow_volume" of its properties (its sibling, the
+// part "shadow_map": shadow_map.cpp).
 //
 //   ShadowVolumes.zbuffer__reference   Random triangle scenes (shadow_scene: a
 //       floor quad, 1..4 closed occluders -- boxes and tetrahedra, some turned
