@@ -27,7 +27,7 @@
 //         the jagged inside of the edge);
 // with several lights the sign of the summed difference decides.
 // The oracle is the embree row (float BVH, Waechter and Binder's robust
-// offset: zero acne and zero leaks in lockstep_raytrace_study), and the
+// offset: zero acne and zero leaks in lockstep_ray_trace_study), and the
 // frames are opt::simd::zbuffer's (the same image as the reference's with the
 // same map: both passes' coverage is the reference's, the shading its code).
 //
