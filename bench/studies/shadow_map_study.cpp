@@ -59,7 +59,7 @@
 #include "io/nff.h"
 #include "core/scene.h"
 #include "optimized/ray_trace_embree.h"
-#include "optimized/zbuffer_simd.h"
+#include "optimized/zbuffer/zbuffer_simd.h"
 
 namespace lockstep {
 namespace {

@@ -35,7 +35,7 @@
 
 #include "io/nff.h"
 #include "core/shadow_map.h"
-#include "optimized/zbuffer_simd.h"
+#include "optimized/zbuffer/zbuffer_simd.h"
 #include "reference/raster.h"
 #include "reference/ray_trace.h"
 
