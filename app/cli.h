@@ -52,7 +52,7 @@ int render_main(Args args);
 int render_as(const std::string& who, const std::string& forced_algo, Args args);
 int isosurface_main(Args args);
 int volume_main(Args args);
-int trace_main(Args args);  // app/trace.cpp: one pixel's ray tree (raytrace family)
+int trace_main(Args args);  // app/trace.cpp: one pixel's ray tree (ray_trace family)
 int composite_main(Args args);
 
 struct Run;

@@ -43,7 +43,7 @@ void print_help() {
       "  lockstep volume VOLUME --tf TF [--algo raycast|splat|iso] [--step DT] [--view AZ,EL] -o IMAGE\n"
       "      render a volume: ray casting, splatting, or the isosurface ray cast\n"
       "  lockstep trace SCENE --pixel X,Y [--depth N] [--impl reference|embree]\n"
-      "      print the ray tree of one pixel as the ray tracer (render --algo raytrace) traces it\n"
+      "      print the ray tree of one pixel as the ray tracer (render --algo ray_trace) traces it\n"
       "  lockstep diff A B | DIR_A DIR_B | --list FILE [--fail T] [--failpercent P] [--warn W] [--heatmap OUT]\n"
       "      compare two images (idiff style), or many pairs in one call; exit 0 when all agree, 1 when not\n"
       "  lockstep verify [CORPUS_DIR] [--report DIR] [--impl NAME]... [--filter SUBSTR]\n"

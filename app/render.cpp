@@ -39,6 +39,9 @@ void print_help() {
       if (f.extension == ext && !f.algo.empty()) std::printf(" %s", std::string(f.algo).c_str());
     std::printf("\n");
   }
+  for (const Alias& a : registry().aliases)
+    std::printf("                  %.*s: the old name of %.*s, still accepted\n",
+                int(a.old_name.size()), a.old_name.data(), int(a.name.size()), a.name.data());
   // Families with the same settings (the raster families) are listed together.
   std::vector<const Family*> done;
   for (const Family& f : registry().families) {
@@ -121,14 +124,16 @@ Run run_for_cli(const std::string& who, const Family& family, const FamilyImpl& 
 }
 
 // The family that draws in_path: the one of that extension whose algo is
-// `algo` ("raycast" is ray_cast), or the first of that extension.
+// `algo` ("raycast" is ray_cast; an old spelling of a family's name, the
+// registry's aliases, counts as that name), or the first of that extension.
 const Family& family_for(const std::string& in_path, const std::string& algo) {
   const Family& first = family_for_path(in_path);
   if (algo.empty()) return first;
+  const std::string_view want = registry().canonical(algo);
   std::string known;
   for (const Family& f : registry().families) {
     if (f.extension != first.extension || f.algo.empty()) continue;
-    if (f.algo == algo) return f;
+    if (f.algo == want) return f;
     // Appended piece by piece: `"|" + std::string(...)` trips GCC 12's -Wrestrict (a false positive).
     if (!known.empty()) known += '|';
     known += f.algo;

@@ -47,7 +47,7 @@ inline Run run_frame(const Family& family, const FamilyImpl& impl, const Input& 
 // serves any input (FamilyImpl::session_any_input: the embree rows), started at
 // the row's first case and kept to the end of the run. The run's resources
 // (core/run_resources.h) are what those sessions share: the embree rows of
-// ray_cast and raytrace take the one Embree device of the run from there.
+// ray_cast and ray_trace take the one Embree device of the run from there.
 struct RowSessions {
   RunResources resources;  // declared first: the sessions below go before it
   std::map<const FamilyImpl*, FamilyImpl::RunFn> runs;

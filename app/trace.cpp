@@ -1,4 +1,4 @@
-// lockstep trace: the ray tree of one pixel (the raytrace family's
+// lockstep trace: the ray tree of one pixel (the ray_trace family's
 // TracePixelFn, registry/ray_trace_row.h), printed one ray a line, children indented
 // under their parent, in the order they were traced.
 #include <cstdio>
@@ -17,7 +17,7 @@ void print_help(const Family& f) {
       "usage: lockstep trace SCENE --pixel X,Y [--size WxH] [--impl reference|embree] [SETTINGS]\n"
       "\n"
       "Prints the ray tree of pixel (X, Y) (column from the left, row from the top) of the\n"
-      "scene's view, as the raytrace family traces it: each ray's kind (primary, shadow,\n"
+      "scene's view, as the ray_trace family traces it: each ray's kind (primary, shadow,\n"
       "reflect, refract), origin, direction, what it hits and where (t), its weight (the\n"
       "product of Ks and T down its path), the colour it returns and its contribution to the\n"
       "pixel (weight x colour); shadow rays say which light and whether they are blocked;\n"
@@ -94,7 +94,7 @@ void print_tree(const Scene& scene, const RayTree& tree) {
 }  // namespace
 
 int trace_main(Args args) {
-  const Family& family = find_family("raytrace");
+  const Family& family = find_family("ray_trace");
   std::string in_path, impl_name = "reference", value;
   int width = 0, height = 0;
   long px = -1, py = -1;

@@ -100,7 +100,7 @@ int verify_main(Args args) {
         check_impl_name(o.only.back());
       }
     } else if (take_option(args, i, "--filter", value)) {
-      filter = value;
+      filter = registry().canonical(value);  // an old family spelling: its family
     } else if (take_option(args, i, "--threads", value)) {
       o.threads = int(parse_long("--threads", value, 1, 4096));
     } else if (take_option(args, i, "--shard", value)) {

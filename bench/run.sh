@@ -19,7 +19,7 @@
 # is skipped with the reason printed; a step that fails, or does not write its
 # outputs, fails the run (exit 1) after the others ran. The results no step
 # makes are kept as they are (listed by --list: tables transcribed from the
-# hand-written page, and the A/B of two builds, bench/scripts/raytrace_packets_ab.sh).
+# hand-written page, and the A/B of two builds, bench/scripts/ray_trace_packets_ab.sh).
 set -euo pipefail
 here=$PWD
 cd "$(dirname "$0")/.."
@@ -27,10 +27,10 @@ ROOT=$PWD
 abs() { case "$1" in /*) echo "$1" ;; *) echo "$here/$1" ;; esac; }
 
 STEPS=(machine ray_cast_composite accuracy charts raster raster_study cones shadow_map shadows mc_study mc_topology
-       volume volume_study raytrace raytrace_study raytrace_depth embree_raw oneshot page)
+       volume volume_study ray_trace ray_trace_study ray_trace_depth embree_raw oneshot page)
 # Results no step writes (the page shows them as committed).
 KEPT=(composite_accuracy.json llvmpipe_warm.json mc_bench.json raster_deep.json ray_cast_known.json
-      volpack_agreement.json volpack_peer.json raytrace_packets.json)
+      volpack_agreement.json volpack_peer.json ray_trace_packets.json)
 
 quick=0 build=$ROOT/build do_build=1 only="" out="" extra=()
 while (($#)); do
@@ -77,7 +77,7 @@ if ((do_build)); then
   echo "== build ($build)"
   cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
   ninja -C "$build" lockstep lockstep_bench lockstep_props lockstep_raster_study lockstep_cones_study \
-    lockstep_shadow_study lockstep_mc_study lockstep_volume_study lockstep_raytrace_study lockstep_raytrace_depth \
+    lockstep_shadow_study lockstep_mc_study lockstep_volume_study lockstep_ray_trace_study lockstep_ray_trace_depth \
     lockstep_embree_raw >/dev/null
 fi
 
@@ -209,21 +209,21 @@ step_volume_study() {  # volume: step (speed against accuracy) and cross (mesh a
   made "$R"/volume_step.csv "$R"/volume_cross.csv "$C"/volume_step.png "$C"/volume_cross.png
 }
 
-step_raytrace() {  # ray tracing's frames: rays per second
-  local f='^frame/raytrace/' gbr=(--benchmark_min_time=0.2)
-  ((quick)) && f='^frame/raytrace/balls-3/depth1/(reference|embree)/threads:1/' gbr=()
-  bench "$f" "$R"/raytrace.json "${gbr[@]}"
-  $PY bench/scripts/raytrace_bench_table.py "$R"/raytrace.json "$R"/raytrace_rates.json
-  made "$R"/raytrace.json "$R"/raytrace_rates.json
+step_ray_trace() {  # ray tracing's frames: rays per second
+  local f='^frame/ray_trace/' gbr=(--benchmark_min_time=0.2)
+  ((quick)) && f='^frame/ray_trace/balls-3/depth1/(reference|embree)/threads:1/' gbr=()
+  bench "$f" "$R"/ray_trace.json "${gbr[@]}"
+  $PY bench/scripts/ray_trace_bench_table.py "$R"/ray_trace.json "$R"/ray_trace_rates.json
+  made "$R"/ray_trace.json "$R"/ray_trace_rates.json
 }
 
-step_raytrace_study() {  # ray tracing's failure map: acne and leaks
-  "$B"/lockstep_raytrace_study $( ((quick)) && echo --quick) > "$R"/raytrace_acne.csv
-  $PY bench/scripts/raytrace_chart.py "$R"/raytrace_acne.csv "$C" "$R"/raytrace_acne.json > /dev/null
-  made "$R"/raytrace_acne.csv "$R"/raytrace_acne.json "$C"/raytrace_acne.png
+step_ray_trace_study() {  # ray tracing's failure map: acne and leaks
+  "$B"/lockstep_ray_trace_study $( ((quick)) && echo --quick) > "$R"/ray_trace_acne.csv
+  $PY bench/scripts/ray_trace_chart.py "$R"/ray_trace_acne.csv "$C" "$R"/ray_trace_acne.json > /dev/null
+  made "$R"/ray_trace_acne.csv "$R"/ray_trace_acne.json "$C"/ray_trace_acne.png
 }
 
-step_raytrace_depth() {  # time and image error against the ray tree's depth
+step_ray_trace_depth() {  # time and image error against the ray tree's depth
   local scenes=(balls-3 balls-4 balls-5 shells-1 tetra-3 mount-3 gears-2) args=()
   if ((quick)); then
     args=(--size 32 --reps 1 --max-depth 3 corpus/scenes/balls-1.nff)
@@ -231,9 +231,9 @@ step_raytrace_depth() {  # time and image error against the ray tree's depth
     need_spd "${scenes[@]}"
     for s in "${scenes[@]}"; do args+=("$SPD/$s.nff"); done
   fi
-  "$B"/lockstep_raytrace_depth "${args[@]}" > "$R"/raytrace_depth.csv
-  $PY bench/scripts/raytrace_depth_chart.py "$R"/raytrace_depth.csv "$C" "$R"/raytrace_depth.json
-  made "$R"/raytrace_depth.csv "$R"/raytrace_depth.json "$C"/raytrace_depth.png
+  "$B"/lockstep_ray_trace_depth "${args[@]}" > "$R"/ray_trace_depth.csv
+  $PY bench/scripts/ray_trace_depth_chart.py "$R"/ray_trace_depth.csv "$C" "$R"/ray_trace_depth.json
+  made "$R"/ray_trace_depth.csv "$R"/ray_trace_depth.json "$C"/ray_trace_depth.png
 }
 
 step_embree_raw() {  # the embree row against raw Embree: each scene in 3 fresh processes

@@ -8,7 +8,7 @@
 // then touches fresh pages every time: a first touch of a 4 KiB page costs a
 // minor fault, about 2 us on the 2-core VM lockstep is measured on.
 //
-// Measured (a one-shot `lockstep render balls-1.nff --algo raytrace --size
+// Measured (a one-shot `lockstep render balls-1.nff --algo ray_trace --size
 // 256x256 --threads 1 -o x.exr`, machine loaded): 8,800 minor faults, 772
 // madvise and 760 brk calls, 0.19-0.21 s of system time with the defaults;
 // 980 faults and 0.01-0.03 s with trimming off. The PNG writer, which frees

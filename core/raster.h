@@ -1,6 +1,6 @@
 // lockstep core: rasterization -- the contract every raster implementation
 // shares (the textbook ones: reference/raster.h, namespace ref; the fast ones:
-// optimized/zbuffer_simd.h, optimized/zbuffer_llvmpipe.h), and the shared steps they all call: the settings
+// optimized/zbuffer/zbuffer_simd.h, optimized/zbuffer/zbuffer_llvmpipe.h), and the shared steps they all call: the settings
 // (core/raster_settings.cpp), the viewing pipeline, samples and depth
 // (core/viewing.cpp) and the shading of a fragment (core/raster_shading.cpp).
 //

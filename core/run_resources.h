@@ -4,7 +4,7 @@
 // A *run* is one process's pass over many frames: `lockstep verify` over the
 // corpus, the property binary over its properties, the benchmark binary over
 // its benchmarks. Some state is worth making once per run and sharing across
-// rows (the embree rows of ray_cast and raytrace both want one Embree device).
+// rows (the embree rows of ray_cast and ray_trace both want one Embree device).
 // The run owns a RunResources and hands it down explicitly (FamilyImpl::session,
 // the property providers); there is no global. core/ cannot name what is
 // shared (Embree lives in optimized/), so each resource is reached through a

@@ -4,7 +4,7 @@
 // sees it, and the depth and the stencil rule at one sample. What counts the
 // stencils is each implementation's (reference/shadow_volume.h: the textbook
 // loop, and there the method, its sources and what is exact;
-// optimized/zbuffer_shadow_volume.cpp: tiles on threads). Both call these
+// optimized/zbuffer/zbuffer_shadow_volume.cpp: tiles on threads). Both call these
 // functions, so that their counts agree bit for bit.
 //
 // Occluders: every scene triangle and every sphere, tessellated as the z-buffer

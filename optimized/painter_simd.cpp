@@ -34,7 +34,7 @@
 
 #include "core/error.h"
 #include "optimized/painter_simd.h"
-#include "optimized/zbuffer_simd.h"
+#include "optimized/zbuffer/zbuffer_simd.h"
 #include "optimized/tiling.h"
 
 namespace lockstep::opt::simd {
@@ -147,7 +147,7 @@ Image painter(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   const RasterSettings s = frame_settings(scene, opts);
   const int w = opts.width, h = opts.height;
   const double samples = double(w) * h * s.spp;
-  // view_scene's mesh, bit for bit, set up in parallel (optimized/zbuffer_setup.cpp).
+  // view_scene's mesh, bit for bit, set up in parallel (optimized/zbuffer/zbuffer_setup.cpp).
   const ScreenMesh mesh = opt::simd::view_scene(scene, w, h, s, opts.threads);
   const auto offsets = sample_offsets(s);
   const int spp = int(offsets.size());

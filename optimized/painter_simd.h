@@ -2,8 +2,8 @@
 // plan it shares is core/painter_plan.h, the reference reference/painter.h).
 #pragma once
 
-#include "optimized/zbuffer_simd.h"
-#include "optimized/zbuffer_llvmpipe.h"
+#include "optimized/zbuffer/zbuffer_simd.h"
+#include "optimized/zbuffer/zbuffer_llvmpipe.h"
 #include "core/painter_plan.h"
 
 namespace lockstep::opt::simd {

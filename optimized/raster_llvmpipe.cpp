@@ -52,7 +52,7 @@
 #include "optimized/raster_llvmpipe.h"
 
 #include "core/error.h"
-#include "optimized/zbuffer_llvmpipe.h"
+#include "optimized/zbuffer/zbuffer_llvmpipe.h"
 
 namespace lockstep::opt::llvmpipe {
 
@@ -94,7 +94,7 @@ std::string unsupported(const Params& params) {
 #include "core/timer.h"
 #include "optimized/peer_module.h"
 #include "optimized/raster_llvmpipe.h"
-#include "optimized/zbuffer_simd.h"
+#include "optimized/zbuffer/zbuffer_simd.h"
 
 namespace lockstep::opt::llvmpipe {
 

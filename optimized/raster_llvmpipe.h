@@ -1,6 +1,6 @@
 // lockstep optimized: the llvmpipe row's OpenGL context (only built where
 // libOSMesa is found: LOCKSTEP_HAVE_OSMESA). opt::llvmpipe::zbuffer
-// (optimized/zbuffer_llvmpipe.h) is one Context and one draw(); a Session keeps one
+// (optimized/zbuffer/zbuffer_llvmpipe.h) is one Context and one draw(); a Session keeps one
 // Context across frames, as an application keeps its GL context (the row's
 // FamilyImpl::session, used by the benchmarks' frame loop), and the hand-run
 // timing tool (bench/timing/llvmpipe_check.cpp, `time`) keeps one Context and draws

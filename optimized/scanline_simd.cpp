@@ -92,7 +92,7 @@ HWY_AFTER_NAMESPACE();
 #include <vector>
 
 #include "core/error.h"
-#include "optimized/zbuffer_simd.h"
+#include "optimized/zbuffer/zbuffer_simd.h"
 #include "optimized/scanline_simd.h"
 #include "optimized/tiling.h"
 

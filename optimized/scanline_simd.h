@@ -6,7 +6,7 @@
 //         (depth test + write, 8 floats per AVX2 vector, 16 per AVX-512) with
 //         the stored depth interpolated directly (it is affine in screen space);
 //         bands of rows on TBB; the visible samples shaded by the simd
-//         z-buffer's SIMD kernel (opt::simd::shade_visibility, optimized/zbuffer_simd.h).
+//         z-buffer's SIMD kernel (opt::simd::shade_visibility, optimized/zbuffer/zbuffer_simd.h).
 #pragma once
 
 #include "core/raster.h"

@@ -37,7 +37,7 @@ const std::vector<ProviderRow>& property_providers() {
       {"volume", volume::properties},
       {"volume_iso", volume::properties},
       {"splat", volume::properties},
-      {"raytrace", ray_trace::properties},
+      {"ray_trace", ray_trace::properties},
   };
   return rows;
 }

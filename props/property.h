@@ -97,7 +97,7 @@ struct FamilyProperties {
 
 // A family's property provider, given the family's registry row and the
 // binary's run (core/run_resources.h): what its properties may share with
-// other families' (the embree rows of ray_cast and raytrace: one Embree
+// other families' (the embree rows of ray_cast and ray_trace: one Embree
 // device per process). The properties keep what they take from it.
 using PropertyProvider = FamilyProperties (*)(const Family&, RunResources&);
 

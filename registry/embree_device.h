@@ -1,5 +1,5 @@
 // lockstep registry: the one Embree device of a run, shared by the embree rows
-// (ray_cast's and raytrace's) through the run's RunResources (issue #22: one
+// (ray_cast's and ray_trace's) through the run's RunResources (issue #22: one
 // device per process, not one per row).
 //
 // The run (verify, the property binary, the benchmarks) owns the

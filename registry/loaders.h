@@ -16,7 +16,7 @@ namespace lockstep {
 // background. Throws InputError naming file and line.
 Input load_nff(const std::string& path);
 
-// Cones ('c'): every row of ray_cast, raytrace, zbuffer, scanline and painter
+// Cones ('c'): every row of ray_cast, ray_trace, zbuffer, scanline and painter
 // draws them (none calls this any more); kept for a family whose rows cannot
 // yet. Wraps every implementation of f except those named in `draws_cones` so
 // that a scene with cones is refused (InputError naming the file, the count and

@@ -9,7 +9,7 @@
 #include "io/volume_io.h"
 #include "optimized/marching_cubes_simd.h"
 #include "optimized/marching_cubes_vtk.h"
-#include "optimized/zbuffer_simd.h"
+#include "optimized/zbuffer/zbuffer_simd.h"
 #include "registry/loaders.h"
 #include "kinds/mesh_kind.h"
 #include "reference/marching_cubes.h"

@@ -132,14 +132,14 @@ TracerRun start_run(const TracerFns& fn, RunResources& run) {
 
 Family ray_trace_family() {
   Family f;
-  f.name = "raytrace";
+  f.name = "ray_trace";
   f.what = "Whitted ray tracing: shadow, reflected and refracted rays (NFF Ks, T, ior)";
   f.input = "an NFF scene (.nff)";
   f.unit = "rays";
   f.verb = "trace";
   f.extension = ".nff";
   f.default_impl = "embree";
-  f.algo = "raytrace";
+  f.algo = "ray_trace";
   f.sized = true;
   f.kind = &image_kind();
   f.tol.abs = kRow.tol.color_abs;

@@ -1,6 +1,6 @@
 // lockstep registry: the ray-tracing family's rows (Whitted; core/ray_trace.h).
 //
-// The family (raytrace: an NFF scene -> an image, with reflected, refracted
+// The family (ray_trace: an NFF scene -> an image, with reflected, refracted
 // and shadow rays) and its typed row: each implementation's frame and its
 // one-pixel ray tree. The reference is first. props/ray_trace reads the typed
 // row; everything generic (verify, render, frame benchmarks) sees the family

@@ -11,18 +11,23 @@
 namespace lockstep {
 
 const Registry& registry() {
-  static const Registry r{{
-      ray_cast_family(),
-      composite_family(),
-      zbuffer_family(),
-      scanline_family(),
-      painter_family(),
-      marching_cubes_family(),
-      volume_family(),
-      splat_family(),
-      volume_iso_family(),
-      ray_trace_family(),
-  }};
+  static const Registry r{
+      .families =
+          {
+              ray_cast_family(),
+              composite_family(),
+              zbuffer_family(),
+              scanline_family(),
+              painter_family(),
+              marching_cubes_family(),
+              volume_family(),
+              splat_family(),
+              volume_iso_family(),
+              ray_trace_family(),
+          },
+      // Old spellings still accepted (issue 31: one spelling per family).
+      .aliases = {{"raytrace", "ray_trace"}},
+  };
   return r;
 }
 

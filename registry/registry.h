@@ -15,10 +15,25 @@
 
 namespace lockstep {
 
+struct Alias {
+  std::string_view old_name;  // "raytrace"
+  std::string_view name;      // "ray_trace"
+};
+
 struct Registry {
   std::vector<Family> families;  // every family, whatever its output kind
+  // Old spellings a family is still found by (find(), so manifests, `render
+  // --algo`, `trace` and `verify --filter`); `lockstep families` lists none.
+  std::vector<Alias> aliases;
 
+  // name itself, or the family name an old spelling stands for.
+  std::string_view canonical(std::string_view name) const {
+    for (const Alias& a : aliases)
+      if (a.old_name == name) return a.name;
+    return name;
+  }
   const Family* find(std::string_view name) const {
+    name = canonical(name);
     for (const auto& f : families)
       if (f.name == name) return &f;
     return nullptr;

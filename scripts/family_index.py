@@ -45,7 +45,7 @@ import sys
 STEMS = {
     "ray_cast": ["ray_cast", "ray_sphere", "ray_plane", "ray_polygon", "ray_cone", "cone",
                  "embree", "simd_scene", "shade_simd"],
-    "ray_trace": ["ray_trace", "raytrace", "embree", "povray"],
+    "ray_trace": ["ray_trace", "embree", "povray"],
     "composite": ["composite", "layers", "synthetic_stack", "stack"],
     "zbuffer": ["zbuffer", "raster", "shadow", "shadow_map", "shadow_volume", "llvmpipe"],
     "scanline": ["scanline"],

@@ -25,7 +25,7 @@ packages=(
   python3-skimage  # tests/topology_skimage.py: marching cubes against Lewiner's MC33 (scikit-image), run with /usr/bin/python3
   libteem-dev zlib1g-dev  # volumes: Teem's nrrd library reads NRRD (io/volume_io.cpp); zlib writes the tests' gzip files
   libvolpack1-dev  # the volume family's volpack row (VolPack shear-warp; optional, as OSMesa)
-  povray  # the raytrace family's povray row (POV-Ray 3.7, run as a process; optional, as VolPack)
+  povray  # the ray_trace family's povray row (POV-Ray 3.7, run as a process; optional, as VolPack)
   chromium nodejs  # tests/browser: the report page in a real browser (report.browser), driven by puppeteer-core
   libxml2-utils python3-jsonschema  # tests/schemas: xmllint validates --junit, jsonschema validates --json
 )

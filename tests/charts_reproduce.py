@@ -12,12 +12,12 @@ import subprocess
 import sys
 
 CASES = [  # script, study output, the table it wrote, whether it draws a chart (OUT_DIR argument)
-    ("raytrace_chart.py", "raytrace_acne.csv", "raytrace_acne.json", True),
-    ("raytrace_depth_chart.py", "raytrace_depth.csv", "raytrace_depth.json", True),
+    ("ray_trace_chart.py", "ray_trace_acne.csv", "ray_trace_acne.json", True),
+    ("ray_trace_depth_chart.py", "ray_trace_depth.csv", "ray_trace_depth.json", True),
     ("shadow_map_chart.py", "shadow_map.csv", "shadow_map.json", True),
     ("cones_chart.py", "cones_tess.csv", "cones_tess.json", True),
     ("embree_raw_table.py", "embree_raw.csv", "embree_raw.json", False),
-    ("raytrace_bench_table.py", "raytrace.json", "raytrace_rates.json", False),
+    ("ray_trace_bench_table.py", "ray_trace.json", "ray_trace_rates.json", False),
     ("shadows_bench_table.py", "shadows_bench.json", "shadows.json", False),
 ]
 

@@ -11,8 +11,8 @@ Fails (exit 1, one line per finding) when
   * a family the binary registers (`lockstep families`, one name a line) has
     no page docs/<family>.md, is not named in the Layout section, or is not
     linked from the docs index (docs/README.md).
-A family's name matches with or without underscores (raytrace, ray_trace:
-the registry and the code spell the ray tracer differently).
+A family's name matches with or without underscores (marching_cubes,
+marchingcubes).
 """
 import os
 import re

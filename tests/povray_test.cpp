@@ -1,4 +1,4 @@
-// The raytrace family's povray row (POV-Ray 3.7 run as a process,
+// The ray_trace family's povray row (POV-Ray 3.7 run as a process,
 // optimized/ray_trace_povray.cpp) against the reference, per pixel, on what
 // both models define the same way:
 //

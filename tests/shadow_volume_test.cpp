@@ -55,7 +55,7 @@ Image zbuffer(const Scene& scene, int w, int h, const std::string& shadows, bool
   return ref::zbuffer(scene, o, stats);
 }
 
-Image raytrace(const Scene& scene, int w, int h, bool shadows) {
+Image trace_frame(const Scene& scene, int w, int h, bool shadows) {
   FrameOptions o;
   o.width = w;
   o.height = h;
@@ -76,9 +76,9 @@ bool differs(const Image& a, const Image& b, int i, int j) {
 
 Tally agree(const Scene& scene, int w, int h, bool zfail) {
   const Image vol = zbuffer(scene, w, h, "volume", zfail);
-  const Image rays = raytrace(scene, w, h, true);
+  const Image rays = trace_frame(scene, w, h, true);
   const Image vol0 = zbuffer(scene, w, h, "", false);
-  const Image rays0 = raytrace(scene, w, h, false);
+  const Image rays0 = trace_frame(scene, w, h, false);
   const Camera cam = Camera::from_view(scene.view, w, h);
   const double hither = view_frame(scene, w, h).near_z;  // the z-buffer's hither distance
   Vec3 lo, hi;

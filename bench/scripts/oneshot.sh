@@ -122,11 +122,11 @@ cmds = {  # name: (command, the input whose first open is "first work", bench be
     "render ray_cast balls-1 256^2 -> PNG": (
         [L, "render", os.path.join(spd, "balls-1.nff"), "--size", "256x256", "-o", os.path.join(tmp, "rc.png")],
         "balls-1.nff", None),
-    "render raytrace balls-1 256^2 -> EXR": (
-        [L, "render", os.path.join(spd, "balls-1.nff"), "--algo", "raytrace", "--size", "256x256", "-o",
+    "render ray_trace balls-1 256^2 -> EXR": (
+        [L, "render", os.path.join(spd, "balls-1.nff"), "--algo", "ray_trace", "--size", "256x256", "-o",
          os.path.join(tmp, "rt.exr")], "balls-1.nff", None),
-    "render raytrace balls-1 256^2 -> PNG": (
-        [L, "render", os.path.join(spd, "balls-1.nff"), "--algo", "raytrace", "--size", "256x256", "-o",
+    "render ray_trace balls-1 256^2 -> PNG": (
+        [L, "render", os.path.join(spd, "balls-1.nff"), "--algo", "ray_trace", "--size", "256x256", "-o",
          os.path.join(tmp, "rt.png")], "balls-1.nff", None),
     "render ray_cast simd balls-3 512^2": (
         [L, "render", os.path.join(spd, "balls-3.nff"), "--impl", "simd", *one, "--size", "512x512", "-o",
@@ -153,8 +153,8 @@ if before:  # an older build beside this one, alternated with it (ONESHOT_NOTE s
     cmds["render zbuffer simd sombrero-2 1024^2 -> PNG, BEFORE's binary"] = (
         [ob, "render", sombrero, "--algo", "zbuffer", "--impl", "simd", "--shading", "flat", *one, "--size",
          "1024x1024", "-o", os.path.join(tmp, "zb.png")], "sombrero-2.nff", None)
-    for ext in ("exr", "png"):
-        cmds[f"render raytrace balls-1 256^2 -> {ext.upper()}, BEFORE's binary"] = (
+    for ext in ("exr", "png"):  # --algo raytrace: the old name, which builds before ray_trace know too
+        cmds[f"render ray_trace balls-1 256^2 -> {ext.upper()}, BEFORE's binary"] = (
             [ob, "render", os.path.join(spd, "balls-1.nff"), "--algo", "raytrace", "--size", "256x256", "-o",
              os.path.join(tmp, "rtb." + ext)], "balls-1.nff", None)
 if "llvmpipe" not in subprocess.run([L, "--version"], capture_output=True, text=True).stdout:

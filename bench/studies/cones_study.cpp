@@ -35,7 +35,7 @@
 #include "kinds/image_metrics.h"
 #include "core/raster.h"
 #include "core/timer.h"
-#include "optimized/zbuffer_simd.h"
+#include "optimized/zbuffer/zbuffer_simd.h"
 #include "registry/loaders.h"
 #include "registry/registry.h"
 #include "reference/ray_cast.h"

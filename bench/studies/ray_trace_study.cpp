@@ -1,11 +1,11 @@
-// lockstep_raytrace_study: the ray-tracing family's failure map for
+// lockstep_ray_trace_study: the ray-tracing family's failure map for
 // BENCHMARKS.md (issue #22): shadow acne and light leaking, the fraction of
 // wrong shadow-ray answers, against the self-intersection offset and the
 // scene's distance from the origin and the eye's distance from the scene
 // (issue #30). It prints CSV on stdout and checks the
 // claims BENCHMARKS.md makes of it (exit 1 and a message on stderr when one
-// does not hold), so the ctest raytrace_study.quick keeps them true;
-// bench/scripts/raytrace_chart.py draws the chart and writes the table.
+// does not hold), so the ctest ray_trace_study.quick keeps them true;
+// bench/scripts/ray_trace_chart.py draws the chart and writes the table.
 //
 // The scene (local coordinates, turned so that no surface is axis-aligned,
 // then moved by D (1,1,1)/sqrt(3), so that every coordinate grows with D): a
@@ -55,12 +55,12 @@
 //     further out;
 //   * --mutant: the robust row is replaced by a fixed offset of 1e-300 (no
 //     offset at all: 0 ulps) and the first claim must fail (ctest
-//     raytrace_study.mutant, WILL_FAIL): the check can catch a bad offset.
+//     ray_trace_study.mutant, WILL_FAIL): the check can catch a bad offset.
 //
 // --scene D N writes the study's scene at distance D as NFF (N x N) on stdout
 // and exits: the corpus case rt-acne-1e5 (corpus/scenes/acne-1e5.nff) is it.
 //
-// usage: lockstep_raytrace_study [--quick] [--mutant] | --scene D N
+// usage: lockstep_ray_trace_study [--quick] [--mutant] | --scene D N
 #include "bench/studies/study.h"
 
 #include <algorithm>
@@ -91,7 +91,7 @@ constexpr double kMargin = 1e-4;  // samples this close to a boundary are not co
 struct Options {
   bool quick = false;
   bool mutant = false;
-  study::Claims claims{"lockstep_raytrace_study"};
+  study::Claims claims{"lockstep_ray_trace_study"};
 };
 
 std::string num(double x) {
@@ -426,20 +426,20 @@ int main(int argc, char** argv) {
       const double d = std::atof(argv[a + 1]);
       const int n = std::atoi(argv[a + 2]);
       if (!(d > 0) || n < 1 || n > 16384) {
-        std::fprintf(stderr, "lockstep_raytrace_study: --scene D N: D > 0, N in 1..16384\n");
+        std::fprintf(stderr, "lockstep_ray_trace_study: --scene D N: D > 0, N in 1..16384\n");
         return 2;
       }
       std::fputs(lockstep::scene_text(lockstep::Frame(d), n).c_str(), stdout);
       return 0;
     } else {
-      std::fprintf(stderr, "usage: lockstep_raytrace_study [--quick] [--mutant] | --scene D N\n");
+      std::fprintf(stderr, "usage: lockstep_ray_trace_study [--quick] [--mutant] | --scene D N\n");
       return 2;
     }
   }
   try {
     return lockstep::run(o);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "lockstep_raytrace_study: %s\n", e.what());
+    std::fprintf(stderr, "lockstep_ray_trace_study: %s\n", e.what());
     return 2;
   }
 }

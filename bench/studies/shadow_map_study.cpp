@@ -27,7 +27,7 @@
 //         the jagged inside of the edge);
 // with several lights the sign of the summed difference decides.
 // The oracle is the embree row (float BVH, Waechter and Binder's robust
-// offset: zero acne and zero leaks in lockstep_raytrace_study), and the
+// offset: zero acne and zero leaks in lockstep_ray_trace_study), and the
 // frames are opt::simd::zbuffer's (the same image as the reference's with the
 // same map: both passes' coverage is the reference's, the shading its code).
 //
@@ -59,7 +59,7 @@
 #include "io/nff.h"
 #include "core/scene.h"
 #include "optimized/ray_trace_embree.h"
-#include "optimized/zbuffer_simd.h"
+#include "optimized/zbuffer/zbuffer_simd.h"
 
 namespace lockstep {
 namespace {

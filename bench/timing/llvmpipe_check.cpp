@@ -36,7 +36,7 @@
 
 #include "io/nff.h"
 #include "core/timer.h"
-#include "optimized/zbuffer_llvmpipe.h"
+#include "optimized/zbuffer/zbuffer_llvmpipe.h"
 #include "optimized/raster_llvmpipe.h"
 #include "reference/raster.h"
 

@@ -32,7 +32,7 @@
 #include "core/shadow_map.h"
 #include "core/process_memory.h"
 #include "core/timer.h"
-#include "optimized/zbuffer_simd.h"
+#include "optimized/zbuffer/zbuffer_simd.h"
 #include "reference/raster.h"
 #include "reference/shadow_map.h"
 
@@ -150,7 +150,7 @@ int main(int argc, char** argv) {
       x.seconds.push_back(w.seconds());
     }
   // The simd raster's depth plane is within a few ulps of the reference's
-  // (optimized/zbuffer_simd.cpp set_up): a texel's float distance may differ by
+  // (optimized/zbuffer/zbuffer_simd.cpp set_up): a texel's float distance may differ by
   // one ulp, in both the old and the new pass 1 (printed, not a failure); the
   // new pass 1 must equal the old one exactly.
   map_differences(ref_maps, old_maps, "before, against the reference");

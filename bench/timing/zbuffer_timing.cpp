@@ -19,7 +19,7 @@
 #include "io/nff.h"
 #include "core/process_memory.h"
 #include "core/timer.h"
-#include "optimized/zbuffer_simd.h"
+#include "optimized/zbuffer/zbuffer_simd.h"
 #include "reference/raster.h"
 
 using namespace lockstep;

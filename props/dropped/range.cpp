@@ -1,5 +1,5 @@
 // Nothing dropped silently (issue #22): every row of every family that draws
-// NFF scenes (ray_cast, raytrace, zbuffer, scanline, painter: whatever the
+// NFF scenes (ray_cast, ray_trace, zbuffer, scanline, painter: whatever the
 // registry lists for .nff, peers included) against random huge, tiny and far
 // geometry. A row may fail to draw a primitive (float kernels, overflow,
 // underflow), but then it must say so (FrameStats::dropped, count and reason);
@@ -191,7 +191,7 @@ Rendered render(const Row& r, const std::string& text, const std::string& tag) {
 // line runs through the image centre). Counted per row (Tally::ties), with
 // the largest distance seen in those ulps. Measured (deep mode, 4 runs of
 // 10000 cases and the 3 failures that found it): 10 such pixels, all in
-// ray_cast/reference and raytrace/reference, the farthest 0.33 ulps from an
+// ray_cast/reference and ray_trace/reference, the farthest 0.33 ulps from an
 // edge (the rest below 3e-4: exact ties in the base scene); the band is 4.
 constexpr double kTieUlps = 4;
 

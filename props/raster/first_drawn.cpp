@@ -18,7 +18,7 @@
 //
 // Before this, only CoverageAgreement's tie_order (visibility.cpp) caught a
 // depth test that lets a tie through in mesh order (`>=` for `>` in the
-// reversed test of optimized/zbuffer_raster_kernels.cpp's Closer): here every
+// reversed test of optimized/zbuffer/zbuffer_raster_kernels.cpp's Closer): here every
 // row is held to the rule directly, on whole frames.
 #include <gtest/gtest.h>
 

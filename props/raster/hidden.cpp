@@ -1,5 +1,5 @@
 // lockstep props/raster: the simd z-buffer's hidden-sphere skipping
-// (optimized/zbuffer_occlusion.h, OcclusionMap) changes nothing but the time.
+// (optimized/zbuffer/zbuffer_occlusion.h, OcclusionMap) changes nothing but the time.
 //
 //   HiddenSkipped.zbuffer__simd   Random clusters of spheres (big ones in front,
 //       small ones behind and between, some inside out, some crossing the
@@ -20,7 +20,7 @@
 #include <cstring>
 
 #include "io/nff.h"
-#include "optimized/zbuffer_simd.h"
+#include "optimized/zbuffer/zbuffer_simd.h"
 #include "props/gen/numbers.h"
 #include "props/raster/parts.h"
 

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "io/nff.h"
-#include "optimized/zbuffer_simd.h"
+#include "optimized/zbuffer/zbuffer_simd.h"
 #include "props/raster/visibility.h"
 
 namespace lockstep::props::raster::vis {

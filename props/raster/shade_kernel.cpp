@@ -1,4 +1,4 @@
-// lockstep props/raster: the SIMD shading kernel (optimized/zbuffer_simd_kernels.h,
+// lockstep props/raster: the SIMD shading kernel (optimized/zbuffer/zbuffer_simd_kernels.h,
 // shade_tile) on hand-made tiles, for what a whole scene reaches only by
 // accident.
 //
@@ -37,7 +37,7 @@
 #include "core/shading.h"
 
 #include "hwy/aligned_allocator.h"
-#include "optimized/zbuffer_simd_kernels.h"
+#include "optimized/zbuffer/zbuffer_simd_kernels.h"
 
 namespace lockstep::props::raster {
 namespace {

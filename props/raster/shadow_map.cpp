@@ -36,7 +36,7 @@
 
 #include "io/nff.h"
 #include "core/shadow_map.h"
-#include "optimized/zbuffer_simd.h"
+#include "optimized/zbuffer/zbuffer_simd.h"
 #include "props/driver/rc_run.h"
 #include "props/raster/parts.h"
 #include "reference/raster.h"

@@ -31,7 +31,7 @@
 //       ones did not (a light grazing the visible surface: the silhouette's
 //       side within its snapping error of it).
 //   ShadowVolumes.zbuffer__simd   The same cases for the simd z-buffer
-//       (optimized/zbuffer_shadow_volume.cpp), judged the same way against
+//       (optimized/zbuffer/zbuffer_shadow_volume.cpp), judged the same way against
 //       shadow rays, and, besides, every pixel must equal the reference
 //       z-buffer's bit for bit (the same shared steps and stencil rule,
 //       core/shadow_volume.h): any that does not is unexplained
@@ -48,7 +48,7 @@
 
 #include "props/gen/numbers.h"
 #include "props/raster/parts.h"
-#include "optimized/zbuffer_simd.h"
+#include "optimized/zbuffer/zbuffer_simd.h"
 #include "props/raster/shadow_oracle.h"
 #include "reference/raster.h"
 #include "reference/ray_trace.h"

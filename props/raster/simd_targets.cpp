@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "kinds/image_metrics.h"
-#include "optimized/zbuffer_simd.h"
+#include "optimized/zbuffer/zbuffer_simd.h"
 #include "props/raster/visibility.h"
 
 namespace lockstep::props::raster::vis {

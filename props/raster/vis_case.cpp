@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "core/error.h"
-#include "optimized/zbuffer_simd.h"
+#include "optimized/zbuffer/zbuffer_simd.h"
 #include "props/raster/parts.h"
 #include "props/raster/visibility.h"
 

@@ -79,7 +79,7 @@ FamilyProperties properties(const Family&, RunResources& run) {
   auto& props = out.properties;
   for (const Subject& base : all_subjects()) {
     // The embree row's properties share one session, on the run's one device
-    // (shared with the raytrace embree row's properties).
+    // (shared with the ray_trace embree row's properties).
     const auto subject = std::make_shared<const Subject>(with_session(base, run));
     const Subject& s = *subject;
     const Named* well = find_generator(generator_of(s.info.pair));

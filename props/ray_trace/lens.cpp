@@ -208,7 +208,7 @@ TEST(Lens, GlassBallImagePoint) {
   for (const Bound& b : kBounds) {
     const auto* impl = ray_trace_row().find(b.impl);
     if (!impl) {
-      ADD_FAILURE() << "no raytrace row named " << b.impl;
+      ADD_FAILURE() << "no ray_trace row named " << b.impl;
       continue;
     }
     TraceSettings ts;

@@ -5,7 +5,7 @@
 // replays bit for bit. The typed row of registry/ray_trace_row.h gives each
 // implementation's frame and its one-pixel ray tree (TracePixelFn).
 //
-//   Laws.raytrace__reference       (part "laws") reflect() and refract() of
+//   Laws.ray_trace__reference       (part "laws") reflect() and refract() of
 //       core/ray_trace.h, the laws both implementations use, against an
 //       oracle in long double from the same double inputs: unit length, the
 //       mirror direction, Snell's law (eta |d x n| = |t x n|) and the TIR
@@ -15,25 +15,25 @@
 //       when |k| is below 1e-15 (k's own rounding), and the direction bound
 //       1e-14 grows by 1e-15 eta^2 / sqrt(k) near the critical angle (k's
 //       rounding through sqrt's conditioning).
-//   Slab.raytrace__<impl>          (part "slab") a glass slab (two parallel
+//   Slab.ray_trace__<impl>          (part "slab") a glass slab (two parallel
 //       transmitting quads of half-size 20, T = 1, Ks = 0, random ior,
 //       thickness 1e-2..2, orientation,
 //       view direction at up to 78 degrees from its normal): the ray leaving
 //       the slab runs parallel to the primary ray, within 1e-13 (measured
 //       1e-14 over 3000 cases).
-//   Tir.raytrace__<impl>           (part "tir") the eye inside a glass ball
+//   Tir.ray_trace__<impl>           (part "tir") the eye inside a glass ball
 //       (or under a glass plane) looks out at normal incidence or within
 //       1e-12..1e-3 of the critical angle: the implementation's TIR decision
 //       equals the reference's and the long-double oracle's, except within
 //       the band where the hit normals' rounding (1e-12 relative in k) can
 //       decide (explained: tir_critical).
-//   Weights.raytrace__<impl>       (part "weights") random scenes (spheres and
+//   Weights.ray_trace__<impl>       (part "weights") random scenes (spheres and
 //       a transmitting triangle over a floor, Ks and T in [0, 1]): every ray
 //       of the trees of 8 pixels has weight <= 1 and <= its parent's.
-//   Hidden.raytrace__<impl>        (part "hidden") objects behind an opaque
+//   Hidden.ray_trace__<impl>        (part "hidden") objects behind an opaque
 //       wall that covers the view (lights on the eye's side) change no pixel:
 //       the frames with and without them are equal, bit for bit.
-//   Pixel.raytrace__<impl>         (part "pixel") the frame against the
+//   Pixel.ray_trace__<impl>         (part "pixel") the frame against the
 //       one-pixel computation (TracePixelFn, whose ray tree `lockstep trace`
 //       prints) on 16 pixels of random scenes (gen_scene): equal bit for bit.
 //       The embree frame traces a tile breadth first in streams (rtcIntersect1M,
@@ -46,14 +46,14 @@
 //       reference's roots, in double) are within 1e-6 relative of each other,
 //       or that passes a sphere's silhouette within float's rounding (the
 //       band of Agree's diverge); anything else is unexplained.
-//   Far.raytrace__<impl>           (part "far") gen_scene's kind of scene,
+//   Far.ray_trace__<impl>           (part "far") gen_scene's kind of scene,
 //       opaque, at depth 1, scaled by 10^-2..10^2, moved 0 or 10^0..10^7 from
 //       the origin and seen from 10^0..10^7 away (a telephoto view: the
 //       angle narrowed to frame the same): every shadow ray of 16 pixels'
 //       trees (the row's own offset, or robust=1) answers as an exact long
 //       double segment test from the point the row shades; answers within
 //       1e-3 of the scene's scale of a boundary are skipped (issue #30).
-//   Agree.raytrace__embree         (part "agree") the frame of every
+//   Agree.ray_trace__embree         (part "agree") the frame of every
 //       non-reference row against the reference's on random scenes (16 x 16),
 //       per pixel within the family's 1/255. A pixel over it has diverging
 //       ray trees, and is classified:

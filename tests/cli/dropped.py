@@ -23,13 +23,13 @@ import sys
 lockstep, scene_dir, out_dir = sys.argv[1:4]
 os.makedirs(out_dir, exist_ok=True)
 
-ROWS = [("raycast", "reference"), ("raycast", "simd"), ("raycast", "embree"), ("raytrace", "reference"),
-        ("raytrace", "embree"), ("zbuffer", "reference"), ("zbuffer", "simd"), ("scanline", "reference"),
+ROWS = [("raycast", "reference"), ("raycast", "simd"), ("raycast", "embree"), ("ray_trace", "reference"),
+        ("ray_trace", "embree"), ("zbuffer", "reference"), ("zbuffer", "simd"), ("scanline", "reference"),
         ("scanline", "simd"), ("painter", "reference"), ("painter", "simd")]
 # Must draw it, with nothing dropped: the rows that work in double. The simd
 # rasterizers clip in double too (plane-1e25), but light in float lanes: a
 # surface 1e25 from the eye (far-1e25) they may only report.
-DOUBLE = {("raycast", "reference"), ("raytrace", "reference"), ("zbuffer", "reference"), ("scanline", "reference"),
+DOUBLE = {("raycast", "reference"), ("ray_trace", "reference"), ("zbuffer", "reference"), ("scanline", "reference"),
           ("painter", "reference"), ("painter", "simd")}
 MUST_DRAW = {"plane-1e25": DOUBLE | {("zbuffer", "simd"), ("scanline", "simd")}, "far-1e25": DOUBLE}
 DROPPED = re.compile(r"(\d+) dropped \((.*?)\)(?=; \d+ dropped|, |\s*->|$)")
@@ -39,7 +39,7 @@ failures = []
 
 def render(scene, algo, impl):
     out = os.path.join(out_dir, f"{os.path.basename(scene)[:-4]}-{algo}-{impl}.exr")
-    extra = ["--shadows", "none", "--depth", "1"] if algo == "raytrace" else []
+    extra = ["--shadows", "none", "--depth", "1"] if algo == "ray_trace" else []
     p = subprocess.run([lockstep, "render", scene, "--algo", algo, "--impl", impl, "-o", out] + extra,
                        capture_output=True, text=True)
     if p.returncode != 0:

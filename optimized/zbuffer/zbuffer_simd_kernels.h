@@ -7,7 +7,7 @@
 // set-up driver (zbuffer_setup.cpp, zbuffer_spheres.cpp, zbuffer_occlusion.cpp)
 // declares view_scene_chunks here too.
 //
-// The contract functions (optimized/zbuffer_simd.cpp) prepare one TriSetup per
+// The contract functions (optimized/zbuffer/zbuffer_simd.cpp) prepare one TriSetup per
 // screen triangle and bin them into screen tiles; these kernels then run one
 // tile at a time, on one thread, over tile-local buffers:
 //   raster_tile()  every binned triangle's samples: edge functions 16 samples

@@ -1,5 +1,5 @@
 // The optimized z-buffer's set-up: ref::view_scene's screen mesh, bit for bit,
-// in less time (declared in optimized/zbuffer_simd.h). This file is its chunk driver
+// in less time (declared in optimized/zbuffer/zbuffer_simd.h). This file is its chunk driver
 // (view_scene_chunks: the frame, the vertices, spheres and polygons in parallel
 // chunks, the image's sink); one sphere's set-up is zbuffer_spheres.cpp, the
 // hidden spheres' occlusion map zbuffer_occlusion.h/.cpp, the parts they share
@@ -46,10 +46,10 @@
 #include <optional>
 
 #include "core/shading.h"
-#include "optimized/zbuffer_simd.h"
+#include "optimized/zbuffer/zbuffer_simd.h"
 #include "optimized/tiling.h"
-#include "optimized/zbuffer_setup.h"
-#include "optimized/zbuffer_simd_kernels.h"
+#include "optimized/zbuffer/zbuffer_setup.h"
+#include "optimized/zbuffer/zbuffer_simd_kernels.h"
 
 namespace lockstep::opt::zsimd {
 

@@ -1,5 +1,5 @@
 // lockstep optimized: the z-buffer with Highway edge functions over tiles on
-// TBB threads (optimized/zbuffer_simd.cpp and its kernels), the contract of
+// TBB threads (optimized/zbuffer/zbuffer_simd.cpp and its kernels), the contract of
 // core/raster.h; its shadow maps and shadow volumes too.
 #pragma once
 
@@ -24,7 +24,7 @@ void fit_frame(Image& img, int width, int height);
 // A frame buffer for zbuffer_into and scanline_into, every page touched now.
 Image new_frame(int width, int height);
 // lockstep::view_scene's mesh, bit for bit, in parallel and with every vertex
-// projected once (optimized/zbuffer_setup.cpp); spheres go through view_scene's
+// projected once (optimized/zbuffer/zbuffer_setup.cpp); spheres go through view_scene's
 // own sphere step in parallel chunks, polygons that need clipping through its
 // polygon step, one polygon at a time.
 ScreenMesh view_scene(const Scene& scene, int width, int height, const RasterSettings& s, int threads);
@@ -38,7 +38,7 @@ Image shade_visibility(const Scene& scene, const ScreenMesh& mesh, const RasterS
                        const uint32_t* visible, const FrameOptions& opts);
 void shade_visibility_into(const Scene& scene, const ScreenMesh& mesh, const RasterSettings& s,
                            const uint32_t* visible, const FrameOptions& opts, Image& img);
-// shadows=map (optimized/zbuffer_shadow.cpp): every light's cube map drawn by
+// shadows=map (optimized/zbuffer/zbuffer_shadow.cpp): every light's cube map drawn by
 // zbuffer_visibility (pass 1), and the frame zbuffer draws when s.shadows is
 // map: the fast rasterizer's visibility, each sample shaded in double with the
 // map's test (shade_fragment, as the reference).
@@ -47,7 +47,7 @@ ShadowMaps shadow_maps(const Scene& scene, const RasterSettings& s, int threads)
 // written tile by tile from the raster's buffers (depth.spp must be 1).
 void zbuffer_distances(const ScreenMesh& face_frame, const RasterSettings& depth, int threads, float* dist);
 Image zbuffer_shadowed(const Scene& scene, const FrameOptions& opts, const RasterSettings& s, FrameStats* stats);
-// shadows=volume (optimized/zbuffer_shadow_volume.cpp): per visible sample
+// shadows=volume (optimized/zbuffer/zbuffer_shadow_volume.cpp): per visible sample
 // and light (index sample * lights + k) 1 where the light reaches it (stencil
 // count 0), counted on tiles on threads; equal to the reference's
 // ref::shadow_masks for the same mesh and visibility.

@@ -13,8 +13,8 @@
 
 #include "core/raster.h"
 #include "core/shading.h"
-#include "optimized/zbuffer_occlusion.h"
-#include "optimized/zbuffer_simd_kernels.h"
+#include "optimized/zbuffer/zbuffer_occlusion.h"
+#include "optimized/zbuffer/zbuffer_simd_kernels.h"
 
 namespace lockstep::opt::zsimd {
 

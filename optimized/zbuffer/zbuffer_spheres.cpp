@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "optimized/zbuffer_setup.h"
+#include "optimized/zbuffer/zbuffer_setup.h"
 
 namespace lockstep::opt::zsimd {
 

@@ -1,13 +1,13 @@
 #!/usr/bin/env python3
 """Ray tracing's failure map (shadow acne and light leaking) for BENCHMARKS.md.
 
-usage: raytrace_chart.py STUDY_CSV OUT_DIR [JSON_OUT]
+usage: ray_trace_chart.py STUDY_CSV OUT_DIR [JSON_OUT]
 
-STUDY_CSV is the output of `lockstep_raytrace_study` (bench/studies/ray_trace_study.cpp):
-  ./build/bench/lockstep_raytrace_study > bench/results/raytrace_acne.csv
-  python3 bench/scripts/raytrace_chart.py bench/results/raytrace_acne.csv bench/charts bench/results/raytrace_acne.json
+STUDY_CSV is the output of `lockstep_ray_trace_study` (bench/studies/ray_trace_study.cpp):
+  ./build/bench/lockstep_ray_trace_study > bench/results/ray_trace_acne.csv
+  python3 bench/scripts/ray_trace_chart.py bench/results/ray_trace_acne.csv bench/charts bench/results/ray_trace_acne.json
 
-  raytrace_acne.png   wrong shadow-ray answers (acne + leaks, fraction of the
+  ray_trace_acne.png   wrong shadow-ray answers (acne + leaks, fraction of the
                       samples) against the fixed offset eps, one curve per
                       distance D of the scene from the origin; panels: embree
                       (float, eye frame), reference (double, world), and the
@@ -24,8 +24,8 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import chartlib  # noqa: E402
 
-COMMAND = ("./build/bench/lockstep_raytrace_study > bench/results/raytrace_acne.csv && python3 "
-           "bench/scripts/raytrace_chart.py bench/results/raytrace_acne.csv bench/charts bench/results/raytrace_acne.json")
+COMMAND = ("./build/bench/lockstep_ray_trace_study > bench/results/ray_trace_acne.csv && python3 "
+           "bench/scripts/ray_trace_chart.py bench/results/ray_trace_acne.csv bench/charts bench/results/ray_trace_acne.json")
 
 
 def load(csv):
@@ -129,9 +129,9 @@ def write_json(rows, path):
                  f"hit, so from 1e3 away it leaked and from 1e5 every shadowed sample leaked. From 1e7 away the "
                  f"reference's textbook sphere test misses or invents up to {100 * coverage:.2g}% of the ball's "
                  f"pixels (coverage, not counted as shadow answers: ray casting's documented cancellation). The "
-                 f"study's claims run in the ctest raytrace_study.quick; raytrace_study.mutant shows that a zero "
+                 f"study's claims run in the ctest ray_trace_study.quick; ray_trace_study.mutant shows that a zero "
                  f"offset is caught."),
-        "chart": ["raytrace_acne.png", "shadow acne and light leaking against eps and distance"],
+        "chart": ["ray_trace_acne.png", "shadow acne and light leaking against eps and distance"],
         "columns": cols,
         "rows": body,
         "targets": [
@@ -160,7 +160,7 @@ def main():
     print(table(rows))
     if a.json_out:
         write_json(rows, a.json_out)
-    dat = os.path.join(out, "raytrace_acne.dat")
+    dat = os.path.join(out, "ray_trace_acne.dat")
     ds = sorted({r["d"] for r in rows})
     floor = 1e-5  # a zero on the log axis: drawn at the floor
     series = []
@@ -190,7 +190,7 @@ def main():
                          for i, (im, d) in enumerate(series) if im == impl)
 
     subprocess.run(["gnuplot"], text=True, check=True, input=f"""set terminal pngcairo size 1500,600
-set output '{out}/raytrace_acne.png'
+set output '{out}/ray_trace_acne.png'
 set multiplot layout 1,3 title "Shadow acne + light leaking: wrong shadow-ray answers (fraction; 1e-5 = none)"
 set logscale xy; set grid; set format x "%.0e"; set format y "%.0e"; set yrange [{floor / 2}:1]
 set xlabel "fixed offset eps (world units)"; set ylabel "wrong answers (acne + leaks)"

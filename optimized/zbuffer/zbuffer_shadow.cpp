@@ -1,5 +1,5 @@
 // lockstep optimized: the simd z-buffer with shadows=map (core/shadow_map.h)
-// and shadows=volume (the stencil counts: optimized/zbuffer_shadow_volume.cpp).
+// and shadows=volume (the stencil counts: optimized/zbuffer/zbuffer_shadow_volume.cpp).
 //
 // Both passes on the fast rasterizer: pass 1 draws each light's six cube faces
 // through opt::simd::zbuffer_distances (Highway edge functions, TBB tiles; the
@@ -21,7 +21,7 @@
 
 #include "core/shadow_map.h"
 #include "optimized/tiling.h"
-#include "optimized/zbuffer_simd.h"
+#include "optimized/zbuffer/zbuffer_simd.h"
 
 namespace lockstep::opt::simd {
 
@@ -83,7 +83,7 @@ Image zbuffer_shadowed(const Scene& scene, const FrameOptions& opts, const Raste
     return lit_fraction(maps.cubes[light], s, p, normal);
   };
   // Volumes: the lights each visible sample's stencil counts left at 0
-  // (optimized/zbuffer_shadow_volume.cpp), read by the shading below as the
+  // (optimized/zbuffer/zbuffer_shadow_volume.cpp), read by the shading below as the
   // reference's shade_fragment_lit reads them (a light's term added when lit:
   // shade_fragment with reach 1 or 0 sums the same terms in the same order).
   const ShadowVolumeMasks masks =

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
-"""The ray-tracing benchmarks (bench/results/raytrace.json, Google Benchmark)
+"""The ray-tracing benchmarks (bench/results/ray_trace.json, Google Benchmark)
 as a lockstep-table/1 file for BENCHMARKS.md (issue #22).
 
-usage: raytrace_bench_table.py RAYTRACE_JSON JSON_OUT
+usage: ray_trace_bench_table.py RAY_TRACE_JSON JSON_OUT
 
 One row per scene and depth: total rays per second (primary + shadow +
 secondary, the rays_per_s counter) of the reference (one thread; at 128^2,
@@ -20,10 +20,10 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import chartlib  # noqa: E402
 import charts  # noqa: E402
 
-COMMAND = ("./build/bench/lockstep_bench --benchmark_filter='^frame/raytrace/' --benchmark_out=bench/results/raytrace.json "
+COMMAND = ("./build/bench/lockstep_bench --benchmark_filter='^frame/ray_trace/' --benchmark_out=bench/results/ray_trace.json "
            "--benchmark_out_format=json --benchmark_min_time=0.2 --benchmark_repetitions=3 "
-           "--benchmark_report_aggregates_only=true && python3 bench/scripts/raytrace_bench_table.py bench/results/raytrace.json "
-           "bench/results/raytrace_rates.json")
+           "--benchmark_report_aggregates_only=true && python3 bench/scripts/ray_trace_bench_table.py bench/results/ray_trace.json "
+           "bench/results/ray_trace_rates.json")
 
 
 def rate(x):
@@ -32,9 +32,9 @@ def rate(x):
 
 def main():
     a = chartlib.args(__doc__)
-    ctx, rows = charts.load(a.raytrace_json)
+    ctx, rows = charts.load(a.ray_trace_json)
     rows = dict(rows)
-    keys = chartlib.bench_keys(rows, r"frame/raytrace/([^/]+)/depth([0-9]+)/([^/]+)/threads:([0-9]+)",
+    keys = chartlib.bench_keys(rows, r"frame/ray_trace/([^/]+)/depth([0-9]+)/([^/]+)/threads:([0-9]+)",
                                lambda m: (m.group(1), int(m.group(2))))
     order = ["balls-3", "balls-4", "balls-5", "shells-1", "tetra-3", "mount-3", "gears-2"]
     keys.sort(key=lambda k: (order.index(k[0]) if k[0] in order else 99, k[0], k[1]))
@@ -42,7 +42,7 @@ def main():
     left_out = []
     for scene, depth in keys:
         def get(impl, t, c="rays_per_s"):
-            b = rows.get(f"frame/raytrace/{scene}/depth{depth}/{impl}/threads:{t}")
+            b = rows.get(f"frame/ray_trace/{scene}/depth{depth}/{impl}/threads:{t}")
             return b.get(c) if b else None
         ref, e1, e2 = get("reference", 1), get("embree", 1), get("embree", 2)
         if ref is None:

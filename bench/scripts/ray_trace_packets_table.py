@@ -4,9 +4,9 @@ and rtcOccluded1) against Embree streams (breadth first per tile,
 rtcIntersect1M and rtcOccluded1M), as a lockstep-table/1 file for BENCHMARKS.md
 (issue #22).
 
-usage: raytrace_packets_table.py AB_DIR JSON_OUT
+usage: ray_trace_packets_table.py AB_DIR JSON_OUT
 
-AB_DIR is bench/scripts/raytrace_packets_ab.sh's: single-<round>.json and
+AB_DIR is bench/scripts/ray_trace_packets_ab.sh's: single-<round>.json and
 stream-<round>.json (Google Benchmark, one repetition each, run in turn) and
 load.txt (side, round, 1-minute load before the run). One row per benchmark:
 median CPU time of each side, their ratio, the same for wall time, and the
@@ -23,7 +23,7 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import chartlib  # noqa: E402
 
-COMMAND = "bash bench/scripts/raytrace_packets_ab.sh SINGLE_BENCH STREAM_BENCH 7"
+COMMAND = "bash bench/scripts/ray_trace_packets_ab.sh SINGLE_BENCH STREAM_BENCH 7"
 
 
 def runs(ab, side):
@@ -53,13 +53,13 @@ def main():
     order = ["balls-3", "balls-4", "balls-5", "shells-1", "tetra-3", "mount-3", "gears-2"]
 
     def key(n):
-        m = re.match(r"frame/raytrace/([^/]+)/depth([0-9]+)/", n)
+        m = re.match(r"frame/ray_trace/([^/]+)/depth([0-9]+)/", n)
         return (order.index(m.group(1)) if m.group(1) in order else 99, m.group(1), int(m.group(2)), n)
 
     body = []
     n_runs = 0
     for name in sorted(set(single) & set(stream), key=key):
-        m = re.match(r"frame/raytrace/([^/]+)/depth([0-9]+)/embree/threads:([0-9]+)", name)
+        m = re.match(r"frame/ray_trace/([^/]+)/depth([0-9]+)/embree/threads:([0-9]+)", name)
         if not m:
             continue
         a, b = single[name], stream[name]

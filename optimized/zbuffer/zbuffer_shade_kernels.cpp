@@ -4,7 +4,7 @@
 //   flat_colors()  the set-up's flat colours, with the same lighting.
 // The lighting is core/shading.h's (Phong's model with the NFF light
 // extension), in float lanes, double ones where a high shine needs them.
-#include "optimized/zbuffer_simd_kernels.h"
+#include "optimized/zbuffer/zbuffer_simd_kernels.h"
 
 #include <algorithm>
 #include <bit>
@@ -17,11 +17,11 @@
 // foreach_target.h first: it re-includes this file once per target.
 // clang-format off
 #undef HWY_TARGET_INCLUDE
-#define HWY_TARGET_INCLUDE "optimized/zbuffer_shade_kernels.cpp"
+#define HWY_TARGET_INCLUDE "optimized/zbuffer/zbuffer_shade_kernels.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
 #include "hwy/contrib/math/math-inl.h"
 #include "hwy/highway.h"
-#include "optimized/zbuffer_simd_kernels-inl.h"
+#include "optimized/zbuffer/zbuffer_simd_kernels-inl.h"
 // clang-format on
 
 HWY_BEFORE_NAMESPACE();

@@ -28,7 +28,7 @@
 
 #include "core/shadow_volume.h"
 #include "optimized/tiling.h"
-#include "optimized/zbuffer_simd.h"
+#include "optimized/zbuffer/zbuffer_simd.h"
 
 namespace lockstep::opt::simd {
 

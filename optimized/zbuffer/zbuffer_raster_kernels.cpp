@@ -34,7 +34,7 @@
 // reference does, since tiles see their triangles in mesh order.
 // Forward flat shading (RasterParams::flat): a passing sample also gets its
 // triangle's w = 1/z (a plane, as the depth) and flat colour, by masked stores.
-#include "optimized/zbuffer_simd_kernels.h"
+#include "optimized/zbuffer/zbuffer_simd_kernels.h"
 
 #include <algorithm>
 #include <bit>
@@ -45,10 +45,10 @@
 // foreach_target.h first: it re-includes this file once per target.
 // clang-format off
 #undef HWY_TARGET_INCLUDE
-#define HWY_TARGET_INCLUDE "optimized/zbuffer_raster_kernels.cpp"
+#define HWY_TARGET_INCLUDE "optimized/zbuffer/zbuffer_raster_kernels.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
 #include "hwy/highway.h"
-#include "optimized/zbuffer_simd_kernels-inl.h"
+#include "optimized/zbuffer/zbuffer_simd_kernels-inl.h"
 // clang-format on
 
 HWY_BEFORE_NAMESPACE();

@@ -1,7 +1,7 @@
 // The ray-tracing family's speed against accuracy (issue #22): how deep a ray
-// tree a scene needs. Built by default; bench/run.sh runs it (step raytrace_depth).
+// tree a scene needs. Built by default; bench/run.sh runs it (step ray_trace_depth).
 //
-//   lockstep_raytrace_depth [--size N] [--reps R] [--max-depth D] SCENE.nff...
+//   lockstep_ray_trace_depth [--size N] [--reps R] [--max-depth D] SCENE.nff...
 //
 // For each scene, opt::embree::trace_render (robust offset, shadow rays, the
 // default cut-off) on one thread at N x N (default 512) for depth 1 .. D
@@ -11,8 +11,8 @@
 //   vs_answer  pixels that differ from the depth-D frame (the reference
 //              answer: what the scene converges to)
 //   vs_prev    pixels changed by this extra level (against depth - 1)
-// CSV on stdout; bench/scripts/raytrace_depth_chart.py draws the chart and writes
-// bench/results/raytrace_depth.json. The depth-D frame is the answer because
+// CSV on stdout; bench/scripts/ray_trace_depth_chart.py draws the chart and writes
+// bench/results/ray_trace_depth.json. The depth-D frame is the answer because
 // the weights along a path fall geometrically (kr, kt < 1 in every SPD scene)
 // and the cut-off (1/256) stops rays that could change no 8-bit level: the
 // chart shows whether the last levels still change pixels (then D was too
@@ -56,7 +56,7 @@ int main(int argc, char** argv) {
   for (int a = 1; a < argc; ++a) {
     auto value = [&](const char* name) {
       if (a + 1 >= argc) {
-        std::fprintf(stderr, "lockstep_raytrace_depth: %s needs a value\n", name);
+        std::fprintf(stderr, "lockstep_ray_trace_depth: %s needs a value\n", name);
         std::exit(2);
       }
       return std::atoi(argv[++a]);
@@ -73,7 +73,7 @@ int main(int argc, char** argv) {
   if (scenes.empty() || size < 1 || reps < 1 || max_depth < 2 || max_depth > 32) {
     std::fprintf(
         stderr,
-        "usage: lockstep_raytrace_depth [--size N] [--reps R] [--max-depth 2..32] SCENE.nff...\n");
+        "usage: lockstep_ray_trace_depth [--size N] [--reps R] [--max-depth 2..32] SCENE.nff...\n");
     return 2;
   }
   std::printf("scene,depth,size,ms,rays,vs_answer,vs_prev,pixels\n");
@@ -111,10 +111,10 @@ int main(int argc, char** argv) {
       std::fflush(stdout);
     }
   } catch (const InputError& e) {
-    std::fprintf(stderr, "lockstep_raytrace_depth: %s\n", e.what());
+    std::fprintf(stderr, "lockstep_ray_trace_depth: %s\n", e.what());
     return 2;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "lockstep_raytrace_depth: %s\n", e.what());
+    std::fprintf(stderr, "lockstep_ray_trace_depth: %s\n", e.what());
     return 1;
   }
   return 0;

@@ -1,4 +1,4 @@
-// The optimized z-buffer (contract: core/raster.h, optimized/zbuffer_simd.h).
+// The optimized z-buffer (contract: core/raster.h, optimized/zbuffer/zbuffer_simd.h).
 //
 //   1. Set-up and binning (Binner; TBB over chunks of triangles): one TriSetup
 //      per screen triangle (exact int64 edge functions with the top-left bias,
@@ -38,9 +38,9 @@
 #include "core/shading.h"
 #include "core/shadow_map.h"
 #include "hwy/aligned_allocator.h"
-#include "optimized/zbuffer_simd.h"
+#include "optimized/zbuffer/zbuffer_simd.h"
 #include "optimized/tiling.h"
-#include "optimized/zbuffer_simd_kernels.h"
+#include "optimized/zbuffer/zbuffer_simd_kernels.h"
 
 namespace lockstep::opt::simd {
 

@@ -1,8 +1,8 @@
 // lockstep optimized: the simd z-buffer set-up's occlusion map, built
-// (optimized/zbuffer_occlusion.h: what it is, why the test is safe, and its
+// (optimized/zbuffer/zbuffer_occlusion.h: what it is, why the test is safe, and its
 // queries): each sphere's inner ball as an occluder of the cells it covers
 // whole, then each cell's bound turned into the depth beyond which it hides.
-#include "optimized/zbuffer_occlusion.h"
+#include "optimized/zbuffer/zbuffer_occlusion.h"
 
 namespace lockstep::opt::zsimd {
 

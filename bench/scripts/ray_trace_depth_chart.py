@@ -2,16 +2,16 @@
 """Ray tracing's speed against accuracy: time and image error against the
 ray-tree depth, for BENCHMARKS.md (issue #22).
 
-usage: raytrace_depth_chart.py DEPTH_CSV OUT_DIR JSON_OUT
+usage: ray_trace_depth_chart.py DEPTH_CSV OUT_DIR JSON_OUT
 
-DEPTH_CSV is the output of bench/timing/raytrace_depth.cpp:
-  ./build/bench/lockstep_raytrace_depth ../shared/spd/balls-3.nff ... > bench/results/raytrace_depth.csv
-  python3 bench/scripts/raytrace_chart.py ... (see COMMAND)
+DEPTH_CSV is the output of bench/timing/ray_trace_depth.cpp:
+  ./build/bench/lockstep_ray_trace_depth ../shared/spd/balls-3.nff ... > bench/results/ray_trace_depth.csv
+  python3 bench/scripts/ray_trace_chart.py ... (see COMMAND)
 
-Writes OUT_DIR/raytrace_depth.png (left: ms per frame against depth; right:
+Writes OUT_DIR/ray_trace_depth.png (left: ms per frame against depth; right:
 pixels off the deepest frame, the reference answer, in % of the image, and
 pixels changed by each extra level, against depth; one curve per scene),
-OUT_DIR/raytrace_depth.dat, and JSON_OUT, a lockstep-table/1 file (through
+OUT_DIR/ray_trace_depth.dat, and JSON_OUT, a lockstep-table/1 file (through
 JSON_OUT.tmp and a rename).
 """
 import datetime
@@ -23,10 +23,10 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import chartlib  # noqa: E402
 
-COMMAND = ("ninja -C build lockstep_raytrace_depth && ./build/bench/lockstep_raytrace_depth "
+COMMAND = ("ninja -C build lockstep_ray_trace_depth && ./build/bench/lockstep_ray_trace_depth "
            "../shared/spd/{balls-3,balls-4,balls-5,shells-1,tetra-3,mount-3,gears-2}.nff > "
-           "bench/results/raytrace_depth.csv && python3 bench/scripts/raytrace_depth_chart.py "
-           "bench/results/raytrace_depth.csv bench/charts bench/results/raytrace_depth.json")
+           "bench/results/ray_trace_depth.csv && python3 bench/scripts/ray_trace_depth_chart.py "
+           "bench/results/ray_trace_depth.csv bench/charts bench/results/ray_trace_depth.json")
 
 
 def load(path):
@@ -85,14 +85,14 @@ def main():
                  f"per frame, the pixels that differ by more than 1/255 in a channel from the depth-{dmax} frame (the "
                  f"reference answer) in % of the image, and in brackets the pixels changed by that extra level. 'depth "
                  f"needed': the shallowest depth whose frame and every deeper one equal the answer: how deep a tree the "
-                 f"scene needs at 8 bits. bench/timing/raytrace_depth.cpp, bench/scripts/raytrace_depth_chart.py."),
-        "chart": ["raytrace_depth.png", "ray tracing: time and pixels off the answer against depth"],
+                 f"scene needs at 8 bits. bench/timing/ray_trace_depth.cpp, bench/scripts/ray_trace_depth_chart.py."),
+        "chart": ["ray_trace_depth.png", "ray tracing: time and pixels off the answer against depth"],
         "columns": cols,
         "rows": body,
     }
     chartlib.write_table(doc, json_out)
 
-    dat = os.path.join(out, "raytrace_depth.dat")
+    dat = os.path.join(out, "ray_trace_depth.dat")
     floor = 1e-4
     with open(dat, "w") as f:
         for s in scenes:
@@ -106,7 +106,7 @@ def main():
     plots_e = ", ".join(f"'{dat}' index {i} using 1:3 with linespoints title '{s}'" for i, s in enumerate(scenes))
     plots_c = ", ".join(f"'{dat}' index {i} using 1:4 with linespoints title '{s}'" for i, s in enumerate(scenes))
     subprocess.run(["gnuplot"], text=True, check=True, input=f"""set terminal pngcairo size 1500,500
-set output '{out}/raytrace_depth.png'
+set output '{out}/ray_trace_depth.png'
 set multiplot layout 1,3 title "Ray tracing (embree, 1 thread, {size}^2): how deep a tree each scene needs"
 set grid; set xlabel "max depth"; set key top left font ",8"; set xtics 1
 set title "time per frame"; set ylabel "ms"; set logscale y

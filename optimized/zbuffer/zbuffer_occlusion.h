@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "core/raster.h"
-#include "optimized/zbuffer_simd_kernels.h"
+#include "optimized/zbuffer/zbuffer_simd_kernels.h"
 
 namespace lockstep::opt::zsimd {
 

@@ -12,7 +12,7 @@
 //   set_up_forward,    the binner's TriSetups (and the shading's planes);
 //   set_up_shaded
 //   polygon_run        runs of one-triangle polygons, projected and set up.
-#include "optimized/zbuffer_simd_kernels.h"
+#include "optimized/zbuffer/zbuffer_simd_kernels.h"
 
 #include <algorithm>
 #include <bit>
@@ -23,10 +23,10 @@
 // foreach_target.h first: it re-includes this file once per target.
 // clang-format off
 #undef HWY_TARGET_INCLUDE
-#define HWY_TARGET_INCLUDE "optimized/zbuffer_setup_kernels.cpp"
+#define HWY_TARGET_INCLUDE "optimized/zbuffer/zbuffer_setup_kernels.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
 #include "hwy/highway.h"
-#include "optimized/zbuffer_simd_kernels-inl.h"
+#include "optimized/zbuffer/zbuffer_simd_kernels-inl.h"
 // clang-format on
 
 HWY_BEFORE_NAMESPACE();
