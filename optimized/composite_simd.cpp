@@ -179,69 +179,96 @@ HWY_INLINE hn::Vec<DF> PremF(hn::Vec<DF> v, hn::Mask<DF> is_alpha) {
 // True when `out` can take aligned streaming stores at all (float* from the
 // allocator is 16-byte aligned; a whole vector's alignment is reached by
 // peeling pixels).
-HWY_INLINE bool CanStream(const float* out) { return (reinterpret_cast<uintptr_t>(out) & 15) == 0; }
-HWY_INLINE bool Aligned(const float* p, size_t lanes) {
-  return (reinterpret_cast<uintptr_t>(p) & (lanes * sizeof(float) - 1)) == 0;
+template <class T>
+HWY_INLINE bool CanStream(const T* out) {
+  return (reinterpret_cast<uintptr_t>(out) & 15) == 0;
+}
+template <class T>
+HWY_INLINE bool Aligned(const T* p, size_t lanes) {
+  return (reinterpret_cast<uintptr_t>(p) & (lanes * sizeof(T) - 1)) == 0;
+}
+// A vector of results to out: float, with streaming stores or not; 8 bits,
+// from 16-bit lanes (never streamed).
+HWY_INLINE void Put(hn::Vec<DF> v, float* p, int stream) {
+  if (stream) {
+    hn::Stream(v, DF(), p);
+  } else {
+    hn::StoreU(v, DF(), p);
+  }
+}
+HWY_INLINE void Put(hn::Vec<DU16> v, uint8_t* p, int) {
+  // Every lane is <= 255: the signed demotion is exact.
+  hn::StoreU(hn::DemoteTo(DU8H(), hn::BitCast(DI16(), v)), DU8H(), p);
+}
+
+// The loop every kernel shares, over `total` elements of out, N a vector:
+// with stream (when out can take aligned streaming stores), scalar steps
+// (step(i): kStep elements, a pixel or one value) until out + i is at a whole
+// vector; then whole vectors (vec(i, stream): elements [i, i + N)); then scalar
+// steps to the end.
+template <size_t kStep, class T, class VecFn, class StepFn>
+HWY_INLINE void Loop(T* out, size_t total, size_t N, int stream, const VecFn& vec,
+                     const StepFn& step) {
+  size_t i = 0;
+  if (stream && !CanStream(out)) stream = 0;
+  if (stream)
+    for (; i < total && !Aligned(out + i, N); i += kStep) step(i);
+  for (; i + N <= total; i += N) vec(i, stream);
+  for (; i < total; i += kStep) step(i);
+}
+
+// Loop over n RGBA pixels of out, for the kernels that say whether every
+// result is opaque: vec(i) is the vector of results for elements [i, i + N),
+// stored with Put; px(i) writes the pixel at element i and says whether its
+// alpha is full. True when every result's alpha is `full`.
+template <class D, class T, class VecFn, class PxFn>
+HWY_INLINE bool PixelLoop(D d, T* out, size_t n, int stream, hn::Vec<D> full, const VecFn& vec,
+                          const PxFn& px) {
+  const auto colour = hn::Not(AlphaLanes(d));
+  auto opaque = hn::Eq(full, full);
+  bool ok = true;
+  Loop<4>(
+      out, 4 * n, hn::Lanes(d), stream,
+      [&](size_t i, int stream) HWY_ATTR {
+        const auto r = vec(i);
+        opaque = hn::And(opaque, hn::Or(hn::Eq(r, full), colour));
+        Put(r, out + i, stream);
+      },
+      [&](size_t i) HWY_ATTR { ok = px(i) && ok; });
+  return ok && hn::AllTrue(d, opaque);
 }
 
 // out = prem(f) over prem(b) for n pixels; true when every result alpha is 1.
 // out may be f or b (in place). stream: write with non-temporal stores.
 bool OverF(const float* f, int fs, const float* b, int bs, float* out, size_t n, int stream) {
   const DF d;
-  const size_t N = hn::Lanes(d), total = 4 * n;
   const auto is_alpha = AlphaLanes(d);
-  const auto colour = hn::Not(is_alpha);
   const auto one = hn::Set(d, 1.0f);
-  auto opaque = hn::Eq(one, one);
-  bool ok = true;
-  size_t i = 0;
-  if (stream && !CanStream(out)) stream = 0;
-  if (stream)
-    for (; i < total && !Aligned(out + i, N); i += 4)
-      ok = over_px(f + i, fs, b + i, bs, out + i) && ok;
-  for (; i + N <= total; i += N) {
-    auto fv = hn::LoadU(d, f + i);
-    auto bv = hn::LoadU(d, b + i);
-    if (fs) fv = PremF(fv, is_alpha);
-    if (bs) bv = PremF(bv, is_alpha);
-    const auto transparency = hn::Sub(one, AlphaF(fv));     // 1 - af
-    const auto r = hn::Add(fv, hn::Mul(transparency, bv));  // Cf + (1 - af) Cb, no FMA
-    opaque = hn::And(opaque, hn::Or(hn::Eq(r, one), colour));
-    if (stream) {
-      hn::Stream(r, d, out + i);
-    } else {
-      hn::StoreU(r, d, out + i);
-    }
-  }
-  for (; i < total; i += 4) ok = over_px(f + i, fs, b + i, bs, out + i) && ok;
-  return ok && hn::AllTrue(d, opaque);
+  return PixelLoop(
+      d, out, n, stream, one,
+      [&](size_t i) HWY_ATTR {
+        auto fv = hn::LoadU(d, f + i);
+        auto bv = hn::LoadU(d, b + i);
+        if (fs) fv = PremF(fv, is_alpha);
+        if (bs) bv = PremF(bv, is_alpha);
+        const auto transparency = hn::Sub(one, AlphaF(fv));  // 1 - af
+        return hn::Add(fv, hn::Mul(transparency, bv));       // Cf + (1 - af) Cb, no FMA
+      },
+      [&](size_t i) HWY_ATTR { return over_px(f + i, fs, b + i, bs, out + i); });
 }
 
 // out = prem(s); true when every alpha is 1.
 bool CopyF(const float* s, int st, float* out, size_t n, int stream) {
   const DF d;
-  const size_t N = hn::Lanes(d), total = 4 * n;
   const auto is_alpha = AlphaLanes(d);
-  const auto colour = hn::Not(is_alpha);
-  const auto one = hn::Set(d, 1.0f);
-  auto opaque = hn::Eq(one, one);
-  bool ok = true;
-  size_t i = 0;
-  if (stream && !CanStream(out)) stream = 0;
-  if (stream)
-    for (; i < total && !Aligned(out + i, N); i += 4) ok = copy_px(s + i, st, out + i) && ok;
-  for (; i + N <= total; i += N) {
-    auto v = hn::LoadU(d, s + i);
-    if (st) v = PremF(v, is_alpha);
-    opaque = hn::And(opaque, hn::Or(hn::Eq(v, one), colour));
-    if (stream) {
-      hn::Stream(v, d, out + i);
-    } else {
-      hn::StoreU(v, d, out + i);
-    }
-  }
-  for (; i < total; i += 4) ok = copy_px(s + i, st, out + i) && ok;
-  return ok && hn::AllTrue(d, opaque);
+  return PixelLoop(
+      d, out, n, stream, hn::Set(d, 1.0f),
+      [&](size_t i) HWY_ATTR {
+        auto v = hn::LoadU(d, s + i);
+        if (st) v = PremF(v, is_alpha);
+        return v;
+      },
+      [&](size_t i) HWY_ATTR { return copy_px(s + i, st, out + i); });
 }
 
 bool OpaqueF(const float* s, size_t n) {
@@ -263,10 +290,6 @@ bool OpaqueF(const float* s, size_t n) {
 HWY_INLINE hn::Vec<DU16> Load8(const uint8_t* p) {
   return hn::PromoteTo(DU16(), hn::LoadU(DU8H(), p));
 }
-HWY_INLINE void Store8(hn::Vec<DU16> v, uint8_t* p) {
-  // Every lane is <= 255: the signed demotion is exact.
-  hn::StoreU(hn::DemoteTo(DU8H(), hn::BitCast(DI16(), v)), DU8H(), p);
-}
 // Each pixel's alpha (lane 3 of its 4) in all four lanes: a byte shuffle
 // within 128-bit blocks (2 pixels per block).
 HWY_INLINE hn::Vec<DU16> Alpha8(hn::Vec<DU16> v) {
@@ -287,44 +310,32 @@ HWY_INLINE hn::Vec<DU16> Prem8(hn::Vec<DU16> v, hn::Mask<DU16> is_alpha) {
 
 bool Over8(const uint8_t* f, int fs, const uint8_t* b, int bs, uint8_t* out, size_t n) {
   const DU16 d;
-  const size_t N = hn::Lanes(d), total = 4 * n;
   const auto is_alpha = AlphaLanes(d);
-  const auto colour = hn::Not(is_alpha);
   const auto full = hn::Set(d, 255);
-  auto opaque = hn::Eq(full, full);
-  bool ok = true;
-  size_t i = 0;
-  for (; i + N <= total; i += N) {
-    auto fv = Load8(f + i);
-    auto bv = Load8(b + i);
-    if (fs) fv = Prem8(fv, is_alpha);
-    if (bs) bv = Prem8(bv, is_alpha);
-    const auto transparency = hn::Sub(full, Alpha8(fv));                  // 255 - af
-    const auto r = hn::Min(hn::Add(fv, Mul255(bv, transparency)), full);  // saturating
-    opaque = hn::And(opaque, hn::Or(hn::Eq(r, full), colour));
-    Store8(r, out + i);
-  }
-  for (; i < total; i += 4) ok = over8_px(f + i, fs, b + i, bs, out + i) && ok;
-  return ok && hn::AllTrue(d, opaque);
+  return PixelLoop(
+      d, out, n, 0, full,
+      [&](size_t i) HWY_ATTR {
+        auto fv = Load8(f + i);
+        auto bv = Load8(b + i);
+        if (fs) fv = Prem8(fv, is_alpha);
+        if (bs) bv = Prem8(bv, is_alpha);
+        const auto transparency = hn::Sub(full, Alpha8(fv));          // 255 - af
+        return hn::Min(hn::Add(fv, Mul255(bv, transparency)), full);  // saturating
+      },
+      [&](size_t i) HWY_ATTR { return over8_px(f + i, fs, b + i, bs, out + i); });
 }
 
 bool Copy8(const uint8_t* s, int st, uint8_t* out, size_t n) {
   const DU16 d;
-  const size_t N = hn::Lanes(d), total = 4 * n;
   const auto is_alpha = AlphaLanes(d);
-  const auto colour = hn::Not(is_alpha);
-  const auto full = hn::Set(d, 255);
-  auto opaque = hn::Eq(full, full);
-  bool ok = true;
-  size_t i = 0;
-  for (; i + N <= total; i += N) {
-    auto v = Load8(s + i);
-    if (st) v = Prem8(v, is_alpha);
-    opaque = hn::And(opaque, hn::Or(hn::Eq(v, full), colour));
-    Store8(v, out + i);
-  }
-  for (; i < total; i += 4) ok = copy8_px(s + i, st, out + i) && ok;
-  return ok && hn::AllTrue(d, opaque);
+  return PixelLoop(
+      d, out, n, 0, hn::Set(d, 255),
+      [&](size_t i) HWY_ATTR {
+        auto v = Load8(s + i);
+        if (st) v = Prem8(v, is_alpha);
+        return v;
+      },
+      [&](size_t i) HWY_ATTR { return copy8_px(s + i, st, out + i); });
 }
 
 bool Opaque8(const uint8_t* s, size_t n) {
@@ -338,21 +349,14 @@ void ToFloat8(const uint8_t* s, float* out, size_t n, int stream) {
   const DF d;
   const hn::RebindToSigned<DF> di;
   const hn::Rebind<uint8_t, DF> d8;
-  const size_t N = hn::Lanes(d), total = 4 * n;
   const auto k255 = hn::Set(d, 255.0f);
-  size_t i = 0;
-  if (stream && !CanStream(out)) stream = 0;
-  if (stream)
-    for (; i < total && !Aligned(out + i, N); ++i) out[i] = float(s[i]) / 255.0f;
-  for (; i + N <= total; i += N) {
-    const auto v = hn::Div(hn::ConvertTo(d, hn::PromoteTo(di, hn::LoadU(d8, s + i))), k255);
-    if (stream) {
-      hn::Stream(v, d, out + i);
-    } else {
-      hn::StoreU(v, d, out + i);
-    }
-  }
-  for (; i < total; ++i) out[i] = float(s[i]) / 255.0f;
+  Loop<1>(
+      out, 4 * n, hn::Lanes(d), stream,
+      [&](size_t i, int stream) HWY_ATTR {
+        Put(hn::Div(hn::ConvertTo(d, hn::PromoteTo(di, hn::LoadU(d8, s + i))), k255), out + i,
+            stream);
+      },
+      [&](size_t i) HWY_ATTR { out[i] = float(s[i]) / 255.0f; });
 }
 
 // Streaming stores are weakly ordered: fence before the band counts as done.
