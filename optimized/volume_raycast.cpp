@@ -456,12 +456,12 @@ HWY_AFTER_NAMESPACE();
 #include <cstdio>
 #include <limits>
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 #include "core/timer.h"
 #include "optimized/tiling.h"
 #include "optimized/volume_raycast_simd.h"
-#include "reference/volume_render.h"
 
 namespace lockstep::opt::vr_kernels {
 HWY_EXPORT(CastRow);
@@ -616,10 +616,12 @@ void set_transfer(vk::Ctx& c, const TransferFunction& tf) {
 
 }  // namespace
 
+bool volume_cast_handles(const Volume& v) { return v.nx >= 2 && v.ny >= 2 && v.nz >= 2; }
+
 Image volume_raycast(const Volume& v, const FrameOptions& options, FrameStats* stats) {
   const vr::Settings s = vr::settings(options.params, v.source, vr::Mode::kRaycast);
-  // Fewer than two samples on an axis has no cell: the contract's arithmetic is the reference's.
-  if (v.nx < 2 || v.ny < 2 || v.nz < 2) return ref::volume_raycast(v, options, stats);
+  if (!volume_cast_handles(v))
+    throw std::invalid_argument("opt::simd::volume_raycast: a volume without a cell (see volume_cast_handles)");
   const vr::View view = vr::make_view(v, s, options.width, options.height);
   vk::Ctx c = context(v, view);
   set_transfer(c, s.tf);
@@ -671,7 +673,8 @@ Image volume_raycast(const Volume& v, const FrameOptions& options, FrameStats* s
 
 Image volume_iso(const Volume& v, const FrameOptions& options, FrameStats* stats) {
   const vr::Settings s = vr::settings(options.params, v.source, vr::Mode::kIso);
-  if (v.nx < 2 || v.ny < 2 || v.nz < 2) return ref::volume_iso(v, options, stats);
+  if (!volume_cast_handles(v))
+    throw std::invalid_argument("opt::simd::volume_iso: a volume without a cell (see volume_cast_handles)");
   const vr::View view = vr::make_view(v, s, options.width, options.height);
   const Vec3 base = vr::iso_base(s);
   vk::Ctx c = context(v, view);

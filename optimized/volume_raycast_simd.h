@@ -11,6 +11,12 @@
 
 namespace lockstep::opt::simd {
 
+// Whether the two below draw this volume: at least two samples on every axis
+// (one cell). A slice or a line has no cell; the registry's simd rows hand
+// such volumes to the reference (registry/volume_rows.cpp), and the two below
+// throw std::invalid_argument for them.
+bool volume_cast_handles(const Volume& volume);
+
 // The reference's image (same rays, same samples k dt on the shared planes,
 // same opacity correction, compositing order and termination rule), computed
 // in float. FrameStats::build_seconds = the macro-cell grid's build and the

@@ -350,11 +350,11 @@ HWY_AFTER_NAMESPACE();
 #include <limits>
 #include <memory>
 #include <numbers>
+#include <stdexcept>
 #include <vector>
 
 #include "optimized/tiling.h"
 #include "optimized/volume_splat_simd.h"
-#include "reference/volume_render.h"
 
 namespace lockstep::opt::splat_kernels {
 HWY_EXPORT(SplatTile);
@@ -393,33 +393,64 @@ struct ClearRanges {
 // Ranges [begin, end) of n items cut into parts pieces.
 size_t cut(size_t n, int parts, int q) { return n * size_t(q) / size_t(parts); }
 
-}  // namespace
+// The footprint every voxel shares: the reference's constants, by its
+// expressions (reference/volume_splat.cpp).
+struct Shape {
+  double pixel;
+  Vec3 right, up;
+  double voxel_volume, norm;
+  double ixx, iyy, ixy, det;
+  int reach_x, reach_y;
+};
 
-Image volume_splat(const Volume& v, const FrameOptions& options, FrameStats* stats) {
-  const vr::Settings s = vr::settings(options.params, v.source, vr::Mode::kSplat);
-  // Voxels are numbered in 32 bits here.
-  if (v.data.empty() || v.data.size() >= size_t(std::numeric_limits<uint32_t>::max()))
-    return ref::volume_splat(v, options, stats);
-  const vr::View view = vr::make_view(v, s, options.width, options.height);
-  const int threads = resolve_threads(options.threads);
-
-  // The reference's constants, by its expressions (reference/volume_splat.cpp).
-  const double pixel = length(view.du);
-  const Vec3 right = view.du / pixel, up = -view.dv / pixel;
-  const double dt0 = std::min({v.spacing.x, v.spacing.y, v.spacing.z});
-  const double voxel_volume = v.spacing.x * v.spacing.y * v.spacing.z;
+Shape shape_of(const Volume& v, const vr::View& view) {
+  Shape f;
+  f.pixel = length(view.du);
+  f.right = view.du / f.pixel;
+  f.up = -view.dv / f.pixel;
+  f.voxel_volume = v.spacing.x * v.spacing.y * v.spacing.z;
   const double kSigma = vr::kSplatSigma, kCutoff = vr::kSplatCutoff;
   const Vec3 var{std::pow(kSigma * v.spacing.x, 2), std::pow(kSigma * v.spacing.y, 2),
                  std::pow(kSigma * v.spacing.z, 2)};
-  const double sxx = dot(mul(right, right), var), syy = dot(mul(up, up), var), sxy = dot(mul(right, up), var);
-  const double det = sxx * syy - sxy * sxy;
-  const double ixx = syy / det, iyy = sxx / det, ixy = -sxy / det;
-  const double norm = 1.0 / (2 * std::numbers::pi * std::sqrt(det));
-  const int reach_x = int(std::ceil(kCutoff * std::sqrt(sxx) / pixel));
-  const int reach_y = int(std::ceil(kCutoff * std::sqrt(syy) / pixel));
-  // A footprint wider than the frame many times over (a handful of voxels in a
-  // large frame) or a degenerate covariance: the reference's arithmetic.
-  if (!(det > 0) || !(ixx > 0) || reach_x > 4096 || reach_y > 4096) return ref::volume_splat(v, options, stats);
+  const double sxx = dot(mul(f.right, f.right), var), syy = dot(mul(f.up, f.up), var),
+               sxy = dot(mul(f.right, f.up), var);
+  f.det = sxx * syy - sxy * sxy;
+  f.ixx = syy / f.det, f.iyy = sxx / f.det, f.ixy = -sxy / f.det;
+  f.norm = 1.0 / (2 * std::numbers::pi * std::sqrt(f.det));
+  f.reach_x = int(std::ceil(kCutoff * std::sqrt(sxx) / f.pixel));
+  f.reach_y = int(std::ceil(kCutoff * std::sqrt(syy) / f.pixel));
+  return f;
+}
+
+// Voxels are numbered in 32 bits; the tables need a proper covariance and a
+// footprint narrower than 4096 pixels (a handful of voxels in a large frame
+// is wider than the frame many times over).
+bool drawable(const Volume& v, const Shape& f) {
+  return !v.data.empty() && v.data.size() < size_t(std::numeric_limits<uint32_t>::max()) && f.det > 0 && f.ixx > 0 &&
+         f.reach_x <= 4096 && f.reach_y <= 4096;
+}
+
+}  // namespace
+
+bool volume_splat_handles(const Volume& v, const FrameOptions& options) {
+  if (v.data.empty()) return false;
+  const vr::Settings s = vr::settings(options.params, v.source, vr::Mode::kSplat);
+  return drawable(v, shape_of(v, vr::make_view(v, s, options.width, options.height)));
+}
+
+Image volume_splat(const Volume& v, const FrameOptions& options, FrameStats* stats) {
+  const vr::Settings s = vr::settings(options.params, v.source, vr::Mode::kSplat);
+  if (v.data.empty()) throw std::invalid_argument("opt::simd::volume_splat: an empty volume (see volume_splat_handles)");
+  const vr::View view = vr::make_view(v, s, options.width, options.height);
+  const int threads = resolve_threads(options.threads);
+  const Shape shape = shape_of(v, view);
+  if (!drawable(v, shape))
+    throw std::invalid_argument("opt::simd::volume_splat: a volume or footprint it does not draw (see volume_splat_handles)");
+  const double pixel = shape.pixel, voxel_volume = shape.voxel_volume, norm = shape.norm;
+  const Vec3 right = shape.right, up = shape.up;
+  const double ixx = shape.ixx, iyy = shape.iyy, ixy = shape.ixy;
+  const int reach_x = shape.reach_x, reach_y = shape.reach_y;
+  const double dt0 = std::min({v.spacing.x, v.spacing.y, v.spacing.z});
 
   // 1. Classification, slabs of z slices in parallel: which voxels have
   // alpha > 0 (a byte each), counted per slab; then their keys in index order

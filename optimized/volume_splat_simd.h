@@ -9,6 +9,13 @@
 
 namespace lockstep::opt::simd {
 
+// Whether volume_splat draws this volume in this frame: fewer than 2^32
+// voxels, a proper footprint covariance and a footprint at most 4096 pixels
+// wide (a handful of voxels in a large frame is wider). The registry's simd
+// row hands the rest to the reference (registry/volume_rows.cpp), and
+// volume_splat throws std::invalid_argument for it.
+bool volume_splat_handles(const Volume& volume, const FrameOptions& options);
+
 // The reference's image within a stated bound (registry/volume_rows.cpp splat_family):
 // the same voxels in the same depth order and sheets, the same footprint
 // cut-off pixel for pixel (decided in double by the reference's expression),

@@ -210,21 +210,10 @@ std::string mutate(std::string s) {
   return s;
 }
 
-// 50 times the usual case count (parsing is cheap); seed, RC_PARAMS and
-// LOCKSTEP_DEEP as every property's (props/driver/rc_run.h).
-template <class F>
-void check(const std::string& id, F f) {
-  namespace rr = lockstep::props::rc_run;
-  const rr::Params p = rr::params(id, 50);
-  rr::print_seed("lockstep", id, p, rr::ctest_line());
-  const rr::Result r = rr::check(id, p, f);
-  std::cout << "[ lockstep ] " << id << " (seed " << p.seed << ", max_success " << p.max_success
-            << "): " << r.message << "\n";
-  if (!r.passed) rr::report(r, p);
-}
+using lockstep::props::rc_run::fuzz;  // 50 times the usual case count (props/driver/rc_run.h)
 
 TEST(FuzzNff, RandomBytes) {
-  check("fuzz_nff.random_bytes", [] {
+  fuzz("fuzz_nff.random_bytes", [] {
     // Any bytes, or RapidCheck's characters (mostly printable).
     const std::string text =
         *rc::gen::arbitrary<bool>()
@@ -236,7 +225,7 @@ TEST(FuzzNff, RandomBytes) {
 }
 
 TEST(FuzzNff, TokenSoup) {
-  check("fuzz_nff.token_soup", [] {
+  fuzz("fuzz_nff.token_soup", [] {
     const std::string text = *rc::gen::resize(rc::kNominalSize, rc::gen::exec([] {
       const int n = *rc::gen::inRange(0, 120);
       std::string t;
@@ -254,7 +243,7 @@ TEST(FuzzNff, MutatedSpdFiles) {
   for (const std::string& f : files) {  // the seeds themselves parse
     EXPECT_NO_THROW(lockstep::parse_nff(f, "seed.nff"));
   }
-  check("fuzz_nff.mutated_spd", [] {
+  fuzz("fuzz_nff.mutated_spd", [] {
     const std::string& base = *rc::gen::elementOf(files);
     parse_ok(*rc::gen::resize(rc::kNominalSize, rc::gen::exec([&] { return mutate(base); })));
   });

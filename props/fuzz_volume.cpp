@@ -438,18 +438,7 @@ void read_ok(const Seed& seed, const std::string& bytes) {
   }
 }
 
-// 50 times the usual case count (parsing is cheap); seed, RC_PARAMS and
-// LOCKSTEP_DEEP as every property's (props/driver/rc_run.h).
-template <class F>
-void check(const std::string& id, F f) {
-  namespace rr = lockstep::props::rc_run;
-  const rr::Params p = rr::params(id, 50);
-  rr::print_seed("lockstep", id, p, rr::ctest_line());
-  const rr::Result r = rr::check(id, p, f);
-  std::cout << "[ lockstep ] " << id << " (seed " << p.seed << ", max_success " << p.max_success
-            << "): " << r.message << "\n";
-  if (!r.passed) rr::report(r, p);
-}
+using lockstep::props::rc_run::fuzz;  // 50 times the usual case count (props/driver/rc_run.h)
 
 const std::vector<Seed>& seeds() {
   static const std::vector<Seed> s = make_seeds();
@@ -473,7 +462,7 @@ TEST(FuzzVolume, SeedsRead) {  // the unmutated seeds are valid volumes
 
 TEST(FuzzVolume, MutatedFiles) {
   testing::internal::CaptureStderr();
-  check("fuzz_volume.mutated", [] {
+  fuzz("fuzz_volume.mutated", [] {
     const Seed seed = *rc::gen::elementOf(seeds());
     // The generator keeps its own copy: RapidCheck runs it again while shrinking.
     read_ok(seed, *rc::gen::resize(rc::kNominalSize, rc::gen::exec([base = seed.bytes] { return mutate(base); })));
@@ -484,7 +473,7 @@ TEST(FuzzVolume, MutatedFiles) {
 }
 
 TEST(FuzzVolume, RandomBytes) {
-  check("fuzz_volume.random_bytes", [] {
+  fuzz("fuzz_volume.random_bytes", [] {
     static const std::vector<Seed> kinds = {{"r.nrrd", ""}, {"r.nhdr", ""}, {"r.field", ""}};
     const Seed kind = *rc::gen::elementOf(kinds);
     // Random bytes after a NRRD magic (or none), so that the header scanner sees them.
@@ -509,7 +498,7 @@ TEST(FuzzVolume, TransferFunctions) {
         bases.push_back(t.str());
       }
   ASSERT_GE(bases.size(), 10u);
-  check("fuzz_volume.transfer_functions", [&bases] {
+  fuzz("fuzz_volume.transfer_functions", [&bases] {
     const std::string base = *rc::gen::elementOf(bases);
     const std::string text = *rc::gen::resize(rc::kNominalSize, rc::gen::exec([base] { return mutate(base); }));
     try {

@@ -92,10 +92,14 @@ bool report(const Result& r, const Params& p, const std::string& more) {
   return r.passed;
 }
 
-bool run(const std::string& name, const std::function<void()>& body) {
-  const Params p = params(name);
+bool run(const std::string& name, const std::function<void()>& body, int scale, bool echo) {
+  const Params p = params(name, scale);
   print_seed("lockstep", name, p, ctest_line());
-  return report(check(name, p, body), p);
+  const Result r = check(name, p, body);
+  if (echo)
+    std::cout << "[ lockstep ] " << name << " (seed " << p.seed << ", max_success " << p.max_success
+              << "): " << r.message << "\n";
+  return report(r, p);
 }
 
 }  // namespace lockstep::props::rc_run

@@ -61,8 +61,15 @@ Result check(const std::string& name, const Params& p, const std::function<void(
 // distribution prints it. Returns r.passed.
 bool report(const Result& r, const Params& p, const std::string& more = "");
 
-// params, print_seed (tag "lockstep", ctest_line()), check, report: a property
-// of a fixed test in one call.
-bool run(const std::string& name, const std::function<void()>& body);
+// params (at `scale`), print_seed (tag "lockstep", ctest_line()), check,
+// report: a property of a fixed test in one call. `echo`: also one line with
+// RapidCheck's message, passed or not ("[ lockstep ] name (seed S,
+// max_success N): OK, passed N tests"; the fuzzers, whose logs say how many
+// inputs each run tried).
+bool run(const std::string& name, const std::function<void()>& body, int scale = 1, bool echo = false);
+
+// A fuzzer's property: run at 50 times the usual case count (parsing is
+// cheap), echoed.
+inline bool fuzz(const std::string& name, const std::function<void()>& body) { return run(name, body, 50, true); }
 
 }  // namespace lockstep::props::rc_run
