@@ -58,6 +58,9 @@ int composite_main(Args args);
 struct Run;
 // The one-line summary render and composite print on stderr (app/render.cpp).
 std::string run_summary(const std::string& who, const Family& f, const FamilyImpl& impl, const Run& r);
+// " (N page faults, system S s; the call so far: M, T s)": the frame's and the
+// process's so far (core/process_memory.h resource_use).
+std::string resource_text(const Run& r);
 // One run for render and composite: progress on stderr, errors propagate (app/render.cpp).
 Run run_for_cli(const std::string& who, const Family& family, const FamilyImpl& impl, const Input& input,
                 FrameOptions opts);

@@ -112,10 +112,10 @@ int composite_main(Args args) {
   const Stopwatch writing;
   family.kind->write(r.out, out_path);
   std::fprintf(stderr,
-               "lockstep composite: %s %dx%d, %zu layers (%s), %.3f s, %.1f Mpix/s (read %.3f s, write %.3f s) -> %s\n",
+               "lockstep composite: %s %dx%d, %zu layers (%s), %.3f s, %.1f Mpix/s (read %.3f s, write %.3f s)%s -> %s\n",
                std::string(impl.name).c_str(), w, h, n, mode.c_str(), r.seconds,
                double(w) * double(h) / (r.seconds > 0 ? r.seconds : 1e-9) / 1e6, read_s, writing.seconds(),
-               out_path.c_str());
+               resource_text(r).c_str(), out_path.c_str());
   return kExitOk;
 }
 

@@ -23,10 +23,12 @@ void print_help() {
       "                  or simd (each cut edge once, slabs on all cores; default), or vtk\n"
       "                  (VTK's vtkFlyingEdges3D, a production peer; where VTK was found at build)\n"
       "  --threads N     worker threads, N >= 1 (default: all cores)\n"
+      "  --repeat N      run N times in this process (default 1): the summary gives the last run\n"
+      "                  (warm) and the first\n"
       "  -o, --output F  the mesh to write (required)\n"
       "\n"
       "Prints one summary line on stderr: implementation, triangles and vertices, seconds and\n"
-      "cubes per second.\n"
+      "cubes per second, page faults and system time (the extraction's and the call's so far).\n"
       "Exit codes: 0 ok, 2 bad usage or bad input (nothing written), 3 internal error.\n");
 }
 

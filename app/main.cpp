@@ -16,6 +16,7 @@
 
 #include "app/cli.h"
 #include "app/verify.h"  // merge_reports_main
+#include "core/large_buffer.h"
 #include "core/process_memory.h"
 #include "io/oiio.h"
 
@@ -74,6 +75,8 @@ void print_version() {
   std::printf("lockstep %s (simd: Highway target %s; embree %d.%d.%d; OpenImageIO %s)\n", LOCKSTEP_VERSION,
               lockstep::opt::simd::target_name(), RTC_VERSION_MAJOR, RTC_VERSION_MINOR, RTC_VERSION_PATCH,
               oiio.c_str());
+  // Memory (issue #35): whether large buffers go on huge pages here.
+  std::printf("  memory: %s\n", lockstep::huge_page_summary().c_str());
   // Peer rows, from the registry (core/family.h PeerRow): a module beside the
   // binary or a program, built only where its library was found at configure
   // time. Their versions were recorded then: nothing here loads a peer library.

@@ -79,10 +79,13 @@ void print_help() {
       "  --impl NAME     implementation (default: the family's, above)\n"
       "  --size WxH      image size, 1..%d each (default: the input's own; ray_cast: 'resolution')\n"
       "  --threads N     worker threads, N >= 1 (default: all cores; the reference is single-threaded)\n"
+      "  --repeat N      draw the frame N times in this process, 1..1000 (default 1): the summary\n"
+      "                  gives the last frame (warm: the memory of the frames before) and the first\n"
       "  -o, --output F  the image to write (required)\n"
       "\n"
-      "Prints one summary line (implementation, size, build and run seconds, rate, and which\n"
-      "implementation 'auto' chose) on stderr.\n"
+      "Prints one summary line (implementation, size, build and run seconds, rate, the frame's\n"
+      "page faults and system time and the call's so far, and which implementation 'auto'\n"
+      "chose) on stderr.\n"
       "Exit codes: 0 ok, 2 bad usage or bad input (nothing written), 3 internal error.\n",
       kMaxResolution);
 }
@@ -98,7 +101,7 @@ std::string run_summary(const std::string& who, const Family& f, const FamilyImp
                 f.kind->shape(r.out).c_str(), r.stats.build_seconds, int(f.verb.size()), f.verb.data(), run_s,
                 rate(double(r.stats.items) / (run_s > 0 ? run_s : 1e-9)).c_str(), int(f.unit.size()), f.unit.data(),
                 r.seconds);
-  std::string line = who + ": " + std::string(impl.name) + buf;
+  std::string line = who + ": " + std::string(impl.name) + buf + resource_text(r);
   if (!r.stats.chosen.empty()) line += ", chose " + r.stats.chosen;
   if (r.stats.skipped != 0)
     line += ", " + std::to_string(r.stats.skipped) + " " + std::string(f.unit) + " hidden (skipped)";
@@ -107,17 +110,33 @@ std::string run_summary(const std::string& who, const Family& f, const FamilyImp
   return line;
 }
 
+std::string resource_text(const Run& r) {
+  // Issue #35: a one-shot call's cost is largely first touch of fresh pages.
+  const ResourceUse call = resource_use();
+  char buf[200];
+  std::snprintf(buf, sizeof buf, " (%ld page faults, system %.3f s; the call so far: %ld, %.3f s)",
+                r.used.minor_faults + r.used.major_faults, r.used.system_seconds,
+                call.minor_faults + call.major_faults, call.system_seconds);
+  return buf;
+}
+
 Run run_for_cli(const std::string& who, const Family& family, const FamilyImpl& impl, const Input& input,
                 FrameOptions opts) {
   Progress progress(who + ": " + std::string(impl.name));
   opts.progress = [&progress](double f) { progress(f); };
   Run r;
+  const ResourceUse before = resource_use();
   try {
     r = run_frame(family, impl, input, opts, false);
   } catch (...) {
     progress.finish();
     throw;
   }
+  const ResourceUse after = resource_use();
+  r.used.minor_faults = after.minor_faults - before.minor_faults;
+  r.used.major_faults = after.major_faults - before.major_faults;
+  r.used.system_seconds = after.system_seconds - before.system_seconds;
+  r.used.user_seconds = after.user_seconds - before.user_seconds;
   progress.finish();
   if (!r.ok) throw std::runtime_error(std::string(impl.name) + " " + r.error);
   return r;
@@ -145,7 +164,7 @@ int render_main(Args args) { return render_as("lockstep render", "", args); }
 
 int render_as(const std::string& who, const std::string& forced_algo, Args args) {
   std::string in_path, out_path, impl_name, value, algo = forced_algo;
-  int width = 0, height = 0, threads = 0;
+  int width = 0, height = 0, threads = 0, repeat = 1;
   // --algo and the input first: they decide which family's settings the other
   // options may name. Every option but --help and the families' flags takes a
   // value, which is not the input.
@@ -174,6 +193,8 @@ int render_as(const std::string& who, const std::string& forced_algo, Args args)
       parse_size(value, width, height);
     } else if (take_option(args, i, "--threads", value)) {
       threads = int(parse_long("--threads", value, 1, 4096));
+    } else if (take_option(args, i, "--repeat", value)) {
+      repeat = int(parse_long("--repeat", value, 1, 1000));
     } else if (take_option(args, i, "-o", value) || take_option(args, i, "--output", value)) {
       out_path = value;
     } else if (take_option(args, i, "--algo", value)) {
@@ -226,11 +247,24 @@ int render_as(const std::string& who, const std::string& forced_algo, Args args)
   opts.height = height > 0 ? height : input.height;
   opts.threads = threads;
   opts.params = params;
-  const Run r = run_for_cli(who, family, impl, input, opts);
+  Run r = run_for_cli(who, family, impl, input, opts);
+  // --repeat: the frames after the first, each drawn once the one before is
+  // released (as the benchmarks' frames are: its memory is the next one's).
+  const double first_seconds = r.seconds;
+  for (int k = 1; k < repeat; ++k) {
+    r = Run{};
+    r = run_for_cli(who, family, impl, input, opts);
+  }
   if (path_checked.valid()) path_checked.get();
   family.kind->write(r.out, out_path);
   for (const std::string& note : r.stats.notes) std::fprintf(stderr, "%s: %s\n", who.c_str(), note.c_str());
-  std::fprintf(stderr, "%s -> %s\n", run_summary(who, family, impl, r).c_str(), out_path.c_str());
+  std::string line = run_summary(who, family, impl, r);
+  if (repeat > 1) {
+    char buf[120];
+    std::snprintf(buf, sizeof buf, "; frame %d of %d, the first: wall %.3f s", repeat, repeat, first_seconds);
+    line += buf;
+  }
+  std::fprintf(stderr, "%s -> %s\n", line.c_str(), out_path.c_str());
   return kExitOk;
 }
 

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/family.h"
+#include "core/process_memory.h"
 #include "core/timer.h"
 
 namespace lockstep::cli {
@@ -17,6 +18,7 @@ struct Run {
   double seconds = 0;  // wall time of the whole call (BVH build included)
   FrameStats stats;
   std::string error;
+  ResourceUse used;  // the frame's page faults and CPU time (run_for_cli; zero elsewhere)
 };
 
 // Runs in.value with impl at opts' size (or the input's own when the family

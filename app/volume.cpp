@@ -46,6 +46,8 @@ void print_help() {
       "  --impl NAME     implementation (default: simd; see `lockstep render --help`)\n"
       "  --size WxH      image size (default 256x256)\n"
       "  --threads N     worker threads, N >= 1 (default: all cores; the reference is single-threaded)\n"
+      "  --repeat N      run N times in this process (default 1): the summary gives the last run\n"
+      "                  (warm) and the first\n"
       "  -o, --output F  the image to write (required)\n"
       "\n"
       "Prints one summary line on stderr: implementation, size, seconds, pixels per second (and\n"

@@ -8,7 +8,6 @@
 // half-written output behind.
 #pragma once
 
-
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -17,80 +16,36 @@
 #include <utility>
 #include <vector>
 
+#include "core/large_buffer.h"
 #include "core/math.h"
 
 namespace lockstep {
 
-// An allocator that leaves new floats uninitialised (value-initialisation of a
-// 256 MB frame is a whole extra pass over memory). Image(w, h) still zeroes
-// explicitly; Image::uninitialized() is for renderers that write every pixel.
+// Image's planes: NoInitAllocator (core/large_buffer.h) leaves new floats
+// uninitialised (value-initialisation of a 256 MB frame is a whole extra pass
+// over memory); Image(w, h) still zeroes explicitly; Image::uninitialized() is
+// for renderers that write every pixel. Planes of 4 MiB and up are on huge
+// pages where the kernel allows (core/large_buffer.h).
 //
 // Large buffers (kSpacedBytes and up) start on a page and are followed by at
-// least a page (less 8 bytes) of unused address space, never touched, so never
-// backed by memory: consecutive buffers are never a power of two apart.
-// Without the gap, buffers allocated one after another from a heap that does
-// not use mmap for them (the benchmarks' mallopt(M_MMAP_MAX, 0)) sit exactly
-// size + 16 bytes apart: two 4096^2 float layers 256 MiB + 16 B apart, the same
-// address bits up to bit 27, and streaming both at once (out = L0 over L1) ran
-// at well under half the speed of the same layers a page further apart
-// (measured on the 2-core AMD EPYC VM: 55-75 ms of CPU per 4096^2 float
-// two-layer composite against 21-29 ms; the 8-bit layers of Layer::rgba8,
-// 64 MiB + 16 B apart, about 200 ms against 24). Default glibc mmaps such
-// blocks, a page apart already. Page alignment also makes every large buffer
-// 64-byte aligned: vector loads never straddle cache lines.
-// No huge pages. Frames of 2-64 MiB once started on a 2 MiB boundary with
-// MADV_HUGEPAGE (issue #21, cold first frame): a fresh 1024^2 z-buffer frame's
-// 16 MiB colour and 4 MiB depth then took 13 faults instead of 5,120. On the
-// 2-core VM this project is measured on, that halved the median cold frame
-// (CLI, one thread: 9 ms against 20 ms; warm 2.4 ms) but 1 frame in 4-8 took
-// 100-190 ms (the same fault counts; no compaction stalls in /proc/vmstat:
-// fresh huge pages that the VM's host had not backed yet). Mean 28 ms against
-// 20 ms without the advice, so the advice went. First touch of fresh 4 KiB
-// pages costs about 2 us each there (20 MiB: 7-10 ms), which is the floor of a
-// cold frame that writes a fresh float RGBA frame.
-template <class T>
-struct NoInitAllocator : std::allocator<T> {
-  using value_type = T;
-  static constexpr size_t kPage = 4096;
-  static constexpr size_t kSpacedBytes = size_t(1) << 20;
-  template <class U>
-  struct rebind {
-    using other = NoInitAllocator<U>;
-  };
-  NoInitAllocator() = default;
-  template <class U>
-  NoInitAllocator(const NoInitAllocator<U>&) {}
-  // The block is bytes + 2 pages from plain operator new, the buffer starts on the first alignment boundary
-  // past a pointer-sized header that remembers the block. (Not aligned
-  // operator new: glibc's memalign asks for more than it keeps, so a freed
-  // frame could not take the next one of the same size and every "warm" frame
-  // was fresh pages again.) The unused address space before and after the
-  // buffer is never touched (but for the header's page), so never backed.
-  T* allocate(size_t n) {
-    if (n * sizeof(T) < kSpacedBytes) return std::allocator<T>::allocate(n);
-    if (n > std::allocator_traits<std::allocator<T>>::max_size(*this) - 2 * kPage / sizeof(T))
-      throw std::bad_array_new_length();
-    const size_t bytes = n * sizeof(T);
-    char* block = static_cast<char*>(::operator new(bytes + 2 * kPage));
-    const uintptr_t start =
-        (reinterpret_cast<uintptr_t>(block) + sizeof(char*) + kPage - 1) & ~uintptr_t(kPage - 1);
-    reinterpret_cast<char**>(start)[-1] = block;
-    return reinterpret_cast<T*>(start);
-  }
-  void deallocate(T* p, size_t n) noexcept {
-    if (n * sizeof(T) < kSpacedBytes) return std::allocator<T>::deallocate(p, n);
-    ::operator delete(reinterpret_cast<char**>(p)[-1]);
-  }
-  template <class U>
-  void construct(U* p) noexcept {
-    ::new (static_cast<void*>(p)) U;
-  }
-  template <class U, class... Args>
-  void construct(U* p, Args&&... args) {
-    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-  }
-};
-
+// least a page of unused address space, never touched, so never backed by
+// memory: consecutive buffers are never a power of two apart. Without the
+// gap, buffers allocated one after another from a heap that does not use mmap
+// for them (the benchmarks' mallopt(M_MMAP_MAX, 0)) sit exactly size + 16
+// bytes apart: two 4096^2 float layers 256 MiB + 16 B apart, the same address
+// bits up to bit 27, and streaming both at once (out = L0 over L1) ran at well
+// under half the speed of the same layers a page further apart (measured on
+// the 2-core AMD EPYC VM: 55-75 ms of CPU per 4096^2 float two-layer
+// composite against 21-29 ms; the 8-bit layers of Layer::rgba8, 64 MiB + 16 B
+// apart, about 200 ms against 24). Page alignment also makes every large
+// buffer 64-byte aligned: vector loads never straddle cache lines.
+//
+// Huge pages, history. Frames of 2-64 MiB once started on a 2 MiB boundary
+// with MADV_HUGEPAGE (issue #21, cold first frame): a fresh 1024^2 z-buffer
+// frame's 16 MiB colour and 4 MiB depth then took 13 faults instead of 5,120,
+// but 1 frame in 4-8 took 100-190 ms (fresh huge pages that the VM's host had
+// not backed yet), so the advice went. Issue #35 measured again, on whole
+// one-shot calls (core/large_buffer.h); BENCHMARKS.md has the figures.
 struct Image {
   int width = 0, height = 0;
   std::vector<float, NoInitAllocator<float>> rgba;  // width * height * 4

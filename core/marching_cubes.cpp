@@ -143,7 +143,7 @@ const std::array<Case, 256>& case_table() {
   return table;
 }
 
-std::string empty_note(const std::vector<float>& samples, double iso) {
+std::string empty_note(const Samples& samples, double iso) {
   if (samples.empty()) return "the volume has no samples: the mesh is empty";
   const auto [lo, hi] = std::minmax_element(samples.begin(), samples.end());
   if (iso >= double(*lo) && iso <= double(*hi)) return {};

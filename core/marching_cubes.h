@@ -83,6 +83,7 @@
 
 #include "core/family.h"
 #include "core/math.h"
+#include "core/volume.h"
 
 namespace lockstep::mc {
 
@@ -158,7 +159,7 @@ inline Vec3f cut_point(const Vec3& a, const Vec3& b, double fa, double fb, doubl
 // When a run found no triangle because iso lies outside the volume's values
 // (not an error: a user asked for a surface that is not there), the note that
 // says so for FrameStats::notes; "" when iso is within them.
-std::string empty_note(const std::vector<float>& samples, double iso);
+std::string empty_note(const Samples& samples, double iso);
 
 // ---------------------------------------------------------------- settings
 

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "core/large_buffer.h"
 #include "core/math.h"
 
 namespace lockstep {
@@ -32,8 +33,10 @@ struct UnionFind {
 };
 
 struct Mesh {
-  std::vector<Vec3f> vertices;  // float, as every production mesher stores them
-  std::vector<std::array<uint32_t, 3>> triangles;
+  // Large buffers: on huge pages where the kernel allows (core/large_buffer.h).
+  // resize leaves new entries unwritten (the meshers write every one).
+  std::vector<Vec3f, NoInitAllocator<Vec3f>> vertices;  // float, as every production mesher stores them
+  std::vector<std::array<uint32_t, 3>, NoInitAllocator<std::array<uint32_t, 3>>> triangles;
 
   size_t size() const { return triangles.size(); }
 };

@@ -28,3 +28,17 @@ namespace lockstep {
 void keep_freed_memory();
 
 }  // namespace lockstep
+
+namespace lockstep {
+
+// What the process has used so far (getrusage, every thread): page faults
+// (minor: a page mapped without reading a file; major: read from a file) and
+// CPU time in the kernel and in user code. The CLI's stats line gives the
+// frame's share and the call's (issue #35).
+struct ResourceUse {
+  long minor_faults = 0, major_faults = 0;
+  double system_seconds = 0, user_seconds = 0;
+};
+ResourceUse resource_use();
+
+}  // namespace lockstep

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "core/large_buffer.h"
 #include "core/math.h"
 
 namespace lockstep {
@@ -74,11 +75,16 @@ struct DerivedSlot {
   DerivedData* operator->() const { return data.get(); }
 };
 
+// A volume's samples: a large buffer, on huge pages where the kernel allows
+// (core/large_buffer.h); resize leaves new samples unwritten (every reader
+// writes them all).
+using Samples = std::vector<float, NoInitAllocator<float>>;
+
 struct Volume {
   int nx = 0, ny = 0, nz = 0;       // samples per axis
   Vec3 spacing{1, 1, 1};            // world distance between neighbouring samples, per axis
   Vec3 origin{0, 0, 0};             // world position of sample (0, 0, 0)
-  std::vector<float> data;          // nx * ny * nz, i fastest
+  Samples data;                     // nx * ny * nz, i fastest
   std::string source;               // the file it came from (messages, reports)
   // What implementations derived from the samples (DerivedData above). A copy
   // or a moved-to volume starts empty: it may be changed before it is

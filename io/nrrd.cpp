@@ -48,6 +48,8 @@ struct NrrdHeader {
   long byte_skip = 0, line_skip = 0;
   size_t data_offset = 0;    // attached: first byte after the blank line
   bool header_ends = false;  // a blank line ends the header (else it ends at end of file)
+  bool big_endian = false;
+  std::string data_name;  // the file the data is in (the header's own when attached)
 };
 
 constexpr size_t kMaxHeaderBytes = size_t(1) << 20;
@@ -274,6 +276,7 @@ NrrdHeader scan_nrrd_header(const std::string& path) {
       case nrrdField_endian:
         if (airEnumVal(airEndian, v.c_str()) == airEndianUnknown)
           throw InputError(path, line_no, "unknown endian " + quoted(value) + " (little or big)");
+        h.big_endian = airEnumVal(airEndian, v.c_str()) == airEndianBig;
         break;
       case nrrdField_data_file:
         if (value.empty()) throw InputError(path, line_no, "data file: no file name");
@@ -324,6 +327,7 @@ NrrdHeader scan_nrrd_header(const std::string& path) {
     if (!h.header_ends) throw InputError(path, 0, "no data: neither a 'data file:' field nor a blank line before data");
     available = file_size - h.data_offset;
   }
+  h.data_name = data_name;
   if (h.byte_skip > 0) available -= std::min(available, size_t(h.byte_skip));
   const std::string sizes =
       std::to_string(h.sizes[0]) + " x " + std::to_string(h.sizes[1]) + " x " + std::to_string(h.sizes[2]);
@@ -414,8 +418,10 @@ struct NioDeleter {
   void operator()(NrrdIoState* n) const { nrrdIoStateNix(n); }
 };
 
+// n samples of type T at data as float at out; bad = the first that is not
+// finite or beyond float's range (n when none).
 template <class T>
-void convert(const void* data, size_t n, std::vector<float>& out, size_t& bad) {
+void convert_as(const void* data, size_t n, float* out, size_t& bad) {
   const T* p = static_cast<const T*>(data);
   for (size_t i = 0; i < n; ++i) {
     const double v = double(p[i]);
@@ -425,6 +431,69 @@ void convert(const void* data, size_t n, std::vector<float>& out, size_t& bad) {
     }
     out[i] = float(p[i]);
   }
+  bad = n;
+}
+
+void convert(int type, const void* data, size_t n, float* out, size_t& bad) {
+  switch (type) {
+    case nrrdTypeChar:
+      return convert_as<signed char>(data, n, out, bad);
+    case nrrdTypeUChar:
+      return convert_as<unsigned char>(data, n, out, bad);
+    case nrrdTypeShort:
+      return convert_as<int16_t>(data, n, out, bad);
+    case nrrdTypeUShort:
+      return convert_as<uint16_t>(data, n, out, bad);
+    case nrrdTypeInt:
+      return convert_as<int32_t>(data, n, out, bad);
+    case nrrdTypeUInt:
+      return convert_as<uint32_t>(data, n, out, bad);
+    case nrrdTypeFloat:
+      return convert_as<float>(data, n, out, bad);
+    default:
+      return convert_as<double>(data, n, out, bad);
+  }
+}
+
+// Reverses the bytes of each of n samples of `size` bytes.
+void swap_bytes(unsigned char* p, size_t n, size_t size) {
+  for (size_t i = 0; i < n; ++i, p += size) std::reverse(p, p + size);
+}
+
+// Raw samples read straight into the volume's buffer (issue #35: Teem would
+// zero a buffer of its own, read into it and leave us to copy: the file's size
+// of fresh pages touched twice). Float samples land where they stay; other
+// types go through a 1 MiB buffer. Sets bad (the first bad sample, or n) and
+// bad_value; throws InputError when the file ends early.
+void read_raw(const NrrdHeader& h, const std::string& path, Samples& out, size_t& bad, double& bad_value) {
+  const size_t n = out.size(), size = type_size(h.type);
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(h.data_name.c_str(), "rb"), &std::fclose);
+  const long offset = long(h.data_file.empty() ? h.data_offset : 0) + h.byte_skip;
+  if (!f || std::fseek(f.get(), offset, SEEK_SET) != 0)
+    throw InputError(path, 0, "cannot read the data of " + h.data_name + ": " + std::strerror(errno));
+  auto fail_short = [&] { throw InputError(path, 0, "the data ends early (read error or file changed)"); };
+  if (h.type == nrrdTypeFloat) {
+    if (std::fread(out.data(), size, n, f.get()) != n) fail_short();
+    if (h.big_endian) swap_bytes(reinterpret_cast<unsigned char*>(out.data()), n, size);
+    convert(h.type, out.data(), n, out.data(), bad);
+    if (bad < n) bad_value = out[bad];
+    return;
+  }
+  std::vector<unsigned char> buf(size_t(1) << 20);
+  const size_t per = buf.size() / size;
+  for (size_t at = 0; at < n; at += per) {
+    const size_t m = std::min(per, n - at);
+    if (std::fread(buf.data(), size, m, f.get()) != m) fail_short();
+    if (h.big_endian && size > 1) swap_bytes(buf.data(), m, size);
+    size_t b = m;
+    convert(h.type, buf.data(), m, out.data() + at, b);
+    if (b < m) {
+      bad = at + b;
+      bad_value = nrrdDLookup[h.type](buf.data(), b);
+      return;
+    }
+  }
+  bad = n;
 }
 
 // Reverses the samples along axis a (the file stores that axis in the negative direction).
@@ -443,8 +512,14 @@ void flip(Volume& v, int a) {
 
 }  // namespace
 
-Volume read_nrrd(const std::string& path) {
+Volume read_nrrd(const std::string& path) { return read_nrrd(path, NrrdData::kDirect); }
+
+Volume read_nrrd(const std::string& path, NrrdData how) {
   const NrrdHeader h = scan_nrrd_header(path);
+  // Raw data at a known offset (no line skip, no byte skip -1) is read
+  // straight into the volume (read_raw); Teem reads the header only.
+  const bool direct = how == NrrdData::kDirect && h.encoding == nrrdEncodingTypeRaw && h.line_skip == 0 &&
+                      h.byte_skip >= 0;
   Volume v;
   v.source = path;
   v.nx = int(h.sizes[0]);
@@ -460,13 +535,14 @@ Volume read_nrrd(const std::string& path) {
     std::unique_ptr<Nrrd, NrrdDeleter> nrrd(nrrdNew());
     std::unique_ptr<NrrdIoState, NioDeleter> nio(nrrdIoStateNew());
     if (!nrrd || !nio) throw InputError(path, 0, "out of memory");
+    nio->skipData = direct ? AIR_TRUE : AIR_FALSE;
     if (nrrdLoad(nrrd.get(), path.c_str(), nio.get())) {
       const auto [line, message] = teem_error(h);
       throw InputError(path, line, message);
     }
     const Nrrd* r = nrrd.get();
     if (r->dim != 3 || r->type != h.type || r->axis[0].size != h.sizes[0] || r->axis[1].size != h.sizes[1] ||
-        r->axis[2].size != h.sizes[2] || !r->data)
+        r->axis[2].size != h.sizes[2] || (!direct && !r->data))
       throw InputError(path, 0, "Teem read something other than the header says (dimension, type or sizes)");
 
     // Geometry.
@@ -515,34 +591,13 @@ Volume read_nrrd(const std::string& path) {
     }
 
     // The samples, as float, each finite.
-    v.data.assign(n, 0.0f);
-    switch (r->type) {
-      case nrrdTypeChar:
-        convert<signed char>(r->data, n, v.data, bad);
-        break;
-      case nrrdTypeUChar:
-        convert<unsigned char>(r->data, n, v.data, bad);
-        break;
-      case nrrdTypeShort:
-        convert<int16_t>(r->data, n, v.data, bad);
-        break;
-      case nrrdTypeUShort:
-        convert<uint16_t>(r->data, n, v.data, bad);
-        break;
-      case nrrdTypeInt:
-        convert<int32_t>(r->data, n, v.data, bad);
-        break;
-      case nrrdTypeUInt:
-        convert<uint32_t>(r->data, n, v.data, bad);
-        break;
-      case nrrdTypeFloat:
-        convert<float>(r->data, n, v.data, bad);
-        break;
-      case nrrdTypeDouble:
-        convert<double>(r->data, n, v.data, bad);
-        break;
+    v.data.resize(n);  // every sample written below, or an error thrown
+    if (direct) {
+      read_raw(h, path, v.data, bad, bad_value);
+    } else {
+      convert(r->type, r->data, n, v.data.data(), bad);
+      if (bad < n) bad_value = nrrdDLookup[r->type](r->data, bad);
     }
-    if (bad < n) bad_value = nrrdDLookup[r->type](r->data, bad);
   }
   if (bad < n) {
     const size_t i = bad % h.sizes[0], j = bad / h.sizes[0] % h.sizes[1], k = bad / h.sizes[0] / h.sizes[1];

@@ -41,7 +41,8 @@
 //     yield them without an error: Teem's gzip reader leaks its zlib state on
 //     a short or corrupt stream, and zlib passes non-gzip bytes through as if
 //     they were the data (line skips and byte skip -1 with gzip are refused).
-// Then Teem reads the file (under a mutex: biff, Teem's error stack, is
+// Then Teem reads the file (raw data: the header only, the data is read
+// straight into the volume; see read_nrrd below) (under a mutex: biff, Teem's error stack, is
 // global), and what it reports becomes the InputError: biff's innermost
 // message on one line, on the line of the field it names (else line 0).
 // Teem prints nothing on stderr (nrrdStateVerboseIO = 0). Known left to
@@ -108,6 +109,14 @@ inline constexpr int kMaxFieldSize = 1024;
 Volume read_volume(const std::string& path);
 // A NRRD file alone (.nrrd or .nhdr, whatever its extension; io/nrrd.cpp).
 Volume read_nrrd(const std::string& path);
+// How the samples are read: kDirect, read_nrrd's way, reads raw data (no line
+// skip, no byte skip -1) itself, straight into the volume's buffer, and lets
+// Teem read the header only (nio->skipData); Teem would zero a buffer of its
+// own, read into it and leave the copy to us: the file's size in fresh pages
+// touched twice (issue #35). kTeem has Teem read every encoding: what tests
+// compare kDirect with, sample for sample.
+enum class NrrdData { kDirect, kTeem };
+Volume read_nrrd(const std::string& path, NrrdData how);
 
 // ------------------------------------------------------------------ analytic fields
 enum class FieldKind { kSphere, kTorus, kGyroid, kMarschnerLobb };

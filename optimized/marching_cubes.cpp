@@ -45,9 +45,10 @@ namespace {
 
 namespace hn = hwy::HWY_NAMESPACE;
 
-// A byte array that is not zeroed on allocation (every byte is written by a pass).
-using Bytes = std::unique_ptr<uint8_t[]>;
-Bytes bytes(size_t n) { return Bytes(new uint8_t[n]); }
+// A byte array that is not zeroed on allocation (every byte is written by a
+// pass); a large buffer (core/large_buffer.h).
+using Bytes = std::vector<uint8_t, NoInitAllocator<uint8_t>>;
+Bytes bytes(size_t n) { return Bytes(n); }
 
 // Flag bits of a sample.
 constexpr uint8_t kBelow = 1, kCutX = 2, kCutY = 4, kCutZ = 8;
@@ -168,7 +169,7 @@ Mesh marching_cubes(const Volume& v, const FrameOptions& options, FrameStats* st
   const size_t row_len = size_t(nx);
   const size_t samples = row_len * size_t(ny) * size_t(nz);
   Bytes flags = bytes(samples);
-  std::vector<SampleRow> srows(size_t(ny) * size_t(nz));
+  std::vector<SampleRow, LargeAllocator<SampleRow>> srows(size_t(ny) * size_t(nz));
 
   // ---------------------------------------------------------------- pass 1
   over_slabs(nz, options.threads, nullptr, [&](int k0, int k1) {
@@ -212,7 +213,7 @@ Mesh marching_cubes(const Volume& v, const FrameOptions& options, FrameStats* st
   // ---------------------------------------------------------------- pass 2
   const int cx_n = nx - 1, cy_n = ny - 1, cz_n = nz - 1;
   Bytes cases = bytes(size_t(cx_n) * size_t(cy_n) * size_t(cz_n));
-  std::vector<CubeRow> crows(size_t(cy_n) * size_t(cz_n));
+  std::vector<CubeRow, LargeAllocator<CubeRow>> crows(size_t(cy_n) * size_t(cz_n));
   uint8_t ntri[256];
   for (int c = 0; c < 256; ++c) ntri[c] = table[size_t(c)].triangles;
   over_slabs(cz_n, options.threads, nullptr, [&](int k0, int k1) {

@@ -119,20 +119,6 @@ Tolerance volpack_agree() {
   return t;
 }
 
-// The simd rows draw volumes with a cell on every axis and footprints of at
-// most 4096 pixels (optimized/volume_*_simd.h says which); the rest (a slice,
-// a line, a few voxels in a large frame) the reference's arithmetic draws.
-// The choice is made here, so optimized/ sees no reference.
-Image simd_raycast(const Volume& v, const FrameOptions& o, FrameStats* st) {
-  return opt::simd::volume_cast_handles(v) ? opt::simd::volume_raycast(v, o, st) : ref::volume_raycast(v, o, st);
-}
-Image simd_iso(const Volume& v, const FrameOptions& o, FrameStats* st) {
-  return opt::simd::volume_cast_handles(v) ? opt::simd::volume_iso(v, o, st) : ref::volume_iso(v, o, st);
-}
-Image simd_splat(const Volume& v, const FrameOptions& o, FrameStats* st) {
-  return opt::simd::volume_splat_handles(v, o) ? opt::simd::volume_splat(v, o, st) : ref::volume_splat(v, o, st);
-}
-
 }  // namespace
 
 Family volume_family() {
@@ -141,7 +127,13 @@ Family volume_family() {
   f.what = "volume rendering by V-buffer ray casting (transfer function, front-to-back over)";
   f.algo = "raycast";
   std::vector<TypedImpl<Volume>> impls = {{"reference", ref::volume_raycast, 0, {}, {}, false},
-                                          {"simd", simd_raycast}};
+                                          // A volume without a cell on every axis (a slice, a line): the
+                                          // reference's arithmetic (optimized/volume_raycast_simd.h); the
+                                          // choice is made here, so optimized/ sees no reference.
+                                          {"simd", [](const Volume& v, const FrameOptions& o, FrameStats* st) {
+                                             return opt::simd::volume_cast_handles(v) ? opt::simd::volume_raycast(v, o, st)
+                                                                                      : ref::volume_raycast(v, o, st);
+                                           }}};
   // VolPack's shear-warp (optimized/volume_volpack.cpp), only where the build
   // found VolPack: another resampling (classified voxels interpolated
   // bilinearly per slice, one sample per slice, an 8-bit result), so its own
@@ -250,7 +242,12 @@ Family splat_family() {
   f.what = "volume rendering by splatting (Gaussian footprints in depth order)";
   f.algo = "splat";
   const TypedImpl<Volume> impls[] = {{"reference", ref::volume_splat, 0, {}, {}, false},
-                                      {"simd", simd_splat}};
+                                      // A footprint wider than 4096 pixels (a few voxels in a large
+                                      // frame): the reference (optimized/volume_splat_simd.h).
+                                      {"simd", [](const Volume& v, const FrameOptions& o, FrameStats* st) {
+                                         return opt::simd::volume_splat_handles(v, o) ? opt::simd::volume_splat(v, o, st)
+                                                                                      : ref::volume_splat(v, o, st);
+                                       }}};
   f.impls = erase_all<Volume, Image>(impls);
   f.default_impl = "simd";
   f.properties = {"agreement", "transparent", "mirror"};
@@ -280,7 +277,11 @@ Family volume_iso_family() {
   f.what = "the isosurface of the trilinear interpolant, ray cast (first crossing, bisection, gradient shading)";
   f.algo = "iso";
   const TypedImpl<Volume> impls[] = {{"reference", ref::volume_iso, 0, {}, {}, false},
-                                      {"simd", simd_iso}};
+                                      // As the volume family's simd row: a slice or a line, the reference.
+                                      {"simd", [](const Volume& v, const FrameOptions& o, FrameStats* st) {
+                                         return opt::simd::volume_cast_handles(v) ? opt::simd::volume_iso(v, o, st)
+                                                                                  : ref::volume_iso(v, o, st);
+                                       }}};
   f.impls = erase_all<Volume, Image>(impls);
   f.default_impl = "simd";
   f.properties = {"agreement", "mirror"};

@@ -131,6 +131,34 @@ std::string error_of(const std::string& path) {
   return "";
 }
 
+// read_nrrd's direct raw read (NrrdData::kDirect) against Teem reading the
+// whole file (kTeem): the same volume, sample for sample and bit for bit, or
+// the same InputError.
+void expect_direct_is_teems(const std::string& path) {
+  std::string direct_error, teem_error;
+  Volume a, b;
+  try {
+    a = read_nrrd(path, NrrdData::kDirect);
+  } catch (const InputError& e) {
+    direct_error = e.what();
+  }
+  try {
+    b = read_nrrd(path, NrrdData::kTeem);
+  } catch (const InputError& e) {
+    teem_error = e.what();
+  }
+  ASSERT_EQ(direct_error, teem_error) << path;
+  EXPECT_EQ(a.nx, b.nx) << path;
+  EXPECT_EQ(a.ny, b.ny) << path;
+  EXPECT_EQ(a.nz, b.nz) << path;
+  EXPECT_EQ(a.spacing, b.spacing) << path;
+  EXPECT_EQ(a.origin, b.origin) << path;
+  ASSERT_EQ(a.data.size(), b.data.size()) << path;
+  for (size_t i = 0; i < a.data.size(); ++i)
+    ASSERT_EQ(std::bit_cast<uint32_t>(a.data[i]), std::bit_cast<uint32_t>(b.data[i]))
+        << path << ": sample " << i << ": direct " << a.data[i] << ", Teem " << b.data[i];
+}
+
 // ---------------------------------------------------------------- real volumes (../shared/volumes)
 
 struct RealVolume {
@@ -183,6 +211,20 @@ TEST(VolumeIo, RealVolumesReadWithTheirReadmeSizesAndRanges) {
       }
     }
   }
+}
+
+TEST(VolumeIo, DirectRawReadIsTeems) {
+  // Every NRRD the tests hold, good (the corpus, the real volumes) and bad
+  // (tests/bad-volumes: the same message either way).
+  std::vector<fs::path> files;
+  for (const fs::path& dir : std::vector<fs::path>{fs::path(LOCKSTEP_CORPUS_DIR) / "volumes", fs::path(LOCKSTEP_BAD_VOLUMES_DIR), fs::path(volumes_dir())})
+    if (fs::exists(dir))
+      for (const auto& e : fs::directory_iterator(dir))
+        if (e.path().extension() == ".nrrd" || e.path().extension() == ".nhdr") files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  for (const fs::path& p : files) expect_direct_is_teems(p.string());
+  EXPECT_GE(files.size(), 40u);
+  std::cout << "[ lockstep ] " << files.size() << " NRRD files read both ways\n";
 }
 
 TEST(VolumeIo, CorpusVolumesRead) {
@@ -286,6 +328,7 @@ void round_trip(const char* type, double (*f)(int)) {
         EXPECT_EQ(vol.ny, kNy) << what;
         EXPECT_EQ(vol.nz, kNz) << what;
         expect_samples(vol, as_double(v), what);
+        expect_direct_is_teems(path);
       }
 }
 
