@@ -61,6 +61,8 @@ std::string run_summary(const std::string& who, const Family& f, const FamilyImp
 // " (N page faults, system S s; the call so far: M, T s)": the frame's and the
 // process's so far (core/process_memory.h resource_use).
 std::string resource_text(const Run& r);
+// "; frame N of N, the first: wall S s" after --repeat N (N > 1), else "".
+std::string repeat_text(int repeat, double first_seconds);
 // One run for render and composite: progress on stderr, errors propagate (app/render.cpp).
 Run run_for_cli(const std::string& who, const Family& family, const FamilyImpl& impl, const Input& input,
                 FrameOptions opts);

@@ -34,6 +34,8 @@ void print_help(const Family& f) {
       "  --no-early-stop     front to back without early termination\n"
       "  --impl NAME         one of: %s (default: %.*s)\n"
       "  --threads N         worker threads, N >= 1 (default: all cores; the reference is single-threaded)\n"
+      "  --repeat N          composite N times in this process (default 1): the summary gives the\n"
+      "                      last (warm) and the first\n"
       "  -o, --output F      the image to write (required)\n"
       "\n"
       "Prints one line on stderr: implementation, size, layers, seconds and output Mpix/s\n"
@@ -53,7 +55,7 @@ int composite_main(Args args) {
   std::optional<Order> order;
   std::optional<Storage> storage;
   bool no_early_stop = false;
-  int threads = 0;
+  int threads = 0, repeat = 1;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string_view a = args[i];
     if (a == "--help" || a == "-h") {
@@ -76,6 +78,8 @@ int composite_main(Args args) {
       impl_name = value;
     } else if (take_option(args, i, "--threads", value)) {
       threads = int(parse_long("--threads", value, 1, 4096));
+    } else if (take_option(args, i, "--repeat", value)) {
+      repeat = int(parse_long("--repeat", value, 1, 1000));
     } else if (take_option(args, i, "-o", value) || take_option(args, i, "--output", value)) {
       out_path = value;
     } else if (is_option(a)) {
@@ -108,14 +112,19 @@ int composite_main(Args args) {
 
   FrameOptions opts;
   opts.threads = threads;
-  const Run r = run_for_cli("lockstep composite", family, impl, input, opts);
+  Run r = run_for_cli("lockstep composite", family, impl, input, opts);
+  const double first_seconds = r.seconds;
+  for (int k = 1; k < repeat; ++k) {  // each once the one before is released (render's --repeat)
+    r = Run{};
+    r = run_for_cli("lockstep composite", family, impl, input, opts);
+  }
   const Stopwatch writing;
   family.kind->write(r.out, out_path);
   std::fprintf(stderr,
                "lockstep composite: %s %dx%d, %zu layers (%s), %.3f s, %.1f Mpix/s (read %.3f s, write %.3f s)%s -> %s\n",
                std::string(impl.name).c_str(), w, h, n, mode.c_str(), r.seconds,
                double(w) * double(h) / (r.seconds > 0 ? r.seconds : 1e-9) / 1e6, read_s, writing.seconds(),
-               resource_text(r).c_str(), out_path.c_str());
+               (resource_text(r) + repeat_text(repeat, first_seconds)).c_str(), out_path.c_str());
   return kExitOk;
 }
 

@@ -120,6 +120,13 @@ std::string resource_text(const Run& r) {
   return buf;
 }
 
+std::string repeat_text(int repeat, double first_seconds) {
+  if (repeat <= 1) return "";
+  char buf[120];
+  std::snprintf(buf, sizeof buf, "; frame %d of %d, the first: wall %.3f s", repeat, repeat, first_seconds);
+  return buf;
+}
+
 Run run_for_cli(const std::string& who, const Family& family, const FamilyImpl& impl, const Input& input,
                 FrameOptions opts) {
   Progress progress(who + ": " + std::string(impl.name));
@@ -258,13 +265,8 @@ int render_as(const std::string& who, const std::string& forced_algo, Args args)
   if (path_checked.valid()) path_checked.get();
   family.kind->write(r.out, out_path);
   for (const std::string& note : r.stats.notes) std::fprintf(stderr, "%s: %s\n", who.c_str(), note.c_str());
-  std::string line = run_summary(who, family, impl, r);
-  if (repeat > 1) {
-    char buf[120];
-    std::snprintf(buf, sizeof buf, "; frame %d of %d, the first: wall %.3f s", repeat, repeat, first_seconds);
-    line += buf;
-  }
-  std::fprintf(stderr, "%s -> %s\n", line.c_str(), out_path.c_str());
+  std::fprintf(stderr, "%s%s -> %s\n", run_summary(who, family, impl, r).c_str(),
+               repeat_text(repeat, first_seconds).c_str(), out_path.c_str());
   return kExitOk;
 }
 

@@ -27,7 +27,7 @@ ROOT=$PWD
 abs() { case "$1" in /*) echo "$1" ;; *) echo "$here/$1" ;; esac; }
 
 STEPS=(machine ray_cast_composite accuracy charts raster raster_study cones shadow_map shadows mc_study mc_topology
-       volume volume_study ray_trace ray_trace_study ray_trace_depth embree_raw oneshot page)
+       volume volume_study ray_trace ray_trace_study ray_trace_depth embree_raw oneshot oneshot_pages page)
 # Results no step writes (the page shows them as committed).
 KEPT=(composite_accuracy.json llvmpipe_warm.json mc_bench.json raster_deep.json ray_cast_known.json
       volpack_agreement.json volpack_peer.json ray_trace_packets.json)
@@ -258,6 +258,13 @@ step_oneshot() {  # what one call of each subcommand costs (bench/scripts/onesho
   ((quick)) && runs=1 min_time=0.001
   ONESHOT_BUILD=$build ONESHOT_MIN_TIME=$min_time ONESHOT_QUICK=$quick bash bench/scripts/oneshot.sh $runs "$R"/oneshot.json
   made "$R"/oneshot.json
+}
+
+step_oneshot_pages() {  # one-shot against warm, huge pages against 4 KiB pages (bench/scripts/oneshot_pages.py)
+  /usr/bin/python3 -c 'import numpy' 2>/dev/null || skip "needs numpy for /usr/bin/python3 (python3-numpy)"
+  command -v /usr/bin/time >/dev/null || skip "needs /usr/bin/time"
+  /usr/bin/python3 bench/scripts/oneshot_pages.py --build "$build" --out "$R"/oneshot_pages.json $( ((quick)) && echo --quick)
+  made "$R"/oneshot_pages.json
 }
 
 step_page() {  # BENCHMARKS.md from the results (bench/scripts/benchmarks_md.py)

@@ -13,12 +13,14 @@
 //           last sample with any
 //   pass 2  per cube: its case, from the eight corners' below bits, only
 //           between the first and last cut samples of its four sample rows
-//           (trimming: a cut cube has a cut edge at its own sample); per cube row: its triangles, the first and last cube
-//           that is cut
+//           (trimming: a cut cube has a cut edge at its own sample), into a
+//           row of scratch; per cube row: its triangles, the first and last
+//           cube that is cut
 //   offsets prefix sums over the rows: where each sample row's cut points and
 //           each cube row's triangles go in the output
 //   pass 3  per sample row: its cut points (x cuts, then y, then z, in order of
-//           i); per cube row: its triangles, the index of each corner's cut
+//           i); per cube row: its cases again (between its first and last
+//           cut cube), its triangles, the index of each corner's cut
 //           point found by counting cuts along the row from the row's offset
 //           (one counter per row and axis the cube row uses)
 // Passes 1 and 2 are plain loops over bytes written so that the compiler
@@ -212,18 +214,21 @@ Mesh marching_cubes(const Volume& v, const FrameOptions& options, FrameStats* st
 
   // ---------------------------------------------------------------- pass 2
   const int cx_n = nx - 1, cy_n = ny - 1, cz_n = nz - 1;
-  Bytes cases = bytes(size_t(cx_n) * size_t(cy_n) * size_t(cz_n));
   std::vector<CubeRow, LargeAllocator<CubeRow>> crows(size_t(cy_n) * size_t(cz_n));
   uint8_t ntri[256];
   for (int c = 0; c < 256; ++c) ntri[c] = table[size_t(c)].triangles;
+  // A cube row's cases live in a row of scratch (pass 3 finds them again):
+  // one byte per cube of the volume would be 16 MiB of fresh memory at 256^3,
+  // written once and read once (issue #35: touch less).
   over_slabs(cz_n, options.threads, nullptr, [&](int k0, int k1) {
+    Bytes cases = bytes(size_t(cx_n));
     for (int k = k0; k < k1; ++k)
       for (int j = 0; j < cy_n; ++j) {
         const uint8_t* r00 = &flags[v.index(0, j, k)];
         const uint8_t* r10 = &flags[v.index(0, j + 1, k)];
         const uint8_t* r01 = &flags[v.index(0, j, k + 1)];
         const uint8_t* r11 = &flags[v.index(0, j + 1, k + 1)];
-        uint8_t* c = &cases[(size_t(k) * size_t(cy_n) + size_t(j)) * size_t(cx_n)];
+        uint8_t* c = cases.data();
         CubeRow& row = crows[size_t(k) * size_t(cy_n) + size_t(j)];
         // Trimming (flying edges' "computational trimming"): a cut cube has a
         // cut edge at its own sample i in one of its four sample rows (if its
@@ -284,6 +289,7 @@ Mesh marching_cubes(const Volume& v, const FrameOptions& options, FrameStats* st
     edge_axis[e] = mc::kEdgeAxis[e];
   }
   over_slabs(nz, options.threads, options.progress, [&](int k0, int k1) {
+    Bytes cases = bytes(size_t(cx_n));
     // Cut points of the sample rows of slices k0 <= k < k1.
     for (int k = k0; k < k1; ++k)
       for (int j = 0; j < ny; ++j) {
@@ -338,7 +344,10 @@ Mesh marching_cubes(const Volume& v, const FrameOptions& options, FrameStats* st
           next[q][1] = sr[q]->offset + sr[q]->cuts[0];
           next[q][2] = sr[q]->offset + sr[q]->cuts[0] + sr[q]->cuts[1];
         }
-        const uint8_t* c = &cases[(size_t(k) * size_t(cy_n) + size_t(j)) * size_t(cx_n)];
+        // The row's cases again, between its first and last cut cube (pass 2's).
+        uint8_t* c = cases.data();
+        case_row(f[0] + row.first, f[1] + row.first, f[2] + row.first, f[3] + row.first, row.last - row.first + 1,
+                 c + row.first);
         std::array<uint32_t, 3>* tri = &mesh.triangles[row.offset];
         // Cubes with no cut edge are skipped: none of the counters this row
         // reads would move there (each counts edges of the cube at its sample).
