@@ -34,6 +34,7 @@ command -v npm >/dev/null || packages+=(npm)
 
 if ((peers)); then
   packages+=(libvtk9-dev)  # vtkFlyingEdges3D (optimized/marching_cubes_vtk.cpp)
+  packages+=(python3-vtk9)  # the same filter as VTK's Python users call it (bench/scripts/oneshot_pages.py)
 fi
 
 missing=()
