@@ -44,6 +44,7 @@
 #include <new>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace lockstep {
 
@@ -164,5 +165,9 @@ struct NoInitAllocator : LargeAllocator<T> {
     ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
   }
 };
+
+// A large scratch buffer whose every element is written before it is read.
+template <class T>
+using UninitVector = std::vector<T, NoInitAllocator<T>>;
 
 }  // namespace lockstep

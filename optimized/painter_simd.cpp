@@ -159,7 +159,7 @@ Image painter(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   const PainterPlan plan = painter_plan(tris, std::move(sorted), pairs);
 
   // Paint owners, in plan order (sequential: later triangles overwrite).
-  std::vector<uint32_t> owner(size_t(samples), Visibility::kNone);
+  std::vector<uint32_t, LargeAllocator<uint32_t>> owner(size_t(samples), Visibility::kNone);
   for (size_t n = 0; n < plan.order.size(); ++n) {
     const uint32_t t = plan.order[n];
     const PainterTri& pt = tris[t];

@@ -458,7 +458,8 @@ Image volume_splat(const Volume& v, const FrameOptions& options, FrameStats* sta
   const int slabs = std::max(1, std::min(v.nz, threads * 8));
   auto slab_k = [&](int q) { return int(cut(size_t(v.nz), slabs, q)); };
   const size_t plane = size_t(v.nx) * size_t(v.ny);
-  std::unique_ptr<uint8_t[]> visible(new uint8_t[v.data.size()]);
+  // The large scratch buffers on huge pages where the kernel allows (core/large_buffer.h).
+  UninitVector<uint8_t> visible(v.data.size());
   std::vector<size_t> slab_at(size_t(slabs) + 1, 0);
   const ClearRanges clear(s.tf);
   parallel_tiles(1, slabs, 1, 1, threads, nullptr, [&](int, int c0, int, int c1) {
@@ -480,7 +481,7 @@ Image volume_splat(const Volume& v, const FrameOptions& options, FrameStats* sta
   });
   for (int q = 0; q < slabs; ++q) slab_at[size_t(q) + 1] += slab_at[size_t(q)];
   const size_t n = slab_at.back();
-  std::unique_ptr<sk::Slot[]> slots(new sk::Slot[n]);
+  UninitVector<sk::Slot> slots(n);
   parallel_tiles(1, slabs, 1, 1, threads, nullptr, [&](int, int c0, int, int c1) {
     for (int q = c0; q < c1; ++q) {
       size_t out = slab_at[size_t(q)];
@@ -492,7 +493,7 @@ Image volume_splat(const Volume& v, const FrameOptions& options, FrameStats* sta
           }
     }
   });
-  visible.reset();
+  UninitVector<uint8_t>().swap(visible);  // freed: the keys below take its memory
   // Parts of the index order for the threads: whole slabs each.
   const int parts = std::min(threads, slabs);
   auto part_range = [&](int p) {
@@ -502,7 +503,7 @@ Image volume_splat(const Volume& v, const FrameOptions& options, FrameStats* sta
   // 2. Depth order: the reference's stable sort, as a bucket sort by depth
   // (the bucket is monotone in depth), each bucket filled in index order and
   // sorted by (depth, index).
-  std::unique_ptr<Key[]> order(new Key[n]);
+  UninitVector<Key> order(n);
   if (n > 0) {
     double dmin = std::numeric_limits<double>::infinity(), dmax = -dmin;
     for (size_t q = 0; q < n; ++q) dmin = std::min(dmin, slots[q].key.depth), dmax = std::max(dmax, slots[q].key.depth);
@@ -539,8 +540,8 @@ Image volume_splat(const Volume& v, const FrameOptions& options, FrameStats* sta
     const int blocks = threads * 8;
     parallel_tiles(1, blocks, 1, 1, threads, nullptr, [&](int, int q0, int, int q1) {
       for (size_t b = cut(buckets, blocks, q0); b < cut(buckets, blocks, q1); ++b) {
-        Key* first = order.get() + start[b];
-        Key* last = order.get() + start[b + 1];
+        Key* first = order.data() + start[b];
+        Key* last = order.data() + start[b + 1];
         // Insertion sort by (depth, index): a bucket holds a few voxels.
         for (Key* x = first + 1; x < last; ++x) {
           const Key k = *x;
@@ -614,7 +615,7 @@ Image volume_splat(const Volume& v, const FrameOptions& options, FrameStats* sta
     }
     tile_at[tiles] = at;
   }
-  std::unique_ptr<uint32_t[]> lists(new uint32_t[tile_at[tiles] + 1]);
+  UninitVector<uint32_t> lists(tile_at[tiles] + 1);
   parallel_tiles(1, chunks, 1, 1, threads, nullptr, [&](int, int c0, int, int c1) {
     for (int ch = c0; ch < c1; ++ch) {
       uint32_t* off = &per[size_t(ch) * tiles];
@@ -669,15 +670,15 @@ Image volume_splat(const Volume& v, const FrameOptions& options, FrameStats* sta
   c.ty = table_y.data();
   c.terminate = s.eps > 0;
   c.limit = float(1 - s.eps);
-  c.order = order.get();
-  c.colour = slots.get();
+  c.order = order.data();
+  c.colour = slots.data();
 
   // 5. The tiles, each compositing its splats in depth order.
   Image image = Image::uninitialized(options.width, options.height);
   parallel_tiles(options.width, options.height, tw, th, options.threads, options.progress,
                  [&](int x0, int y0, int x1, int y1) {
                    const size_t tile = size_t(y0 / th) * size_t(tiles_x) + size_t(x0 / tw);
-                   HWY_DYNAMIC_DISPATCH(sk::SplatTile)(c, x0, y0, x1, y1, lists.get() + tile_at[tile],
+                   HWY_DYNAMIC_DISPATCH(sk::SplatTile)(c, x0, y0, x1, y1, lists.data() + tile_at[tile],
                                                        tile_at[tile + 1] - tile_at[tile], &image);
                  });
   if (stats) stats->items = uint64_t(view.width) * uint64_t(view.height);
