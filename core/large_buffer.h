@@ -19,9 +19,11 @@
 // operator new. A buffer costs up to 2 MiB more memory than its size (its
 // last huge page), and 4 MiB more address space.
 // Measured (BENCHMARKS.md, "One-shot and warm, huge pages and 4 KiB pages"):
-// a one-shot 256^3 gyroid (2.52M triangles, one thread) extracts in 0.072 s
-// against 0.256 s on 4 KiB pages, its whole call takes 0.16 s against 0.65 s
-// and 1,158 page faults against 33,058.
+// a one-shot 256^3 gyroid (2.52M triangles) extracts in 0.042 s on two
+// threads against 0.18 s on 4 KiB pages (one thread: 0.07-0.2 s against
+// 0.25 s, the slow end where the VM's host backs the fresh 2 MiB pages
+// first), its whole call takes 0.16-0.23 s against 0.63 s and 1,160 page
+// faults against 33,060.
 //
 // Fallback: where the kernel's mode (/sys/kernel/mm/transparent_hugepage/
 // enabled) is `never` or unknown, or LOCKSTEP_HUGE_PAGES=0 is set (tests of
