@@ -79,15 +79,15 @@ bool write_binary_ply(const Mesh& mesh, const std::string& file) {
   return std::fclose(f) == 0 && ok;
 }
 
-}  // namespace
-
-void write_mesh(const Mesh& mesh, const std::string& path, bool ascii) {
-  if (ascii || extension(path) != ".ply") return write_mesh_through_cgal(mesh, path, ascii);
-  check_mesh_path(path);
+// write(tmp) writes the file at a temporary path beside `path` (keeping its
+// extension: CGAL picks the format by it), renamed into place when it returns
+// true; nothing is left behind otherwise.
+template <class Write>
+void write_atomically(const std::string& path, Write write) {
   const fs::path p(path);
   const std::string tmp = (p.parent_path() / (".tmp-" + p.filename().string())).string();
   std::error_code ec;
-  if (!write_binary_ply(mesh, tmp)) {
+  if (!write(tmp)) {
     fs::remove(tmp, ec);
     throw InputError(path, 0, "cannot write mesh");
   }
@@ -98,6 +98,14 @@ void write_mesh(const Mesh& mesh, const std::string& path, bool ascii) {
   }
 }
 
+}  // namespace
+
+void write_mesh(const Mesh& mesh, const std::string& path, bool ascii) {
+  if (ascii || extension(path) != ".ply") return write_mesh_through_cgal(mesh, path, ascii);
+  check_mesh_path(path);
+  write_atomically(path, [&](const std::string& tmp) { return write_binary_ply(mesh, tmp); });
+}
+
 void write_mesh_through_cgal(const Mesh& mesh, const std::string& path, bool ascii) {
   check_mesh_path(path);
   std::vector<Point> points;
@@ -106,22 +114,11 @@ void write_mesh_through_cgal(const Mesh& mesh, const std::string& path, bool asc
   std::vector<std::array<std::size_t, 3>> polygons;
   polygons.reserve(mesh.triangles.size());
   for (const auto& t : mesh.triangles) polygons.push_back({t[0], t[1], t[2]});
-  // The temporary keeps the extension: CGAL picks the format by it.
-  const fs::path p(path);
-  const std::string tmp = (p.parent_path() / (".tmp-" + p.filename().string())).string();
   // 9 significant digits round-trip a float in text formats.
-  const bool ok = CGAL::IO::write_polygon_soup(
-      tmp, points, polygons, CGAL::parameters::use_binary_mode(!ascii).stream_precision(9));
-  std::error_code ec;
-  if (!ok) {
-    fs::remove(tmp, ec);
-    throw InputError(path, 0, "cannot write mesh");
-  }
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw InputError(path, 0, "cannot write mesh: " + ec.message());
-  }
+  write_atomically(path, [&](const std::string& tmp) {
+    return CGAL::IO::write_polygon_soup(tmp, points, polygons,
+                                        CGAL::parameters::use_binary_mode(!ascii).stream_precision(9));
+  });
 }
 
 Mesh read_mesh(const std::string& path) {

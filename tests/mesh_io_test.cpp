@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <string>
 
 #include "core/error.h"
 #include "core/mesh.h"
@@ -44,6 +46,38 @@ TEST(MeshIo, RoundTripsEveryFormat) {
     write_mesh(m, p.string(), ascii);
     expect_same(m, read_mesh(p.string()));
     fs::remove(p);
+  }
+}
+
+std::string bytes_of(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// Binary PLY is written directly (io/mesh_io.h): CGAL's writer's bytes, exactly.
+TEST(MeshIo, DirectBinaryPlyIsCgals) {
+  Mesh big;  // more than the writer's 1 MiB buffer of faces (13 bytes each)
+  for (uint32_t i = 0; i < 100000; ++i) {
+    big.vertices.push_back({float(i) * 0.37f, -float(i) / 3, 1e-3f * float(i % 97)});
+    big.triangles.push_back({i, (i * 7 + 1) % 100000, (i * 13 + 2) % 100000});
+  }
+  Mesh signs;  // -0 and +0, a denormal, the largest float
+  signs.vertices = {{0.0f, -0.0f, 1e-40f}, {3.4028235e38f, -1.0f, 0.5f}, {1, 2, 3}};
+  signs.triangles = {{0, 1, 2}};
+  int n = 0;
+  for (const Mesh& m : {tetrahedron(), Mesh{}, big, signs}) {
+    const fs::path direct = tmp("direct.ply"), cgal = tmp("cgal.ply");
+    write_mesh(m, direct.string());
+    write_mesh_through_cgal(m, cgal.string());
+    const std::string a = bytes_of(direct), b = bytes_of(cgal);
+    ASSERT_EQ(a.size(), b.size()) << "mesh " << n << ": " << m.vertices.size() << " vertices, " << m.triangles.size()
+                                  << " triangles";
+    size_t at = 0;
+    while (at < a.size() && a[at] == b[at]) ++at;
+    EXPECT_EQ(at, a.size()) << "mesh " << n << ": first differing byte " << at << " of " << a.size();
+    fs::remove(direct);
+    fs::remove(cgal);
+    ++n;
   }
 }
 
