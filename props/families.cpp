@@ -25,6 +25,9 @@ FamilyProperties properties(const Family&, RunResources&);
 namespace ray_trace {
 FamilyProperties properties(const Family&, RunResources&);
 }
+namespace texture {
+FamilyProperties properties(const Family&, RunResources&);
+}
 
 const std::vector<ProviderRow>& property_providers() {
   static const std::vector<ProviderRow> rows = {
@@ -38,6 +41,7 @@ const std::vector<ProviderRow>& property_providers() {
       {"volume_iso", volume::properties},
       {"splat", volume::properties},
       {"ray_trace", ray_trace::properties},
+      {"texture", texture::properties},
   };
   return rows;
 }

@@ -6,6 +6,7 @@
 #include "registry/ray_cast_row.h"
 #include "registry/ray_trace_row.h"
 #include "registry/raster_rows.h"
+#include "registry/texture_row.h"
 #include "registry/volume_rows.h"
 
 namespace lockstep {
@@ -24,6 +25,7 @@ const Registry& registry() {
               splat_family(),
               volume_iso_family(),
               ray_trace_family(),
+              texture_family(),
           },
       // Old spellings still accepted (issue 31: one spelling per family).
       .aliases = {{"raytrace", "ray_trace"}},

@@ -54,6 +54,7 @@ STEMS = {
     "volume": ["volume", "volume_raycast", "volume_render", "volpack"],
     "splat": ["volume_splat", "splat"],
     "volume_iso": ["volume_iso"],
+    "texture": ["texture", "texture_filter", "texture_scene", "textures"],
 }
 # C++ sources of reference/, optimized/ and registry/ that belong to no one
 # family (basename without extension: what uses them).

@@ -1,0 +1,99 @@
+// lockstep texture study (issue #32): speed against accuracy of every filter
+// of every row of the texture family, against the pixel's exact box filter
+// (props/texture/oracle.h).
+//
+// The scene: corpus/textures/zoneplate_plane.texscene (a zone plate tiled
+// over a plane receding from the camera: every frequency at every
+// minification) at 192 x 192 (the oracle clips every texel of every footprint).
+// Each row draws it with each filter on one thread (best of 3 runs, the
+// reference once); the error is over the interior pixels (all four corners on
+// the quad), RGB channels: RMS and the 99th percentile of the per-pixel
+// largest channel error.
+//
+// CSV on stdout: row,filter,rms,p99,max,seconds,lookups,ns_per_lookup.
+// bench/scripts/texture_chart.py draws it (bench/charts/texture_speed_accuracy.svg).
+// Claims checked (a ctest runs --quick at 96 x 96): supersampling converges
+// (super8 below super4 below super2 below point, in RMS), anisotropic
+// filtering and EWA are more accurate than trilinear, trilinear more than
+// point, and the simd row's error equals the reference's within 1e-5 for
+// every filter. No claim about speed (benchmarks state those).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "bench/studies/study.h"
+#include "io/texture_scene.h"
+#include "props/texture/oracle.h"
+#include "registry/registry.h"
+
+using namespace lockstep;
+
+int main(int argc, char** argv) {
+  bool quick = false;
+  if (!study::parse_flags(argc, argv, {{"--quick", &quick}}, "lockstep_texture_study [--quick]")) return 2;
+  study::Claims claims{"lockstep_texture_study"};
+  const Family* fam = registry().find("texture");
+  if (!fam) return 3;
+  TextureScene scene = read_texture_scene(LOCKSTEP_CORPUS_DIR "/textures/zoneplate_plane.texscene");
+  const int size = quick ? 96 : 192;
+  scene.width = scene.height = size;
+  const TexelMap map = TexelMap::make(scene, size, size);
+  // The oracle, once.
+  std::vector<props::texture::BoxValue> box(size_t(size) * size);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) box[size_t(y) * size + x] = props::texture::pixel_box_filter(scene, map, x, y);
+  const Input in = make_input<TextureScene>(scene, "zoneplate_plane", size, size, scene.background);
+  const char* filters[] = {"point",   "bilinear", "super2",  "super4",  "super8", "mip_nearest", "trilinear",
+                           "aniso2",  "aniso4",   "aniso8",  "aniso16", "ewa",    "area"};
+  std::printf("row,filter,rms,p99,max,seconds,lookups,ns_per_lookup\n");
+  std::map<std::string, double> rms_of;
+  for (const FamilyImpl& impl : fam->impls) {
+    for (const char* filter : filters) {
+      FrameOptions o;
+      o.width = o.height = size;
+      o.threads = 1;
+      o.params.set("filter", filter);
+      FrameStats st;
+      Image img;
+      const double t = study::best_time(impl.threaded ? 3 : 1, [&] {
+        st = FrameStats{};
+        img = impl.run_as<Image>(in, o, &st);
+      });
+      std::vector<double> errs;
+      double sq = 0;
+      for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+          const auto& b = box[size_t(y) * size + x];
+          if (!b.interior) continue;
+          double e = 0;
+          for (int c = 0; c < 3; ++c) {
+            const double d = img.pixel(x, y)[c] - b.rgba[size_t(c)];
+            sq += d * d / 3;
+            e = std::max(e, std::abs(d));
+          }
+          errs.push_back(e);
+        }
+      std::sort(errs.begin(), errs.end());
+      const double rms = std::sqrt(sq / double(errs.size()));
+      const double p99 = errs[size_t(0.99 * double(errs.size() - 1))];
+      rms_of[std::string(impl.name) + "/" + filter] = rms;
+      std::printf("%s,%s,%.6g,%.6g,%.6g,%.6g,%llu,%.6g\n", std::string(impl.name).c_str(), filter, rms, p99,
+                  errs.back(), t, (unsigned long long)st.items, 1e9 * t / double(std::max<uint64_t>(st.items, 1)));
+      std::fflush(stdout);
+    }
+  }
+  auto r = [&](const char* k) { return rms_of[std::string("reference/") + k]; };
+  claims.check(r("super8") < r("super4") && r("super4") < r("super2") && r("super2") < r("point"),
+               "supersampling converges: rms super8 < super4 < super2 < point");
+  claims.check(r("trilinear") < r("point"), "trilinear is more accurate than point sampling");
+  claims.check(r("aniso16") < r("trilinear") && r("ewa") < r("trilinear"),
+               "aniso16 and ewa are more accurate than trilinear");
+  for (const char* f : filters)
+    if (rms_of.count(std::string("simd/") + f))
+      claims.check(std::abs(rms_of[std::string("simd/") + f] - r(f)) < 1e-5,
+                   std::string("simd's error equals the reference's for ") + f);
+  return claims.exit_code();
+}

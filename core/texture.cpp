@@ -1,0 +1,126 @@
+// lockstep core: the texture family's projective maps and filter names (core/texture.h).
+#include "core/texture.h"
+
+#include <cstdlib>
+#include <limits>
+
+namespace lockstep {
+
+Homography Homography::inverse() const {
+  const auto& a = m;
+  Homography r;
+  // The adjugate over the determinant.
+  r.m[0] = a[4] * a[8] - a[5] * a[7];
+  r.m[1] = a[2] * a[7] - a[1] * a[8];
+  r.m[2] = a[1] * a[5] - a[2] * a[4];
+  r.m[3] = a[5] * a[6] - a[3] * a[8];
+  r.m[4] = a[0] * a[8] - a[2] * a[6];
+  r.m[5] = a[2] * a[3] - a[0] * a[5];
+  r.m[6] = a[3] * a[7] - a[4] * a[6];
+  r.m[7] = a[1] * a[6] - a[0] * a[7];
+  r.m[8] = a[0] * a[4] - a[1] * a[3];
+  const double det = a[0] * r.m[0] + a[1] * r.m[3] + a[2] * r.m[6];
+  for (double& x : r.m) x /= det;
+  return r;
+}
+
+TexelMap TexelMap::make(const TextureScene& scene, int width, int height) {
+  const Camera cam = Camera::from_view(scene.view, width, height);
+  TexelMap t;
+  t.tex_w = scene.texture.width;
+  t.tex_h = scene.texture.height;
+  t.repeat_u = scene.repeat_u;
+  t.repeat_v = scene.repeat_v;
+  t.hither = scene.view.hither;
+  // The plane's point at texel coordinates (a, b), relative to the eye:
+  // q + a ea + b eb.
+  const Vec3 ea = scene.edge_s / (t.tex_w * t.repeat_u);
+  const Vec3 eb = scene.edge_t / (t.tex_h * t.repeat_v);
+  const Vec3 q = scene.origin - cam.eye;
+  // Camera coordinates (cx, cy, depth) of that point are linear in (a, b); the
+  // pixel point is (cx / (depth pitch) + W/2, H/2 - cy / (depth pitch)), so
+  // pixel = (X / depth, Y / depth) with X, Y, depth linear in (a, b).
+  const double p = cam.pitch, hw = 0.5 * width, hh = 0.5 * height;
+  auto row_x = [&](const Vec3& e) { return dot(e, cam.right) / p + dot(e, cam.forward) * hw; };
+  auto row_y = [&](const Vec3& e) { return -dot(e, cam.up) / p + dot(e, cam.forward) * hh; };
+  t.to_pixel.m = {row_x(ea), row_x(eb), row_x(q),  //
+                  row_y(ea), row_y(eb), row_y(q),  //
+                  dot(ea, cam.forward), dot(eb, cam.forward), dot(q, cam.forward)};
+  t.depth_row = {t.to_pixel.m[6], t.to_pixel.m[7], t.to_pixel.m[8]};
+  // The inverse maps (px, py, 1) to (a, b, 1) / depth: its third coordinate
+  // is 1/depth, positive in front of the eye.
+  t.to_texel = t.to_pixel.inverse();
+  return t;
+}
+
+bool TexelMap::texel_at(double px, double py, double& a, double& b) const {
+  const Vec3 h = to_texel.apply(px, py);
+  if (!(h.z > 0) || !std::isfinite(h.z)) return false;
+  if (1.0 / h.z < hither) return false;
+  a = h.x / h.z;
+  b = h.y / h.z;
+  return std::isfinite(a) && std::isfinite(b);
+}
+
+void TexelMap::derivatives(double px, double py, double& dadx, double& dbdx, double& dady, double& dbdy) const {
+  const auto& m = to_texel.m;
+  const Vec3 h = to_texel.apply(px, py);
+  const double iw2 = 1.0 / (h.z * h.z);
+  // d(A/w)/dx = (A_x w - A w_x) / w^2, A_x = m[0], w_x = m[6].
+  dadx = (m[0] * h.z - h.x * m[6]) * iw2;
+  dbdx = (m[3] * h.z - h.y * m[6]) * iw2;
+  dady = (m[1] * h.z - h.x * m[7]) * iw2;
+  dbdy = (m[4] * h.z - h.y * m[7]) * iw2;
+}
+
+bool parse_texture_filter(const std::string& s, TextureFilterSettings& out) {
+  auto number_after = [&](size_t prefix, int lo, int hi, int& n) {
+    if (s.size() == prefix) return false;
+    for (size_t i = prefix; i < s.size(); ++i)
+      if (s[i] < '0' || s[i] > '9' || i - prefix > 3) return false;
+    n = std::atoi(s.c_str() + prefix);
+    return n >= lo && n <= hi;
+  };
+  TextureFilterSettings f;
+  f.name = s;
+  if (s == "point") f.filter = TextureFilter::point;
+  else if (s == "bilinear") f.filter = TextureFilter::bilinear;
+  else if (s == "area") f.filter = TextureFilter::area;
+  else if (s == "mip_nearest") f.filter = TextureFilter::mip_nearest;
+  else if (s == "trilinear") f.filter = TextureFilter::trilinear;
+  else if (s == "ewa") {
+    f.filter = TextureFilter::ewa;
+    f.n = 8;
+  } else if (s.rfind("super", 0) == 0) {
+    f.filter = TextureFilter::super;
+    if (!number_after(5, 1, 16, f.n)) return false;
+  } else if (s.rfind("aniso", 0) == 0) {
+    f.filter = TextureFilter::aniso;
+    if (!number_after(5, 1, 64, f.n)) return false;
+  } else if (s.rfind("ewa", 0) == 0) {
+    f.filter = TextureFilter::ewa;
+    if (!number_after(3, 1, 64, f.n)) return false;
+  } else
+    return false;
+  out = f;
+  return true;
+}
+
+}  // namespace lockstep
+
+#include "core/error.h"
+#include "core/family.h"
+
+namespace lockstep {
+
+TextureFilterSettings texture_filter_settings(const Params& params, const std::string& source) {
+  const std::string s = params.get("filter", "trilinear");
+  TextureFilterSettings f;
+  if (!parse_texture_filter(s, f))
+    throw InputError(source, 0,
+                     "filter: '" + s + "' is not a texture filter (" + kTextureFilterNames +
+                         "; superN for N = 1..16, anisoN for N = 1..64, ewaN for N = 1..64)");
+  return f;
+}
+
+}  // namespace lockstep

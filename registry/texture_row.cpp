@@ -1,0 +1,99 @@
+// lockstep registry: the texture-filtering family's row (see core/texture.h for
+// the contract and conventions, props/texture/ for the properties and bounds).
+#include "registry/texture_row.h"
+
+#include <memory>
+#include <span>
+
+#include "io/texture_scene.h"
+#include "kinds/image_kind.h"
+#include "optimized/texture_filter_simd.h"
+#include "reference/texture_filter.h"
+
+namespace lockstep {
+
+namespace {
+
+// Accuracy: not against an oracle of its own (each filter is its own
+// approximation of the pixel's box filter, props/texture/ measures how far);
+// agreement of the simd row with the reference: the family's tolerance.
+constexpr TypedImpl<TextureScene> kImpls[] = {
+    {"reference", ref::texture_filter, 0, {}, {}, false},
+    {"simd", opt::simd::texture_filter, 0},
+};
+
+Input load(const std::string& path) {
+  TextureScene s = read_texture_scene(path);
+  const int w = s.width, h = s.height;
+  const Vec3 bg = s.background;
+  return make_input<TextureScene>(std::move(s), path, w, h, bg);
+}
+
+// The receding zone-plate plane of issue #32's peer figures: a 1024^2
+// zone plate (K = 1: Nyquist at the edges' midpoints), tiled 16 x 64 times
+// over a 40 x 160 plane seen from 1 above it, at 1024^2 pixels.
+TextureScene bench_plane() {
+  TextureScene s;
+  s.texture = procedural_texture("zoneplate 1024", "bench", 0);
+  s.origin = {-20, 0, 2};
+  s.edge_s = {40, 0, 0};
+  s.edge_t = {0, 0, -160};
+  s.repeat_u = 16;
+  s.repeat_v = 64;
+  s.view.from = {0, 1, 3};
+  s.view.at = {0, 0.6, 0};
+  s.view.up = {0, 1, 0};
+  s.view.angle = 60;
+  s.view.hither = 1e-3;
+  s.background = {0.5, 0.6, 0.8};
+  s.width = s.height = 1024;
+  s.source = "zoneplate-plane";
+  return s;
+}
+
+std::vector<BenchInput> bench_inputs() {
+  std::vector<BenchInput> out;
+  const auto plane = std::make_shared<const TextureScene>(bench_plane());
+  for (const char* filter : {"point", "bilinear", "trilinear", "aniso16", "ewa", "super4", "area"}) {
+    BenchInput b;
+    b.name = std::string("zoneplate-plane-") + filter;
+    b.input.value = plane;
+    b.input.source = "zoneplate-plane";
+    b.input.width = b.input.height = 1024;
+    b.input.background = plane->background;
+    b.width = b.height = 1024;
+    b.params.set("filter", filter);
+    b.heavy_for_reference = true;
+    out.push_back(std::move(b));
+  }
+  return out;
+}
+
+}  // namespace
+
+Family texture_family() {
+  Family f;
+  f.name = "texture";
+  f.what = "texture filtering on a plane under perspective: point, bilinear, area, supersampling, mipmaps, anisotropic, EWA";
+  f.input = "a texture scene (.texscene)";
+  f.unit = "lookups";
+  f.verb = "filter";
+  f.extension = ".texscene";
+  f.default_impl = "simd";
+  f.kind = &image_kind();
+  // Agreement of a row with the reference, per channel: the simd row computes
+  // in float where the reference computes in double (props/texture/ bounds it
+  // per filter).
+  f.tol.abs = 1.0 / 255;
+  f.tol.fraction = 0.999;
+  f.load = load;
+  f.impls = erase_all<TextureScene>(kImpls);
+  f.bench = bench_inputs;
+  f.params = {{"filter", kTextureFilterNames, "trilinear",
+               "the texture filter (superN: N x N samples a pixel; anisoN: at most N probes; ewa: eccentricity 8)"}};
+  f.check_params = [](const Params& p) { texture_filter_settings(p, "settings"); };
+  f.properties = {"pyramid", "constant", "agreement", "oracle"};
+  return f;
+}
+
+}  // namespace lockstep
