@@ -26,6 +26,7 @@
 #include <string>
 
 #include "core/image.h"
+#include "core/texture.h"
 #include "io/layers.h"
 
 namespace lockstep::oiio {
@@ -33,7 +34,7 @@ namespace lockstep::oiio {
 // The module's file, beside the binary; its version file is lockstep_oiio.version.
 inline constexpr const char* kModuleFile = "lockstep_oiio.so";
 // Host and module from one build: bump when the table or the types it passes change.
-inline constexpr int kAbi = 1;
+inline constexpr int kAbi = 2;
 
 struct Error {
   enum class Kind : uint8_t { input, out_of_memory, other } kind = Kind::other;
@@ -48,6 +49,16 @@ struct CompareStats {
   int max_x = -1, max_y = -1;
   long failed = 0, warned = 0;
 };
+
+// Texture lookups for the texture family's oiio row (optimized/texture_oiio.cpp):
+// n footprints as texture coordinates (s, t) and their derivatives along
+// pixel x and y, OpenImageIO's units (1 = the texture's width or height).
+struct TextureLookups {
+  const float *s, *t, *dsdx, *dtdx, *dsdy, *dtdy;
+  size_t n = 0;
+};
+// OpenImageIO's TextureSystem modes the row uses.
+enum class TextureMode : int { closest, bilinear, one_level, trilinear, aniso };
 
 // The module's table (lockstep_peer_api() in lockstep_oiio.so). Every function
 // returning bool fills *err when it returns false.
@@ -69,6 +80,12 @@ struct ModuleApi {
   bool (*write_resized)(const std::string& in, const std::string& out, int w, int h, Error* err);
   // ImageBufAlgo::over, chained over a checked stack (optimized/composite_oiio.cpp).
   bool (*over)(const LayerStack& stack, int threads, Image* out, Error* err);
+  // The texture made tiled and mipmapped by ImageBufAlgo::make_texture (a
+  // temporary .tx file, removed after), then one TextureSystem::texture call
+  // per lookup on `threads` threads (0: all cores): RGBA into out (4 n
+  // floats). make_seconds: the make_texture and first-open time.
+  bool (*texture)(const Texture& tex, const TextureLookups& in, TextureMode mode, int aniso, int threads,
+                  float* out, double* make_seconds, Error* err);
 };
 
 // The module's table, opened on the first call. Throws InputError naming the

@@ -10,14 +10,18 @@
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
 #include <OpenImageIO/oiioversion.h>
+#include <OpenImageIO/texture.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <memory>
 #include <new>
 #include <sstream>
+#include <thread>
+#include <vector>
 
 #include "core/error.h"
 #include "io/oiio.h"
@@ -343,6 +347,82 @@ void over_body(const LayerStack& stack, int nthreads, Image* result_image) {
   *result_image = std::move(out);
 }
 
+
+// ---------------------------------------------------------------- texture lookups
+
+void texture_body(const Texture& tex, const TextureLookups& in, TextureMode mode, int aniso, int nthreads,
+                  float* out, double* make_seconds) {
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
+  // The texture as a float RGBA ImageBuf, wrapped without copying.
+  const OIIO::ImageSpec spec(tex.width, tex.height, 4, OIIO::TypeDesc::FLOAT);
+  OIIO::ImageBuf src(spec, const_cast<float*>(tex.rgba.data()));
+  // Tiled and mipmapped, as maketx makes it, into a temporary file.
+  char name[] = "/tmp/lockstep-texture-XXXXXX";
+  const int fd = mkstemp(name);
+  if (fd < 0) fail("make_texture", "cannot make a temporary file");
+  close(fd);
+  const std::string tx = std::string(name) + ".tx";
+  std::filesystem::rename(name, tx);
+  struct Remove {
+    std::string path;
+    ~Remove() { std::error_code ec; std::filesystem::remove(path, ec); }
+  } remove{tx};
+  OIIO::ImageSpec config;
+  const char* wrap = tex.wrap == Wrap::repeat ? "periodic" : tex.wrap == Wrap::clamp ? "clamp" : "mirror";
+  config.attribute("wrapmodes", std::string(wrap) + "," + wrap);
+  config.attribute("maketx:filtername", "box");
+  config.attribute("maketx:fixnan", "none");
+  config.format = OIIO::TypeDesc::FLOAT;
+  if (!OIIO::ImageBufAlgo::make_texture(OIIO::ImageBufAlgo::MakeTxTexture, src, tx, config))
+    fail("make_texture", OIIO::geterror());
+  std::shared_ptr<OIIO::TextureSystem> ts(OIIO::TextureSystem::create(false),
+                                          [](OIIO::TextureSystem* p) { OIIO::TextureSystem::destroy(p); });
+  ts->attribute("max_memory_MB", 2048.0f);
+  ts->attribute("autotile", 0);
+  const OIIO::ustring file(tx);
+  OIIO::TextureOpt opt;
+  const auto w = tex.wrap == Wrap::repeat  ? OIIO::TextureOpt::WrapPeriodic
+                 : tex.wrap == Wrap::clamp ? OIIO::TextureOpt::WrapClamp
+                                           : OIIO::TextureOpt::WrapMirror;
+  opt.swrap = opt.twrap = w;
+  opt.interpmode = mode == TextureMode::closest ? OIIO::TextureOpt::InterpClosest : OIIO::TextureOpt::InterpBilinear;
+  opt.mipmode = mode == TextureMode::closest || mode == TextureMode::bilinear ? OIIO::TextureOpt::MipModeNoMIP
+                : mode == TextureMode::one_level                              ? OIIO::TextureOpt::MipModeOneLevel
+                : mode == TextureMode::trilinear                              ? OIIO::TextureOpt::MipModeTrilinear
+                                                                              : OIIO::TextureOpt::MipModeAniso;
+  opt.anisotropic = std::max(1, aniso);
+  {
+    // Open it once here, so the first lookup does not time it.
+    OIIO::TextureSystem::Perthread* pt = ts->get_perthread_info();
+    OIIO::TextureSystem::TextureHandle* h = ts->get_texture_handle(file, pt);
+    if (!h || ts->is_udim(h)) fail("TextureSystem", ts->geterror());
+    float rgba[4];
+    ts->texture(h, pt, opt, 0.5f, 0.5f, 0, 0, 0, 0, 4, rgba);
+  }
+  *make_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  const int n_threads = nthreads > 0 ? nthreads : int(std::max(1u, std::thread::hardware_concurrency()));
+  std::vector<std::string> errors(static_cast<size_t>(n_threads));
+  auto slice = [&](int k) {
+    OIIO::TextureSystem::Perthread* pt = ts->get_perthread_info();
+    OIIO::TextureSystem::TextureHandle* h = ts->get_texture_handle(file, pt);
+    OIIO::TextureOpt o = opt;
+    // Interleaved chunks of 256 lookups: neighbouring pixels on one thread.
+    for (size_t c = size_t(k) * 256; c < in.n; c += size_t(n_threads) * 256)
+      for (size_t i = c; i < std::min(in.n, c + 256); ++i)
+        if (!ts->texture(h, pt, o, in.s[i], in.t[i], in.dsdx[i], in.dtdx[i], in.dsdy[i], in.dtdy[i], 4, out + 4 * i)) {
+          errors[size_t(k)] = ts->geterror();
+          return;
+        }
+  };
+  std::vector<std::thread> pool;
+  for (int k = 1; k < n_threads; ++k) pool.emplace_back(slice, k);
+  slice(0);
+  for (auto& t : pool) t.join();
+  for (const std::string& e : errors)
+    if (!e.empty()) fail("TextureSystem::texture", e);
+}
+
 // ---------------------------------------------------------------- the table
 
 constexpr ModuleApi kApi = {
@@ -370,6 +450,10 @@ constexpr ModuleApi kApi = {
     },
     [](const LayerStack& stack, int threads, Image* out, Error* err) {
       return guarded(err, [&] { over_body(stack, threads, out); });
+    },
+    [](const Texture& tex, const TextureLookups& in, TextureMode mode, int aniso, int threads, float* out,
+       double* make_seconds, Error* err) {
+      return guarded(err, [&] { texture_body(tex, in, mode, aniso, threads, out, make_seconds); });
     },
 };
 

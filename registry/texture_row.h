@@ -5,7 +5,7 @@
 
 namespace lockstep {
 
-// reference, simd (issue #32).
+// reference, simd, oiio (OpenImageIO's TextureSystem, a production peer) (issue #32).
 Family texture_family();
 
 }  // namespace lockstep

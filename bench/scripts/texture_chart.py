@@ -37,13 +37,13 @@ def table(rows):
     body = []
     for flt in filters:
         by = {r["row"]: r for r in rows if r["filter"] == flt}
-        ref, simd = by["reference"], by.get("simd")
+        ref, simd, oiio = by["reference"], by.get("simd"), by.get("oiio")
         cells = [flt, f"{ref['rms']:.4f}", f"{ref['p99']:.3f}", f"{ref['ns']:.0f}"]
-        if simd:
-            cells += [f"{simd['ns']:.1f}", f"{ref['ns'] / simd['ns']:.1f}x"]
+        cells += [f"{simd['ns']:.1f}", f"{ref['ns'] / simd['ns']:.1f}x"] if simd else ["-", "-"]
+        cells += [f"{oiio['rms']:.4f}", f"{oiio['ns']:.0f}"] if oiio else ["n/a", "n/a"]
         body.append(cells)
-    return chartlib.markdown_table(["filter", "RMS error", "p99 error", "reference ns/lookup", "simd ns/lookup",
-                                    "simd speed-up"], body)
+    return chartlib.markdown_table(["filter", "RMS error (reference, simd)", "p99 error", "reference ns/lookup",
+                                    "simd ns/lookup", "simd speed-up", "oiio RMS error", "oiio ns/lookup"], body)
 
 
 def main():
