@@ -167,6 +167,44 @@ void Context::draw(const ScreenMesh& mesh, const Vec3& background, const RasterS
   api_->draw(handle_, mesh, background, setup, img, times);
 }
 
+void Context::draw_texture(const TextureScene& scene, const TextureFilterSettings& filter, Image& img,
+                           DrawTimes* times) {
+  if (img.width != width_ || img.height != height_ || img.rgba.size() != size_t(width_) * size_t(height_) * 4)
+    img = Image::uninitialized(width_, height_);
+  const Camera cam = Camera::from_view(scene.view, width_, height_);
+  TextureDraw q;
+  const Vec3 corner[4] = {scene.origin, scene.origin + scene.edge_s, scene.origin + scene.edge_s + scene.edge_t,
+                          scene.origin + scene.edge_t};
+  const double st[4][2] = {{0, 0}, {scene.repeat_u, 0}, {scene.repeat_u, scene.repeat_v}, {0, scene.repeat_v}};
+  double far_z = 0;
+  for (int k = 0; k < 4; ++k) {
+    const Vec3 e = corner[k] - cam.eye;
+    q.corners[k][0] = float(e.x);
+    q.corners[k][1] = float(e.y);
+    q.corners[k][2] = float(e.z);
+    q.st[k][0] = float(st[k][0]);
+    q.st[k][1] = float(st[k][1]);
+    far_z = std::max(far_z, dot(e, cam.forward));
+  }
+  // GL enums (GL/gl.h is the module's): NEAREST 0x2600, LINEAR 0x2601,
+  // LINEAR_MIPMAP_NEAREST 0x2701, LINEAR_MIPMAP_LINEAR 0x2703; REPEAT 0x2901,
+  // CLAMP_TO_EDGE 0x812F, MIRRORED_REPEAT 0x8370.
+  q.mag_filter = filter.filter == TextureFilter::point ? 0x2600 : 0x2601;
+  switch (filter.filter) {
+    case TextureFilter::point: q.min_filter = 0x2600; break;
+    case TextureFilter::bilinear: q.min_filter = 0x2601; break;
+    case TextureFilter::mip_nearest: q.min_filter = 0x2701; q.mipmaps = true; break;
+    default: q.min_filter = 0x2703; q.mipmaps = true; break;
+  }
+  if (filter.filter == TextureFilter::aniso) q.anisotropy = float(filter.n);
+  q.wrap = scene.texture.wrap == Wrap::repeat ? 0x2901 : scene.texture.wrap == Wrap::clamp ? 0x812F : 0x8370;
+  DrawSetup setup;
+  const double hither = scene.view.hither > 0 ? scene.view.hither : 1e-6;
+  setup.near_plane = near_plane(hither);
+  setup.far_plane = far_plane(hither, std::max(far_z, 2 * hither));
+  api_->draw_texture(handle_, cam, scene.texture, q, setup, scene.background, img, times);
+}
+
 std::string Context::renderer() { return api_->renderer(handle_); }
 
 bool available() { return !peer::find_module("llvmpipe").empty(); }
@@ -230,6 +268,42 @@ Image Session::zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats*
   return draw_frame(ctx_, scene, opts, stats);
 }
 
+std::string texture_unsupported(const Params& params) {
+  TextureFilterSettings f;
+  if (!parse_texture_filter(params.get("filter", "trilinear"), f)) return "";
+  if (f.filter == TextureFilter::area || f.filter == TextureFilter::super || f.filter == TextureFilter::ewa)
+    return "llvmpipe samples with GL's filters only (GL_NEAREST, GL_LINEAR, mipmaps, anisotropy up to 16): no " +
+           f.name;
+  if (f.filter == TextureFilter::aniso && f.n > 16) return "llvmpipe's anisotropy is at most 16";
+  return "";
+}
+
+Image texture_filter(const TextureScene& scene, const FrameOptions& opts, FrameStats* stats) {
+  const TextureFilterSettings f = texture_filter_settings(opts.params, scene.source);
+  if (std::string why = texture_unsupported(opts.params); !why.empty()) throw InputError(scene.source, 0, why);
+  std::vector<std::string> notes;
+  Context ctx(opts.width, opts.height, opts.threads, &notes);
+  DrawTimes t;
+  Image img;
+  ctx.draw_texture(scene, f, img, &t);
+  if (opts.progress) opts.progress(1.0);
+  if (stats) {
+    // The context, the shader compilation and the texture's upload with its
+    // mipmaps: one-shot costs, shown apart.
+    stats->build_seconds = ctx.create_seconds() + t.compile + t.upload;
+    const TexelMap map = TexelMap::make(scene, opts.width, opts.height);
+    uint64_t n = 0;
+    for (int y = 0; y < opts.height; ++y)
+      for (int x = 0; x < opts.width; ++x) {
+        double a, b;
+        n += map.texel_at(x + 0.5, y + 0.5, a, b) && map.on_quad(a, b);
+      }
+    stats->items = n;  // the pixels that see the quad, as our rows count them
+    for (std::string& line : notes) stats->notes.push_back(std::move(line));
+  }
+  return img;
+}
+
 }  // namespace lockstep::opt::llvmpipe
 
 #else  // no OSMesa: the row is not registered (registry/raster_rows.cpp asks available()).
@@ -246,6 +320,11 @@ Image zbuffer(const Scene& scene, const FrameOptions&, FrameStats*) {
 }
 Image Session::zbuffer(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   return llvmpipe::zbuffer(scene, opts, stats);
+}
+std::string texture_unsupported(const Params&) { return ""; }
+Image texture_filter(const TextureScene& scene, const FrameOptions&, FrameStats*) {
+  throw InputError(scene.source, 0,
+                   "llvmpipe: this build has no OSMesa (install libosmesa6-dev and re-run cmake)");
 }
 
 }  // namespace lockstep::opt::llvmpipe

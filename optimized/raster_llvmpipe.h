@@ -20,6 +20,7 @@
 #include "core/family.h"
 #include "core/image.h"
 #include "core/raster.h"
+#include "core/texture.h"
 
 namespace lockstep::opt::llvmpipe {
 
@@ -65,6 +66,13 @@ class Context {
   void draw(const ScreenMesh& mesh, const Vec3& background, const RasterSettings& s, Image& img,
             DrawTimes* times);
 
+  // The texture family's quad (core/texture.h) with the texture uploaded as
+  // GL_RGBA32F, its mipmaps made by glGenerateMipmap, sampled by llvmpipe
+  // with the given filter into img (made width x height if it is not); no
+  // depth plane. times->compile: the first draw's shader compilation;
+  // times->upload: the texture's upload and mipmaps.
+  void draw_texture(const TextureScene& scene, const TextureFilterSettings& filter, Image& img, DrawTimes* times);
+
   // GL_RENDERER and GL_VERSION, e.g. "llvmpipe (LLVM 15.0.6, 256 bits), OpenGL 4.5
   // (Compatibility Profile) Mesa 22.3.6". Leaves no context current.
   std::string renderer();
@@ -95,11 +103,31 @@ class Session {
   std::unique_ptr<Context> ctx_;
 };
 
+// The texture family's llvmpipe row (registry/texture_row.cpp): the quad drawn
+// by a fresh context each frame, sampled by GL's filters (GL_NEAREST,
+// GL_LINEAR, GL_LINEAR_MIPMAP_NEAREST, GL_LINEAR_MIPMAP_LINEAR, with
+// GL_TEXTURE_MAX_ANISOTROPY up to 16); build_seconds holds the context, the
+// shader compilation and the texture's upload with its mipmaps.
+Image texture_filter(const TextureScene& scene, const FrameOptions& opts, FrameStats* stats);
+std::string texture_unsupported(const Params& params);
+bool available();
+std::string version();
+
 // The module's table (lockstep_peer_api() in lockstep_peer_llvmpipe.so). Host
 // and module come from one build: abi must match kAbi.
 struct DrawSetup {
   double near_plane = 0, far_plane = 0;  // near_plane(), far_plane() of the mesh
   bool flat = true;                      // Shading::kFlat (else Gouraud)
+};
+// The texture family's quad for draw_texture: corners relative to the eye,
+// texture coordinates, the GL filter state.
+struct TextureDraw {
+  float corners[4][3];  // O, O + S, O + S + T, O + T, minus the eye
+  float st[4][2];       // (0, 0), (ru, 0), (ru, rv), (0, rv)
+  int min_filter = 0, mag_filter = 0;  // GL enums
+  float anisotropy = 1;                // GL_TEXTURE_MAX_ANISOTROPY (1: off)
+  int wrap = 0;                        // GL_REPEAT, GL_CLAMP_TO_EDGE, GL_MIRRORED_REPEAT
+  bool mipmaps = false;
 };
 struct ModuleApi {
   int abi;
@@ -110,7 +138,11 @@ struct ModuleApi {
   void (*draw)(void* ctx, const ScreenMesh& mesh, const Vec3& background, const DrawSetup& setup,
                Image& img, DrawTimes* times);
   std::string (*renderer)(void* ctx);
+  // Context::draw_texture with img already width x height; camera: the
+  // scene's (core/camera.h) at the context's size.
+  void (*draw_texture)(void* ctx, const Camera& camera, const Texture& tex, const TextureDraw& quad,
+                       const DrawSetup& setup, const Vec3& background, Image& img, DrawTimes* times);
 };
-inline constexpr int kAbi = 1;
+inline constexpr int kAbi = 2;
 
 }  // namespace lockstep::opt::llvmpipe

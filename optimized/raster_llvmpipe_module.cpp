@@ -162,6 +162,89 @@ void draw(void* p, const ScreenMesh& mesh, const Vec3& background, const DrawSet
   if (times) *times = t;
 }
 
+// The texture family's quad: one GL_TRIANGLE_FAN with texture coordinates,
+// the texture replacing the fragment's colour; the same frustum as draw().
+void draw_texture(void* p, const Camera& cam, const Texture& tex, const TextureDraw& q, const DrawSetup& setup,
+                  const Vec3& background, Image& img, DrawTimes* times) {
+  State& st = *static_cast<State*>(p);
+  DrawTimes t;
+  const int W = st.width, H = st.height;
+  if (img.width != W || img.height != H || img.rgba.size() != size_t(W) * size_t(H) * 4)
+    throw std::logic_error("llvmpipe: image size differs from the context's");
+  if (!OSMesaMakeCurrent(st.ctx, img.rgba.data(), GL_FLOAT, W, H))
+    throw std::runtime_error("llvmpipe: OSMesaMakeCurrent (float RGBA) failed");
+  OSMesaPixelStore(OSMESA_Y_UP, 0);
+  glClampColor(GL_CLAMP_VERTEX_COLOR, GL_FALSE);
+  glClampColor(GL_CLAMP_FRAGMENT_COLOR, GL_FALSE);
+  glClampColor(GL_CLAMP_READ_COLOR, GL_FALSE);
+  glDisable(GL_DITHER);
+  glDisable(GL_LIGHTING);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  glClearColor(GLfloat(background.x), GLfloat(background.y), GLfloat(background.z), 1.0f);
+  glViewport(0, 0, W, H);
+  const double n = setup.near_plane, f = setup.far_plane;
+  const double half_w = n * cam.pitch * 0.5 * W, half_h = n * cam.pitch * 0.5 * H;
+  glMatrixMode(GL_PROJECTION);
+  glLoadIdentity();
+  glFrustum(-half_w, half_w, -half_h, half_h, n, f);
+  // clang-format off
+  const GLdouble look[16] = {cam.right.x, cam.up.x, -cam.forward.x, 0,
+                             cam.right.y, cam.up.y, -cam.forward.y, 0,
+                             cam.right.z, cam.up.z, -cam.forward.z, 0,
+                             0,           0,        0,              1};
+  // clang-format on
+  glMatrixMode(GL_MODELVIEW);
+  glLoadMatrixd(look);
+
+  Stopwatch clock;
+  GLuint name = 0;
+  glGenTextures(1, &name);
+  glBindTexture(GL_TEXTURE_2D, name);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  // Row 0 of the texture is t = 0.
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, tex.width, tex.height, 0, GL_RGBA, GL_FLOAT, tex.rgba.data());
+  if (q.mipmaps) glGenerateMipmap(GL_TEXTURE_2D);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, q.min_filter);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, q.mag_filter);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, q.wrap);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, q.wrap);
+  glTexParameterf(GL_TEXTURE_2D, GL_TEXTURE_MAX_ANISOTROPY_EXT, q.anisotropy);
+  glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_REPLACE);
+  glEnable(GL_TEXTURE_2D);
+  glHint(GL_PERSPECTIVE_CORRECTION_HINT, GL_NICEST);
+  t.upload = clock.seconds();
+
+  auto quad = [&] {
+    glBegin(GL_TRIANGLE_FAN);
+    for (int k = 0; k < 4; ++k) {
+      glTexCoord2f(q.st[k][0], q.st[k][1]);
+      glVertex3f(q.corners[k][0], q.corners[k][1], q.corners[k][2]);
+    }
+    glEnd();
+  };
+  if (!st.compiled) {
+    clock.restart();
+    glClear(GL_COLOR_BUFFER_BIT);
+    quad();
+    glFinish();
+    t.compile = clock.seconds();
+    st.compiled = true;
+  }
+  clock.restart();
+  glClear(GL_COLOR_BUFFER_BIT);
+  quad();
+  glFinish();
+  t.draw = clock.seconds();
+  glDisable(GL_TEXTURE_2D);
+  glDeleteTextures(1, &name);
+  const GLenum err = glGetError();
+  OSMesaMakeCurrent(nullptr, nullptr, GL_FLOAT, 0, 0);
+  if (err != GL_NO_ERROR) throw std::runtime_error("llvmpipe: GL error " + std::to_string(err));
+  if (times) *times = t;
+}
+
 std::string renderer(void* p) {
   auto* st = static_cast<State*>(p);
   std::vector<float> px(4);
@@ -176,7 +259,7 @@ std::string renderer(void* p) {
   return r;
 }
 
-constexpr ModuleApi kApi = {kAbi, create, destroy, draw, renderer};
+constexpr ModuleApi kApi = {kAbi, create, destroy, draw, renderer, draw_texture};
 
 }  // namespace
 }  // namespace lockstep::opt::llvmpipe

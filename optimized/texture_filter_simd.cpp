@@ -1,73 +1,112 @@
 // lockstep optimized: texture filtering with Highway and TBB (optimized/texture_filter_simd.h).
-#include "optimized/texture_filter_simd.h"
-
+//
+// Laid out as Highway's dispatched kernels (hwy/examples/skeleton.cc): the
+// structs once, the kernels once per target (this file includes itself
+// through foreach_target.h), the entry point once (HWY_ONCE) calling the
+// best target the CPU has.
 #include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <stdexcept>
 #include <vector>
 
 #include "core/error.h"
 #include "core/large_buffer.h"
-#include "hwy/highway.h"
+#include "core/timer.h"
+#include "optimized/texture_filter_simd.h"
 #include "optimized/tiling.h"
 
-namespace lockstep::opt::simd {
+#ifndef LOCKSTEP_TEXTURE_SIMD_SHARED
+#define LOCKSTEP_TEXTURE_SIMD_SHARED
+namespace lockstep::opt::texture_kernels {
 
-namespace {
-
-namespace hn = hwy::HWY_NAMESPACE;
-using D4 = hn::FixedTag<float, 4>;
-using V4 = hn::Vec<D4>;
-
+// One level: level 0 is the texture's own texels (not copied), the others own theirs.
 struct Level {
   int w = 0, h = 0;
-  UninitVector<float> rgba;  // w * h * 4
+  const float* data = nullptr;  // w * h * 4
+  UninitVector<float> own;
 };
 
 struct Pyramid {
   std::vector<Level> levels;
   Wrap wrap = Wrap::repeat;
   double w0 = 1, h0 = 1;
+  // Per level: its scale against level 0 (n_l / n_0), its size and 1 / size,
+  // its texels (tables for the trilinear kernel).
+  std::vector<double> sx, sy, w, h, inv_w, inv_h;
+  std::vector<const float*> data;
+  void tables() {
+    sx.clear(), sy.clear(), w.clear(), h.clear(), inv_w.clear(), inv_h.clear(), data.clear();
+    for (const Level& l : levels) {
+      sx.push_back(l.w / w0);
+      sy.push_back(l.h / h0);
+      w.push_back(l.w);
+      h.push_back(l.h);
+      inv_w.push_back(1.0 / l.w);
+      inv_h.push_back(1.0 / l.h);
+      data.push_back(l.data);
+    }
+  }
 };
 
-HWY_INLINE int64_t wrap_fast(int64_t i, int64_t n, Wrap w) {
+inline int64_t wrap_fast(int64_t i, int64_t n, Wrap w) {
   if (uint64_t(i) < uint64_t(n)) return i;
   return wrap_index(i, n, w);
 }
 
+// The pixel centres x0 .. x0 + n - 1 of row y (n <= 64): whether each sees
+// the quad, its texel point and, for trilinear, its level of detail, a
+// vector of doubles at a time. The same operations in the same order as
+// TexelMap::texel_at and derivatives (so the same doubles); the level of
+// detail as log2 of the squared longer edge, halved (within an ulp or two of
+// the reference's log2(hypot): trilinear is continuous in it).
+struct RowCoords {
+  double a[64], b[64], lod[64];
+  double dadx[64], dbdx[64], dady[64], dbdy[64];
+  uint8_t valid[64];
+};
+
+}  // namespace lockstep::opt::texture_kernels
+#endif  // LOCKSTEP_TEXTURE_SIMD_SHARED
+
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "optimized/texture_filter_simd.cpp"
+#include "hwy/foreach_target.h"  // IWYU pragma: keep
+#include "hwy/highway.h"
+#include "hwy/contrib/math/math-inl.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace lockstep::opt::texture_kernels {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+#if HWY_TARGET == HWY_SCALAR
+// A texel is a 4-lane vector: the scalar target (never chosen on x86, whose
+// baseline has 128-bit vectors) has none.
+void BuildRows(const Level&, Level&, Wrap, int, int) { throw std::runtime_error("texture simd: no 128-bit vectors"); }
+void FilterRows(const Pyramid&, const TexelMap&, const TextureFilterSettings&, const float*, Image&, int, int, int,
+                int, uint64_t*) {
+  throw std::runtime_error("texture simd: no 128-bit vectors");
+}
+#else
+using D4 = hn::FixedTag<float, 4>;
+using V4 = hn::Vec<D4>;
+
 HWY_INLINE V4 fetch(const Level& l, int64_t i, int64_t j, Wrap w) {
   const D4 d;
-  return hn::LoadU(d, l.rgba.data() + (size_t(wrap_fast(j, l.h, w)) * size_t(l.w) + size_t(wrap_fast(i, l.w, w))) * 4);
+  return hn::LoadU(d, l.data + (size_t(wrap_fast(j, l.h, w)) * size_t(l.w) + size_t(wrap_fast(i, l.w, w))) * 4);
 }
 
-// The pyramid by core/texture.h's rule, a level's rows in parallel; the 2 x 2
-// average of even sizes in vectors, odd sizes by their overlap weights.
-Pyramid build_pyramid(const Texture& t, bool whole, int threads) {
-  Pyramid p;
-  p.wrap = t.wrap;
-  p.w0 = t.width;
-  p.h0 = t.height;
-  Level base;
-  base.w = t.width;
-  base.h = t.height;
-  base.rgba.resize(t.rgba.size());
-  std::copy(t.rgba.begin(), t.rgba.end(), base.rgba.begin());
-  p.levels.push_back(std::move(base));
-  if (!whole) return p;
+// Rows [y0, y1) of the level below `fine`, by core/texture.h's rule: the
+// 2 x 2 average of even sizes in vectors, odd sizes by their overlap weights.
+void BuildRows(const Level& fine, Level& coarse, Wrap wrap, int y0, int y1) {
   const D4 d;
-  while (p.levels.back().w > 1 || p.levels.back().h > 1) {
-    const Level& fine = p.levels.back();
-    Level coarse;
-    coarse.w = mip_next_size(fine.w);
-    coarse.h = mip_next_size(fine.h);
-    coarse.rgba.resize(size_t(coarse.w) * coarse.h * 4);
-    const bool even = fine.w % 2 == 0 && fine.h % 2 == 0 && coarse.w * 2 == fine.w && coarse.h * 2 == fine.h;
-    parallel_tiles(coarse.w, coarse.h, coarse.w, 16, threads, {}, [&](int, int y0, int, int y1) {
-      for (int j = y0; j < y1; ++j) {
-        float* out = coarse.rgba.data() + size_t(j) * coarse.w * 4;
+  const bool even = fine.w % 2 == 0 && fine.h % 2 == 0 && coarse.w * 2 == fine.w && coarse.h * 2 == fine.h;
+  for (int j = y0; j < y1; ++j) {
+        float* out = coarse.own.data() + size_t(j) * coarse.w * 4;
         if (even) {
-          const float* r0 = fine.rgba.data() + size_t(2 * j) * fine.w * 4;
+          const float* r0 = fine.data + size_t(2 * j) * fine.w * 4;
           const float* r1 = r0 + size_t(fine.w) * 4;
           const V4 q = hn::Set(d, 0.25f);
           for (int i = 0; i < coarse.w; ++i) {
@@ -85,15 +124,11 @@ Pyramid build_pyramid(const Texture& t, bool whole, int threads) {
             for (int dy = 0; dy < 3; ++dy)
               for (int dx = 0; dx < 3; ++dx)
                 if (wx[dx] > 0 && wy[dy] > 0)
-                  s = hn::MulAdd(fetch(fine, fx + dx, fy + dy, p.wrap), hn::Set(d, float(wx[dx] * wy[dy])), s);
+                  s = hn::MulAdd(fetch(fine, fx + dx, fy + dy, wrap), hn::Set(d, float(wx[dx] * wy[dy])), s);
             hn::StoreU(s, d, out + 4 * i);
           }
         }
-      }
-    });
-    p.levels.push_back(std::move(coarse));
   }
-  return p;
 }
 
 HWY_INLINE V4 point(const Pyramid& p, double a, double b) {
@@ -293,6 +328,293 @@ V4 area(const Pyramid& p, const TexelMap& map, int x, int y) {
   return total > 0 ? hn::Mul(sum, hn::Set(d, float(1 / total))) : sum;
 }
 
+void row_coords(const TexelMap& map, int y, int x0, int n, bool want_lod, RowCoords& rc) {
+  const hn::ScalableTag<double> dd;
+  using VD = hn::Vec<decltype(dd)>;
+  const int L = int(hn::Lanes(dd));
+  const auto& m = map.to_texel.m;
+  const double py = y + 0.5;
+  const VD m0 = hn::Set(dd, m[0]), m3 = hn::Set(dd, m[3]), m6 = hn::Set(dd, m[6]);
+  const VD cx = hn::Set(dd, m[1] * py), cy = hn::Set(dd, m[4] * py), cz = hn::Set(dd, m[7] * py);
+  const VD ex = hn::Set(dd, m[2]), ey = hn::Set(dd, m[5]), ez = hn::Set(dd, m[8]);
+  const VD m1 = hn::Set(dd, m[1]), m4 = hn::Set(dd, m[4]), m7 = hn::Set(dd, m[7]);
+  const VD zero = hn::Zero(dd), one = hn::Set(dd, 1.0), half = hn::Set(dd, 0.5);
+  const VD hither = hn::Set(dd, map.hither), inf = hn::Set(dd, HUGE_VAL);
+  const VD qa = hn::Set(dd, map.tex_w * map.repeat_u), qb = hn::Set(dd, map.tex_h * map.repeat_v);
+  for (int k = 0; k < n; k += L) {
+    const VD px = hn::Add(hn::Iota(dd, double(x0 + k)), half);
+    const VD hx = hn::Add(hn::Add(hn::Mul(m0, px), cx), ex);
+    const VD hy = hn::Add(hn::Add(hn::Mul(m3, px), cy), ey);
+    const VD hz = hn::Add(hn::Add(hn::Mul(m6, px), cz), ez);
+    const VD a = hn::Div(hx, hz), b = hn::Div(hy, hz);
+    auto ok = hn::And(hn::Gt(hz, zero), hn::Lt(hz, inf));
+    ok = hn::And(ok, hn::Ge(hn::Div(one, hz), hither));
+    ok = hn::And(ok, hn::And(hn::Ge(a, zero), hn::Ge(b, zero)));
+    ok = hn::And(ok, hn::And(hn::Le(a, qa), hn::Le(b, qb)));  // false for NaN
+    const VD iw2 = hn::Div(one, hn::Mul(hz, hz));
+    const VD dadx = hn::Mul(hn::Sub(hn::Mul(m0, hz), hn::Mul(hx, m6)), iw2);
+    const VD dbdx = hn::Mul(hn::Sub(hn::Mul(m3, hz), hn::Mul(hy, m6)), iw2);
+    const VD dady = hn::Mul(hn::Sub(hn::Mul(m1, hz), hn::Mul(hx, m7)), iw2);
+    const VD dbdy = hn::Mul(hn::Sub(hn::Mul(m4, hz), hn::Mul(hy, m7)), iw2);
+    hn::StoreU(a, dd, rc.a + k);
+    hn::StoreU(b, dd, rc.b + k);
+    hn::StoreU(dadx, dd, rc.dadx + k);
+    hn::StoreU(dbdx, dd, rc.dbdx + k);
+    hn::StoreU(dady, dd, rc.dady + k);
+    hn::StoreU(dbdy, dd, rc.dbdy + k);
+    if (want_lod) {
+      const VD rx = hn::Add(hn::Mul(dadx, dadx), hn::Mul(dbdx, dbdx));
+      const VD ry = hn::Add(hn::Mul(dady, dady), hn::Mul(dbdy, dbdy));
+      hn::StoreU(hn::Mul(half, hn::Log2(dd, hn::Max(rx, ry))), dd, rc.lod + k);
+    }
+    alignas(64) double okv[8];
+    hn::StoreU(hn::IfThenElseZero(ok, one), dd, okv);
+    for (int l = 0; l < L && k + l < 64; ++l) rc.valid[k + l] = okv[l] != 0;
+  }
+}
+
+// Trilinear for the n pixels of one row segment whose coordinates rc holds:
+// the level pair, bilinear positions, weights and wrapped texel indices of
+// every pixel in double vectors, then per pixel eight 16-byte texel loads and
+// the blends. Positions use the level's scale (n_l / n_0) as one factor, where
+// the reference multiplies then divides: a last-bit difference in a position,
+// which bilinear interpolation (continuous in it) turns into one of the same
+// size in the colour.
+void trilinear_segment(const Pyramid& p, const RowCoords& rc, int n, float* out, V4 background) {
+  const hn::ScalableTag<double> dd;
+  const hn::RebindToSigned<decltype(dd)> di;
+  using VD = hn::Vec<decltype(dd)>;
+  const int L = int(hn::Lanes(dd));
+  const int last = int(p.levels.size()) - 1;
+  alignas(64) double t[64], lev_d[64];
+  alignas(64) double fx[2][64], fy[2][64];
+  alignas(64) int64_t idx[2][4][64];
+  // The level pair of each pixel, in vectors: lambda <= 0 (or NaN) the finest
+  // level alone, lambda >= last the coarsest alone, else floor(lambda) and the
+  // next, blended by the fraction (the reference's comparisons exactly).
+  {
+    const VD zero = hn::Zero(dd), vlast = hn::Set(dd, double(last));
+    for (int k = 0; k < n; k += L) {
+      const VD lod = hn::LoadU(dd, rc.lod + k);
+      const auto low = hn::Not(hn::Gt(lod, zero));  // also NaN
+      const auto high = hn::Ge(lod, vlast);
+      const VD lo = hn::IfThenElse(low, zero, hn::IfThenElse(high, vlast, hn::Floor(lod)));
+      const VD tt = hn::IfThenZeroElse(hn::Or(low, high), hn::Sub(lod, lo));
+      hn::Store(lo, dd, lev_d + k);
+      hn::Store(tt, dd, t + k);
+    }
+  }
+  const VD half = hn::Set(dd, 0.5), one = hn::Set(dd, 1.0), zero = hn::Zero(dd);
+  // The texel indices i and i + 1 on a side of `size` texels, wrapped. Repeat:
+  // i - size floor(i / size) with the quotient by the reciprocal (its
+  // rounding can leave the result one period out: put back), i + 1 the next
+  // one round the period.
+  auto wrap_pair = [&](VD i, VD size, VD inv, VD& a, VD& b) {
+    switch (p.wrap) {
+      case Wrap::repeat: {
+        VD r = hn::Sub(i, hn::Mul(size, hn::Floor(hn::Mul(i, inv))));
+        r = hn::IfThenElse(hn::Lt(r, zero), hn::Add(r, size), r);
+        r = hn::IfThenElse(hn::Ge(r, size), hn::Sub(r, size), r);
+        a = r;
+        const VD r1 = hn::Add(r, one);
+        b = hn::IfThenElse(hn::Ge(r1, size), hn::Sub(r1, size), r1);
+        return;
+      }
+      case Wrap::clamp:
+        a = hn::Min(hn::Max(i, zero), hn::Sub(size, one));
+        b = hn::Min(hn::Max(hn::Add(i, one), zero), hn::Sub(size, one));
+        return;
+      case Wrap::mirror: {
+        const VD period = hn::Add(size, size);
+        auto m = [&](VD x) {
+          VD r = hn::Sub(x, hn::Mul(period, hn::Floor(hn::Mul(x, hn::Mul(inv, half)))));
+          r = hn::IfThenElse(hn::Lt(r, zero), hn::Add(r, period), r);
+          r = hn::IfThenElse(hn::Ge(r, period), hn::Sub(r, period), r);
+          return hn::IfThenElse(hn::Lt(r, size), r, hn::Sub(hn::Sub(period, one), r));
+        };
+        a = m(i);
+        b = m(hn::Add(i, one));
+        return;
+      }
+    }
+    a = b = i;
+  };
+  for (int k = 0; k < n; k += L) {
+    const VD a = hn::LoadU(dd, rc.a + k), b = hn::LoadU(dd, rc.b + k);
+    const VD lo = hn::Load(dd, lev_d + k);
+    for (int s = 0; s < 2; ++s) {
+      // This slot's level per lane, and its tables: one broadcast when every
+      // lane has the same level (neighbouring pixels nearly always do), else
+      // gathered.
+      const VD lvl = s == 0 ? lo : hn::Min(hn::Add(lo, one), hn::Set(dd, double(last)));
+      const double first = lev_d[k] + (s == 0 ? 0 : (lev_d[k] < last ? 1 : 0));
+      VD sxv, syv, w, h, iwv, ihv;
+      if (hn::AllTrue(dd, hn::Eq(lvl, hn::Set(dd, first)))) {
+        const size_t l = size_t(first);
+        sxv = hn::Set(dd, p.sx[l]), syv = hn::Set(dd, p.sy[l]), w = hn::Set(dd, p.w[l]), h = hn::Set(dd, p.h[l]);
+        iwv = hn::Set(dd, p.inv_w[l]), ihv = hn::Set(dd, p.inv_h[l]);
+      } else {
+        const auto li = hn::ConvertTo(di, lvl);
+        sxv = hn::GatherIndex(dd, p.sx.data(), li), syv = hn::GatherIndex(dd, p.sy.data(), li);
+        w = hn::GatherIndex(dd, p.w.data(), li), h = hn::GatherIndex(dd, p.h.data(), li);
+        iwv = hn::GatherIndex(dd, p.inv_w.data(), li), ihv = hn::GatherIndex(dd, p.inv_h.data(), li);
+      }
+      const VD x = hn::Sub(hn::Mul(a, sxv), half);
+      const VD y = hn::Sub(hn::Mul(b, syv), half);
+      const VD i0 = hn::Floor(x), j0 = hn::Floor(y);
+      hn::Store(hn::Sub(x, i0), dd, fx[s] + k);
+      hn::Store(hn::Sub(y, j0), dd, fy[s] + k);
+      VD ia, ib, ja, jb;
+      wrap_pair(i0, w, iwv, ia, ib);
+      wrap_pair(j0, h, ihv, ja, jb);
+      ja = hn::Mul(ja, w);
+      jb = hn::Mul(jb, w);
+      hn::Store(hn::ConvertTo(di, hn::Add(ja, ia)), di, idx[s][0] + k);
+      hn::Store(hn::ConvertTo(di, hn::Add(ja, ib)), di, idx[s][1] + k);
+      hn::Store(hn::ConvertTo(di, hn::Add(jb, ia)), di, idx[s][2] + k);
+      hn::Store(hn::ConvertTo(di, hn::Add(jb, ib)), di, idx[s][3] + k);
+    }
+  }
+  const D4 d;
+  for (int k = 0; k < n; ++k) {
+    V4 c = background;
+    if (rc.valid[k]) {
+      V4 level_colour[2];
+      const int slots = t[k] > 0 ? 2 : 1;
+      for (int s = 0; s < slots; ++s) {
+        const float* base = p.data[size_t(std::min(int(lev_d[k]) + s, last))];
+        const V4 t00 = hn::LoadU(d, base + 4 * idx[s][0][k]), t10 = hn::LoadU(d, base + 4 * idx[s][1][k]);
+        const V4 t01 = hn::LoadU(d, base + 4 * idx[s][2][k]), t11 = hn::LoadU(d, base + 4 * idx[s][3][k]);
+        const V4 wx = hn::Set(d, float(fx[s][k])), wy = hn::Set(d, float(fy[s][k]));
+        const V4 top = hn::MulAdd(hn::Sub(t10, t00), wx, t00);
+        const V4 bottom = hn::MulAdd(hn::Sub(t11, t01), wx, t01);
+        level_colour[s] = hn::MulAdd(hn::Sub(bottom, top), wy, top);
+      }
+      c = slots == 2 ? hn::MulAdd(hn::Sub(level_colour[1], level_colour[0]), hn::Set(d, float(t[k])), level_colour[0])
+                     : level_colour[0];
+    }
+    hn::StoreU(c, d, out + 4 * size_t(k));
+  }
+}
+
+
+void FilterRows(const Pyramid& pyr, const TexelMap& map, const TextureFilterSettings& f, const float* bg, Image& img,
+                int x0, int y0, int x1, int y1, uint64_t* count) {
+  const D4 d;
+  const V4 background = hn::LoadU(d, bg);
+    uint64_t n = 0;
+  RowCoords rc;
+  for (int y = y0; y < y1; ++y) {
+    row_coords(map, y, x0, x1 - x0, f.filter == TextureFilter::trilinear, rc);
+    if (f.filter == TextureFilter::trilinear) {
+      trilinear_segment(pyr, rc, x1 - x0, img.pixel(x0, y), background);
+      for (int k = 0; k < x1 - x0; ++k) n += rc.valid[k];
+      continue;
+    }
+    for (int x = x0; x < x1; ++x) {
+      const int k = x - x0;
+      V4 c = background;
+      if (rc.valid[k]) {
+        ++n;
+        const double a = rc.a[k], b = rc.b[k];
+        const double dadx = rc.dadx[k], dbdx = rc.dbdx[k], dady = rc.dady[k], dbdy = rc.dbdy[k];
+        switch (f.filter) {
+          case TextureFilter::point:
+            c = point(pyr, a, b);
+            break;
+          case TextureFilter::bilinear:
+            c = bilinear(pyr, 0, a, b);
+            break;
+          case TextureFilter::area:
+            c = area(pyr, map, x, y);
+            break;
+          case TextureFilter::super: {
+            V4 s = hn::Zero(d);
+            for (int sy = 0; sy < f.n; ++sy)
+              for (int sx = 0; sx < f.n; ++sx) {
+                double sa, sb;
+                const bool hit =
+                    map.texel_at(x + (sx + 0.5) / f.n, y + (sy + 0.5) / f.n, sa, sb) && map.on_quad(sa, sb);
+                s = hn::Add(s, hit ? point(pyr, sa, sb) : background);
+              }
+            c = hn::Mul(s, hn::Set(d, 1.0f / float(f.n * f.n)));
+            break;
+          }
+          case TextureFilter::mip_nearest: {
+            // The reference's rounding exactly (a level is a step: no ulp may move it).
+            const double lod = lod_of(dadx, dbdx, dady, dbdy);
+            int level = lod <= 0.5 ? 0 : int(std::ceil(lod + 0.5)) - 1;
+            level = std::min(level, int(pyr.levels.size()) - 1);
+            c = bilinear(pyr, level, a, b);
+            break;
+          }
+          case TextureFilter::trilinear:
+            c = trilinear(pyr, rc.lod[k], a, b);
+            break;
+          case TextureFilter::aniso:
+            c = aniso(pyr, f.n, a, b, dadx, dbdx, dady, dbdy);
+            break;
+          case TextureFilter::ewa:
+            c = ewa(pyr, f.n, a, b, dadx, dbdx, dady, dbdy);
+            break;
+        }
+      }
+      hn::StoreU(c, d, img.pixel(x, y));
+    }
+  }
+  *count = n;
+}
+#endif  // HWY_TARGET == HWY_SCALAR
+
+}  // namespace HWY_NAMESPACE
+}  // namespace lockstep::opt::texture_kernels
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace lockstep::opt::texture_kernels {
+HWY_EXPORT(BuildRows);
+HWY_EXPORT(FilterRows);
+}  // namespace lockstep::opt::texture_kernels
+
+namespace lockstep::opt::simd {
+
+namespace {
+
+using namespace texture_kernels;
+
+// The pyramid by core/texture.h's rule, a level's rows in parallel; the 2 x 2
+// average of even sizes in vectors, odd sizes by their overlap weights.
+Pyramid build_pyramid(const Texture& t, bool whole, int threads) {
+  Pyramid p;
+  p.wrap = t.wrap;
+  p.w0 = t.width;
+  p.h0 = t.height;
+  Level base;
+  base.w = t.width;
+  base.h = t.height;
+  base.data = t.rgba.data();
+  p.levels.push_back(std::move(base));
+  if (!whole) {
+    p.tables();
+    return p;
+  }
+  while (p.levels.back().w > 1 || p.levels.back().h > 1) {
+    const Level& fine = p.levels.back();
+    Level coarse;
+    coarse.w = mip_next_size(fine.w);
+    coarse.h = mip_next_size(fine.h);
+    coarse.own.resize(size_t(coarse.w) * coarse.h * 4);
+    coarse.data = coarse.own.data();
+    const Level& fine_ref = fine;
+    parallel_tiles(coarse.w, coarse.h, coarse.w, 16, threads, {}, [&](int, int y0, int, int y1) {
+      HWY_DYNAMIC_DISPATCH(BuildRows)(fine_ref, coarse, p.wrap, y0, y1);
+    });
+    p.levels.push_back(std::move(coarse));
+  }
+  p.tables();
+  return p;
+}
+
 }  // namespace
 
 Image texture_filter(const TextureScene& scene, const FrameOptions& opts, FrameStats* stats) {
@@ -302,68 +624,24 @@ Image texture_filter(const TextureScene& scene, const FrameOptions& opts, FrameS
   const TexelMap map = TexelMap::make(scene, opts.width, opts.height);
   const bool mip = f.filter == TextureFilter::mip_nearest || f.filter == TextureFilter::trilinear ||
                    f.filter == TextureFilter::aniso || f.filter == TextureFilter::ewa;
+  // The pyramid, timed apart (a one-shot cost: an application builds it once per texture).
+  const Stopwatch build_watch;
   const Pyramid pyr = build_pyramid(tex, mip, opts.threads);
-  const D4 d;
-  alignas(16) const float bg[4] = {float(scene.background.x), float(scene.background.y), float(scene.background.z), 1};
-  const V4 background = hn::Load(d, bg);
+  const double build_seconds = build_watch.seconds();
+  const float bg[4] = {float(scene.background.x), float(scene.background.y), float(scene.background.z), 1};
   Image img = Image::uninitialized(opts.width, opts.height);
   std::atomic<uint64_t> lookups{0};
   parallel_tiles(opts.width, opts.height, 64, 16, opts.threads, opts.progress, [&](int x0, int y0, int x1, int y1) {
     uint64_t n = 0;
-    for (int y = y0; y < y1; ++y)
-      for (int x = x0; x < x1; ++x) {
-        double a, b;
-        V4 c = background;
-        if (map.texel_at(x + 0.5, y + 0.5, a, b) && map.on_quad(a, b)) {
-          ++n;
-          double dadx, dbdx, dady, dbdy;
-          map.derivatives(x + 0.5, y + 0.5, dadx, dbdx, dady, dbdy);
-          switch (f.filter) {
-            case TextureFilter::point:
-              c = point(pyr, a, b);
-              break;
-            case TextureFilter::bilinear:
-              c = bilinear(pyr, 0, a, b);
-              break;
-            case TextureFilter::area:
-              c = area(pyr, map, x, y);
-              break;
-            case TextureFilter::super: {
-              V4 s = hn::Zero(d);
-              for (int sy = 0; sy < f.n; ++sy)
-                for (int sx = 0; sx < f.n; ++sx) {
-                  double sa, sb;
-                  const bool hit =
-                      map.texel_at(x + (sx + 0.5) / f.n, y + (sy + 0.5) / f.n, sa, sb) && map.on_quad(sa, sb);
-                  s = hn::Add(s, hit ? point(pyr, sa, sb) : background);
-                }
-              c = hn::Mul(s, hn::Set(d, 1.0f / float(f.n * f.n)));
-              break;
-            }
-            case TextureFilter::mip_nearest: {
-              const double lod = lod_of(dadx, dbdx, dady, dbdy);
-              int level = lod <= 0.5 ? 0 : int(std::ceil(lod + 0.5)) - 1;
-              level = std::min(level, int(pyr.levels.size()) - 1);
-              c = bilinear(pyr, level, a, b);
-              break;
-            }
-            case TextureFilter::trilinear:
-              c = trilinear(pyr, lod_of(dadx, dbdx, dady, dbdy), a, b);
-              break;
-            case TextureFilter::aniso:
-              c = aniso(pyr, f.n, a, b, dadx, dbdx, dady, dbdy);
-              break;
-            case TextureFilter::ewa:
-              c = ewa(pyr, f.n, a, b, dadx, dbdx, dady, dbdy);
-              break;
-          }
-        }
-        hn::StoreU(c, d, img.pixel(x, y));
-      }
+    HWY_DYNAMIC_DISPATCH(FilterRows)(pyr, map, f, bg, img, x0, y0, x1, y1, &n);
     lookups += n;
   });
-  if (stats) stats->items = lookups.load();
+  if (stats) {
+    stats->items = lookups.load();
+    stats->build_seconds = build_seconds;
+  }
   return img;
 }
 
 }  // namespace lockstep::opt::simd
+#endif  // HWY_ONCE

@@ -9,6 +9,7 @@
 #include "kinds/image_kind.h"
 #include "optimized/texture_filter_simd.h"
 #include "optimized/texture_oiio.h"
+#include "optimized/raster_llvmpipe.h"
 #include "reference/texture_filter.h"
 
 namespace lockstep {
@@ -99,11 +100,26 @@ Family texture_family() {
   f.tol.fraction = 0.999;
   f.load = load;
   f.impls = erase_all<TextureScene>(kImpls);
+  // Mesa's llvmpipe (OSMesa), where its module was built: GL's own sampler.
+  // Against the reference where both compute the same (point, bilinear):
+  // its texture coordinates are interpolated in float per fragment (point:
+  // 8 of 65536 pixels of the 256^2 zone plate in the neighbouring texel) and
+  // its bilinear weights have 8 bits (bilinear: 105 pixels, 0.16%, over
+  // 1/255, at most 0.012). So: 1/255 on all but 0.4% (verify measured 0.26%), no hard limit below a
+  // texel's contrast. Its mipmapped filters are judged by the oracle.
+  if (opt::llvmpipe::available()) {
+    const TypedImpl<TextureScene> gl{"llvmpipe", opt::llvmpipe::texture_filter, 0, {}, "Mesa llvmpipe (OSMesa)",
+                                     true, opt::llvmpipe::texture_unsupported, Tolerance{1.0 / 255, 0.996, 1.0}};
+    f.impls.push_back(erase(gl));
+  }
+  f.peer_rows.push_back(module_peer("llvmpipe", opt::llvmpipe::available(), opt::llvmpipe::version(),
+                                    "lockstep_peer_llvmpipe.so",
+                                    "install libosmesa6-dev (scripts/setup.sh) and re-run cmake"));
   f.bench = bench_inputs;
   f.params = {{"filter", kTextureFilterNames, "trilinear",
                "the texture filter (superN: N x N samples a pixel; anisoN: at most N probes; ewa: eccentricity 8)"}};
   f.check_params = [](const Params& p) { texture_filter_settings(p, "settings"); };
-  f.properties = {"pyramid", "constant", "agreement", "oracle"};
+  f.properties = {"pyramid", "constant", "agreement", "oracle", "rotation"};
   return f;
 }
 

@@ -12,7 +12,9 @@
 //   Constant.texture__<impl>   (part "constant") a one-colour texture gives
 //       that colour on every pixel whose centre sees the quad (and, for
 //       supersampling, whose corners all do), under every filter and wrap
-//       mode; the others show the background, exactly.
+//       mode; the others show the background, exactly. Peers are judged on
+//       the interior pixels only (their coverage of edge pixels is their
+//       rasteriser's: GL's rules, float vertices).
 //   BoxFilter.texture__<impl>  (part "oracle") area sampling against the
 //       pixel's exact box filter (props/texture/oracle.h), interior pixels:
 //       their difference is at most (r^3 - 1) (hi - lo) / 2 + kFloat, where
@@ -26,6 +28,13 @@
 //       view (camera square to the quad: r = 1) they are equal up to float
 //       rounding; under perspective the row's error is the textbook method's,
 //       bounded and measured (the largest |area - box| is printed).
+//   Rotation.texture__<impl>   (part "rotation") the texture turned a quarter
+//       on the same quad re-parametrised (every point keeps its colour) gives
+//       the same image within kAgree, for the filters continuous in their
+//       positions (bilinear, trilinear, area, EWA); whole repeats, wrap repeat.
+//   Lookups.texture__reference (part "pyramid") trilinear at a whole level k
+//       equals bilinear in level k exactly; area sampling of a triangle inside
+//       one texel gives that texel (within 1e-12).
 //   Pyramid.texture__reference (part "pyramid") each mipmap level is the box
 //       average of the one below (core/texture.h's rule, recomputed here from
 //       the overlap of each coarse texel's extent with the fine texels: odd
@@ -52,11 +61,16 @@ namespace {
 
 constexpr double kAgree = 1e-5;   // simd against reference, per channel
 constexpr double kFloat = 2e-6;   // float output of a value in [0, 1], with its sums
+// A peer's rotation bound: GL (and OpenImageIO) interpolate texture
+// coordinates in float and may keep 8 bits of a bilinear weight (the GL
+// spec's minimum sub-texel precision), so a last-bit change of a position may
+// move a weight by 1/256. Measured: llvmpipe 9.1e-6, OpenImageIO 2.0e-6.
+constexpr double kPeerRotation = 1.0 / 255;
 
 const char* const kFilters[] = {"point", "bilinear", "area", "super2", "super4", "mip_nearest",
                                 "trilinear", "aniso4", "aniso16", "ewa"};
 
-enum class Kind { random, constant, affine };
+enum class Kind { random, constant, affine, rotation };
 
 rc::Gen<TexCase> case_gen(Kind kind, bool area_only) {
   return rc::gen::exec([kind, area_only] {
@@ -65,7 +79,7 @@ rc::Gen<TexCase> case_gen(Kind kind, bool area_only) {
     Texture& t = sc.texture;
     t.width = int(*gen::int_in(1, 12));
     t.height = int(*gen::int_in(1, 12));
-    t.wrap = Wrap(*gen::int_in(0, 2));
+    t.wrap = kind == Kind::rotation ? Wrap::repeat : Wrap(*gen::int_in(0, 2));
     t.rgba.resize(size_t(t.width) * t.height * 4);
     if (kind == Kind::constant) {
       float v[4];
@@ -78,8 +92,9 @@ rc::Gen<TexCase> case_gen(Kind kind, bool area_only) {
     sc.origin = {-side / 2, 0, -side / 2};
     sc.edge_s = {side, 0, 0};
     sc.edge_t = {0, 0, side};
-    sc.repeat_u = *gen::uniform(0.5, 4);
-    sc.repeat_v = *gen::uniform(0.5, 4);
+    // The rotation's re-parametrised quad matches the original only for whole repeats.
+    sc.repeat_u = kind == Kind::rotation ? double(*gen::int_in(1, 4)) : *gen::uniform(0.5, 4);
+    sc.repeat_v = kind == Kind::rotation ? double(*gen::int_in(1, 4)) : *gen::uniform(0.5, 4);
     const double ax = *gen::uniform(-side / 3, side / 3), az = *gen::uniform(-side / 3, side / 3);
     sc.view.at = {ax, 0, az};
     if (kind == Kind::affine) {
@@ -96,7 +111,10 @@ rc::Gen<TexCase> case_gen(Kind kind, bool area_only) {
     sc.background = {0.25, 0.5, 0.75};
     sc.width = int(*gen::int_in(3, 16));
     sc.height = int(*gen::int_in(3, 16));
-    c.filter = area_only ? "area" : kFilters[*gen::int_in(0, int(std::size(kFilters)) - 1)];
+    static const char* const kContinuous[] = {"bilinear", "trilinear", "area", "ewa"};
+    c.filter = area_only              ? "area"
+               : kind == Kind::rotation ? kContinuous[*gen::int_in(0, 3)]
+                                        : kFilters[*gen::int_in(0, int(std::size(kFilters)) - 1)];
     return c;
   });
 }
@@ -170,11 +188,16 @@ Verdict constant(const FamilyImpl& impl, const TexCase& c) {
       double a, b;
       const bool sees = map.texel_at(x + 0.5, y + 0.5, a, b) && map.on_quad(a, b);
       Outcome o;
-      if (sees && super && !pixel_box_filter(c.scene, map, x, y).interior) {
-        o.kind = Outcome::skipped;  // some of its samples may see the background
-        v.rays.push_back(o);
-        continue;
-      }
+      // Supersampling: some of the samples of an edge pixel may see the
+      // background. A peer decides coverage by its own rules (GL's
+      // rasterisation: top-left edges, float vertices): edge pixels are
+      // coverage, not filtering.
+      if ((sees && super) || !impl.peer.empty())
+        if (!pixel_box_filter(c.scene, map, x, y).interior) {
+          o.kind = Outcome::skipped;
+          v.rays.push_back(o);
+          continue;
+        }
       const float* want = sees ? colour : bg;
       double err = 0;
       for (int k = 0; k < 4; ++k) err = std::max(err, double(std::abs(img.pixel(x, y)[k] - want[k])));
@@ -300,6 +323,99 @@ Verdict pyramid(const TexCase& c) {
   return v;
 }
 
+// The texture turned a quarter (T'(i', j') = T(W-1-j', i'), H x W) on the
+// same quad re-parametrised so that every point of it keeps its colour
+// (origin O + S, edges T and -S, the repeats swapped): the image must not
+// change. Filters that are continuous in the positions only (bilinear,
+// trilinear, area, EWA: a last-bit difference of a position or a level moves
+// the colour by as little); interior pixels (away from the quad's edges).
+TexCase rotated(const TexCase& c) {
+  TexCase r = c;
+  const Texture& t = c.scene.texture;
+  Texture& q = r.scene.texture;
+  q.width = t.height;
+  q.height = t.width;
+  for (int j = 0; j < q.height; ++j)
+    for (int i = 0; i < q.width; ++i)
+      for (int ch = 0; ch < 4; ++ch)
+        q.rgba[(size_t(j) * q.width + i) * 4 + ch] = t.texel(t.width - 1 - j, i)[ch];
+  r.scene.origin = c.scene.origin + c.scene.edge_s;
+  r.scene.edge_s = c.scene.edge_t;
+  r.scene.edge_t = -c.scene.edge_s;
+  r.scene.repeat_u = c.scene.repeat_v;
+  r.scene.repeat_v = c.scene.repeat_u;
+  return r;
+}
+
+Verdict rotation(const FamilyImpl& impl, const TexCase& c) {
+  const double bound = impl.peer.empty() ? kAgree : kPeerRotation;
+  if (!draws(impl, c)) return not_drawn();
+  const Image a = run(impl, c), b = run(impl, rotated(c));
+  const TexelMap map = TexelMap::make(c.scene, c.scene.width, c.scene.height);
+  Verdict v;
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x) {
+      Outcome o;
+      if (!pixel_box_filter(c.scene, map, x, y).interior) {
+        o.kind = Outcome::skipped;
+        v.rays.push_back(o);
+        continue;
+      }
+      double err = 0;
+      for (int k = 0; k < 4; ++k) err = std::max(err, double(std::abs(a.pixel(x, y)[k] - b.pixel(x, y)[k])));
+      if (!(err == err)) err = INFINITY;
+      o.err = err;
+      o.measured = true;
+      if (err > bound) {
+        o.kind = Outcome::unexplained;
+        o.label = "rotation_changes_image";
+        o.detail = c.filter + " pixel (" + std::to_string(x) + ", " + std::to_string(y) + "): " +
+                   pixel_text(a.pixel(x, y)) + ", with the texture turned " + pixel_text(b.pixel(x, y));
+      }
+      v.rays.push_back(std::move(o));
+    }
+  return v;
+}
+
+// Single lookups of the reference: trilinear at a whole level is bilinear
+// there, exactly; area sampling of a footprint inside one texel is that texel.
+Verdict lookups(const TexCase& c) {
+  const std::vector<Texture> levels = ref::build_pyramid(c.scene.texture);
+  Verdict v;
+  const double a0 = c.scene.view.from.x * 3.7 + c.scene.texture.width * 0.37;
+  const double b0 = c.scene.view.from.z * 2.3 + c.scene.texture.height * 0.61;
+  for (int k = 0; k < int(levels.size()); ++k) {
+    const ref::Rgba tri = ref::lookup_trilinear(levels, double(k), a0, b0);
+    const ref::Rgba bil = ref::lookup_bilinear(levels, k, a0, b0);
+    Outcome o;
+    o.measured = true;
+    for (int ch = 0; ch < 4; ++ch) o.err = std::max(o.err, std::abs(tri[size_t(ch)] - bil[size_t(ch)]));
+    if (o.err != 0) {
+      o.kind = Outcome::unexplained;
+      o.label = "trilinear_at_level";
+      o.detail = "trilinear at level " + std::to_string(k) + " differs from bilinear there by " + std::to_string(o.err);
+    }
+    v.rays.push_back(o);
+  }
+  // A small triangle inside texel (i, j) (any integers: the wrap mode picks the texel).
+  const int64_t i = int64_t(std::floor(a0)) - 7, j = int64_t(std::floor(b0)) + 5;
+  const double fx = a0 - std::floor(a0), fy = b0 - std::floor(b0);
+  const Polygon2 tri{{i + 0.1 + 0.3 * fx, j + 0.2}, {i + 0.9, j + 0.1 + 0.5 * fy}, {i + 0.4, j + 0.95}};
+  const ref::Rgba avg = ref::average_over(c.scene.texture, tri);
+  const float* want = c.scene.texture.wrapped(i, j);
+  Outcome o;
+  o.measured = true;
+  for (int ch = 0; ch < 4; ++ch) o.err = std::max(o.err, std::abs(avg[size_t(ch)] - want[ch]));
+  if (!(o.err <= 1e-12)) {
+    o.kind = Outcome::unexplained;
+    o.label = "area_inside_texel";
+    o.detail = "area sampling of a triangle inside texel (" + std::to_string(i) + ", " + std::to_string(j) +
+               ") is " + std::to_string(avg[0]) + " ..., the texel " + std::to_string(want[0]) + " ...";
+  }
+  v.rays.push_back(o);
+  return v;
+}
+
 Property property(const Family& family, const FamilyImpl& impl, std::string suite, std::string check,
                   std::string generator, rc::Gen<TexCase> gen, std::function<Verdict(const TexCase&)> judge,
                   std::string unit) {
@@ -348,9 +464,19 @@ FamilyProperties properties(const Family& family, RunResources&) {
       p.bound = kFloat;
       out.properties.push_back(std::move(p));
     }
-    if (family.has_property("pyramid") && ip == &ref)
+    if (family.has_property("pyramid") && ip == &ref) {
       out.properties.push_back(property(family, impl, "Pyramid", "pyramid", "texture_scene",
                                         case_gen(Kind::random, false), pyramid, "texel error"));
+      out.properties.push_back(property(family, impl, "Lookups", "lookups", "texture_scene",
+                                        case_gen(Kind::random, false), lookups, "channel error"));
+    }
+    if (family.has_property("rotation")) {
+      Property p = property(family, impl, "Rotation", "rotation", "texture_scene_whole_repeats",
+                            case_gen(Kind::rotation, false), [ip](const TexCase& c) { return rotation(*ip, c); },
+                            "channel difference");
+      p.bound = impl.peer.empty() ? kAgree : kPeerRotation;
+      out.properties.push_back(std::move(p));
+    }
   }
   return out;
 }

@@ -19,7 +19,9 @@ fi
 base=${stem%-tess} tess=()
 [[ $base != "$stem" ]] && tess=(--tess)
 name=${base%-*} size=${base##*-}
-got=$out/spd-$stem.nff
+# The PID in the name: spd.matches.X and spd.matches_corpus.X run the same stem,
+# perhaps at once (ctest -j2), and each removes its file when done.
+got=$out/spd-$stem-$$.nff
 "$lockstep" spd "$name" --size "$size" "${tess[@]}" -o "$got" || { echo "FAIL: lockstep spd exited $?"; exit 1; }
 python3 "$(dirname "$0")/compare_nff.py" "$expected" "$got" || exit 1
 if cmp -s "$expected" "$got"; then echo "bytes: identical"; else echo "bytes: differ (within the printed precision)"; fi
