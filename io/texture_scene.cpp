@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <vector>
 
 #include "core/error.h"
 #include "io/image_io.h"
@@ -26,7 +27,11 @@ long side_of(std::string_view w, const std::string& file, int line, const char* 
   return n;
 }
 
-Texture blank(int w, int h, std::string name) {
+Texture blank(int w, int h, std::string name, const std::string& file, int line) {
+  if (long(w) * long(h) > kMaxTexels)
+    throw InputError(file, line,
+                     "texture: " + std::to_string(w) + " x " + std::to_string(h) + " texels is more than " +
+                         std::to_string(kMaxTexels) + " (1 GiB of float RGBA)");
   Texture t;
   t.width = w;
   t.height = h;
@@ -53,7 +58,7 @@ Texture procedural_texture(const std::string& spec, const std::string& file, int
     long cells = 0;
     if (!text::parse_long(w[2], cells) || cells < 1 || cells > n)
       throw InputError(file, line, "texture checker: CELLS '" + std::string(w[2]) + "' must be 1 to SIZE");
-    Texture t = blank(int(n), int(n), spec);
+    Texture t = blank(int(n), int(n), spec, file, line);
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) put(t, i, j, double(((i * cells) / n + (j * cells) / n) % 2));
     return t;
@@ -64,12 +69,18 @@ Texture procedural_texture(const std::string& spec, const std::string& file, int
     double k = 1;
     if (w.size() == 3 && (!text::parse_double(w[2], k) || !(k > 0) || k > 64))
       throw InputError(file, line, "texture zoneplate: K '" + std::string(w[2]) + "' must be in (0, 64]");
-    Texture t = blank(int(n), int(n), spec);
+    Texture t = blank(int(n), int(n), spec, file, line);
+    // sin(A(x) + A(y)) with A(c) = pi K c^2 / n, by the sum formula: one sine
+    // and cosine a row and a column, not one a texel.
+    std::vector<double> sa(static_cast<size_t>(n)), ca(static_cast<size_t>(n));
+    for (long i = 0; i < n; ++i) {
+      const double c = i + 0.5 - 0.5 * double(n);
+      const double a = M_PI * k * c * c / double(n);
+      sa[size_t(i)] = std::sin(a);
+      ca[size_t(i)] = std::cos(a);
+    }
     for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
-        const double x = i + 0.5 - 0.5 * n, y = j + 0.5 - 0.5 * n;
-        put(t, i, j, 0.5 + 0.5 * std::sin(M_PI * k * (x * x + y * y) / double(n)));
-      }
+      for (int i = 0; i < n; ++i) put(t, i, j, 0.5 + 0.5 * (sa[size_t(i)] * ca[size_t(j)] + ca[size_t(i)] * sa[size_t(j)]));
     return t;
   }
   if (kind == "noise") {
@@ -93,11 +104,23 @@ Texture procedural_texture(const std::string& spec, const std::string& file, int
       fy[k] = f * std::sin(ang);
       ph[k] = 2 * M_PI * next();
     }
-    Texture t = blank(int(n), int(n), spec);
+    Texture t = blank(int(n), int(n), spec, file, line);
+    // cos(X(i) + Y(j)) = cos X cos Y - sin X sin Y: tables a row and a column.
+    const size_t tab = static_cast<size_t>(16 * n);
+    std::vector<double> cx(tab), sx(tab), cy(tab), sy(tab);
+    for (int k = 0; k < 16; ++k)
+      for (long i = 0; i < n; ++i) {
+        const double x = 2 * M_PI * fx[k] * (i + 0.5) + ph[k], y = 2 * M_PI * fy[k] * (i + 0.5);
+        cx[size_t(k * n + i)] = std::cos(x);
+        sx[size_t(k * n + i)] = std::sin(x);
+        cy[size_t(k * n + i)] = std::cos(y);
+        sy[size_t(k * n + i)] = std::sin(y);
+      }
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) {
         double v = 0;
-        for (int k = 0; k < 16; ++k) v += std::cos(2 * M_PI * (fx[k] * (i + 0.5) + fy[k] * (j + 0.5)) + ph[k]);
+        for (int k = 0; k < 16; ++k)
+          v += cx[size_t(k * n + i)] * cy[size_t(k * n + j)] - sx[size_t(k * n + i)] * sy[size_t(k * n + j)];
         put(t, i, j, 0.5 + v / 16);
       }
     return t;
@@ -146,10 +169,15 @@ TextureScene parse_texture_scene(const std::string& text_in, const std::string& 
         } catch (const InputError& e) {
           in.fail(e.what());
         }
-        if (img.width > kMaxTextureSide || img.height > kMaxTextureSide)
-          in.fail("texture file: larger than " + std::to_string(kMaxTextureSide) + " a side");
+        if (img.width > kMaxTextureSide || img.height > kMaxTextureSide ||
+            long(img.width) * long(img.height) > kMaxTexels)
+          in.fail("texture file: " + std::to_string(img.width) + " x " + std::to_string(img.height) +
+                  " is larger than " + std::to_string(kMaxTextureSide) + " a side or " + std::to_string(kMaxTexels) +
+                  " texels");
         const std::string ext = text::lower(text::extension_of(f));
         if (space.empty()) space = (ext == ".png" || ext == ".jpg" || ext == ".jpeg") ? "srgb" : "linear";
+        std::vector<float> srgb8(256);
+        for (int k = 0; k < 256; ++k) srgb8[size_t(k)] = float(srgb_to_linear(k / 255.0));
         Texture t;
         t.width = img.width;
         t.height = img.height;
@@ -159,7 +187,12 @@ TextureScene parse_texture_scene(const std::string& text_in, const std::string& 
           if (!std::isfinite(t.rgba[i]))
             in.fail("texture file: texel (" + std::to_string((i / 4) % size_t(t.width)) + ", " +
                     std::to_string((i / 4) / size_t(t.width)) + ") is not finite");
-          if (space == "srgb" && i % 4 != 3) t.rgba[i] = float(srgb_to_linear(t.rgba[i]));
+          if (space == "srgb" && i % 4 != 3) {
+            // 8-bit files give k / 255: those from a table of the 256 levels.
+            const float v = t.rgba[i];
+            const long k = std::lround(double(v) * 255);
+            t.rgba[i] = (k >= 0 && k <= 255 && float(double(k) / 255) == v) ? srgb8[size_t(k)] : float(srgb_to_linear(v));
+          }
         }
         sc.texture = std::move(t);
       } else {

@@ -37,7 +37,9 @@ TextureScene parse_texture_scene(const std::string& text, const std::string& nam
 // A procedural texture by its words ("checker 256 8"); InputError(file, line, ...) when malformed.
 Texture procedural_texture(const std::string& spec, const std::string& file, int line);
 
-// Limits: textures and images at most 16384 a side.
+// Limits: textures and images at most 16384 a side and 2^26 texels (1 GiB
+// of float RGBA); larger ones are refused as absurd (InputError).
 inline constexpr int kMaxTextureSide = 16384;
+inline constexpr long kMaxTexels = long(1) << 26;
 
 }  // namespace lockstep

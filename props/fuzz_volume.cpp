@@ -42,6 +42,7 @@
 
 #include "core/error.h"
 #include "io/transfer_function_io.h"
+#include "io/texture_scene.h"
 #include "io/volume_io.h"
 #include "props/driver/rc_run.h"
 
@@ -515,6 +516,42 @@ TEST(FuzzVolume, TransferFunctions) {
       }
     } catch (const lockstep::InputError& e) {
       RC_ASSERT(std::string(e.what()).starts_with("fuzz.tf"));
+    }
+  });
+}
+
+// Texture scenes (io/texture_scene.h; issue #32): the corpus' .texscene files
+// and every file of tests/bad-texscenes, mutated, parsed (texture files
+// relative to corpus/textures): a scene with a texture of 1 to kMaxTexels
+// texels, all finite, a quad with area, positive repeats, a view whose up is
+// not along it; or an InputError naming the scene.
+TEST(FuzzTexscene, MutatedScenes) {
+  std::vector<std::string> bases;
+  for (const char* d : {LOCKSTEP_CORPUS_DIR "/textures", LOCKSTEP_BAD_TF_DIR "/../bad-texscenes"})
+    for (const auto& e : fs::directory_iterator(d))
+      if (e.path().extension() == ".texscene") {
+        std::ifstream f(e.path(), std::ios::binary);
+        std::ostringstream t;
+        t << f.rdbuf();
+        bases.push_back(t.str());
+      }
+  ASSERT_GE(bases.size(), 15u);
+  fuzz("fuzz_texscene.mutated", [&bases] {
+    const std::string base = *rc::gen::elementOf(bases);
+    const std::string text = *rc::gen::resize(rc::kNominalSize, rc::gen::exec([base] { return mutate(base); }));
+    try {
+      const lockstep::TextureScene sc =
+          lockstep::parse_texture_scene(text, "fuzz.texscene", LOCKSTEP_CORPUS_DIR "/textures");
+      const lockstep::Texture& t = sc.texture;
+      RC_ASSERT(t.width >= 1 && t.height >= 1 && long(t.width) * t.height <= lockstep::kMaxTexels);
+      RC_ASSERT(t.rgba.size() == size_t(t.width) * size_t(t.height) * 4);
+      for (float v : t.rgba) RC_ASSERT(std::isfinite(v));
+      RC_ASSERT(lockstep::length(lockstep::cross(sc.edge_s, sc.edge_t)) > 0);
+      RC_ASSERT(sc.repeat_u > 0 && sc.repeat_v > 0);
+      RC_ASSERT(sc.width >= 1 && sc.height >= 1);
+      RC_ASSERT(sc.view.angle > 0 && sc.view.angle < 180);
+    } catch (const lockstep::InputError& e) {
+      RC_ASSERT(std::string(e.what()).starts_with("fuzz.texscene"));
     }
   });
 }

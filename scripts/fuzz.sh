@@ -7,7 +7,8 @@
 # InputError) and props/fuzz_volume.cpp (mutated NRRD files, attached and
 # detached, and .field files; read_volume must return a valid Volume or throw
 # InputError; mutated transfer functions, tests/bad-tf and corpus/tf: a valid one or
-# InputError: our header checks and Teem's reading both run under the
+# InputError; mutated texture scenes, tests/bad-texscenes and corpus/textures:
+# a valid scene or InputError: our header checks and Teem's reading both run under the
 # sanitizers). Any memory error, leak or undefined behaviour aborts the run.
 # Seeds: random here (LOCKSTEP_RANDOM_SEED=1; ctest runs the fixed ones,
 # props/driver/rc_run.h); each property prints its seed and replay line first.

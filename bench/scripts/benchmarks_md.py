@@ -54,6 +54,7 @@ sys.path.insert(0, SCRIPTS)
 import charts  # noqa: E402
 import mc_chart  # noqa: E402
 import texture_chart  # noqa: E402
+import texture_map_chart  # noqa: E402
 import raster_charts  # noqa: E402
 import volume_charts  # noqa: E402
 
@@ -453,6 +454,9 @@ def build(res, targets_path, partial=False):
                ("texture_speed_accuracy.png", "texture filtering: error against time per lookup"))
     page.table("The same on two threads", lambda p: texture_chart.table(texture_chart.load(p)),
                ["texture_study_2t.csv"], TEXTURE_2T_NOTE)
+    page.table("Where each filter breaks: viewing angle against minification",
+               lambda p: texture_map_chart.table(texture_map_chart.load(p)), ["texture_map.csv"], TEXTURE_MAP_NOTE,
+               ("texture_failure_maps.png", "texture filtering: failure maps"))
 
     if by_family.get("other"):
         page.add("## Other measurements")
@@ -594,6 +598,30 @@ its thread count once per process, at its first context). At 192 x 192 a frame
 is 36 tiles of 23,130 lookups: two threads gain 1.1-1.9x over one for the simd row;
 the frame benchmarks (`lockstep_bench --benchmark_filter=frame/texture`,
 1024 x 1024) scale 1.8-2.1x: simd trilinear 11.5 ms a frame on one thread, 6.5 on two."""
+
+TEXTURE_MAP_NOTE = """`./build/bench/lockstep_texture_map_study > bench/results/texture_map.csv && python3 bench/scripts/texture_map_chart.py bench/results/texture_map.csv bench/charts`
+(`ctest -R texture_map_study` checks its claims on three cells). A
+checkerboard (8-texel checks) on a large plane, 48 x 48 pixels, 45 degrees,
+seen from distance 10 at an elevation of 5-90 degrees; the tiling makes a
+pixel at the image's centre cover m texels across (0.5: magnified; past 8 a
+pixel holds more than a whole check). RMS error of the reference against
+the pixel's exact box filter over the image's interior pixels (those whose
+footprint spans at most 20,000 texels; near a grazing view's horizon the
+oracle's cost is the footprint's texel count). The table: the minifications
+at which each filter's RMS stays under 0.05. Point sampling never does:
+even at one texel a pixel it takes the check a pixel's centre sees where the
+box filter mixes two, and past m = 2 it aliases (RMS 0.5: noise). Trilinear
+holds straight down and breaks below 60 degrees (its level follows the
+longer side of the footprint: the short side is blurred); anisotropic
+filtering holds from 1 texel a pixel on at 10-45 degrees, and at 5 degrees
+from 2 (at m = 1 even 16 probes are too few). At 60 degrees, m = 4-8, it is
+worse than trilinear (0.058-0.063 against 0.043-0.029): the footprint is
+1.15 times longer than wide, ceil(1.15) = 2 probes, each at the level of half
+the long side, finer than the short side needs: aliasing across (the
+EXT_texture_filter_anisotropic rule, followed by the reference and simd). EWA blurs more than the box (a
+Gaussian two pixels across): under 0.05 mostly once the checks average out
+(m >= 16). Magnified (m = 0.5) every filter but supersampling interpolates
+between texels that the box filter keeps sharp."""
 
 TEXTURE_STUDY = ("./build/bench/lockstep_texture_study > bench/results/texture_study.csv && "
                  "./build/bench/lockstep_texture_study --two-threads > bench/results/texture_study_2t.csv && "
