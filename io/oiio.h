@@ -34,7 +34,7 @@ namespace lockstep::oiio {
 // The module's file, beside the binary; its version file is lockstep_oiio.version.
 inline constexpr const char* kModuleFile = "lockstep_oiio.so";
 // Host and module from one build: bump when the table or the types it passes change.
-inline constexpr int kAbi = 2;
+inline constexpr int kAbi = 3;
 
 struct Error {
   enum class Kind : uint8_t { input, out_of_memory, other } kind = Kind::other;
@@ -81,11 +81,14 @@ struct ModuleApi {
   // ImageBufAlgo::over, chained over a checked stack (optimized/composite_oiio.cpp).
   bool (*over)(const LayerStack& stack, int threads, Image* out, Error* err);
   // The texture made tiled and mipmapped by ImageBufAlgo::make_texture (a
-  // temporary .tx file, removed after), then one TextureSystem::texture call
-  // per lookup on `threads` threads (0: all cores): RGBA into out (4 n
-  // floats). make_seconds: the make_texture and first-open time.
-  bool (*texture)(const Texture& tex, const TextureLookups& in, TextureMode mode, int aniso, int threads,
-                  float* out, double* make_seconds, Error* err);
+  // temporary .tx file, removed by texture_close) and a TextureSystem opened
+  // on it: a handle for many frames, or nullptr with err filled.
+  void* (*texture_open)(const Texture& tex, Error* err);
+  // One TextureSystem::texture call per lookup on `threads` threads (0: all
+  // cores): RGBA into out (4 n floats).
+  bool (*texture_lookups)(void* handle, const TextureLookups& in, TextureMode mode, int aniso, int threads,
+                          float* out, Error* err);
+  void (*texture_close)(void* handle);
 };
 
 // The module's table, opened on the first call. Throws InputError naming the

@@ -350,10 +350,37 @@ void over_body(const LayerStack& stack, int nthreads, Image* result_image) {
 
 // ---------------------------------------------------------------- texture lookups
 
-void texture_body(const Texture& tex, const TextureLookups& in, TextureMode mode, int aniso, int nthreads,
-                  float* out, double* make_seconds) {
-  using Clock = std::chrono::steady_clock;
-  const auto t0 = Clock::now();
+// A texture made tiled and mipmapped (a temporary .tx, removed with it) and
+// the TextureSystem that reads it: what the oiio row keeps across frames.
+struct TexState {
+  std::string tx;
+  std::shared_ptr<OIIO::TextureSystem> ts;
+  Wrap wrap = Wrap::repeat;
+  ~TexState() {
+    ts.reset();
+    std::error_code ec;
+    if (!tx.empty()) std::filesystem::remove(tx, ec);
+  }
+};
+
+OIIO::TextureOpt texture_opt(Wrap wrap, TextureMode mode, int aniso) {
+  OIIO::TextureOpt opt;
+  const auto w = wrap == Wrap::repeat  ? OIIO::TextureOpt::WrapPeriodic
+                 : wrap == Wrap::clamp ? OIIO::TextureOpt::WrapClamp
+                                       : OIIO::TextureOpt::WrapMirror;
+  opt.swrap = opt.twrap = w;
+  opt.interpmode = mode == TextureMode::closest ? OIIO::TextureOpt::InterpClosest : OIIO::TextureOpt::InterpBilinear;
+  opt.mipmode = mode == TextureMode::closest || mode == TextureMode::bilinear ? OIIO::TextureOpt::MipModeNoMIP
+                : mode == TextureMode::one_level                              ? OIIO::TextureOpt::MipModeOneLevel
+                : mode == TextureMode::trilinear                              ? OIIO::TextureOpt::MipModeTrilinear
+                                                                              : OIIO::TextureOpt::MipModeAniso;
+  opt.anisotropic = std::max(1, aniso);
+  return opt;
+}
+
+TexState* texture_open_body(const Texture& tex) {
+  auto st = std::make_unique<TexState>();
+  st->wrap = tex.wrap;
   // The texture as a float RGBA ImageBuf, wrapped without copying.
   const OIIO::ImageSpec spec(tex.width, tex.height, 4, OIIO::TypeDesc::FLOAT);
   OIIO::ImageBuf src(spec, const_cast<float*>(tex.rgba.data()));
@@ -362,56 +389,45 @@ void texture_body(const Texture& tex, const TextureLookups& in, TextureMode mode
   const int fd = mkstemp(name);
   if (fd < 0) fail("make_texture", "cannot make a temporary file");
   close(fd);
-  const std::string tx = std::string(name) + ".tx";
-  std::filesystem::rename(name, tx);
-  struct Remove {
-    std::string path;
-    ~Remove() { std::error_code ec; std::filesystem::remove(path, ec); }
-  } remove{tx};
+  st->tx = std::string(name) + ".tx";
+  std::filesystem::rename(name, st->tx);
   OIIO::ImageSpec config;
   const char* wrap = tex.wrap == Wrap::repeat ? "periodic" : tex.wrap == Wrap::clamp ? "clamp" : "mirror";
   config.attribute("wrapmodes", std::string(wrap) + "," + wrap);
   config.attribute("maketx:filtername", "box");
   config.attribute("maketx:fixnan", "none");
   config.format = OIIO::TypeDesc::FLOAT;
-  if (!OIIO::ImageBufAlgo::make_texture(OIIO::ImageBufAlgo::MakeTxTexture, src, tx, config))
+  if (!OIIO::ImageBufAlgo::make_texture(OIIO::ImageBufAlgo::MakeTxTexture, src, st->tx, config))
     fail("make_texture", OIIO::geterror());
-  std::shared_ptr<OIIO::TextureSystem> ts(OIIO::TextureSystem::create(false),
-                                          [](OIIO::TextureSystem* p) { OIIO::TextureSystem::destroy(p); });
-  ts->attribute("max_memory_MB", 2048.0f);
-  ts->attribute("autotile", 0);
-  const OIIO::ustring file(tx);
-  OIIO::TextureOpt opt;
-  const auto w = tex.wrap == Wrap::repeat  ? OIIO::TextureOpt::WrapPeriodic
-                 : tex.wrap == Wrap::clamp ? OIIO::TextureOpt::WrapClamp
-                                           : OIIO::TextureOpt::WrapMirror;
-  opt.swrap = opt.twrap = w;
-  opt.interpmode = mode == TextureMode::closest ? OIIO::TextureOpt::InterpClosest : OIIO::TextureOpt::InterpBilinear;
-  opt.mipmode = mode == TextureMode::closest || mode == TextureMode::bilinear ? OIIO::TextureOpt::MipModeNoMIP
-                : mode == TextureMode::one_level                              ? OIIO::TextureOpt::MipModeOneLevel
-                : mode == TextureMode::trilinear                              ? OIIO::TextureOpt::MipModeTrilinear
-                                                                              : OIIO::TextureOpt::MipModeAniso;
-  opt.anisotropic = std::max(1, aniso);
-  {
-    // Open it once here, so the first lookup does not time it.
-    OIIO::TextureSystem::Perthread* pt = ts->get_perthread_info();
-    OIIO::TextureSystem::TextureHandle* h = ts->get_texture_handle(file, pt);
-    if (!h || ts->is_udim(h)) fail("TextureSystem", ts->geterror());
-    float rgba[4];
-    ts->texture(h, pt, opt, 0.5f, 0.5f, 0, 0, 0, 0, 4, rgba);
-  }
-  *make_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  st->ts.reset(OIIO::TextureSystem::create(false), [](OIIO::TextureSystem* p) { OIIO::TextureSystem::destroy(p); });
+  st->ts->attribute("max_memory_MB", 2048.0f);
+  st->ts->attribute("autotile", 0);
+  // Open it once here, so the first lookup does not time it.
+  OIIO::TextureSystem::Perthread* pt = st->ts->get_perthread_info();
+  OIIO::TextureSystem::TextureHandle* h = st->ts->get_texture_handle(OIIO::ustring(st->tx), pt);
+  if (!h || st->ts->is_udim(h)) fail("TextureSystem", st->ts->geterror());
+  float rgba[4];
+  OIIO::TextureOpt opt = texture_opt(st->wrap, TextureMode::trilinear, 1);
+  st->ts->texture(h, pt, opt, 0.5f, 0.5f, 0, 0, 0, 0, 4, rgba);
+  return st.release();
+}
+
+void texture_lookups_body(TexState& st, const TextureLookups& in, TextureMode mode, int aniso, int nthreads,
+                          float* out) {
+  const OIIO::TextureOpt opt = texture_opt(st.wrap, mode, aniso);
+  const OIIO::ustring file(st.tx);
+  OIIO::TextureSystem& ts = *st.ts;
   const int n_threads = nthreads > 0 ? nthreads : int(std::max(1u, std::thread::hardware_concurrency()));
   std::vector<std::string> errors(static_cast<size_t>(n_threads));
   auto slice = [&](int k) {
-    OIIO::TextureSystem::Perthread* pt = ts->get_perthread_info();
-    OIIO::TextureSystem::TextureHandle* h = ts->get_texture_handle(file, pt);
+    OIIO::TextureSystem::Perthread* pt = ts.get_perthread_info();
+    OIIO::TextureSystem::TextureHandle* h = ts.get_texture_handle(file, pt);
     OIIO::TextureOpt o = opt;
     // Interleaved chunks of 256 lookups: neighbouring pixels on one thread.
     for (size_t c = size_t(k) * 256; c < in.n; c += size_t(n_threads) * 256)
       for (size_t i = c; i < std::min(in.n, c + 256); ++i)
-        if (!ts->texture(h, pt, o, in.s[i], in.t[i], in.dsdx[i], in.dtdx[i], in.dsdy[i], in.dtdy[i], 4, out + 4 * i)) {
-          errors[size_t(k)] = ts->geterror();
+        if (!ts.texture(h, pt, o, in.s[i], in.t[i], in.dsdx[i], in.dtdx[i], in.dsdy[i], in.dtdy[i], 4, out + 4 * i)) {
+          errors[size_t(k)] = ts.geterror();
           return;
         }
   };
@@ -451,10 +467,15 @@ constexpr ModuleApi kApi = {
     [](const LayerStack& stack, int threads, Image* out, Error* err) {
       return guarded(err, [&] { over_body(stack, threads, out); });
     },
-    [](const Texture& tex, const TextureLookups& in, TextureMode mode, int aniso, int threads, float* out,
-       double* make_seconds, Error* err) {
-      return guarded(err, [&] { texture_body(tex, in, mode, aniso, threads, out, make_seconds); });
+    [](const Texture& tex, Error* err) -> void* {
+      TexState* st = nullptr;
+      guarded(err, [&] { st = texture_open_body(tex); });
+      return st;
     },
+    [](void* handle, const TextureLookups& in, TextureMode mode, int aniso, int threads, float* out, Error* err) {
+      return guarded(err, [&] { texture_lookups_body(*static_cast<TexState*>(handle), in, mode, aniso, threads, out); });
+    },
+    [](void* handle) { delete static_cast<TexState*>(handle); },
 };
 
 }  // namespace

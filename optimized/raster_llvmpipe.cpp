@@ -278,19 +278,29 @@ std::string texture_unsupported(const Params& params) {
   return "";
 }
 
-Image texture_filter(const TextureScene& scene, const FrameOptions& opts, FrameStats* stats) {
+namespace {
+
+// One textured frame through ctx, made (or remade for another size) when needed.
+Image texture_frame(std::unique_ptr<Context>& ctx, const TextureScene& scene, const FrameOptions& opts,
+                    FrameStats* stats) {
   const TextureFilterSettings f = texture_filter_settings(opts.params, scene.source);
   if (std::string why = texture_unsupported(opts.params); !why.empty()) throw InputError(scene.source, 0, why);
   std::vector<std::string> notes;
-  Context ctx(opts.width, opts.height, opts.threads, &notes);
+  double create = 0;
+  if (!ctx || ctx->width() != opts.width || ctx->height() != opts.height) {
+    ctx.reset();
+    ctx = std::make_unique<Context>(opts.width, opts.height, opts.threads, &notes);
+    create = ctx->create_seconds();
+  }
   DrawTimes t;
   Image img;
-  ctx.draw_texture(scene, f, img, &t);
+  ctx->draw_texture(scene, f, img, &t);
   if (opts.progress) opts.progress(1.0);
   if (stats) {
     // The context, the shader compilation and the texture's upload with its
-    // mipmaps: one-shot costs, shown apart.
-    stats->build_seconds = ctx.create_seconds() + t.compile + t.upload;
+    // mipmaps: one-shot costs, shown apart (0 on a session's later frames but
+    // the upload when the texture changes).
+    stats->build_seconds = create + t.compile + t.upload;
     const TexelMap map = TexelMap::make(scene, opts.width, opts.height);
     uint64_t n = 0;
     for (int y = 0; y < opts.height; ++y)
@@ -302,6 +312,17 @@ Image texture_filter(const TextureScene& scene, const FrameOptions& opts, FrameS
     for (std::string& line : notes) stats->notes.push_back(std::move(line));
   }
   return img;
+}
+
+}  // namespace
+
+Image texture_filter(const TextureScene& scene, const FrameOptions& opts, FrameStats* stats) {
+  std::unique_ptr<Context> ctx;
+  return texture_frame(ctx, scene, opts, stats);
+}
+
+Image TextureSession::frame(const TextureScene& scene, const FrameOptions& opts, FrameStats* stats) {
+  return texture_frame(ctx_, scene, opts, stats);
 }
 
 }  // namespace lockstep::opt::llvmpipe
@@ -325,6 +346,9 @@ std::string texture_unsupported(const Params&) { return ""; }
 Image texture_filter(const TextureScene& scene, const FrameOptions&, FrameStats*) {
   throw InputError(scene.source, 0,
                    "llvmpipe: this build has no OSMesa (install libosmesa6-dev and re-run cmake)");
+}
+Image TextureSession::frame(const TextureScene& scene, const FrameOptions& opts, FrameStats* stats) {
+  return llvmpipe::texture_filter(scene, opts, stats);
 }
 
 }  // namespace lockstep::opt::llvmpipe

@@ -110,6 +110,16 @@ class Session {
 // shader compilation and the texture's upload with its mipmaps.
 Image texture_filter(const TextureScene& scene, const FrameOptions& opts, FrameStats* stats);
 std::string texture_unsupported(const Params& params);
+// Textured frames through one context, kept while the size stays, the texture
+// uploaded once while its texels stay (the row's FamilyImpl::session).
+// Not thread-safe: one per thread.
+class TextureSession {
+ public:
+  Image frame(const TextureScene& scene, const FrameOptions& opts, FrameStats* stats);
+
+ private:
+  std::unique_ptr<Context> ctx_;
+};
 bool available();
 std::string version();
 

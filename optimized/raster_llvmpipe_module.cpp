@@ -28,6 +28,12 @@ struct State {
   bool compiled = false;                // the first draw has been warmed up
   std::vector<float> vertices, colors;  // the arrays GL reads (client-side vertex arrays)
   std::vector<float> window_depth;      // glReadPixels' depth, bottom row first
+  // The texture family's texture, kept across frames of one context while the
+  // same texels and mipmap need come again (a session's frames).
+  GLuint texture = 0;
+  const float* texture_data = nullptr;
+  int texture_w = 0, texture_h = 0;
+  bool texture_mipmaps = false;
 };
 
 void* create(int width, int height) {
@@ -45,6 +51,13 @@ void* create(int width, int height) {
 
 void destroy(void* p) {
   auto* st = static_cast<State*>(p);
+  if (st->ctx && st->texture) {
+    std::vector<float> px(4);
+    if (OSMesaMakeCurrent(st->ctx, px.data(), GL_FLOAT, 1, 1)) {
+      glDeleteTextures(1, &st->texture);
+      OSMesaMakeCurrent(nullptr, nullptr, GL_FLOAT, 0, 0);
+    }
+  }
   if (st->ctx) OSMesaDestroyContext(st->ctx);
   delete st;
 }
@@ -199,13 +212,24 @@ void draw_texture(void* p, const Camera& cam, const Texture& tex, const TextureD
   glLoadMatrixd(look);
 
   Stopwatch clock;
-  GLuint name = 0;
-  glGenTextures(1, &name);
-  glBindTexture(GL_TEXTURE_2D, name);
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-  // Row 0 of the texture is t = 0.
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, tex.width, tex.height, 0, GL_RGBA, GL_FLOAT, tex.rgba.data());
-  if (q.mipmaps) glGenerateMipmap(GL_TEXTURE_2D);
+  // The texture: uploaded (with its mipmaps) once per context while the same
+  // texels come again, as an application uploads a texture once.
+  const bool same = st.texture != 0 && st.texture_data == tex.rgba.data() && st.texture_w == tex.width &&
+                    st.texture_h == tex.height && (st.texture_mipmaps || !q.mipmaps);
+  if (!same) {
+    if (st.texture) glDeleteTextures(1, &st.texture);
+    glGenTextures(1, &st.texture);
+    glBindTexture(GL_TEXTURE_2D, st.texture);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    // Row 0 of the texture is t = 0.
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, tex.width, tex.height, 0, GL_RGBA, GL_FLOAT, tex.rgba.data());
+    if (q.mipmaps) glGenerateMipmap(GL_TEXTURE_2D);
+    st.texture_data = tex.rgba.data();
+    st.texture_w = tex.width;
+    st.texture_h = tex.height;
+    st.texture_mipmaps = q.mipmaps;
+  }
+  glBindTexture(GL_TEXTURE_2D, st.texture);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, q.min_filter);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, q.mag_filter);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, q.wrap);
@@ -238,7 +262,6 @@ void draw_texture(void* p, const Camera& cam, const Texture& tex, const TextureD
   glFinish();
   t.draw = clock.seconds();
   glDisable(GL_TEXTURE_2D);
-  glDeleteTextures(1, &name);
   const GLenum err = glGetError();
   OSMesaMakeCurrent(nullptr, nullptr, GL_FLOAT, 0, 0);
   if (err != GL_NO_ERROR) throw std::runtime_error("llvmpipe: GL error " + std::to_string(err));

@@ -1,9 +1,12 @@
 // lockstep optimized: the texture family's oiio row (optimized/texture_oiio.h).
 #include "optimized/texture_oiio.h"
 
+#include <functional>
+#include <memory>
 #include <vector>
 
 #include "core/error.h"
+#include "core/timer.h"
 #include "io/oiio.h"
 
 namespace lockstep::opt::oiio {
@@ -16,7 +19,26 @@ std::string texture_unsupported(const Params& params) {
   return "";
 }
 
-Image texture_filter(const TextureScene& scene, const FrameOptions& opts, FrameStats* stats) {
+namespace {
+
+// The module's texture handle, closed with it.
+struct Handle {
+  void* h = nullptr;
+  ~Handle() {
+    if (h) lockstep::oiio::api().texture_close(h);
+  }
+};
+
+std::shared_ptr<Handle> open_texture(const Texture& tex) {
+  auto handle = std::make_shared<Handle>();
+  lockstep::oiio::Error err;
+  handle->h = lockstep::oiio::api().texture_open(tex, &err);
+  if (!handle->h) lockstep::oiio::raise(err);
+  return handle;
+}
+
+// One frame through an open texture.
+Image frame(const Handle& handle, const TextureScene& scene, const FrameOptions& opts, FrameStats* stats) {
   const TextureFilterSettings f = texture_filter_settings(opts.params, scene.source);
   if (std::string why = texture_unsupported(opts.params); !why.empty()) throw InputError(scene.source, 0, why);
   const TexelMap map = TexelMap::make(scene, opts.width, opts.height);
@@ -41,15 +63,14 @@ Image texture_filter(const TextureScene& scene, const FrameOptions& opts, FrameS
     }
   lockstep::oiio::TextureLookups in{s.data(), t.data(), dsdx.data(), dtdx.data(), dsdy.data(), dtdy.data(), s.size()};
   using lockstep::oiio::TextureMode;
-  const TextureMode mode = f.filter == TextureFilter::point       ? TextureMode::closest
-                           : f.filter == TextureFilter::bilinear  ? TextureMode::bilinear
+  const TextureMode mode = f.filter == TextureFilter::point         ? TextureMode::closest
+                           : f.filter == TextureFilter::bilinear    ? TextureMode::bilinear
                            : f.filter == TextureFilter::mip_nearest ? TextureMode::one_level
-                           : f.filter == TextureFilter::trilinear ? TextureMode::trilinear
-                                                                  : TextureMode::aniso;
+                           : f.filter == TextureFilter::trilinear   ? TextureMode::trilinear
+                                                                    : TextureMode::aniso;
   std::vector<float> rgba(4 * s.size());
-  double make_seconds = 0;
   lockstep::oiio::Error err;
-  if (!lockstep::oiio::api().texture(scene.texture, in, mode, f.n, opts.threads, rgba.data(), &make_seconds, &err))
+  if (!lockstep::oiio::api().texture_lookups(handle.h, in, mode, f.n, opts.threads, rgba.data(), &err))
     lockstep::oiio::raise(err);
   Image img = Image::uninitialized(w, h);
   const float bg[4] = {float(scene.background.x), float(scene.background.y), float(scene.background.z), 1};
@@ -58,11 +79,40 @@ Image texture_filter(const TextureScene& scene, const FrameOptions& opts, FrameS
   for (size_t k = 0; k < where.size(); ++k)
     for (int c = 0; c < 4; ++c) img.rgba[4 * where[k] + size_t(c)] = rgba[4 * k + size_t(c)];
   if (opts.progress) opts.progress(1.0);
-  if (stats) {
-    stats->items = s.size();
-    stats->build_seconds = make_seconds;
-  }
+  if (stats) stats->items = s.size();
   return img;
+}
+
+}  // namespace
+
+Image texture_filter(const TextureScene& scene, const FrameOptions& opts, FrameStats* stats) {
+  if (std::string why = texture_unsupported(opts.params); !why.empty()) throw InputError(scene.source, 0, why);
+  texture_filter_settings(opts.params, scene.source);
+  const Stopwatch clock;
+  const std::shared_ptr<Handle> handle = open_texture(scene.texture);
+  const double made = clock.seconds();
+  Image img = frame(*handle, scene, opts, stats);
+  if (stats) stats->build_seconds = made;
+  return img;
+}
+
+std::function<Image(const TextureScene&, const FrameOptions&, FrameStats*)> texture_session(const TextureScene& scene) {
+  // The texture made once, on the session's first frame (its build_seconds),
+  // as an application makes its .tx once and samples it frame after frame.
+  auto handle = std::make_shared<std::shared_ptr<Handle>>();
+  const Texture* made_for = &scene.texture;
+  return [handle, made_for](const TextureScene& sc, const FrameOptions& o, FrameStats* st) {
+    double made = 0;
+    if (!*handle || made_for != &sc.texture) {
+      if (std::string why = texture_unsupported(o.params); !why.empty()) throw InputError(sc.source, 0, why);
+      const Stopwatch clock;
+      *handle = open_texture(sc.texture);
+      made = clock.seconds();
+    }
+    Image img = frame(**handle, sc, o, st);
+    if (st) st->build_seconds = made;
+    return img;
+  };
 }
 
 }  // namespace lockstep::opt::oiio

@@ -100,6 +100,16 @@ Family texture_family() {
   f.tol.fraction = 0.999;
   f.load = load;
   f.impls = erase_all<TextureScene>(kImpls);
+  // OpenImageIO keeps its made texture and TextureSystem across the frames of
+  // a session (the benchmarks' warm frames), as an application does.
+  for (FamilyImpl& impl : f.impls)
+    if (impl.name == "oiio")
+      impl.session = [](const Input& in, const FrameOptions&, RunResources&) {
+        auto run = opt::oiio::texture_session(input_as<TextureScene>(in));
+        return [run](const Input& in, const FrameOptions& o, FrameStats* st) mutable {
+          return make_output<Image>(run(input_as<TextureScene>(in), o, st));
+        };
+      };
   // Mesa's llvmpipe (OSMesa), where its module was built: GL's own sampler.
   // Against the reference where both compute the same (point, bilinear):
   // its texture coordinates are interpolated in float per fragment (point:
@@ -111,6 +121,13 @@ Family texture_family() {
     const TypedImpl<TextureScene> gl{"llvmpipe", opt::llvmpipe::texture_filter, 0, {}, "Mesa llvmpipe (OSMesa)",
                                      true, opt::llvmpipe::texture_unsupported, Tolerance{1.0 / 255, 0.996, 1.0}};
     f.impls.push_back(erase(gl));
+    // A session keeps the context and the uploaded texture, as an application does.
+    f.impls.back().session = [](const Input&, const FrameOptions&, RunResources&) {
+      auto gl_session = std::make_shared<opt::llvmpipe::TextureSession>();
+      return [gl_session](const Input& in, const FrameOptions& o, FrameStats* st) {
+        return make_output<Image>(gl_session->frame(input_as<TextureScene>(in), o, st));
+      };
+    };
   }
   f.peer_rows.push_back(module_peer("llvmpipe", opt::llvmpipe::available(), opt::llvmpipe::version(),
                                     "lockstep_peer_llvmpipe.so",

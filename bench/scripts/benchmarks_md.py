@@ -583,21 +583,33 @@ texel-constant texture (props/texture/oracle.h), on the receding zone plate
 (corpus/textures/zoneplate_plane.texscene) at 192 x 192, warm, lookups alone:
 every row's one-shot set-up (its pyramid; OpenImageIO's make_texture,
 0.05-0.06 s for this 256^2 texture; llvmpipe's context, shader compilation
-and upload, about 0.3 s) is measured apart and not in these figures."""
+and upload, about 0.3 s) is measured apart and not in these figures, and
+the peers run through their sessions (the .tx and TextureSystem, the GL
+context and texture kept across frames, as an application keeps them)."""
 
 TEXTURE_TARGETS_NOTE = """Evaluated by bench/scripts/texture_chart.py over the two tables below. The
 reference's trilinear is cheap on this scene (its texture, 1 MB with the
 pyramid, stays in cache; 16 integer divisions of its wrap per lookup are
-most of its time), so the 10x target is far from met here; on the 1024^2
-zone plate of the frame benchmarks (a 16 MB texture) the same frames run at
-10.4 M lookups/s (reference, pyramid included) against 67-70 M/s (simd):
-6.5-6.8x (`lockstep render /tmp/plane.texscene --repeat 4`, warm frames)."""
+most of its time; its figure is its frame less its pyramid, timed apart:
+the noisiest figure here, 59-71 ns over three runs). Whole warm frames on
+the 1024^2 zone plate of the frame benchmarks (a 16 MB texture;
+`lockstep_bench --benchmark_filter=frame/texture/zoneplate-plane-`, each
+row's session, one process per thread count for llvmpipe, which reads
+its thread count once): trilinear simd 10.3 ms on one thread and 5.8 on
+two, llvmpipe 14.4 and 12.6, OpenImageIO 116 and 137; aniso16 simd 85.5 and
+44.9, llvmpipe 154 and 83, OpenImageIO 442 and 340; point simd 5.1 and 2.6,
+llvmpipe 10.0 and 10.3, OpenImageIO 54 and 60. The reference on the same
+frame (at a quarter of the pixels, pyramid included) runs trilinear at
+3.0 M lookups/s against simd's 62 M/s. What keeps simd's anisotropic
+filters from the 5x: each probe is a scalar trilinear lookup (the
+trilinear filter alone has the vectorised row kernel)."""
 
 TEXTURE_2T_NOTE = """`lockstep_texture_study --two-threads` (a process of its own: llvmpipe reads
 its thread count once per process, at its first context). At 192 x 192 a frame
-is 36 tiles of 23,130 lookups: two threads gain 1.1-1.9x over one for the simd row;
-the frame benchmarks (`lockstep_bench --benchmark_filter=frame/texture`,
-1024 x 1024) scale 1.8-2.1x: simd trilinear 11.5 ms a frame on one thread, 6.5 on two."""
+is 36 tiles of 23,130 lookups: two threads gain 1.6-1.9x for simd's costlier
+filters (anisotropic, supersampling, EWA, area) and nothing for point,
+bilinear and trilinear (such a frame is 0.3 ms); the 1024^2 frames above scale 1.8-2x for simd, 1.1-1.9x for llvmpipe, and not at
+all for OpenImageIO's trilinear and point (its tile cache's locks)."""
 
 TEXTURE_MAP_NOTE = """`./build/bench/lockstep_texture_map_study > bench/results/texture_map.csv && python3 bench/scripts/texture_map_chart.py bench/results/texture_map.csv bench/charts`
 (`ctest -R texture_map_study` checks its claims on three cells). A
@@ -630,9 +642,9 @@ TEXTURE_STUDY = ("./build/bench/lockstep_texture_study > bench/results/texture_s
 TEXTURE_NOTE = """RMS: over the interior pixels (all four corners on the quad), RGB; the
 simd row's error equals the reference's within 1e-5 for every filter (checked
 by `ctest -R texture_study`, with the claims that supersampling converges and
-that anisotropic filtering and EWA beat trilinear). ns per lookup: the frame
-less its one-shot set-up, over the pixels that see the quad (23,130), best of
-3. Area sampling is the most accurate (RMS 0.0014: it is the box filter but
+that anisotropic filtering and EWA beat trilinear). ns per lookup: the warm
+frame less its one-shot set-up, over the pixels that see the quad (23,130),
+best of 3. Area sampling is the most accurate (RMS 0.0014: it is the box filter but
 for the perspective weighting) and by far the slowest (tens of us a lookup:
 near the horizon a footprint covers thousands of texels). llvmpipe's
 anisotropic modes give one image whatever N (2-16) on this scene."""

@@ -23,6 +23,7 @@
 // point, and the simd row's error equals the reference's within 1e-5 for
 // every filter. No claim about speed (benchmarks state those).
 #include <algorithm>
+#include <functional>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -30,6 +31,7 @@
 #include <vector>
 
 #include "bench/studies/study.h"
+#include "core/run_resources.h"
 #include "io/texture_scene.h"
 #include "props/texture/oracle.h"
 #include "reference/texture_filter.h"
@@ -58,6 +60,7 @@ int main(int argc, char** argv) {
                            "aniso2",  "aniso4",   "aniso8",  "aniso16", "ewa",    "area"};
   std::printf("row,filter,rms,p99,max,seconds,lookups,ns_per_lookup\n");
   std::map<std::string, double> rms_of;
+  RunResources resources;
   // The reference builds its pyramid (or, for bilinear, copies the texture)
   // inside every frame; the simd row reports its own as build_seconds. Both
   // are one-shot costs: the reference's is timed here and taken off, so that
@@ -73,20 +76,27 @@ int main(int argc, char** argv) {
       if (impl.unsupported && !impl.unsupported(o.params).empty()) continue;
       FrameStats st;
       Image img;
-      // Warm: a peer's first frame opens its module. Best of 3 runs of
-      // the run's time less its one-shot set-up: the
-      // row's build_seconds, or for the reference its pyramid (timed above).
-      if (!impl.peer.empty()) impl.run_as<Image>(in, o, &st);
+      // Warm frames: a row with a session (the peers: OpenImageIO's .tx and
+      // TextureSystem, llvmpipe's context and uploaded texture) runs through
+      // one, as an application keeps them; its first frame (module, make,
+      // upload) is not timed. Best of 3 of the frame's time less its one-shot
+      // set-up: the row's build_seconds, or for the reference its pyramid
+      // (timed above).
+      std::function<Output(const Input&, const FrameOptions&, FrameStats*)> run = impl.run;
+      if (impl.session) {
+        run = impl.session(in, o, resources);
+        run(in, o, &st);
+      }
       const std::string fl = filter;
       const double ref_setup = fl == "bilinear" ? ref_copy
                                : (fl == "mip_nearest" || fl == "trilinear" || fl.rfind("aniso", 0) == 0 || fl == "ewa")
                                    ? ref_pyramid
                                    : 0.0;
       double t = 1e300;
-      for (int run = 0; run < 3; ++run) {
+      for (int k = 0; k < 3; ++k) {
         st = FrameStats{};
         const Stopwatch w;
-        img = impl.run_as<Image>(in, o, &st);
+        img = take_output<Image>(run(in, o, &st));
         const double whole = w.seconds();
         t = std::min(t, whole - (impl.name == "reference" ? ref_setup : st.build_seconds));
       }
