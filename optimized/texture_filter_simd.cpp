@@ -498,6 +498,62 @@ void trilinear_segment(const Pyramid& p, const RowCoords& rc, int n, float* out,
 }
 
 
+// Anisotropic filtering for the n pixels of one row segment: each pixel's
+// probes (the reference's count, axis and level) gathered into batches of 64
+// and filtered by the trilinear kernel, then averaged per pixel. The probe
+// count ceil(pmax / pmin) and the axis (the longer derivative) are steps: the
+// lengths come from sqrt(x^2 + y^2), and where that could put the ratio or
+// the comparison on the other side of a step from the reference's hypot
+// (within 1e-9 of it), from hypot itself.
+void aniso_segment(const Pyramid& p, const RowCoords& rc, int n, int max_probes, float* out, V4 background) {
+  const D4 d;
+  RowCoords probes;
+  alignas(16) float colours[64 * 4];
+  int owner[64];
+  V4 sum[64];
+  int count[64];
+  int m = 0;
+  auto flush = [&] {
+    if (m == 0) return;
+    trilinear_segment(p, probes, m, colours, background);
+    for (int j = 0; j < m; ++j) sum[owner[j]] = hn::Add(sum[owner[j]], hn::Load(d, colours + 4 * j));
+    m = 0;
+  };
+  for (int k = 0; k < n; ++k) {
+    sum[k] = hn::Zero(d);
+    count[k] = 0;
+    if (!rc.valid[k]) continue;
+    const double dadx = rc.dadx[k], dbdx = rc.dbdx[k], dady = rc.dady[k], dbdy = rc.dbdy[k];
+    double px = std::sqrt(dadx * dadx + dbdx * dbdx), py = std::sqrt(dady * dady + dbdy * dbdy);
+    double pmax = std::max(px, py), pmin = std::min(px, py);
+    const double r = pmin > 0 ? pmax / pmin : 0;
+    if (!(std::abs(px - py) > 1e-9 * pmax) || !(std::abs(r - std::round(r)) > 1e-9 * r) || !std::isfinite(r)) {
+      px = std::hypot(dadx, dbdx);
+      py = std::hypot(dady, dbdy);
+      pmax = std::max(px, py);
+      pmin = std::min(px, py);
+    }
+    int np = pmin > 0 ? int(std::ceil(pmax / pmin)) : max_probes;
+    np = std::clamp(np, 1, max_probes);
+    const double lod = std::log2(pmax / np);
+    const double ax = px >= py ? dadx : dady, ay = px >= py ? dbdx : dbdy;
+    count[k] = np;
+    for (int j = 0; j < np; ++j) {
+      if (m == 64) flush();
+      const double s = (j + 0.5) / np - 0.5;
+      probes.a[m] = rc.a[k] + s * ax;
+      probes.b[m] = rc.b[k] + s * ay;
+      probes.lod[m] = lod;
+      probes.valid[m] = 1;
+      owner[m] = k;
+      ++m;
+    }
+  }
+  flush();
+  for (int k = 0; k < n; ++k)
+    hn::StoreU(count[k] ? hn::Mul(sum[k], hn::Set(d, 1.0f / float(count[k]))) : background, d, out + 4 * size_t(k));
+}
+
 void FilterRows(const Pyramid& pyr, const TexelMap& map, const TextureFilterSettings& f, const float* bg, Image& img,
                 int x0, int y0, int x1, int y1, uint64_t* count) {
   const D4 d;
@@ -506,6 +562,11 @@ void FilterRows(const Pyramid& pyr, const TexelMap& map, const TextureFilterSett
   RowCoords rc;
   for (int y = y0; y < y1; ++y) {
     row_coords(map, y, x0, x1 - x0, f.filter == TextureFilter::trilinear, rc);
+    if (f.filter == TextureFilter::aniso) {
+      aniso_segment(pyr, rc, x1 - x0, f.n, img.pixel(x0, y), background);
+      for (int k = 0; k < x1 - x0; ++k) n += rc.valid[k];
+      continue;
+    }
     if (f.filter == TextureFilter::trilinear) {
       trilinear_segment(pyr, rc, x1 - x0, img.pixel(x0, y), background);
       for (int k = 0; k < x1 - x0; ++k) n += rc.valid[k];
