@@ -73,6 +73,36 @@ void TexelMap::derivatives(double px, double py, double& dadx, double& dbdx, dou
   dbdy = (m[4] * h.z - h.y * m[7]) * iw2;
 }
 
+Polygon2 TexelMap::footprint(int x, int y) const {
+  // The pixel square, in pixel coordinates.
+  Polygon2 square{{double(x), double(y)}, {double(x + 1), double(y)}, {double(x + 1), double(y + 1)},
+                  {double(x), double(y + 1)}};
+  // Keep the part that sees the plane in front of the eye, no nearer than
+  // hither and no farther than twice the quad's farthest corner (past that
+  // the plane holds no quad; the pixel's rays above the horizon map to
+  // points behind the eye): 1/w is the depth.
+  const auto& m = to_texel.m;
+  double far = 0;
+  for (double a : {0.0, tex_w * repeat_u})
+    for (double b : {0.0, tex_h * repeat_v})
+      far = std::max(far, depth_row.x * a + depth_row.y * b + depth_row.z);
+  square = clip_half_plane(square, m[6], m[7], m[8] - 1 / (2 * far));  // w >= 1 / (2 far)
+  if (hither > 0) square = clip_half_plane(square, -m[6], -m[7], 1 / hither - m[8]);  // w <= 1 / hither
+  // Map each corner to texel coordinates: a projective map keeps lines straight,
+  // so the footprint is the polygon of the mapped corners.
+  Polygon2 poly;
+  for (const Point2& p : square) {
+    const Vec3 h = to_texel.apply(p.x, p.y);
+    poly.push_back({h.x / h.z, h.y / h.z});
+  }
+  // Only the quad carries the texture.
+  poly = clip_half_plane(poly, 1, 0, 0);
+  poly = clip_half_plane(poly, -1, 0, tex_w * repeat_u);
+  poly = clip_half_plane(poly, 0, 1, 0);
+  poly = clip_half_plane(poly, 0, -1, tex_h * repeat_v);
+  return poly;
+}
+
 bool parse_texture_filter(const std::string& s, TextureFilterSettings& out) {
   auto number_after = [&](size_t prefix, int lo, int hi, int& n) {
     if (s.size() == prefix) return false;

@@ -87,6 +87,12 @@ struct TextureScene {
   std::string source;
 };
 
+// A point of the plane, and a convex polygon (footprints).
+struct Point2 {
+  double x = 0, y = 0;
+};
+using Polygon2 = std::vector<Point2>;
+
 // 3x3 matrix acting on homogeneous 2-vectors.
 struct Homography {
   std::array<double, 9> m{};  // row-major
@@ -126,6 +132,11 @@ struct TexelMap {
   // pixel point (px, py) (exact derivatives of the projective map: what a GPU
   // estimates by differences across a 2x2 quad of pixels). Valid where texel_at is.
   void derivatives(double px, double py, double& dadx, double& dbdx, double& dady, double& dbdy) const;
+
+  // The footprint of pixel (x, y): its square mapped to texel coordinates,
+  // clipped to the part of the plane in front of the eye (nearer than twice
+  // the quad's farthest corner, no nearer than hither) and to the quad.
+  Polygon2 footprint(int x, int y) const;
 };
 
 // The filters every row of the family offers (the `filter` setting).
@@ -187,10 +198,6 @@ TextureFilterSettings texture_filter_settings(const Params& params, const std::s
 // ---------------------------------------------------------------- convex polygons
 // Footprints are convex polygons (the projective image of a square, clipped by
 // half-planes). Sutherland-Hodgman against one half-plane c0 x + c1 y + c2 >= 0.
-struct Point2 {
-  double x = 0, y = 0;
-};
-using Polygon2 = std::vector<Point2>;
 inline Polygon2 clip_half_plane(const Polygon2& p, double c0, double c1, double c2) {
   Polygon2 out;
   const size_t n = p.size();

@@ -247,23 +247,7 @@ V4 ewa(const Pyramid& p, double max_ecc, double a, double b, double dadx, double
 // clipping, only the two ends of each row are clipped.
 V4 area(const Pyramid& p, const TexelMap& map, int x, int y) {
   const D4 d;
-  Polygon2 sq{{double(x), double(y)}, {double(x + 1), double(y)}, {double(x + 1), double(y + 1)}, {double(x), double(y + 1)}};
-  const auto& m = map.to_texel.m;
-  double far = 0;
-  for (double a : {0.0, map.tex_w * map.repeat_u})
-    for (double b : {0.0, map.tex_h * map.repeat_v})
-      far = std::max(far, map.depth_row.x * a + map.depth_row.y * b + map.depth_row.z);
-  sq = clip_half_plane(sq, m[6], m[7], m[8] - 1 / (2 * far));
-  if (map.hither > 0) sq = clip_half_plane(sq, -m[6], -m[7], 1 / map.hither - m[8]);
-  Polygon2 fp;
-  for (const Point2& q : sq) {
-    const Vec3 h = map.to_texel.apply(q.x, q.y);
-    fp.push_back({h.x / h.z, h.y / h.z});
-  }
-  fp = clip_half_plane(fp, 1, 0, 0);
-  fp = clip_half_plane(fp, -1, 0, map.tex_w * map.repeat_u);
-  fp = clip_half_plane(fp, 0, 1, 0);
-  fp = clip_half_plane(fp, 0, -1, map.tex_h * map.repeat_v);
+  const Polygon2 fp = map.footprint(x, y);
   V4 sum = hn::Zero(d);
   if (fp.size() < 3) return sum;
   const Level& l = p.levels[0];

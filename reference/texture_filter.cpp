@@ -248,36 +248,6 @@ Rgba average_over(const Texture& t, const Polygon2& footprint) {
   return total > 0 ? scaled(sum, 1 / total) : sum;
 }
 
-Polygon2 pixel_footprint(const TexelMap& map, int x, int y) {
-  // The pixel square, in pixel coordinates.
-  Polygon2 square{{double(x), double(y)}, {double(x + 1), double(y)}, {double(x + 1), double(y + 1)},
-                  {double(x), double(y + 1)}};
-  // Keep the part that sees the plane in front of the eye, no nearer than
-  // hither and no farther than twice the quad's farthest corner (past that
-  // the plane holds no quad; the pixel's rays above the horizon map to
-  // points behind the eye): 1/w is the depth.
-  const auto& m = map.to_texel.m;
-  double far = 0;
-  for (double a : {0.0, map.tex_w * map.repeat_u})
-    for (double b : {0.0, map.tex_h * map.repeat_v})
-      far = std::max(far, map.depth_row.x * a + map.depth_row.y * b + map.depth_row.z);
-  square = clip_half_plane(square, m[6], m[7], m[8] - 1 / (2 * far));  // w >= 1 / (2 far)
-  if (map.hither > 0) square = clip_half_plane(square, -m[6], -m[7], 1 / map.hither - m[8]);  // w <= 1 / hither
-  // Map each corner to texel coordinates: a projective map keeps lines straight,
-  // so the footprint is the polygon of the mapped corners.
-  Polygon2 footprint;
-  for (const Point2& p : square) {
-    const Vec3 h = map.to_texel.apply(p.x, p.y);
-    footprint.push_back({h.x / h.z, h.y / h.z});
-  }
-  // Only the quad carries the texture.
-  footprint = clip_half_plane(footprint, 1, 0, 0);
-  footprint = clip_half_plane(footprint, -1, 0, map.tex_w * map.repeat_u);
-  footprint = clip_half_plane(footprint, 0, 1, 0);
-  footprint = clip_half_plane(footprint, 0, -1, map.tex_h * map.repeat_v);
-  return footprint;
-}
-
 // ---------------------------------------------------------------- the image
 
 Image texture_filter(const TextureScene& scene, const FrameOptions& opts, FrameStats* stats) {
@@ -310,7 +280,7 @@ Image texture_filter(const TextureScene& scene, const FrameOptions& opts, FrameS
             c = lookup_bilinear(pyramid, 0, a, b);
             break;
           case TextureFilter::area:
-            c = average_over(tex, pixel_footprint(map, x, y));
+            c = average_over(tex, map.footprint(x, y));
             break;
           case TextureFilter::super: {
             // n x n point samples on a regular grid over the pixel square; a

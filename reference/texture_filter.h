@@ -38,9 +38,6 @@ Rgba lookup_ewa(const std::vector<Texture>& pyramid, double max_eccentricity, do
 // The average of the texel-constant texture over a convex polygon in texel
 // coordinates (area sampling); empty polygon: {0, 0, 0, 0}.
 Rgba average_over(const Texture& t, const Polygon2& footprint);
-// The footprint of pixel (x, y): its square mapped to texel coordinates,
-// clipped to the part of the plane in front of the eye and to the quad.
-Polygon2 pixel_footprint(const TexelMap& map, int x, int y);
 
 Image texture_filter(const TextureScene& scene, const FrameOptions& opts, FrameStats* stats);
 
