@@ -36,9 +36,22 @@ struct Pyramid {
   // its texels (tables for the trilinear kernel).
   std::vector<double> sx, sy, w, h, inv_w, inv_h;
   std::vector<const float*> data;
+  // Repeat with every side a power of two (the pyramid of a power-of-two
+  // texture is one): a texel index wraps by a mask, a row by a shift.
+  bool pow2_repeat = false;
+  std::vector<int64_t> mask_w, mask_h, log2_w;
   void tables() {
     sx.clear(), sy.clear(), w.clear(), h.clear(), inv_w.clear(), inv_h.clear(), data.clear();
+    mask_w.clear(), mask_h.clear(), log2_w.clear();
+    auto pow2 = [](int n) { return n > 0 && (n & (n - 1)) == 0; };
+    pow2_repeat = wrap == Wrap::repeat;
     for (const Level& l : levels) {
+      pow2_repeat = pow2_repeat && pow2(l.w) && pow2(l.h);
+      mask_w.push_back(l.w - 1);
+      mask_h.push_back(l.h - 1);
+      int lw = 0;
+      while ((int64_t(1) << lw) < l.w) ++lw;
+      log2_w.push_back(lw);
       sx.push_back(l.w / w0);
       sy.push_back(l.h / h0);
       w.push_back(l.w);
@@ -56,11 +69,10 @@ inline int64_t wrap_fast(int64_t i, int64_t n, Wrap w) {
 }
 
 // The pixel centres x0 .. x0 + n - 1 of row y (n <= 64): whether each sees
-// the quad, its texel point and, for trilinear, its level of detail, a
-// vector of doubles at a time. The same operations in the same order as
-// TexelMap::texel_at and derivatives (so the same doubles); the level of
-// detail as log2 of the squared longer edge, halved (within an ulp or two of
-// the reference's log2(hypot): trilinear is continuous in it).
+// the quad, its texel point and derivatives (row_coords: the same operations
+// in the same order as TexelMap::texel_at and derivatives, so the same
+// doubles, for the filters with steps in them) or its texel point and level
+// of detail (row_coords_trilinear), a vector of doubles at a time.
 struct RowCoords {
   double a[64], b[64], lod[64];
   double dadx[64], dbdx[64], dady[64], dbdy[64];
@@ -151,33 +163,6 @@ HWY_INLINE V4 bilinear(const Pyramid& p, int level, double a, double b) {
 
 HWY_INLINE double lod_of(double dadx, double dbdx, double dady, double dbdy) {
   return std::log2(std::max(std::hypot(dadx, dbdx), std::hypot(dady, dbdy)));
-}
-
-HWY_INLINE V4 trilinear(const Pyramid& p, double lod, double a, double b) {
-  const D4 d;
-  const int last = int(p.levels.size()) - 1;
-  if (!(lod > 0)) return bilinear(p, 0, a, b);
-  if (lod >= last) return bilinear(p, last, a, b);
-  const int lo = int(std::floor(lod));
-  const V4 t = hn::Set(d, float(lod - lo));
-  const V4 c0 = bilinear(p, lo, a, b), c1 = bilinear(p, lo + 1, a, b);
-  return hn::MulAdd(hn::Sub(c1, c0), t, c0);
-}
-
-V4 aniso(const Pyramid& p, int max_probes, double a, double b, double dadx, double dbdx, double dady, double dbdy) {
-  const D4 d;
-  const double px = std::hypot(dadx, dbdx), py = std::hypot(dady, dbdy);
-  const double pmax = std::max(px, py), pmin = std::min(px, py);
-  int n = pmin > 0 ? int(std::ceil(pmax / pmin)) : max_probes;
-  n = std::clamp(n, 1, max_probes);
-  const double lod = std::log2(pmax / n);
-  const double ax = px >= py ? dadx : dady, ay = px >= py ? dbdx : dbdy;
-  V4 sum = hn::Zero(d);
-  for (int k = 0; k < n; ++k) {
-    const double s = (k + 0.5) / n - 0.5;
-    sum = hn::Add(sum, trilinear(p, lod, a + s * ax, b + s * ay));
-  }
-  return hn::Mul(sum, hn::Set(d, 1.0f / float(n)));
 }
 
 V4 ewa_level(const Pyramid& p, int level, double a, double b, double du0, double dv0, double du1, double dv1) {
@@ -312,7 +297,7 @@ V4 area(const Pyramid& p, const TexelMap& map, int x, int y) {
   return total > 0 ? hn::Mul(sum, hn::Set(d, float(1 / total))) : sum;
 }
 
-void row_coords(const TexelMap& map, int y, int x0, int n, bool want_lod, RowCoords& rc) {
+void row_coords(const TexelMap& map, int y, int x0, int n, RowCoords& rc) {
   const hn::ScalableTag<double> dd;
   using VD = hn::Vec<decltype(dd)>;
   const int L = int(hn::Lanes(dd));
@@ -346,14 +331,60 @@ void row_coords(const TexelMap& map, int y, int x0, int n, bool want_lod, RowCoo
     hn::StoreU(dbdx, dd, rc.dbdx + k);
     hn::StoreU(dady, dd, rc.dady + k);
     hn::StoreU(dbdy, dd, rc.dbdy + k);
-    if (want_lod) {
-      const VD rx = hn::Add(hn::Mul(dadx, dadx), hn::Mul(dbdx, dbdx));
-      const VD ry = hn::Add(hn::Mul(dady, dady), hn::Mul(dbdy, dbdy));
-      hn::StoreU(hn::Mul(half, hn::Log2(dd, hn::Max(rx, ry))), dd, rc.lod + k);
-    }
     alignas(64) double okv[8];
     hn::StoreU(hn::IfThenElseZero(ok, one), dd, okv);
     for (int l = 0; l < L && k + l < 64; ++l) rc.valid[k + l] = okv[l] != 0;
+  }
+}
+
+// The same for trilinear alone, which is continuous in the texel point and
+// the level of detail (so a last-bit difference from the reference's doubles
+// moves its colour by as little): one division a pixel (1 / w, then the
+// point and the derivatives by products), the level of detail from a float
+// log2 (relative error ~1e-7: a blend weight off by that), and nothing but
+// validity for vectors that miss the quad.
+void row_coords_trilinear(const TexelMap& map, int y, int x0, int n, RowCoords& rc) {
+  const hn::ScalableTag<double> dd;
+  const hn::Rebind<float, decltype(dd)> df;
+  using VD = hn::Vec<decltype(dd)>;
+  const int L = int(hn::Lanes(dd));
+  const auto& m = map.to_texel.m;
+  const double py = y + 0.5;
+  const VD m0 = hn::Set(dd, m[0]), m3 = hn::Set(dd, m[3]), m6 = hn::Set(dd, m[6]);
+  const VD cx = hn::Set(dd, m[1] * py), cy = hn::Set(dd, m[4] * py), cz = hn::Set(dd, m[7] * py);
+  const VD ex = hn::Set(dd, m[2]), ey = hn::Set(dd, m[5]), ez = hn::Set(dd, m[8]);
+  const VD m1 = hn::Set(dd, m[1]), m4 = hn::Set(dd, m[4]), m7 = hn::Set(dd, m[7]);
+  const VD zero = hn::Zero(dd), one = hn::Set(dd, 1.0), half = hn::Set(dd, 0.5);
+  const VD hither = hn::Set(dd, map.hither), inf = hn::Set(dd, HUGE_VAL);
+  const VD qa = hn::Set(dd, map.tex_w * map.repeat_u), qb = hn::Set(dd, map.tex_h * map.repeat_v);
+  const auto halff = hn::Set(df, 0.5f);
+  for (int k = 0; k < n; k += L) {
+    const VD px = hn::Add(hn::Iota(dd, double(x0 + k)), half);
+    const VD hx = hn::Add(hn::Add(hn::Mul(m0, px), cx), ex);
+    const VD hy = hn::Add(hn::Add(hn::Mul(m3, px), cy), ey);
+    const VD hz = hn::Add(hn::Add(hn::Mul(m6, px), cz), ez);
+    const VD inv = hn::Div(one, hz);
+    const VD a = hn::Mul(hx, inv), b = hn::Mul(hy, inv);
+    auto ok = hn::And(hn::Gt(hz, zero), hn::Lt(hz, inf));
+    ok = hn::And(ok, hn::Ge(inv, hither));
+    ok = hn::And(ok, hn::And(hn::Ge(a, zero), hn::Ge(b, zero)));
+    ok = hn::And(ok, hn::And(hn::Le(a, qa), hn::Le(b, qb)));  // false for NaN
+    hn::StoreU(a, dd, rc.a + k);
+    hn::StoreU(b, dd, rc.b + k);
+    alignas(64) double okv[8];
+    hn::StoreU(hn::IfThenElseZero(ok, one), dd, okv);
+    for (int l = 0; l < L && k + l < 64; ++l) rc.valid[k + l] = okv[l] != 0;
+    if (hn::AllFalse(dd, ok)) {
+      hn::StoreU(zero, dd, rc.lod + k);
+      continue;
+    }
+    // d(a, b)/dx = (m0 - a m6, m3 - b m6) / w, d(a, b)/dy = (m1 - a m7, m4 - b m7) / w.
+    const VD dadx = hn::Mul(hn::NegMulAdd(a, m6, m0), inv), dbdx = hn::Mul(hn::NegMulAdd(b, m6, m3), inv);
+    const VD dady = hn::Mul(hn::NegMulAdd(a, m7, m1), inv), dbdy = hn::Mul(hn::NegMulAdd(b, m7, m4), inv);
+    const VD rx = hn::MulAdd(dadx, dadx, hn::Mul(dbdx, dbdx));
+    const VD ry = hn::MulAdd(dady, dady, hn::Mul(dbdy, dbdy));
+    const auto r = hn::DemoteTo(df, hn::Max(rx, ry));
+    hn::StoreU(hn::PromoteTo(dd, hn::Mul(halff, hn::Log2(df, r))), dd, rc.lod + k);
   }
 }
 
@@ -368,11 +399,20 @@ void trilinear_segment(const Pyramid& p, const RowCoords& rc, int n, float* out,
   const hn::ScalableTag<double> dd;
   const hn::RebindToSigned<decltype(dd)> di;
   using VD = hn::Vec<decltype(dd)>;
+  using VI = hn::Vec<decltype(di)>;
   const int L = int(hn::Lanes(dd));
   const int last = int(p.levels.size()) - 1;
-  alignas(64) double t[64], lev_d[64];
-  alignas(64) double fx[2][64], fy[2][64];
+  const hn::Rebind<float, decltype(dd)> df;
+  alignas(64) double lev_d[64];
+  alignas(64) float t[64], fx[2][64], fy[2][64];
+  // The four texels of each pixel and slot, as addresses.
   alignas(64) int64_t idx[2][4][64];
+  // Whether any pixel of each vector sees the quad (the others are skipped).
+  bool any[64 / 2 + 1];
+  for (int k = 0, v = 0; k < n; k += L, ++v) {
+    any[v] = false;
+    for (int l = k; l < std::min(n, k + L); ++l) any[v] |= rc.valid[l] != 0;
+  }
   // The level pair of each pixel, in vectors: lambda <= 0 (or NaN) the finest
   // level alone, lambda >= last the coarsest alone, else floor(lambda) and the
   // next, blended by the fraction (the reference's comparisons exactly).
@@ -385,7 +425,7 @@ void trilinear_segment(const Pyramid& p, const RowCoords& rc, int n, float* out,
       const VD lo = hn::IfThenElse(low, zero, hn::IfThenElse(high, vlast, hn::Floor(lod)));
       const VD tt = hn::IfThenZeroElse(hn::Or(low, high), hn::Sub(lod, lo));
       hn::Store(lo, dd, lev_d + k);
-      hn::Store(tt, dd, t + k);
+      hn::Store(hn::DemoteTo(df, tt), df, t + k);
     }
   }
   const VD half = hn::Set(dd, 0.5), one = hn::Set(dd, 1.0), zero = hn::Zero(dd);
@@ -423,7 +463,10 @@ void trilinear_segment(const Pyramid& p, const RowCoords& rc, int n, float* out,
     }
     a = b = i;
   };
-  for (int k = 0; k < n; k += L) {
+  static_assert(sizeof(const float*) == sizeof(int64_t), "addresses as 64-bit lanes");
+  const auto* level_address = reinterpret_cast<const int64_t*>(p.data.data());
+  for (int k = 0, v = 0; k < n; k += L, ++v) {
+    if (!any[v]) continue;
     const VD a = hn::LoadU(dd, rc.a + k), b = hn::LoadU(dd, rc.b + k);
     const VD lo = hn::Load(dd, lev_d + k);
     for (int s = 0; s < 2; ++s) {
@@ -433,49 +476,68 @@ void trilinear_segment(const Pyramid& p, const RowCoords& rc, int n, float* out,
       const VD lvl = s == 0 ? lo : hn::Min(hn::Add(lo, one), hn::Set(dd, double(last)));
       const double first = lev_d[k] + (s == 0 ? 0 : (lev_d[k] < last ? 1 : 0));
       VD sxv, syv, w, h, iwv, ihv;
+      VI base, mw, mh, lw;
       if (hn::AllTrue(dd, hn::Eq(lvl, hn::Set(dd, first)))) {
         const size_t l = size_t(first);
         sxv = hn::Set(dd, p.sx[l]), syv = hn::Set(dd, p.sy[l]), w = hn::Set(dd, p.w[l]), h = hn::Set(dd, p.h[l]);
         iwv = hn::Set(dd, p.inv_w[l]), ihv = hn::Set(dd, p.inv_h[l]);
+        base = hn::Set(di, level_address[l]);
+        mw = hn::Set(di, p.mask_w[l]), mh = hn::Set(di, p.mask_h[l]), lw = hn::Set(di, p.log2_w[l]);
       } else {
         const auto li = hn::ConvertTo(di, lvl);
         sxv = hn::GatherIndex(dd, p.sx.data(), li), syv = hn::GatherIndex(dd, p.sy.data(), li);
         w = hn::GatherIndex(dd, p.w.data(), li), h = hn::GatherIndex(dd, p.h.data(), li);
         iwv = hn::GatherIndex(dd, p.inv_w.data(), li), ihv = hn::GatherIndex(dd, p.inv_h.data(), li);
+        base = hn::GatherIndex(di, level_address, li);
+        mw = hn::GatherIndex(di, p.mask_w.data(), li), mh = hn::GatherIndex(di, p.mask_h.data(), li);
+        lw = hn::GatherIndex(di, p.log2_w.data(), li);
       }
       const VD x = hn::Sub(hn::Mul(a, sxv), half);
       const VD y = hn::Sub(hn::Mul(b, syv), half);
       const VD i0 = hn::Floor(x), j0 = hn::Floor(y);
-      hn::Store(hn::Sub(x, i0), dd, fx[s] + k);
-      hn::Store(hn::Sub(y, j0), dd, fy[s] + k);
+      hn::Store(hn::DemoteTo(df, hn::Sub(x, i0)), df, fx[s] + k);
+      hn::Store(hn::DemoteTo(df, hn::Sub(y, j0)), df, fy[s] + k);
+      if (p.pow2_repeat) {
+        // Two's complement: i & (n - 1) is i mod n for negative i too.
+        const VI i = hn::ConvertTo(di, i0), j = hn::ConvertTo(di, j0), one_i = hn::Set(di, 1);
+        const VI ia = hn::And(i, mw), ib = hn::And(hn::Add(i, one_i), mw);
+        const VI ja = hn::Shl(hn::And(j, mh), lw), jb = hn::Shl(hn::And(hn::Add(j, one_i), mh), lw);
+        auto address = [&](VI index) { return hn::Add(base, hn::ShiftLeft<4>(index)); };
+        hn::Store(address(hn::Add(ja, ia)), di, idx[s][0] + k);
+        hn::Store(address(hn::Add(ja, ib)), di, idx[s][1] + k);
+        hn::Store(address(hn::Add(jb, ia)), di, idx[s][2] + k);
+        hn::Store(address(hn::Add(jb, ib)), di, idx[s][3] + k);
+        continue;
+      }
       VD ia, ib, ja, jb;
       wrap_pair(i0, w, iwv, ia, ib);
       wrap_pair(j0, h, ihv, ja, jb);
       ja = hn::Mul(ja, w);
       jb = hn::Mul(jb, w);
-      hn::Store(hn::ConvertTo(di, hn::Add(ja, ia)), di, idx[s][0] + k);
-      hn::Store(hn::ConvertTo(di, hn::Add(ja, ib)), di, idx[s][1] + k);
-      hn::Store(hn::ConvertTo(di, hn::Add(jb, ia)), di, idx[s][2] + k);
-      hn::Store(hn::ConvertTo(di, hn::Add(jb, ib)), di, idx[s][3] + k);
+      // Byte addresses: the level's texels + 16 bytes a texel.
+      auto address = [&](VD index) { return hn::Add(base, hn::ShiftLeft<4>(hn::ConvertTo(di, index))); };
+      hn::Store(address(hn::Add(ja, ia)), di, idx[s][0] + k);
+      hn::Store(address(hn::Add(ja, ib)), di, idx[s][1] + k);
+      hn::Store(address(hn::Add(jb, ia)), di, idx[s][2] + k);
+      hn::Store(address(hn::Add(jb, ib)), di, idx[s][3] + k);
     }
   }
   const D4 d;
+  auto texel = [&](int s, int corner, int k) {
+    return hn::LoadU(d, reinterpret_cast<const float*>(idx[s][corner][k]));
+  };
+  auto bilerp = [&](int s, int k) {
+    const V4 t00 = texel(s, 0, k), t10 = texel(s, 1, k), t01 = texel(s, 2, k), t11 = texel(s, 3, k);
+    const V4 wx = hn::Set(d, fx[s][k]), wy = hn::Set(d, fy[s][k]);
+    const V4 top = hn::MulAdd(hn::Sub(t10, t00), wx, t00);
+    const V4 bottom = hn::MulAdd(hn::Sub(t11, t01), wx, t01);
+    return hn::MulAdd(hn::Sub(bottom, top), wy, top);
+  };
   for (int k = 0; k < n; ++k) {
     V4 c = background;
     if (rc.valid[k]) {
-      V4 level_colour[2];
-      const int slots = t[k] > 0 ? 2 : 1;
-      for (int s = 0; s < slots; ++s) {
-        const float* base = p.data[size_t(std::min(int(lev_d[k]) + s, last))];
-        const V4 t00 = hn::LoadU(d, base + 4 * idx[s][0][k]), t10 = hn::LoadU(d, base + 4 * idx[s][1][k]);
-        const V4 t01 = hn::LoadU(d, base + 4 * idx[s][2][k]), t11 = hn::LoadU(d, base + 4 * idx[s][3][k]);
-        const V4 wx = hn::Set(d, float(fx[s][k])), wy = hn::Set(d, float(fy[s][k]));
-        const V4 top = hn::MulAdd(hn::Sub(t10, t00), wx, t00);
-        const V4 bottom = hn::MulAdd(hn::Sub(t11, t01), wx, t01);
-        level_colour[s] = hn::MulAdd(hn::Sub(bottom, top), wy, top);
-      }
-      c = slots == 2 ? hn::MulAdd(hn::Sub(level_colour[1], level_colour[0]), hn::Set(d, float(t[k])), level_colour[0])
-                     : level_colour[0];
+      c = bilerp(0, k);
+      if (t[k] > 0) c = hn::MulAdd(hn::Sub(bilerp(1, k), c), hn::Set(d, t[k]), c);
     }
     hn::StoreU(c, d, out + 4 * size_t(k));
   }
@@ -545,14 +607,15 @@ void FilterRows(const Pyramid& pyr, const TexelMap& map, const TextureFilterSett
     uint64_t n = 0;
   RowCoords rc;
   for (int y = y0; y < y1; ++y) {
-    row_coords(map, y, x0, x1 - x0, f.filter == TextureFilter::trilinear, rc);
-    if (f.filter == TextureFilter::aniso) {
-      aniso_segment(pyr, rc, x1 - x0, f.n, img.pixel(x0, y), background);
+    if (f.filter == TextureFilter::trilinear) {
+      row_coords_trilinear(map, y, x0, x1 - x0, rc);
+      trilinear_segment(pyr, rc, x1 - x0, img.pixel(x0, y), background);
       for (int k = 0; k < x1 - x0; ++k) n += rc.valid[k];
       continue;
     }
-    if (f.filter == TextureFilter::trilinear) {
-      trilinear_segment(pyr, rc, x1 - x0, img.pixel(x0, y), background);
+    row_coords(map, y, x0, x1 - x0, rc);
+    if (f.filter == TextureFilter::aniso) {
+      aniso_segment(pyr, rc, x1 - x0, f.n, img.pixel(x0, y), background);
       for (int k = 0; k < x1 - x0; ++k) n += rc.valid[k];
       continue;
     }
@@ -593,11 +656,8 @@ void FilterRows(const Pyramid& pyr, const TexelMap& map, const TextureFilterSett
             c = bilinear(pyr, level, a, b);
             break;
           }
-          case TextureFilter::trilinear:
-            c = trilinear(pyr, rc.lod[k], a, b);
-            break;
+          case TextureFilter::trilinear:  // by the row kernels above
           case TextureFilter::aniso:
-            c = aniso(pyr, f.n, a, b, dadx, dbdx, dady, dbdy);
             break;
           case TextureFilter::ewa:
             c = ewa(pyr, f.n, a, b, dadx, dbdx, dady, dbdy);

@@ -22,6 +22,11 @@
 // filtering and EWA are more accurate than trilinear, trilinear more than
 // point, and the simd row's error equals the reference's within 1e-5 for
 // every filter. No claim about speed (benchmarks state those).
+// --plane: the issue's own scene instead (the registry's benchmark input: a
+// 1024^2 zone plate tiled over a plane receding from the camera, 1024^2
+// pixels; its texture's pyramid, 22 MB, is far larger than the caches), the
+// reference and simd rows, one thread, lookups alone (no oracle: it would
+// take hours at this size). CSV: row,filter,seconds,lookups,ns_per_lookup.
 #include <algorithm>
 #include <functional>
 #include <cmath>
@@ -39,14 +44,53 @@
 
 using namespace lockstep;
 
+namespace {
+
+// The 1024^2 plane, reference against simd (see --plane above).
+int plane_study(const Family& fam) {
+  std::printf("row,filter,seconds,lookups,ns_per_lookup\n");
+  for (const BenchInput& b : fam.bench()) {
+    const std::string filter = b.params.get("filter", "");
+    if (filter != "trilinear" && filter != "aniso16") continue;
+    const Input in = b.make ? b.make() : b.input;
+    const TextureScene& scene = input_as<TextureScene>(in);
+    const double ref_pyramid = study::best_time(3, [&] { ref::build_pyramid(scene.texture); });
+    for (const char* row : {"reference", "simd"}) {
+      const FamilyImpl* impl = fam.find(row);
+      if (!impl) return 3;
+      FrameOptions o;
+      o.width = b.width;
+      o.height = b.height;
+      o.threads = 1;
+      o.params = b.params;
+      double t = 1e300;
+      FrameStats st;
+      for (int k = 0; k < 3; ++k) {
+        st = FrameStats{};
+        const Stopwatch w;
+        (void)impl->run(in, o, &st);
+        const double whole = w.seconds();
+        t = std::min(t, whole - (impl == &fam.reference() ? ref_pyramid : st.build_seconds));
+      }
+      std::printf("%s,%s,%.6g,%llu,%.6g\n", row, filter.c_str(), t, (unsigned long long)st.items,
+                  1e9 * t / double(std::max<uint64_t>(st.items, 1)));
+      std::fflush(stdout);
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
-  bool quick = false, two = false;
-  if (!study::parse_flags(argc, argv, {{"--quick", &quick}, {"--two-threads", &two}},
-                          "lockstep_texture_study [--quick] [--two-threads]"))
+  bool quick = false, two = false, plane = false;
+  if (!study::parse_flags(argc, argv, {{"--quick", &quick}, {"--two-threads", &two}, {"--plane", &plane}},
+                          "lockstep_texture_study [--quick] [--two-threads] [--plane]"))
     return 2;
   study::Claims claims{"lockstep_texture_study"};
   const Family* fam = registry().find("texture");
   if (!fam) return 3;
+  if (plane) return plane_study(*fam);
   TextureScene scene = read_texture_scene(LOCKSTEP_CORPUS_DIR "/textures/zoneplate_plane.texscene");
   const int size = quick ? 96 : 192;
   scene.width = scene.height = size;
@@ -93,7 +137,7 @@ int main(int argc, char** argv) {
                                    ? ref_pyramid
                                    : 0.0;
       double t = 1e300;
-      for (int k = 0; k < 3; ++k) {
+      for (int k = 0; k < (impl.name == "reference" ? 3 : 15); ++k) {
         st = FrameStats{};
         const Stopwatch w;
         img = take_output<Image>(run(in, o, &st));

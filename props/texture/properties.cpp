@@ -77,8 +77,11 @@ rc::Gen<TexCase> case_gen(Kind kind, bool area_only) {
     TexCase c;
     TextureScene& sc = c.scene;
     Texture& t = sc.texture;
-    t.width = int(*gen::int_in(1, 12));
-    t.height = int(*gen::int_in(1, 12));
+    // Half the textures have power-of-two sides (the simd row wraps those by
+    // masks), the others any size (odd sizes: the pyramid's overlap weights).
+    const bool pow2 = *gen::int_in(0, 1) == 1;
+    t.width = pow2 ? 1 << *gen::int_in(0, 4) : int(*gen::int_in(1, 12));
+    t.height = pow2 ? 1 << *gen::int_in(0, 4) : int(*gen::int_in(1, 12));
     t.wrap = kind == Kind::rotation ? Wrap::repeat : Wrap(*gen::int_in(0, 2));
     t.rgba.resize(size_t(t.width) * t.height * 4);
     if (kind == Kind::constant) {
