@@ -51,6 +51,7 @@ int render_main(Args args);
 // extension's first) and `who` on every line it prints (app/render.cpp).
 int render_as(const std::string& who, const std::string& forced_algo, Args args);
 int isosurface_main(Args args);
+int texture_main(Args args);  // app/texture.cpp
 int volume_main(Args args);
 int trace_main(Args args);  // app/trace.cpp: one pixel's ray tree (ray_trace family)
 int composite_main(Args args);

@@ -34,8 +34,8 @@ void print_help() {
       "\n"
       "usage:\n"
       "  lockstep render INPUT [--impl NAME] [--size WxH] [--threads N] -o OUT\n"
-      "      render an input (.nff scene, .stack of layers) with one implementation of its family;\n"
-      "      the format follows OUT's extension\n"
+      "      render an input (.nff scene, .stack of layers, .texscene, ...) with one implementation\n"
+      "      of its family; the format follows OUT's extension\n"
       "  lockstep composite LAYER... | --stack FILE [--alpha straight|premultiplied] [--order ftb|btf]\n"
       "                   [--impl NAME] [--threads N] -o OUT\n"
       "      composite RGBA layers (front first) with 'over'\n"
@@ -43,6 +43,8 @@ void print_help() {
       "      extract an isosurface by marching cubes (.nrrd/.nhdr volume or .field) into a mesh\n"
       "  lockstep volume VOLUME --tf TF [--algo raycast|splat|iso] [--step DT] [--view AZ,EL] -o IMAGE\n"
       "      render a volume: ray casting, splatting, or the isosurface ray cast\n"
+      "  lockstep texture SCENE [--filter F] [--texture SPEC] [--wrap W] [--impl NAME] -o IMAGE\n"
+      "      filter a texture on a plane under perspective (.texscene): point .. anisotropic, EWA\n"
       "  lockstep trace SCENE --pixel X,Y [--depth N] [--impl reference|embree]\n"
       "      print the ray tree of one pixel as the ray tracer (render --algo ray_trace) traces it\n"
       "  lockstep diff A B | DIR_A DIR_B | --list FILE [--fail T] [--failpercent P] [--warn W] [--heatmap OUT]\n"
@@ -117,7 +119,7 @@ int families_main(cli::Args args) {
 
 int run(int argc, char** argv, std::string& sub) {
   std::vector<std::string_view> args(argv + 1, argv + argc);
-  if (args.empty()) throw cli::UsageError("missing subcommand (render, composite, isosurface, volume, trace, diff, verify, merge-reports, spd or families)");
+  if (args.empty()) throw cli::UsageError("missing subcommand (render, composite, isosurface, volume, texture, trace, diff, verify, merge-reports, spd or families)");
   const std::string_view first = args.front();
   if (first == "--help" || first == "-h" || first == "help") {
     print_help();
@@ -143,13 +145,14 @@ int run(int argc, char** argv, std::string& sub) {
   if (first == "merge-reports") return cli::merge_reports_main(rest);
   if (first == "composite") return cli::composite_main(rest);
   if (first == "isosurface") return cli::isosurface_main(rest);
+  if (first == "texture") return cli::texture_main(rest);
   if (first == "volume") return cli::volume_main(rest);
   if (first == "trace") return cli::trace_main(rest);
   if (first == "spd") return cli::spd_main(rest);
   if (first == "families") return families_main(rest);
   sub.clear();
   if (cli::is_option(first)) cli::unknown_option(first);
-  throw cli::UsageError("unknown subcommand '" + std::string(first) + "' (render, composite, isosurface, volume, trace, diff, verify, merge-reports, spd or families)");
+  throw cli::UsageError("unknown subcommand '" + std::string(first) + "' (render, composite, isosurface, volume, texture, trace, diff, verify, merge-reports, spd or families)");
 }
 
 }  // namespace

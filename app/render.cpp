@@ -245,7 +245,7 @@ int render_as(const std::string& who, const std::string& forced_algo, Args args)
   // threads do not, and it costs them only a spare thread for a few ms).
   std::optional<opt::ThreadPoolStart> pool;
   if (impl.peer.empty()) pool.emplace();
-  const Input input = family.load(in_path);
+  const Input input = family.load_with ? family.load_with(in_path, params) : family.load(in_path);
   pool.reset();
   if (path_checked.wait_for(std::chrono::seconds(0)) == std::future_status::ready) path_checked.get();
 

@@ -51,6 +51,11 @@ struct Params {
       if (it->first == name) return it->second;
     return std::string(def);
   }
+  bool has(std::string_view name) const {
+    for (const auto& item : items)
+      if (item.first == name) return true;
+    return false;
+  }
   void set(std::string name, std::string value) { items.emplace_back(std::move(name), std::move(value)); }
   // "shading=phong spp=4"
   std::string str() const {
@@ -313,6 +318,10 @@ struct Family {
   const OutputKind* kind = nullptr;  // what a run produces (core/output.h); never null in a row
   Tolerance tol;             // agreement with the reference, per frame
   std::function<Input(const std::string& path)> load;  // throws InputError
+  // May be empty: load() then the settings among params that replace part of
+  // the input (the texture family's texture and wrap), for the CLI; frames
+  // never see those settings. Throws InputError.
+  std::function<Input(const std::string& path, const Params& params)> load_with;
   std::vector<FamilyImpl> impls;  // impls.front() is the reference
   std::vector<Judge> judges;
   std::function<std::vector<BenchInput>()> bench;  // frames to time; may be empty

@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <sstream>
+#include <string>
 #include <vector>
 
 #include "core/error.h"
@@ -16,7 +18,9 @@ namespace lockstep {
 
 namespace {
 
-double srgb_to_linear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
+double srgb_to_linear(double c) {
+  return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+}
 
 long side_of(std::string_view w, const std::string& file, int line, const char* what) {
   long n = 0;
@@ -30,8 +34,9 @@ long side_of(std::string_view w, const std::string& file, int line, const char* 
 Texture blank(int w, int h, std::string name, const std::string& file, int line) {
   if (long(w) * long(h) > kMaxTexels)
     throw InputError(file, line,
-                     "texture: " + std::to_string(w) + " x " + std::to_string(h) + " texels is more than " +
-                         std::to_string(kMaxTexels) + " (1 GiB of float RGBA)");
+                     "texture: " + std::to_string(w) + " x " + std::to_string(h) +
+                         " texels is more than " + std::to_string(kMaxTexels) +
+                         " (1 GiB of float RGBA)");
   Texture t;
   t.width = w;
   t.height = h;
@@ -50,25 +55,29 @@ void put(Texture& t, int i, int j, double v) {
 
 Texture procedural_texture(const std::string& spec, const std::string& file, int line) {
   const auto w = text::words(spec);
-  if (w.empty()) throw InputError(file, line, "texture: expected checker, zoneplate, noise or file");
+  if (w.empty())
+    throw InputError(file, line, "texture: expected checker, zoneplate, noise or file");
   const std::string kind(w[0]);
   if (kind == "checker") {
     if (w.size() != 3) throw InputError(file, line, "texture checker: expected SIZE CELLS");
     const long n = side_of(w[1], file, line, "texture checker");
     long cells = 0;
     if (!text::parse_long(w[2], cells) || cells < 1 || cells > n)
-      throw InputError(file, line, "texture checker: CELLS '" + std::string(w[2]) + "' must be 1 to SIZE");
+      throw InputError(file, line,
+                       "texture checker: CELLS '" + std::string(w[2]) + "' must be 1 to SIZE");
     Texture t = blank(int(n), int(n), spec, file, line);
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) put(t, i, j, double(((i * cells) / n + (j * cells) / n) % 2));
     return t;
   }
   if (kind == "zoneplate") {
-    if (w.size() != 2 && w.size() != 3) throw InputError(file, line, "texture zoneplate: expected SIZE [K]");
+    if (w.size() != 2 && w.size() != 3)
+      throw InputError(file, line, "texture zoneplate: expected SIZE [K]");
     const long n = side_of(w[1], file, line, "texture zoneplate");
     double k = 1;
     if (w.size() == 3 && (!text::parse_double(w[2], k) || !(k > 0) || k > 64))
-      throw InputError(file, line, "texture zoneplate: K '" + std::string(w[2]) + "' must be in (0, 64]");
+      throw InputError(file, line,
+                       "texture zoneplate: K '" + std::string(w[2]) + "' must be in (0, 64]");
     Texture t = blank(int(n), int(n), spec, file, line);
     // sin(A(x) + A(y)) with A(c) = pi K c^2 / n, by the sum formula: one sine
     // and cosine a row and a column, not one a texel.
@@ -80,14 +89,16 @@ Texture procedural_texture(const std::string& spec, const std::string& file, int
       ca[size_t(i)] = std::cos(a);
     }
     for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) put(t, i, j, 0.5 + 0.5 * (sa[size_t(i)] * ca[size_t(j)] + ca[size_t(i)] * sa[size_t(j)]));
+      for (int i = 0; i < n; ++i)
+        put(t, i, j, 0.5 + 0.5 * (sa[size_t(i)] * ca[size_t(j)] + ca[size_t(i)] * sa[size_t(j)]));
     return t;
   }
   if (kind == "noise") {
     if (w.size() != 3) throw InputError(file, line, "texture noise: expected SIZE SEED");
     const long n = side_of(w[1], file, line, "texture noise");
     long seed = 0;
-    if (!text::parse_long(w[2], seed)) throw InputError(file, line, "texture noise: SEED must be an integer");
+    if (!text::parse_long(w[2], seed))
+      throw InputError(file, line, "texture noise: SEED must be an integer");
     // 16 cosines with frequencies below 1/4 cycle a texel (band-limited: no
     // aliasing at level 0), directions and phases from a fixed generator.
     uint64_t s = uint64_t(seed) * 0x9E3779B97F4A7C15ull + 1;
@@ -120,7 +131,8 @@ Texture procedural_texture(const std::string& spec, const std::string& file, int
       for (int i = 0; i < n; ++i) {
         double v = 0;
         for (int k = 0; k < 16; ++k)
-          v += cx[size_t(k * n + i)] * cy[size_t(k * n + j)] - sx[size_t(k * n + i)] * sy[size_t(k * n + j)];
+          v += cx[size_t(k * n + i)] * cy[size_t(k * n + j)] -
+               sx[size_t(k * n + i)] * sy[size_t(k * n + j)];
         put(t, i, j, 0.5 + v / 16);
       }
     return t;
@@ -128,7 +140,63 @@ Texture procedural_texture(const std::string& spec, const std::string& file, int
   throw InputError(file, line, "texture: '" + kind + "' is not checker, zoneplate, noise or file");
 }
 
-TextureScene parse_texture_scene(const std::string& text_in, const std::string& name, const std::string& folder) {
+Texture texture_from_words(const std::string& spec, const std::string& folder,
+                           const std::string& file, int line) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> words;
+  {
+    std::istringstream ws(spec);
+    for (std::string w; ws >> w;) words.push_back(w);
+  }
+  auto fail = [&](const std::string& m) { throw InputError(file, line, m); };
+  if (words.empty()) fail("texture: expected checker, zoneplate, noise or file");
+  if (words[0] == "file") {
+    if (words.size() != 2 && words.size() != 3) fail("texture file: expected PATH [srgb|linear]");
+    const std::string f(words[1]);
+    const fs::path p = fs::path(f).is_absolute() ? fs::path(f) : fs::path(folder) / f;
+    std::string space = words.size() == 3 ? words[2] : "";
+    if (!space.empty() && space != "srgb" && space != "linear")
+      fail("texture file: colour space '" + space + "' is not srgb or linear");
+    Image img;
+    try {
+      img = read_image(p.string());
+    } catch (const InputError& e) {
+      fail(e.what());
+    }
+    if (img.width > kMaxTextureSide || img.height > kMaxTextureSide ||
+        long(img.width) * long(img.height) > kMaxTexels)
+      fail("texture file: " + std::to_string(img.width) + " x " + std::to_string(img.height) +
+           " is larger than " + std::to_string(kMaxTextureSide) + " a side or " +
+           std::to_string(kMaxTexels) + " texels");
+    const std::string ext = text::lower(text::extension_of(f));
+    if (space.empty())
+      space = (ext == ".png" || ext == ".jpg" || ext == ".jpeg") ? "srgb" : "linear";
+    std::vector<float> srgb8(256);
+    for (int k = 0; k < 256; ++k) srgb8[size_t(k)] = float(srgb_to_linear(k / 255.0));
+    Texture t;
+    t.width = img.width;
+    t.height = img.height;
+    t.name = f;
+    t.rgba.assign(img.rgba.begin(), img.rgba.end());
+    for (size_t i = 0; i < t.rgba.size(); ++i) {
+      if (!std::isfinite(t.rgba[i]))
+        fail("texture file: texel (" + std::to_string((i / 4) % size_t(t.width)) + ", " +
+             std::to_string((i / 4) / size_t(t.width)) + ") is not finite");
+      if (space == "srgb" && i % 4 != 3) {
+        // 8-bit files give k / 255: those from a table of the 256 levels.
+        const float v = t.rgba[i];
+        const long k = std::lround(double(v) * 255);
+        t.rgba[i] = (k >= 0 && k <= 255 && float(double(k) / 255) == v) ? srgb8[size_t(k)]
+                                                                        : float(srgb_to_linear(v));
+      }
+    }
+    return t;
+  }
+  return procedural_texture(spec, file, line);
+}
+
+TextureScene parse_texture_scene(const std::string& text_in, const std::string& name,
+                                 const std::string& folder) {
   namespace fs = std::filesystem;
   TextureScene sc;
   sc.source = name;
@@ -144,7 +212,8 @@ TextureScene parse_texture_scene(const std::string& text_in, const std::string& 
     std::vector<double> v(n);
     for (size_t i = 0; i < n; ++i) {
       if (!text::parse_double(in.words()[i + 1], v[i]) || !std::isfinite(v[i]))
-        in.fail(std::string(what) + ": '" + std::string(in.words()[i + 1]) + "' is not a finite number");
+        in.fail(std::string(what) + ": '" + std::string(in.words()[i + 1]) +
+                "' is not a finite number");
     }
     return v;
   };
@@ -155,49 +224,7 @@ TextureScene parse_texture_scene(const std::string& text_in, const std::string& 
   while (in.next()) {
     const std::string key(in.words()[0]);
     if (key == "texture") {
-      if (in.words().size() < 2) in.fail("texture: expected checker, zoneplate, noise or file");
-      if (in.words()[1] == "file") {
-        if (in.words().size() != 3 && in.words().size() != 4) in.fail("texture file: expected PATH [srgb|linear]");
-        const std::string f(in.words()[2]);
-        const fs::path p = fs::path(f).is_absolute() ? fs::path(f) : fs::path(folder) / f;
-        std::string space = in.words().size() == 4 ? std::string(in.words()[3]) : "";
-        if (!space.empty() && space != "srgb" && space != "linear")
-          in.fail("texture file: colour space '" + space + "' is not srgb or linear");
-        Image img;
-        try {
-          img = read_image(p.string());
-        } catch (const InputError& e) {
-          in.fail(e.what());
-        }
-        if (img.width > kMaxTextureSide || img.height > kMaxTextureSide ||
-            long(img.width) * long(img.height) > kMaxTexels)
-          in.fail("texture file: " + std::to_string(img.width) + " x " + std::to_string(img.height) +
-                  " is larger than " + std::to_string(kMaxTextureSide) + " a side or " + std::to_string(kMaxTexels) +
-                  " texels");
-        const std::string ext = text::lower(text::extension_of(f));
-        if (space.empty()) space = (ext == ".png" || ext == ".jpg" || ext == ".jpeg") ? "srgb" : "linear";
-        std::vector<float> srgb8(256);
-        for (int k = 0; k < 256; ++k) srgb8[size_t(k)] = float(srgb_to_linear(k / 255.0));
-        Texture t;
-        t.width = img.width;
-        t.height = img.height;
-        t.name = f;
-        t.rgba.assign(img.rgba.begin(), img.rgba.end());
-        for (size_t i = 0; i < t.rgba.size(); ++i) {
-          if (!std::isfinite(t.rgba[i]))
-            in.fail("texture file: texel (" + std::to_string((i / 4) % size_t(t.width)) + ", " +
-                    std::to_string((i / 4) / size_t(t.width)) + ") is not finite");
-          if (space == "srgb" && i % 4 != 3) {
-            // 8-bit files give k / 255: those from a table of the 256 levels.
-            const float v = t.rgba[i];
-            const long k = std::lround(double(v) * 255);
-            t.rgba[i] = (k >= 0 && k <= 255 && float(double(k) / 255) == v) ? srgb8[size_t(k)] : float(srgb_to_linear(v));
-          }
-        }
-        sc.texture = std::move(t);
-      } else {
-        sc.texture = procedural_texture(std::string(in.rest(1)), name, in.line_no());
-      }
+      sc.texture = texture_from_words(std::string(in.rest(1)), folder, name, in.line_no());
       have_texture = true;
     } else if (key == "wrap") {
       in.expect_count(2, "wrap");
@@ -208,11 +235,13 @@ TextureScene parse_texture_scene(const std::string& text_in, const std::string& 
       sc.origin = {v[0], v[1], v[2]};
       sc.edge_s = {v[3], v[4], v[5]};
       sc.edge_t = {v[6], v[7], v[8]};
-      if (!(length(cross(sc.edge_s, sc.edge_t)) > 0)) in.fail("quad: the edges S and T are parallel (no area)");
+      if (!(length(cross(sc.edge_s, sc.edge_t)) > 0))
+        in.fail("quad: the edges S and T are parallel (no area)");
       have_quad = true;
     } else if (key == "repeat") {
       const auto v = numbers(2, "repeat");
-      if (!(v[0] > 0 && v[1] > 0 && v[0] <= 1e6 && v[1] <= 1e6)) in.fail("repeat: counts must be in (0, 1e6]");
+      if (!(v[0] > 0 && v[1] > 0 && v[0] <= 1e6 && v[1] <= 1e6))
+        in.fail("repeat: counts must be in (0, 1e6]");
       sc.repeat_u = v[0];
       sc.repeat_v = v[1];
     } else if (key == "from") {
@@ -234,21 +263,27 @@ TextureScene parse_texture_scene(const std::string& text_in, const std::string& 
     } else if (key == "resolution") {
       in.expect_count(3, "resolution");
       long w = 0, h = 0;
-      if (!text::parse_long(in.words()[1], w) || !text::parse_long(in.words()[2], h) || w < 1 || h < 1 ||
-          w > kMaxTextureSide || h > kMaxTextureSide)
+      if (!text::parse_long(in.words()[1], w) || !text::parse_long(in.words()[2], h) || w < 1 ||
+          h < 1 || w > kMaxTextureSide || h > kMaxTextureSide)
         in.fail("resolution: W and H must be 1 to " + std::to_string(kMaxTextureSide));
       sc.width = int(w);
       sc.height = int(h);
     } else {
-      in.fail("unknown keyword '" + key + "' (texture, wrap, quad, repeat, from, at, up, angle, hither, background, resolution)");
+      in.fail(
+          "unknown keyword '" + key +
+          "' (texture, wrap, quad, repeat, from, at, up, angle, hither, background, resolution)");
     }
   }
   if (!have_texture) throw InputError(name, 0, "no texture line");
   if (!have_quad) throw InputError(name, 0, "no quad line");
-  if (wrap == "repeat") sc.texture.wrap = Wrap::repeat;
-  else if (wrap == "clamp") sc.texture.wrap = Wrap::clamp;
-  else if (wrap == "mirror") sc.texture.wrap = Wrap::mirror;
-  else throw InputError(name, wrap_line, "wrap: '" + wrap + "' is not repeat, clamp or mirror");
+  if (wrap == "repeat")
+    sc.texture.wrap = Wrap::repeat;
+  else if (wrap == "clamp")
+    sc.texture.wrap = Wrap::clamp;
+  else if (wrap == "mirror")
+    sc.texture.wrap = Wrap::mirror;
+  else
+    throw InputError(name, wrap_line, "wrap: '" + wrap + "' is not repeat, clamp or mirror");
   const Vec3 d = sc.view.at - sc.view.from;
   if (!(length(d) > 0)) throw InputError(name, 0, "from and at are the same point");
   if (!(length(cross(d, sc.view.up)) > 1e-12 * length(d) * length(sc.view.up)))
@@ -257,12 +292,13 @@ TextureScene parse_texture_scene(const std::string& text_in, const std::string& 
 }
 
 TextureScene read_texture_scene(const std::string& path) {
-  const std::string text = text::read_text_file(path,
-                                                {.missing = "cannot read texture scene: no such file",
-                                                 .folder = "cannot read texture scene: is a directory",
-                                                 .unreadable = "cannot read texture scene: cannot open file",
-                                                 .read_error = "cannot read texture scene: read error"},
-                                                text::kMaxListBytes);
+  const std::string text =
+      text::read_text_file(path,
+                           {.missing = "cannot read texture scene: no such file",
+                            .folder = "cannot read texture scene: is a directory",
+                            .unreadable = "cannot read texture scene: cannot open file",
+                            .read_error = "cannot read texture scene: read error"},
+                           text::kMaxListBytes);
   return parse_texture_scene(text, path, std::filesystem::path(path).parent_path().string());
 }
 

@@ -34,6 +34,10 @@ TextureScene read_texture_scene(const std::string& path);
 // The same from text in memory (name: the file named in errors; folder: where
 // `texture file` paths are relative to).
 TextureScene parse_texture_scene(const std::string& text, const std::string& name, const std::string& folder);
+// A texture by the words of a `texture` line after the keyword ("checker 256 8",
+// "file photo.png srgb"; a file's path relative to folder); InputError(file,
+// line, ...) when malformed or unreadable.
+Texture texture_from_words(const std::string& spec, const std::string& folder, const std::string& file, int line);
 // A procedural texture by its words ("checker 256 8"); InputError(file, line, ...) when malformed.
 Texture procedural_texture(const std::string& spec, const std::string& file, int line);
 

@@ -5,6 +5,7 @@
 #include <memory>
 #include <span>
 
+#include "core/error.h"
 #include "io/texture_scene.h"
 #include "kinds/image_kind.h"
 #include "optimized/texture_filter_simd.h"
@@ -36,6 +37,29 @@ constexpr TypedImpl<TextureScene> kImpls[] = {
 
 Input load(const std::string& path) {
   TextureScene s = read_texture_scene(path);
+  const int w = s.width, h = s.height;
+  const Vec3 bg = s.background;
+  return make_input<TextureScene>(std::move(s), path, w, h, bg);
+}
+
+Wrap wrap_named(const std::string& w) {
+  if (w == "repeat") return Wrap::repeat;
+  if (w == "clamp") return Wrap::clamp;
+  if (w == "mirror") return Wrap::mirror;
+  throw InputError("settings", 0, "wrap: '" + w + "' is not repeat, clamp or mirror");
+}
+
+// The scene with the texture and wrap mode the command line names in place
+// of its own (a texture file's path is the caller's, relative to the
+// working directory).
+Input load_with(const std::string& path, const Params& params) {
+  TextureScene s = read_texture_scene(path);
+  const Wrap wrap = s.texture.wrap;
+  if (params.has("texture")) {
+    s.texture = texture_from_words(params.get("texture"), ".", "--texture", 0);
+    s.texture.wrap = wrap;
+  }
+  if (params.has("wrap")) s.texture.wrap = wrap_named(params.get("wrap"));
   const int w = s.width, h = s.height;
   const Vec3 bg = s.background;
   return make_input<TextureScene>(std::move(s), path, w, h, bg);
@@ -91,6 +115,7 @@ Family texture_family() {
   f.unit = "lookups";
   f.verb = "filter";
   f.extension = ".texscene";
+  f.algo = "texture";  // `lockstep texture` (app/texture.cpp)
   f.default_impl = "simd";
   f.kind = &image_kind();
   // Agreement of a row with the reference, per channel: the simd row computes
@@ -99,6 +124,7 @@ Family texture_family() {
   f.tol.abs = 1.0 / 255;
   f.tol.fraction = 0.999;
   f.load = load;
+  f.load_with = load_with;
   f.impls = erase_all<TextureScene>(kImpls);
   // OpenImageIO keeps its made texture and TextureSystem across the frames of
   // a session (the benchmarks' warm frames), as an application does.
@@ -134,8 +160,14 @@ Family texture_family() {
                                     "install libosmesa6-dev (scripts/setup.sh) and re-run cmake"));
   f.bench = bench_inputs;
   f.params = {{"filter", kTextureFilterNames, "trilinear",
-               "the texture filter (superN: N x N samples a pixel; anisoN: at most N probes; ewa: eccentricity 8)"}};
-  f.check_params = [](const Params& p) { texture_filter_settings(p, "settings"); };
+               "the texture filter (superN: N x N samples a pixel; anisoN: at most N probes; ewa: eccentricity 8)"},
+              {"texture", "\"checker N CELLS\"|\"zoneplate N [K]\"|\"noise N SEED\"|\"file PATH [srgb|linear]\"", "",
+               "the texture in place of the scene's (a .texscene texture line's words)"},
+              {"wrap", "repeat|clamp|mirror", "", "the wrap mode in place of the scene's"}};
+  f.check_params = [](const Params& p) {
+    texture_filter_settings(p, "settings");
+    if (p.has("wrap")) wrap_named(p.get("wrap"));
+  };
   f.properties = {"pyramid", "constant", "agreement", "oracle", "rotation"};
   return f;
 }
