@@ -12,8 +12,8 @@ namespace {
 
 void print_help() {
   std::printf(
-      "usage: lockstep texture SCENE [--filter F] [--texture SPEC] [--wrap W] [--impl NAME]\n"
-      "                        [--size WxH] [--threads N] [--repeat N] -o IMAGE\n"
+      "usage: lockstep texture SCENE [--filter F | --error E] [--texture SPEC] [--wrap W]\n"
+      "                        [--impl NAME] [--size WxH] [--threads N] [--repeat N] -o IMAGE\n"
       "\n"
       "Draws SCENE's textured quad under its perspective camera, each pixel the texture\n"
       "filtered over the pixel's footprint (docs/texture.md); the format follows IMAGE's\n"
@@ -24,6 +24,12 @@ void print_help() {
       "  --filter F      %s\n"
       "                  (default trilinear; superN: N x N samples a pixel, anisoN: at most N\n"
       "                  probes along the footprint's major axis, ewaN: eccentricity at most N)\n"
+      "  --error E       instead of --filter, E in (0, 1]: per tile of 64 x 16 pixels the cheapest of\n"
+      "                  point, trilinear, aniso2, aniso4, aniso8, aniso16 whose largest error at 18\n"
+      "                  sample pixels of the tile (RGB RMS against area sampling) is at most E, else\n"
+      "                  area; the search is the reference's lookups at the samples (build time), the\n"
+      "                  summary names the filters chosen. E bounds the samples, not every pixel.\n"
+      "                  reference and simd only\n"
       "  --texture SPEC  the texture in place of the scene's, as the words of a texture line:\n"
       "                  \"checker SIZE CELLS\", \"zoneplate SIZE [K]\", \"noise SIZE SEED\", or\n"
       "                  \"file PATH [srgb|linear]\" (PATH relative to the working directory; 8-bit\n"

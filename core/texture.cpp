@@ -138,6 +138,8 @@ bool parse_texture_filter(const std::string& s, TextureFilterSettings& out) {
 
 }  // namespace lockstep
 
+#include <sstream>
+
 #include "core/error.h"
 #include "core/family.h"
 
@@ -151,6 +153,24 @@ TextureFilterSettings texture_filter_settings(const Params& params, const std::s
                      "filter: '" + s + "' is not a texture filter (" + kTextureFilterNames +
                          "; superN for N = 1..16, anisoN for N = 1..64, ewaN for N = 1..64)");
   return f;
+}
+
+TextureFilterPlan texture_filter_plan(const Params& params, int width, int height, const std::string& source) {
+  TextureFilterPlan plan;
+  if (!params.has("filter_tiles")) return plan;
+  plan.tiles_x = (width + kFilterTileW - 1) / kFilterTileW;
+  plan.tiles_y = (height + kFilterTileH - 1) / kFilterTileH;
+  std::istringstream words(params.get("filter_tiles"));
+  for (std::string w; words >> w;) {
+    TextureFilterSettings f;
+    if (!parse_texture_filter(w, f)) throw InputError(source, 0, "filter_tiles: '" + w + "' is not a texture filter");
+    plan.tiles.push_back(f);
+  }
+  if (plan.tiles.size() != size_t(plan.tiles_x) * size_t(plan.tiles_y))
+    throw InputError(source, 0,
+                     "filter_tiles: " + std::to_string(plan.tiles.size()) + " filters for " +
+                         std::to_string(plan.tiles_x) + " x " + std::to_string(plan.tiles_y) + " tiles");
+  return plan;
 }
 
 }  // namespace lockstep

@@ -164,6 +164,31 @@ bool parse_texture_filter(const std::string& s, TextureFilterSettings& out);
 // The names --help lists.
 inline constexpr const char* kTextureFilterNames =
     "point|bilinear|area|super2|super4|super8|mip_nearest|trilinear|aniso2|aniso4|aniso8|aniso16|ewa";
+// Whether a filter reads the mipmap pyramid (mip_nearest, trilinear, aniso, ewa).
+inline bool uses_pyramid(TextureFilter f) {
+  return f == TextureFilter::mip_nearest || f == TextureFilter::trilinear || f == TextureFilter::aniso ||
+         f == TextureFilter::ewa;
+}
+
+// A filter per tile: the frame cut into tiles of kFilterTileW x kFilterTileH
+// pixels from its top-left corner (the last column and row of tiles may be
+// narrower), row-major, each drawn with its own filter. The setting
+// `filter_tiles` holds the names ("point trilinear aniso4 ...", one a tile);
+// the family's error=E writes it (registry/texture_row.cpp), every row but
+// the peers draws it.
+inline constexpr int kFilterTileW = 64, kFilterTileH = 16;
+struct TextureFilterPlan {
+  int tiles_x = 0, tiles_y = 0;
+  std::vector<TextureFilterSettings> tiles;  // empty: no plan
+  const TextureFilterSettings& at(int x, int y) const {
+    return tiles[size_t(y / kFilterTileH) * size_t(tiles_x) + size_t(x / kFilterTileW)];
+  }
+  bool uses(bool (*pred)(TextureFilter)) const {
+    for (const TextureFilterSettings& t : tiles)
+      if (pred(t.filter)) return true;
+    return false;
+  }
+};
 
 // The mipmap rule, stated once (every row builds its own pyramid by it).
 // Level 0 is the texture. Level k+1 has max(1, floor(n_k / 2)) texels a side
@@ -194,6 +219,9 @@ struct Params;
 // The family's `filter` setting (default trilinear); InputError(source, 0,
 // ...) naming the bad value.
 TextureFilterSettings texture_filter_settings(const Params& params, const std::string& source);
+// The plan in params' filter_tiles for a width x height frame; no tiles when
+// it is not set. InputError(source, 0, ...) when malformed or of another size.
+TextureFilterPlan texture_filter_plan(const Params& params, int width, int height, const std::string& source);
 
 // ---------------------------------------------------------------- convex polygons
 // Footprints are convex polygons (the projective image of a square, clipped by

@@ -371,10 +371,11 @@ void row_coords_trilinear(const TexelMap& map, int y, int x0, int n, RowCoords& 
     ok = hn::And(ok, hn::And(hn::Le(a, qa), hn::Le(b, qb)));  // false for NaN
     hn::StoreU(a, dd, rc.a + k);
     hn::StoreU(b, dd, rc.b + k);
-    alignas(64) double okv[8];
-    hn::StoreU(hn::IfThenElseZero(ok, one), dd, okv);
-    for (int l = 0; l < L && k + l < 64; ++l) rc.valid[k + l] = okv[l] != 0;
-    if (hn::AllFalse(dd, ok)) {
+    // The mask's bits, one byte a lane (L <= 8 lanes of doubles, k + L <= 64).
+    uint8_t bits[8] = {};
+    hn::StoreMaskBits(dd, ok, bits);
+    for (int l = 0; l < L; ++l) rc.valid[k + l] = bits[0] >> l & 1;
+    if (bits[0] == 0) {
       hn::StoreU(zero, dd, rc.lod + k);
       continue;
     }
@@ -408,7 +409,7 @@ void trilinear_segment(const Pyramid& p, const RowCoords& rc, int n, float* out,
   // The four texels of each pixel and slot, as addresses.
   alignas(64) int64_t idx[2][4][64];
   // Whether any pixel of each vector sees the quad (the others are skipped).
-  bool any[64 / 2 + 1];
+  bool any[64 / 2 + 1], blend[64 / 2 + 1];  // blend: some pixel of the vector uses the second level
   for (int k = 0, v = 0; k < n; k += L, ++v) {
     any[v] = false;
     for (int l = k; l < std::min(n, k + L); ++l) any[v] |= rc.valid[l] != 0;
@@ -418,7 +419,7 @@ void trilinear_segment(const Pyramid& p, const RowCoords& rc, int n, float* out,
   // next, blended by the fraction (the reference's comparisons exactly).
   {
     const VD zero = hn::Zero(dd), vlast = hn::Set(dd, double(last));
-    for (int k = 0; k < n; k += L) {
+    for (int k = 0, v = 0; k < n; k += L, ++v) {
       const VD lod = hn::LoadU(dd, rc.lod + k);
       const auto low = hn::Not(hn::Gt(lod, zero));  // also NaN
       const auto high = hn::Ge(lod, vlast);
@@ -426,6 +427,7 @@ void trilinear_segment(const Pyramid& p, const RowCoords& rc, int n, float* out,
       const VD tt = hn::IfThenZeroElse(hn::Or(low, high), hn::Sub(lod, lo));
       hn::Store(lo, dd, lev_d + k);
       hn::Store(hn::DemoteTo(df, tt), df, t + k);
+      blend[v] = !hn::AllFalse(dd, hn::Gt(tt, zero));
     }
   }
   const VD half = hn::Set(dd, 0.5), one = hn::Set(dd, 1.0), zero = hn::Zero(dd);
@@ -469,7 +471,7 @@ void trilinear_segment(const Pyramid& p, const RowCoords& rc, int n, float* out,
     if (!any[v]) continue;
     const VD a = hn::LoadU(dd, rc.a + k), b = hn::LoadU(dd, rc.b + k);
     const VD lo = hn::Load(dd, lev_d + k);
-    for (int s = 0; s < 2; ++s) {
+    for (int s = 0; s < (blend[v] ? 2 : 1); ++s) {
       // This slot's level per lane, and its tables: one broadcast when every
       // lane has the same level (neighbouring pixels nearly always do), else
       // gathered.
@@ -727,8 +729,10 @@ Image texture_filter(const TextureScene& scene, const FrameOptions& opts, FrameS
   const Texture& tex = scene.texture;
   if (tex.width < 1 || tex.height < 1) throw InputError(scene.source, 0, "empty texture");
   const TexelMap map = TexelMap::make(scene, opts.width, opts.height);
-  const bool mip = f.filter == TextureFilter::mip_nearest || f.filter == TextureFilter::trilinear ||
-                   f.filter == TextureFilter::aniso || f.filter == TextureFilter::ewa;
+  // A filter per tile, when the settings name one (error=E): parallel_tiles'
+  // tiles below are the plan's.
+  const TextureFilterPlan plan = texture_filter_plan(opts.params, opts.width, opts.height, scene.source);
+  const bool mip = plan.tiles.empty() ? uses_pyramid(f.filter) : plan.uses(uses_pyramid);
   // The pyramid, timed apart (a one-shot cost: an application builds it once per texture).
   const Stopwatch build_watch;
   const Pyramid pyr = build_pyramid(tex, mip, opts.threads);
@@ -736,9 +740,10 @@ Image texture_filter(const TextureScene& scene, const FrameOptions& opts, FrameS
   const float bg[4] = {float(scene.background.x), float(scene.background.y), float(scene.background.z), 1};
   Image img = Image::uninitialized(opts.width, opts.height);
   std::atomic<uint64_t> lookups{0};
-  parallel_tiles(opts.width, opts.height, 64, 16, opts.threads, opts.progress, [&](int x0, int y0, int x1, int y1) {
+  parallel_tiles(opts.width, opts.height, kFilterTileW, kFilterTileH, opts.threads, opts.progress,
+                 [&](int x0, int y0, int x1, int y1) {
     uint64_t n = 0;
-    HWY_DYNAMIC_DISPATCH(FilterRows)(pyr, map, f, bg, img, x0, y0, x1, y1, &n);
+    HWY_DYNAMIC_DISPATCH(FilterRows)(pyr, map, plan.tiles.empty() ? f : plan.at(x0, y0), bg, img, x0, y0, x1, y1, &n);
     lookups += n;
   });
   if (stats) {

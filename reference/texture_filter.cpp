@@ -250,70 +250,78 @@ Rgba average_over(const Texture& t, const Polygon2& footprint) {
 
 // ---------------------------------------------------------------- the image
 
+bool filter_pixel(const Texture& tex, const std::vector<Texture>& pyramid, const TexelMap& map,
+                  const TextureFilterSettings& f, int x, int y, const Rgba& background, Rgba& c) {
+  // The texel point the pixel's centre sees, if it sees the quad.
+  double a, b;
+  c = background;
+  if (!map.texel_at(x + 0.5, y + 0.5, a, b) || !map.on_quad(a, b)) return false;
+  double dadx, dbdx, dady, dbdy;
+  map.derivatives(x + 0.5, y + 0.5, dadx, dbdx, dady, dbdy);
+  switch (f.filter) {
+    case TextureFilter::point:
+      c = lookup_point(tex, a, b);
+      break;
+    case TextureFilter::bilinear:
+      c = lookup_bilinear(pyramid, 0, a, b);
+      break;
+    case TextureFilter::area:
+      c = average_over(tex, map.footprint(x, y));
+      break;
+    case TextureFilter::super: {
+      // n x n point samples on a regular grid over the pixel square; a
+      // sample that misses the quad sees the background.
+      c = Rgba{};
+      for (int sy = 0; sy < f.n; ++sy)
+        for (int sx = 0; sx < f.n; ++sx) {
+          double sa, sb;
+          const bool hit =
+              map.texel_at(x + (sx + 0.5) / f.n, y + (sy + 0.5) / f.n, sa, sb) && map.on_quad(sa, sb);
+          add(c, hit ? lookup_point(tex, sa, sb) : background, 1.0 / (f.n * f.n));
+        }
+      break;
+    }
+    case TextureFilter::mip_nearest: {
+      // OpenGL's nearest level: lambda <= 1/2 is level 0, else ceil(lambda + 1/2) - 1.
+      const double lod = level_of_detail(dadx, dbdx, dady, dbdy);
+      int level = lod <= 0.5 ? 0 : int(std::ceil(lod + 0.5)) - 1;
+      level = std::min(level, int(pyramid.size()) - 1);
+      c = lookup_bilinear(pyramid, level, a, b);
+      break;
+    }
+    case TextureFilter::trilinear:
+      c = lookup_trilinear(pyramid, level_of_detail(dadx, dbdx, dady, dbdy), a, b);
+      break;
+    case TextureFilter::aniso:
+      c = lookup_aniso(pyramid, f.n, a, b, dadx, dbdx, dady, dbdy);
+      break;
+    case TextureFilter::ewa:
+      c = lookup_ewa(pyramid, f.n, a, b, dadx, dbdx, dady, dbdy);
+      break;
+  }
+  return true;
+}
+
 Image texture_filter(const TextureScene& scene, const FrameOptions& opts, FrameStats* stats) {
   const TextureFilterSettings f = texture_filter_settings(opts.params, scene.source);
+  // A filter per tile, when the settings name one (error=E).
+  const TextureFilterPlan plan = texture_filter_plan(opts.params, opts.width, opts.height, scene.source);
   const Texture& tex = scene.texture;
   if (tex.width < 1 || tex.height < 1) throw InputError(scene.source, 0, "empty texture");
   const TexelMap map = TexelMap::make(scene, opts.width, opts.height);
-  // The mipmap, for the filters that use one.
-  std::vector<Texture> pyramid;
-  if (f.filter == TextureFilter::mip_nearest || f.filter == TextureFilter::trilinear ||
-      f.filter == TextureFilter::aniso || f.filter == TextureFilter::ewa || f.filter == TextureFilter::bilinear)
-    pyramid = f.filter == TextureFilter::bilinear ? std::vector<Texture>{tex} : build_pyramid(tex);
+  // The mipmap, for the filters that use one (bilinear: level 0 alone, a copy).
+  auto is_bilinear = [](TextureFilter g) { return g == TextureFilter::bilinear; };
+  const bool mip = plan.tiles.empty() ? uses_pyramid(f.filter) : plan.uses(uses_pyramid);
+  const bool level0 = plan.tiles.empty() ? is_bilinear(f.filter) : plan.uses(is_bilinear);
+  const std::vector<Texture> pyramid =
+      mip ? build_pyramid(tex) : level0 ? std::vector<Texture>{tex} : std::vector<Texture>{};
   const Rgba background{scene.background.x, scene.background.y, scene.background.z, 1};
   Image img(opts.width, opts.height);
   uint64_t lookups = 0;
   for (int y = 0; y < opts.height; ++y) {
     for (int x = 0; x < opts.width; ++x) {
-      // The texel point the pixel's centre sees, if it sees the quad.
-      double a, b;
-      Rgba c = background;
-      if (map.texel_at(x + 0.5, y + 0.5, a, b) && map.on_quad(a, b)) {
-        ++lookups;
-        double dadx, dbdx, dady, dbdy;
-        map.derivatives(x + 0.5, y + 0.5, dadx, dbdx, dady, dbdy);
-        switch (f.filter) {
-          case TextureFilter::point:
-            c = lookup_point(tex, a, b);
-            break;
-          case TextureFilter::bilinear:
-            c = lookup_bilinear(pyramid, 0, a, b);
-            break;
-          case TextureFilter::area:
-            c = average_over(tex, map.footprint(x, y));
-            break;
-          case TextureFilter::super: {
-            // n x n point samples on a regular grid over the pixel square; a
-            // sample that misses the quad sees the background.
-            c = Rgba{};
-            for (int sy = 0; sy < f.n; ++sy)
-              for (int sx = 0; sx < f.n; ++sx) {
-                double sa, sb;
-                const bool hit = map.texel_at(x + (sx + 0.5) / f.n, y + (sy + 0.5) / f.n, sa, sb) &&
-                                 map.on_quad(sa, sb);
-                add(c, hit ? lookup_point(tex, sa, sb) : background, 1.0 / (f.n * f.n));
-              }
-            break;
-          }
-          case TextureFilter::mip_nearest: {
-            // OpenGL's nearest level: lambda <= 1/2 is level 0, else ceil(lambda + 1/2) - 1.
-            const double lod = level_of_detail(dadx, dbdx, dady, dbdy);
-            int level = lod <= 0.5 ? 0 : int(std::ceil(lod + 0.5)) - 1;
-            level = std::min(level, int(pyramid.size()) - 1);
-            c = lookup_bilinear(pyramid, level, a, b);
-            break;
-          }
-          case TextureFilter::trilinear:
-            c = lookup_trilinear(pyramid, level_of_detail(dadx, dbdx, dady, dbdy), a, b);
-            break;
-          case TextureFilter::aniso:
-            c = lookup_aniso(pyramid, f.n, a, b, dadx, dbdx, dady, dbdy);
-            break;
-          case TextureFilter::ewa:
-            c = lookup_ewa(pyramid, f.n, a, b, dadx, dbdx, dady, dbdy);
-            break;
-        }
-      }
+      Rgba c;
+      if (filter_pixel(tex, pyramid, map, plan.tiles.empty() ? f : plan.at(x, y), x, y, background, c)) ++lookups;
       float* p = img.pixel(x, y);
       for (int k = 0; k < 4; ++k) p[k] = float(c[k]);
     }

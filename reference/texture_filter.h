@@ -39,6 +39,13 @@ Rgba lookup_ewa(const std::vector<Texture>& pyramid, double max_eccentricity, do
 // coordinates (area sampling); empty polygon: {0, 0, 0, 0}.
 Rgba average_over(const Texture& t, const Polygon2& footprint);
 
+// Pixel (x, y) filtered by f: false (c = background) when its centre misses
+// the quad. pyramid: build_pyramid(tex) for the filters that use one, else
+// at least level 0.
+bool filter_pixel(const Texture& tex, const std::vector<Texture>& pyramid, const TexelMap& map,
+                  const TextureFilterSettings& f, int x, int y, const Rgba& background, Rgba& c);
+
+// The frame; params' filter_tiles (core/texture.h), when set, a filter per tile.
 Image texture_filter(const TextureScene& scene, const FrameOptions& opts, FrameStats* stats);
 
 }  // namespace lockstep::ref

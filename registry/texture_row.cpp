@@ -2,13 +2,23 @@
 // the contract and conventions, props/texture/ for the properties and bounds).
 #include "registry/texture_row.h"
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <functional>
+#include <map>
 #include <memory>
+#include <string>
+#include <vector>
 #include <span>
 
 #include "core/error.h"
+#include "core/timer.h"
 #include "io/texture_scene.h"
 #include "kinds/image_kind.h"
 #include "optimized/texture_filter_simd.h"
+#include "optimized/tiling.h"
 #include "optimized/texture_oiio.h"
 #include "optimized/raster_llvmpipe.h"
 #include "reference/texture_filter.h"
@@ -40,6 +50,15 @@ Input load(const std::string& path) {
   const int w = s.width, h = s.height;
   const Vec3 bg = s.background;
   return make_input<TextureScene>(std::move(s), path, w, h, bg);
+}
+
+double error_target(const Params& p) {
+  const std::string s = p.get("error");
+  char* end = nullptr;
+  const double e = std::strtod(s.c_str(), &end);
+  if (s.empty() || *end != 0 || !(e > 0 && e <= 1))
+    throw InputError("settings", 0, "error: '" + s + "' is not a number in (0, 1]");
+  return e;
 }
 
 Wrap wrap_named(const std::string& w) {
@@ -105,6 +124,113 @@ std::vector<BenchInput> bench_inputs() {
   return out;
 }
 
+// error=E: per tile, the cheapest filter whose error stays under E, measured
+// on the frame itself. The ladder, cheapest first (the simd row's ns a
+// lookup on the study's zone plate; bilinear, mip_nearest, superN and EWA are
+// each slower than a ladder filter at least as accurate there, BENCHMARKS.md):
+constexpr const char* kErrorLadder[] = {"point", "trilinear", "aniso2", "aniso4", "aniso8", "aniso16"};
+
+// Sample pixels a tile: a grid of kSamplesX x kSamplesY.
+constexpr int kSamplesX = 6, kSamplesY = 3;
+
+struct FilterChoice {
+  std::string names;             // filter_tiles
+  std::map<std::string, int> tiles_of;  // tiles per filter
+  int tiles = 0;
+  double worst = 0;              // the largest error at a sample among the chosen filters
+};
+
+// The error of a value against the yardstick: RMS over R, G and B.
+double rgb_rms(const ref::Rgba& a, const ref::Rgba& b) {
+  double s = 0;
+  for (int c = 0; c < 3; ++c) s += (a[size_t(c)] - b[size_t(c)]) * (a[size_t(c)] - b[size_t(c)]);
+  return std::sqrt(s / 3);
+}
+
+// Per tile of core/texture.h's plan: 18 sample pixels (a 6 x 3 grid over
+// the tile; where some miss the quad, 18 of the tile's pixels that see it,
+// evenly spread), the yardstick at each -- area sampling, the average of the
+// texels over the pixel's footprint (within the bound props/texture states of
+// the pixel's exact box filter: 0.0014 RMS on the study's zone plate) -- and
+// each ladder filter's value there by the reference's lookups; the tile gets
+// the first filter whose largest sample error is at most E, else area
+// sampling itself.
+FilterChoice choose_filters(const TextureScene& scene, int width, int height, double target, int threads,
+                            const std::function<void(double)>& progress) {
+  const TexelMap map = TexelMap::make(scene, width, height);
+  const std::vector<Texture> pyramid = ref::build_pyramid(scene.texture);
+  const ref::Rgba bg{scene.background.x, scene.background.y, scene.background.z, 1};
+  std::vector<TextureFilterSettings> ladder;
+  for (const char* name : kErrorLadder) {
+    TextureFilterSettings f;
+    parse_texture_filter(name, f);
+    ladder.push_back(f);
+  }
+  TextureFilterSettings area;
+  parse_texture_filter("area", area);
+  auto sees = [&](int x, int y) {
+    double a, b;
+    return map.texel_at(x + 0.5, y + 0.5, a, b) && map.on_quad(a, b);
+  };
+  const int tiles_x = (width + kFilterTileW - 1) / kFilterTileW, tiles_y = (height + kFilterTileH - 1) / kFilterTileH;
+  std::vector<const char*> picks(size_t(tiles_x) * size_t(tiles_y));
+  std::vector<double> errors(picks.size());
+  std::vector<uint8_t> sampled(picks.size());
+  opt::parallel_tiles(width, height, kFilterTileW, kFilterTileH, threads, progress, [&](int x0, int y0, int x1, int y1) {
+      std::vector<std::pair<int, int>> samples;
+      for (int j = 0; j < kSamplesY; ++j)
+        for (int i = 0; i < kSamplesX; ++i) {
+          const int x = x0 + (2 * i + 1) * (x1 - x0) / (2 * kSamplesX);
+          const int y = y0 + (2 * j + 1) * (y1 - y0) / (2 * kSamplesY);
+          if (sees(x, y)) samples.emplace_back(x, y);
+        }
+      if (samples.size() < size_t(kSamplesX * kSamplesY)) {
+        std::vector<std::pair<int, int>> all;
+        for (int y = y0; y < y1; ++y)
+          for (int x = x0; x < x1; ++x)
+            if (sees(x, y)) all.emplace_back(x, y);
+        if (all.size() > samples.size()) {
+          samples.clear();
+          const size_t n = std::min<size_t>(kSamplesX * kSamplesY, all.size());
+          for (size_t k = 0; k < n; ++k) samples.push_back(all[(2 * k + 1) * all.size() / (2 * n)]);
+        }
+      }
+      const char* pick = samples.empty() ? "point" : "area";  // no pixel sees the quad: nothing to filter
+      double err_of_pick = 0;
+      if (!samples.empty()) {
+        std::vector<ref::Rgba> yard(samples.size());
+        for (size_t k = 0; k < samples.size(); ++k)
+          ref::filter_pixel(scene.texture, pyramid, map, area, samples[k].first, samples[k].second, bg, yard[k]);
+        for (size_t l = 0; l < ladder.size(); ++l) {
+          double worst = 0;
+          for (size_t k = 0; k < samples.size() && worst <= target; ++k) {
+            ref::Rgba c;
+            ref::filter_pixel(scene.texture, pyramid, map, ladder[l], samples[k].first, samples[k].second, bg, c);
+            worst = std::max(worst, rgb_rms(c, yard[k]));
+          }
+          if (worst <= target) {
+            pick = kErrorLadder[l];
+            err_of_pick = worst;
+            break;
+          }
+        }
+      }
+      const size_t tile = size_t(y0 / kFilterTileH) * size_t(tiles_x) + size_t(x0 / kFilterTileW);
+      picks[tile] = pick;
+      errors[tile] = err_of_pick;
+      sampled[tile] = !samples.empty();
+  });
+  FilterChoice out;
+  for (size_t tile = 0; tile < picks.size(); ++tile) {
+    out.names += (out.names.empty() ? "" : " ") + std::string(picks[tile]);
+    ++out.tiles;
+    if (!sampled[tile]) continue;
+    ++out.tiles_of[picks[tile]];
+    out.worst = std::max(out.worst, errors[tile]);
+  }
+  return out;
+}
+
 }  // namespace
 
 Family texture_family() {
@@ -164,11 +290,63 @@ Family texture_family() {
               {"texture", "\"checker N CELLS\"|\"zoneplate N [K]\"|\"noise N SEED\"|\"file PATH [srgb|linear]\"", "",
                "the texture in place of the scene's (a .texscene texture line's words)"},
               {"wrap", "repeat|clamp|mirror", "", "the wrap mode in place of the scene's"}};
+  f.params.push_back({"error", "E in (0, 1]", "",
+                      "instead of filter: per 64x16 tile the cheapest of point, trilinear, aniso2..16 whose error "
+                      "(RGB RMS against area sampling) at 9 sample pixels is at most E, else area"});
   f.check_params = [](const Params& p) {
     texture_filter_settings(p, "settings");
     if (p.has("wrap")) wrap_named(p.get("wrap"));
+    if (p.has("error")) {
+      error_target(p);
+      if (p.has("filter")) throw InputError("settings", 0, "error: give filter or error, not both");
+    }
   };
-  f.properties = {"pyramid", "constant", "agreement", "oracle", "rotation"};
+  // error=E (choose_filters above): the search is the run's one-shot cost
+  // (build time); the frame drawn is the row's own with a filter per tile.
+  // The peers cannot take a filter per tile: refused.
+  for (FamilyImpl& impl : f.impls)
+    impl.run = [run = impl.run, peer = !impl.peer.empty(), name = std::string(impl.name)](
+                   const Input& in, const FrameOptions& o, FrameStats* stats) {
+      if (!o.params.has("error")) return run(in, o, stats);
+      const TextureScene& scene = input_as<TextureScene>(in);
+      if (peer)
+        throw InputError(scene.source, 0,
+                         "error: the " + name + " row cannot draw a filter per tile (use --impl simd or reference)");
+      const double target = error_target(o.params);
+      const Stopwatch clock;
+      // Progress: the search the first half, the frame the second.
+      auto half = [&o](double from) {
+        return o.progress ? std::function<void(double)>([&o, from](double f) { o.progress(from + f / 2); })
+                          : std::function<void(double)>();
+      };
+      const FilterChoice choice = choose_filters(scene, o.width, o.height, target, o.threads, half(0));
+      const double search = clock.seconds();
+      FrameOptions fo = o;
+      fo.progress = half(0.5);
+      fo.params.items.clear();
+      for (const auto& [k, v] : o.params.items)
+        if (k != "error") fo.params.set(k, v);
+      fo.params.set("filter_tiles", choice.names);
+      Output out = run(in, fo, stats);
+      if (stats) {
+        stats->build_seconds += search;
+        std::string share;
+        for (const char* name : kErrorLadder)
+          if (auto it = choice.tiles_of.find(name); it != choice.tiles_of.end())
+            share += (share.empty() ? "" : ", ") + std::string(name) + " " + std::to_string(it->second);
+        if (auto it = choice.tiles_of.find("area"); it != choice.tiles_of.end())
+          share += (share.empty() ? "" : ", ") + std::string("area ") + std::to_string(it->second);
+        int sampled = 0;
+        for (const auto& [name, n] : choice.tiles_of) sampled += n;
+        char tail[200];
+        std::snprintf(tail, sizeof tail,
+                      " of %d tiles (%d see no quad); largest sample error %.3g (RGB RMS against area sampling)",
+                      choice.tiles, choice.tiles - sampled, choice.worst);
+        stats->chosen = "filters for error " + o.params.get("error") + ": " + share + tail;
+      }
+      return out;
+    };
+  f.properties = {"pyramid", "constant", "agreement", "oracle", "rotation", "tiles"};
   return f;
 }
 

@@ -447,13 +447,18 @@ def build(res, targets_path, partial=False):
         extra("ray_trace")
 
     page.add("## Texture filtering", TEXTURE, reproduce(TEXTURE_STUDY))
-    page.table("Targets", lambda a, b: texture_chart.targets(texture_chart.load(a), texture_chart.load(b)),
-               ["texture_study.csv", "texture_study_2t.csv"], TEXTURE_TARGETS_NOTE)
+    page.table("Targets", lambda a, b, c: texture_chart.targets(texture_chart.load(a), texture_chart.load(b),
+                                                                texture_chart.load_plane(c)),
+               ["texture_study.csv", "texture_study_2t.csv", "texture_plane.csv"], TEXTURE_TARGETS_NOTE)
     page.table("Speed against accuracy: every filter of every row, one thread",
                lambda p: texture_chart.table(texture_chart.load(p)), ["texture_study.csv"], TEXTURE_NOTE,
                ("texture_speed_accuracy.png", "texture filtering: error against time per lookup"))
     page.table("The same on two threads", lambda p: texture_chart.table(texture_chart.load(p)),
                ["texture_study_2t.csv"], TEXTURE_2T_NOTE)
+    page.table("error=E: a filter per tile", lambda p: texture_chart.error_table(texture_chart.load(p)),
+               ["texture_study.csv"], TEXTURE_ERROR_NOTE)
+    page.table("The issue's 1024^2 receding plane", lambda p: texture_chart.plane_table(texture_chart.load_plane(p)),
+               ["texture_plane.csv"], TEXTURE_PLANE_NOTE)
     page.table("Where each filter breaks: viewing angle against minification",
                lambda p: texture_map_chart.table(texture_map_chart.load(p)), ["texture_map.csv"], TEXTURE_MAP_NOTE,
                ("texture_failure_maps.png", "texture filtering: failure maps"))
@@ -587,22 +592,32 @@ and upload, about 0.3 s) is measured apart and not in these figures, and
 the peers run through their sessions (the .tx and TextureSystem, the GL
 context and texture kept across frames, as an application keeps them)."""
 
-TEXTURE_TARGETS_NOTE = """Evaluated by bench/scripts/texture_chart.py over the two tables below. The
-reference's trilinear is cheap on this scene (its texture, 1 MB with the
-pyramid, stays in cache; 16 integer divisions of its wrap per lookup are
-most of its time; its figure is its frame less its pyramid, timed apart:
-the noisiest figure here, 59-71 ns over three runs). Whole warm frames on
-the 1024^2 zone plate of the frame benchmarks (a 16 MB texture;
-`lockstep_bench --benchmark_filter=frame/texture/zoneplate-plane-`, each
-row's session, one process per thread count for llvmpipe, which reads
-its thread count once): trilinear simd 10.3 ms on one thread and 5.8 on
-two, llvmpipe 14.4 and 12.6, OpenImageIO 116 and 137; aniso16 simd 85.5 and
-44.9, llvmpipe 154 and 83, OpenImageIO 442 and 340; point simd 5.1 and 2.6,
-llvmpipe 10.0 and 10.3, OpenImageIO 54 and 60. The reference on the same
-frame (at a quarter of the pixels, pyramid included) runs trilinear at
-3.0 M lookups/s against simd's 62 M/s. What keeps simd's anisotropic
-filters from the 5x: each probe is a scalar trilinear lookup (the
-trilinear filter alone has the vectorised row kernel)."""
+TEXTURE_TARGETS_NOTE = """Evaluated by bench/scripts/texture_chart.py over the tables below. On the
+192^2 scene the reference's trilinear is cheap (its texture, 1 MB with the
+pyramid, stays in cache; its figure is its frame less its pyramid, timed
+apart: the noisiest figure here, 59-71 ns over runs); on the issue's 1024^2
+plane (a 22 MB pyramid) every row waits on memory, the reference most."""
+
+TEXTURE_ERROR_NOTE = """`lockstep texture SCENE --error E` (registry/texture_row.cpp): per 64 x 16
+tile, the cheapest of point, trilinear, aniso2, aniso4, aniso8 and aniso16
+whose largest error at 18 sample pixels of the tile (RGB RMS against area
+sampling, the average of the texels over each footprint) is at most E, else
+area sampling. The search is its one-shot cost (the reference's lookups at
+the samples; search column); the frame is then drawn once, a filter per
+tile. E bounds the samples, not every pixel: the frame's RMS against the
+pixel's exact box filter stays under E (checked by `ctest -R
+texture_study`), single pixels do not (max column). Between aniso16 and
+area sampling no single filter has a point; error=E fills that stretch, and
+at E = 0.1-0.2 it is cheaper than the single filters of the same error. The
+search grows with the footprints: 0.05 s at 192^2, 4 s for the 1024^2 plane
+below (horizon tiles: area sampling over thousands of texels a sample)."""
+
+TEXTURE_PLANE_NOTE = """`./build/bench/lockstep_texture_study --plane > bench/results/texture_plane.csv`:
+the registry's benchmark input (the scene of the issue's peer figures),
+warm, best of 3, lookups alone (each row's one-shot set-up apart; the peers
+through their sessions). llvmpipe at one thread only (it reads its thread
+count once per process: `--two-threads` of the study above has its two-thread
+figures)."""
 
 TEXTURE_2T_NOTE = """`lockstep_texture_study --two-threads` (a process of its own: llvmpipe reads
 its thread count once per process, at its first context). At 192 x 192 a frame
@@ -637,6 +652,7 @@ between texels that the box filter keeps sharp."""
 
 TEXTURE_STUDY = ("./build/bench/lockstep_texture_study > bench/results/texture_study.csv && "
                  "./build/bench/lockstep_texture_study --two-threads > bench/results/texture_study_2t.csv && "
+                 "./build/bench/lockstep_texture_study --plane > bench/results/texture_plane.csv && "
                  "python3 bench/scripts/texture_chart.py bench/results/texture_study.csv bench/charts")
 
 TEXTURE_NOTE = """RMS: over the interior pixels (all four corners on the quad), RGB; the

@@ -25,14 +25,15 @@ def load(csv):
         if line and not line.startswith("#") and not line.startswith("row,"):
             f = line.split(",")
             rows.append(dict(row=f[0], filter=f[1], rms=float(f[2]), p99=float(f[3]), max=float(f[4]),
-                             s=float(f[5]), lookups=int(f[6]), ns=float(f[7])))
+                             s=float(f[5]), lookups=int(f[6]), ns=float(f[7]),
+                             setup=float(f[8]) if len(f) > 8 else None))
     return rows
 
 
 def table(rows):
     filters = []
     for r in rows:
-        if r["filter"] not in filters:
+        if r["filter"] not in filters and not r["filter"].startswith("error"):
             filters.append(r["filter"])
     body = []
     for flt in filters:
@@ -48,9 +49,44 @@ def table(rows):
                                     "llvmpipe RMS error", "llvmpipe ns/lookup"], body)
 
 
-def targets(rows1, rows2):
-    """Issue #32's targets, evaluated over the one-thread and two-thread studies:
-    a markdown table of target, measured, verdict."""
+def load_plane(csv):
+    """lockstep_texture_study --plane: row,filter,threads,seconds,lookups,ns_per_lookup,setup_seconds."""
+    rows = []
+    for line in open(csv):
+        line = line.strip()
+        if line and not line.startswith("#") and not line.startswith("row,"):
+            f = line.split(",")
+            rows.append(dict(row=f[0], filter=f[1], threads=int(f[2]), s=float(f[3]), lookups=int(f[4]),
+                             ns=float(f[5]), setup=float(f[6])))
+    return rows
+
+
+def plane_table(rows):
+    """The 1024^2 plane: ms a frame and ns a lookup per row, filter and thread count."""
+    body = []
+    for r in rows:
+        body.append([r["filter"], r["row"], str(r["threads"]), f"{r['s'] * 1e3:.1f}", f"{r['ns']:.1f}",
+                     f"{r['setup'] * 1e3:.1f}"])
+    return chartlib.markdown_table(["filter", "row", "threads", "ms a frame (lookups alone)", "ns/lookup",
+                                    "set-up ms (one-shot, apart)"], body)
+
+
+def error_table(rows):
+    """The simd row's error=E points (a filter per tile): markdown."""
+    body = []
+    for r in rows:
+        if r["row"] == "simd" and r["filter"].startswith("error"):
+            e = r["filter"][len("error"):]
+            setup = f"{r['setup'] * 1e3:.0f} ms" if r["setup"] is not None else "-"
+            body.append([e, f"{r['rms']:.4f}", "yes" if r["rms"] <= float(e) else "**no**", f"{r['p99']:.3f}",
+                         f"{r['max']:.3f}", f"{r['ns']:.1f}", setup])
+    return chartlib.markdown_table(["error E", "frame RMS error", "RMS <= E", "p99 error", "max error",
+                                    "simd ns/lookup", "search (one-shot)"], body)
+
+
+def targets(rows1, rows2, plane=None):
+    """Issue #32's targets, evaluated over the one-thread and two-thread studies
+    (and the 1024^2 plane where given): a markdown table of target, measured, verdict."""
     g1 = {(r["row"], r["filter"]): r for r in rows1}
     g2 = {(r["row"], r["filter"]): r for r in rows2}
     out = []
@@ -59,8 +95,14 @@ def targets(rows1, rows2):
         out.append([text, measured, "**met**" if met else "**not met**"])
 
     ref, simd = g1[("reference", "trilinear")], g1[("simd", "trilinear")]
-    add("simd trilinear at least 10x the reference, one thread (lookups alone)",
+    add("simd trilinear at least 10x the reference, one thread (lookups alone): 192^2 zone plate",
         f"{ref['ns'] / simd['ns']:.1f}x ({simd['ns']:.1f} against {ref['ns']:.1f} ns)", ref["ns"] / simd["ns"] >= 10)
+    if plane:
+        gp = {(r["row"], r["filter"], r["threads"]): r for r in plane}
+        pr, ps = gp.get(("reference", "trilinear", 1)), gp.get(("simd", "trilinear", 1))
+        if pr and ps:
+            add("the same on the issue's 1024^2 receding plane (a 1024^2 zone plate, 16 x 64 repeats)",
+                f"{pr['ns'] / ps['ns']:.1f}x ({ps['ns']:.1f} against {pr['ns']:.1f} ns)", pr["ns"] / ps["ns"] >= 10)
 
     def best_at_or_below(g, row, err, prefix=("trilinear", "aniso", "mip_nearest", "bilinear", "point", "ewa", "super")):
         """row's fastest filter whose RMS error is at most err."""
@@ -119,16 +161,20 @@ def main():
     rows = load(a.study_csv)
     print(table(rows))
     dat = os.path.join(a.out_dir, "texture_speed_accuracy.dat")
+    def series_of(r):
+        return r["row"] + (" error=E" if r["filter"].startswith("error") else "")
+
     series = []
     for r in rows:
-        if r["row"] not in series:
-            series.append(r["row"])
+        if series_of(r) not in series:
+            series.append(series_of(r))
     with open(dat, "w") as f:
         for row in series:
             f.write(f"# {row}\n")
             for r in rows:
-                if r["row"] == row:
-                    f.write(f"{r['ns']} {r['rms']} {r['filter']}\n")
+                if series_of(r) == row:
+                    label = r["filter"].replace("error", "E=") if r["filter"].startswith("error") else r["filter"]
+                    f.write(f"{r['ns']} {r['rms']} {label}\n")
             f.write("\n\n")
     plots = ", ".join(
         f"'{dat}' index {k} using 1:2 with points pt 7 title '{row}', "

@@ -21,6 +21,7 @@ std::string write_case(const TexCase& c) {
   const TextureScene& sc = c.scene;
   std::ostringstream s;
   s << "filter " << c.filter << '\n';
+  if (!c.tiles.empty()) s << "tiles " << c.tiles << '\n';
   s << "size " << sc.width << ' ' << sc.height << '\n';
   s << "wrap " << wrap_name(sc.texture.wrap) << '\n';
   put(s, "origin", sc.origin);
@@ -62,6 +63,7 @@ TexCase read_case(const std::string& text, const std::string& file) {
   std::string key;
   while (s >> key) {
     if (key == "filter") s >> c.filter;
+    else if (key == "tiles") std::getline(s >> std::ws, c.tiles);
     else if (key == "size") s >> sc.width >> sc.height;
     else if (key == "wrap") {
       std::string w;

@@ -11,6 +11,7 @@ namespace lockstep::props::texture {
 struct TexCase {
   TextureScene scene;  // scene.width x scene.height is the frame size
   std::string filter = "trilinear";
+  std::string tiles;  // a filter per tile (core/texture.h, filter_tiles), or empty
 };
 
 std::string write_case(const TexCase& c);

@@ -28,6 +28,9 @@
 //       view (camera square to the quad: r = 1) they are equal up to float
 //       rounding; under perspective the row's error is the textbook method's,
 //       bounded and measured (the largest |area - box| is printed).
+//   Tiles.texture__<impl>      (part "tiles") a filter per tile (filter_tiles,
+//       what error=E draws): every tile equals the same tile of the frame
+//       drawn with its filter alone, exactly; frames of 2-3 x 2-3 tiles.
 //   Rotation.texture__<impl>   (part "rotation") the texture turned a quarter
 //       on the same quad re-parametrised (every point keeps its colour) gives
 //       the same image within kAgree, for the filters continuous in their
@@ -47,6 +50,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <map>
 #include <string>
 
 #include "props/gen/numbers.h"
@@ -70,7 +74,7 @@ constexpr double kPeerRotation = 1.0 / 255;
 const char* const kFilters[] = {"point", "bilinear", "area", "super2", "super4", "mip_nearest",
                                 "trilinear", "aniso4", "aniso16", "ewa"};
 
-enum class Kind { random, constant, affine, rotation };
+enum class Kind { random, constant, affine, rotation, tiles };
 
 rc::Gen<TexCase> case_gen(Kind kind, bool area_only) {
   return rc::gen::exec([kind, area_only] {
@@ -112,8 +116,14 @@ rc::Gen<TexCase> case_gen(Kind kind, bool area_only) {
     sc.view.angle = *gen::uniform(20, 80);
     sc.view.hither = 1e-3;
     sc.background = {0.25, 0.5, 0.75};
-    sc.width = int(*gen::int_in(3, 16));
-    sc.height = int(*gen::int_in(3, 16));
+    sc.width = kind == Kind::tiles ? int(*gen::int_in(kFilterTileW + 1, 3 * kFilterTileW)) : int(*gen::int_in(3, 16));
+    sc.height = kind == Kind::tiles ? int(*gen::int_in(kFilterTileH + 1, 3 * kFilterTileH)) : int(*gen::int_in(3, 16));
+    if (kind == Kind::tiles) {
+      // A filter per tile, each any of the family's.
+      const int tiles = ((sc.width + kFilterTileW - 1) / kFilterTileW) * ((sc.height + kFilterTileH - 1) / kFilterTileH);
+      for (int k = 0; k < tiles; ++k)
+        c.tiles += (k ? " " : "") + std::string(kFilters[*gen::int_in(0, int(std::size(kFilters)) - 1)]);
+    }
     static const char* const kContinuous[] = {"bilinear", "trilinear", "area", "ewa"};
     c.filter = area_only              ? "area"
                : kind == Kind::rotation ? kContinuous[*gen::int_in(0, 3)]
@@ -127,7 +137,8 @@ Image run(const FamilyImpl& impl, const TexCase& c) {
   o.width = c.scene.width;
   o.height = c.scene.height;
   o.threads = 1;
-  o.params.set("filter", c.filter);
+  if (c.tiles.empty()) o.params.set("filter", c.filter);
+  else o.params.set("filter_tiles", c.tiles);
   Input in = make_input<TextureScene>(c.scene, "case", o.width, o.height, c.scene.background);
   FrameStats st;
   return impl.run_as<Image>(in, o, &st);
@@ -156,6 +167,47 @@ Verdict agreement(const FamilyImpl& ref, const FamilyImpl& impl, const TexCase& 
         o.detail = c.filter + " pixel (" + std::to_string(x) + ", " + std::to_string(y) + "): reference " +
                    pixel_text(a.pixel(x, y)) + ", " + std::string(impl.name) + " " + pixel_text(b.pixel(x, y)) +
                    ", error " + std::to_string(err) + " > " + std::to_string(kAgree);
+      }
+      v.rays.push_back(std::move(o));
+    }
+  return v;
+}
+
+// A filter per tile: every tile of the frame equals the same tile of the
+// frame drawn with that tile's filter alone, exactly (the same kernels on
+// the same tiles).
+Verdict tiles(const FamilyImpl& impl, const TexCase& c) {
+  const Image planned = run(impl, c);
+  const TextureFilterPlan plan = texture_filter_plan(
+      [&] {
+        Params p;
+        p.set("filter_tiles", c.tiles);
+        return p;
+      }(),
+      c.scene.width, c.scene.height, "case");
+  std::map<std::string, Image> alone;
+  Verdict v;
+  for (int y = 0; y < planned.height; ++y)
+    for (int x = 0; x < planned.width; ++x) {
+      const std::string& name = plan.at(x, y).name;
+      if (!alone.count(name)) {
+        TexCase one = c;
+        one.tiles.clear();
+        one.filter = name;
+        alone[name] = run(impl, one);
+      }
+      const Image& a = alone[name];
+      double err = 0;
+      for (int k = 0; k < 4; ++k) err = std::max(err, double(std::abs(a.pixel(x, y)[k] - planned.pixel(x, y)[k])));
+      if (!(err == err)) err = INFINITY;
+      Outcome o;
+      o.err = err;
+      o.measured = true;
+      if (err > 0) {
+        o.kind = Outcome::unexplained;
+        o.label = "tile_differs";
+        o.detail = "pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") of a " + name + " tile: alone " +
+                   pixel_text(a.pixel(x, y)) + ", in the plan " + pixel_text(planned.pixel(x, y));
       }
       v.rays.push_back(std::move(o));
     }
@@ -472,6 +524,12 @@ FamilyProperties properties(const Family& family, RunResources&) {
                                         case_gen(Kind::random, false), pyramid, "texel error"));
       out.properties.push_back(property(family, impl, "Lookups", "lookups", "texture_scene",
                                         case_gen(Kind::random, false), lookups, "channel error"));
+    }
+    if (family.has_property("tiles") && impl.peer.empty()) {
+      Property p = property(family, impl, "Tiles", "tiles", "texture_scene_tiles", case_gen(Kind::tiles, false),
+                            [ip](const TexCase& c) { return tiles(*ip, c); }, "channel difference");
+      p.bound = 0;
+      out.properties.push_back(std::move(p));
     }
     if (family.has_property("rotation")) {
       Property p = property(family, impl, "Rotation", "rotation", "texture_scene_whole_repeats",
