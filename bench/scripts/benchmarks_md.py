@@ -595,8 +595,10 @@ context and texture kept across frames, as an application keeps them)."""
 TEXTURE_TARGETS_NOTE = """Evaluated by bench/scripts/texture_chart.py over the tables below. On the
 192^2 scene the reference's trilinear is cheap (its texture, 1 MB with the
 pyramid, stays in cache; its figure is its frame less its pyramid, timed
-apart: the noisiest figure here, 59-71 ns over runs); on the issue's 1024^2
-plane (a 22 MB pyramid) every row waits on memory, the reference most."""
+apart: the noisiest figure here, 59-77 ns over runs); on the issue's 1024^2
+plane (a 22 MB pyramid) every row waits on memory, the reference most. Both
+ratios move 0.5-1x between runs (ad-hoc runs of the same frames gave 8.9-11.9x on
+the 1024^2 plane): the target is not met reliably on either."""
 
 TEXTURE_ERROR_NOTE = """`lockstep texture SCENE --error E` (registry/texture_row.cpp): per 64 x 16
 tile, the cheapest of point, trilinear, aniso2, aniso4, aniso8 and aniso16
@@ -623,8 +625,9 @@ TEXTURE_2T_NOTE = """`lockstep_texture_study --two-threads` (a process of its ow
 its thread count once per process, at its first context). At 192 x 192 a frame
 is 36 tiles of 23,130 lookups: two threads gain 1.6-1.9x for simd's costlier
 filters (anisotropic, supersampling, EWA, area) and nothing for point,
-bilinear and trilinear (such a frame is 0.3 ms); the 1024^2 frames above scale 1.8-2x for simd, 1.1-1.9x for llvmpipe, and not at
-all for OpenImageIO's trilinear and point (its tile cache's locks)."""
+bilinear and trilinear (such a frame is 0.2 ms); the 1024^2 plane below
+scales 1.7-2x for simd and not at all for OpenImageIO's trilinear (its tile
+cache's locks)."""
 
 TEXTURE_MAP_NOTE = """`./build/bench/lockstep_texture_map_study > bench/results/texture_map.csv && python3 bench/scripts/texture_map_chart.py bench/results/texture_map.csv bench/charts`
 (`ctest -R texture_map_study` checks its claims on three cells). A

@@ -176,8 +176,9 @@ def main():
                     label = r["filter"].replace("error", "E=") if r["filter"].startswith("error") else r["filter"]
                     f.write(f"{r['ns']} {r['rms']} {label}\n")
             f.write("\n\n")
+    palette = ["#555555", "#1f77b4", "#ff7f0e", "#d62728", "#2ca02c", "#9467bd"]
     plots = ", ".join(
-        f"'{dat}' index {k} using 1:2 with points pt 7 title '{row}', "
+        f"'{dat}' index {k} using 1:2 with points pt 7 lc rgb '{palette[k % len(palette)]}' title '{row}', "
         f"'' index {k} using 1:2:3 with labels offset 0,0.7 font ',8' notitle"
         for k, row in enumerate(series))
     subprocess.run(["gnuplot"], text=True, check=True, input=f"""set terminal pngcairo size 900,560
