@@ -297,44 +297,68 @@ V4 area(const Pyramid& p, const TexelMap& map, int x, int y) {
   return total > 0 ? hn::Mul(sum, hn::Set(d, float(1 / total))) : sum;
 }
 
-void row_coords(const TexelMap& map, int y, int x0, int n, RowCoords& rc) {
+// The homogeneous texel point (hx, hy, hz) of the pixel centres x0 + k ..
+// x0 + k + L - 1 of row y, a vector of doubles at a time: body(k, hx, hy, hz)
+// for k = 0, L, 2L, ... < n (the operations and order of TexelMap::texel_at).
+template <class Body>
+HWY_INLINE void ForEachPoint(const TexelMap& map, int y, int x0, int n, const Body& body) {
   const hn::ScalableTag<double> dd;
   using VD = hn::Vec<decltype(dd)>;
-  const int L = int(hn::Lanes(dd));
   const auto& m = map.to_texel.m;
   const double py = y + 0.5;
   const VD m0 = hn::Set(dd, m[0]), m3 = hn::Set(dd, m[3]), m6 = hn::Set(dd, m[6]);
   const VD cx = hn::Set(dd, m[1] * py), cy = hn::Set(dd, m[4] * py), cz = hn::Set(dd, m[7] * py);
   const VD ex = hn::Set(dd, m[2]), ey = hn::Set(dd, m[5]), ez = hn::Set(dd, m[8]);
-  const VD m1 = hn::Set(dd, m[1]), m4 = hn::Set(dd, m[4]), m7 = hn::Set(dd, m[7]);
-  const VD zero = hn::Zero(dd), one = hn::Set(dd, 1.0), half = hn::Set(dd, 0.5);
-  const VD hither = hn::Set(dd, map.hither), inf = hn::Set(dd, HUGE_VAL);
-  const VD qa = hn::Set(dd, map.tex_w * map.repeat_u), qb = hn::Set(dd, map.tex_h * map.repeat_v);
-  for (int k = 0; k < n; k += L) {
+  const VD half = hn::Set(dd, 0.5);
+  for (int k = 0; k < n; k += int(hn::Lanes(dd))) {
     const VD px = hn::Add(hn::Iota(dd, double(x0 + k)), half);
-    const VD hx = hn::Add(hn::Add(hn::Mul(m0, px), cx), ex);
-    const VD hy = hn::Add(hn::Add(hn::Mul(m3, px), cy), ey);
-    const VD hz = hn::Add(hn::Add(hn::Mul(m6, px), cz), ez);
+    body(k, hn::Add(hn::Add(hn::Mul(m0, px), cx), ex), hn::Add(hn::Add(hn::Mul(m3, px), cy), ey),
+         hn::Add(hn::Add(hn::Mul(m6, px), cz), ez));
+  }
+}
+
+// Whether texel point (a, b) = (hx, hy) / hz sees the quad (TexelMap::texel_at
+// and on_quad): in front of the camera, beyond hither, on the quad; false for NaN.
+template <class VD>
+HWY_INLINE auto SeesQuad(const TexelMap& map, VD hz, VD inv_hz, VD a, VD b) {
+  const hn::DFromV<VD> dd;
+  const VD zero = hn::Zero(dd);
+  auto ok = hn::And(hn::Gt(hz, zero), hn::Lt(hz, hn::Set(dd, HUGE_VAL)));
+  ok = hn::And(ok, hn::Ge(inv_hz, hn::Set(dd, map.hither)));
+  ok = hn::And(ok, hn::And(hn::Ge(a, zero), hn::Ge(b, zero)));
+  return hn::And(ok, hn::And(hn::Le(a, hn::Set(dd, map.tex_w * map.repeat_u)),
+                             hn::Le(b, hn::Set(dd, map.tex_h * map.repeat_v))));
+}
+
+// rc.valid[k .. k + L - 1] from a mask (L <= 8 lanes of doubles, k + L <= 64);
+// whether any lane is set.
+template <class D, class M>
+HWY_INLINE bool StoreValid(D dd, M ok, int k, RowCoords& rc) {
+  uint8_t bits[8] = {};
+  hn::StoreMaskBits(dd, ok, bits);
+  for (int l = 0; l < int(hn::Lanes(dd)); ++l) rc.valid[k + l] = bits[0] >> l & 1;
+  return bits[0] != 0;
+}
+
+void row_coords(const TexelMap& map, int y, int x0, int n, RowCoords& rc) {
+  const hn::ScalableTag<double> dd;
+  using VD = hn::Vec<decltype(dd)>;
+  const auto& m = map.to_texel.m;
+  const VD m0 = hn::Set(dd, m[0]), m3 = hn::Set(dd, m[3]), m6 = hn::Set(dd, m[6]);
+  const VD m1 = hn::Set(dd, m[1]), m4 = hn::Set(dd, m[4]), m7 = hn::Set(dd, m[7]);
+  const VD one = hn::Set(dd, 1.0);
+  ForEachPoint(map, y, x0, n, [&](int k, VD hx, VD hy, VD hz) {
     const VD a = hn::Div(hx, hz), b = hn::Div(hy, hz);
-    auto ok = hn::And(hn::Gt(hz, zero), hn::Lt(hz, inf));
-    ok = hn::And(ok, hn::Ge(hn::Div(one, hz), hither));
-    ok = hn::And(ok, hn::And(hn::Ge(a, zero), hn::Ge(b, zero)));
-    ok = hn::And(ok, hn::And(hn::Le(a, qa), hn::Le(b, qb)));  // false for NaN
+    const auto ok = SeesQuad(map, hz, hn::Div(one, hz), a, b);
     const VD iw2 = hn::Div(one, hn::Mul(hz, hz));
-    const VD dadx = hn::Mul(hn::Sub(hn::Mul(m0, hz), hn::Mul(hx, m6)), iw2);
-    const VD dbdx = hn::Mul(hn::Sub(hn::Mul(m3, hz), hn::Mul(hy, m6)), iw2);
-    const VD dady = hn::Mul(hn::Sub(hn::Mul(m1, hz), hn::Mul(hx, m7)), iw2);
-    const VD dbdy = hn::Mul(hn::Sub(hn::Mul(m4, hz), hn::Mul(hy, m7)), iw2);
     hn::StoreU(a, dd, rc.a + k);
     hn::StoreU(b, dd, rc.b + k);
-    hn::StoreU(dadx, dd, rc.dadx + k);
-    hn::StoreU(dbdx, dd, rc.dbdx + k);
-    hn::StoreU(dady, dd, rc.dady + k);
-    hn::StoreU(dbdy, dd, rc.dbdy + k);
-    alignas(64) double okv[8];
-    hn::StoreU(hn::IfThenElseZero(ok, one), dd, okv);
-    for (int l = 0; l < L && k + l < 64; ++l) rc.valid[k + l] = okv[l] != 0;
-  }
+    hn::StoreU(hn::Mul(hn::Sub(hn::Mul(m0, hz), hn::Mul(hx, m6)), iw2), dd, rc.dadx + k);
+    hn::StoreU(hn::Mul(hn::Sub(hn::Mul(m3, hz), hn::Mul(hy, m6)), iw2), dd, rc.dbdx + k);
+    hn::StoreU(hn::Mul(hn::Sub(hn::Mul(m1, hz), hn::Mul(hx, m7)), iw2), dd, rc.dady + k);
+    hn::StoreU(hn::Mul(hn::Sub(hn::Mul(m4, hz), hn::Mul(hy, m7)), iw2), dd, rc.dbdy + k);
+    StoreValid(dd, ok, k, rc);
+  });
 }
 
 // The same for trilinear alone, which is continuous in the texel point and
@@ -347,37 +371,19 @@ void row_coords_trilinear(const TexelMap& map, int y, int x0, int n, RowCoords& 
   const hn::ScalableTag<double> dd;
   const hn::Rebind<float, decltype(dd)> df;
   using VD = hn::Vec<decltype(dd)>;
-  const int L = int(hn::Lanes(dd));
   const auto& m = map.to_texel.m;
-  const double py = y + 0.5;
   const VD m0 = hn::Set(dd, m[0]), m3 = hn::Set(dd, m[3]), m6 = hn::Set(dd, m[6]);
-  const VD cx = hn::Set(dd, m[1] * py), cy = hn::Set(dd, m[4] * py), cz = hn::Set(dd, m[7] * py);
-  const VD ex = hn::Set(dd, m[2]), ey = hn::Set(dd, m[5]), ez = hn::Set(dd, m[8]);
   const VD m1 = hn::Set(dd, m[1]), m4 = hn::Set(dd, m[4]), m7 = hn::Set(dd, m[7]);
-  const VD zero = hn::Zero(dd), one = hn::Set(dd, 1.0), half = hn::Set(dd, 0.5);
-  const VD hither = hn::Set(dd, map.hither), inf = hn::Set(dd, HUGE_VAL);
-  const VD qa = hn::Set(dd, map.tex_w * map.repeat_u), qb = hn::Set(dd, map.tex_h * map.repeat_v);
+  const VD one = hn::Set(dd, 1.0);
   const auto halff = hn::Set(df, 0.5f);
-  for (int k = 0; k < n; k += L) {
-    const VD px = hn::Add(hn::Iota(dd, double(x0 + k)), half);
-    const VD hx = hn::Add(hn::Add(hn::Mul(m0, px), cx), ex);
-    const VD hy = hn::Add(hn::Add(hn::Mul(m3, px), cy), ey);
-    const VD hz = hn::Add(hn::Add(hn::Mul(m6, px), cz), ez);
+  ForEachPoint(map, y, x0, n, [&](int k, VD hx, VD hy, VD hz) {
     const VD inv = hn::Div(one, hz);
     const VD a = hn::Mul(hx, inv), b = hn::Mul(hy, inv);
-    auto ok = hn::And(hn::Gt(hz, zero), hn::Lt(hz, inf));
-    ok = hn::And(ok, hn::Ge(inv, hither));
-    ok = hn::And(ok, hn::And(hn::Ge(a, zero), hn::Ge(b, zero)));
-    ok = hn::And(ok, hn::And(hn::Le(a, qa), hn::Le(b, qb)));  // false for NaN
     hn::StoreU(a, dd, rc.a + k);
     hn::StoreU(b, dd, rc.b + k);
-    // The mask's bits, one byte a lane (L <= 8 lanes of doubles, k + L <= 64).
-    uint8_t bits[8] = {};
-    hn::StoreMaskBits(dd, ok, bits);
-    for (int l = 0; l < L; ++l) rc.valid[k + l] = bits[0] >> l & 1;
-    if (bits[0] == 0) {
-      hn::StoreU(zero, dd, rc.lod + k);
-      continue;
+    if (!StoreValid(dd, SeesQuad(map, hz, inv, a, b), k, rc)) {
+      hn::StoreU(hn::Zero(dd), dd, rc.lod + k);
+      return;
     }
     // d(a, b)/dx = (m0 - a m6, m3 - b m6) / w, d(a, b)/dy = (m1 - a m7, m4 - b m7) / w.
     const VD dadx = hn::Mul(hn::NegMulAdd(a, m6, m0), inv), dbdx = hn::Mul(hn::NegMulAdd(b, m6, m3), inv);
@@ -386,7 +392,7 @@ void row_coords_trilinear(const TexelMap& map, int y, int x0, int n, RowCoords& 
     const VD ry = hn::MulAdd(dady, dady, hn::Mul(dbdy, dbdy));
     const auto r = hn::DemoteTo(df, hn::Max(rx, ry));
     hn::StoreU(hn::PromoteTo(dd, hn::Mul(halff, hn::Log2(df, r))), dd, rc.lod + k);
-  }
+  });
 }
 
 // Trilinear for the n pixels of one row segment whose coordinates rc holds:

@@ -18,16 +18,18 @@ import subprocess
 import chartlib
 
 
-def load(csv):
-    rows = []
+def fields(csv):
+    """The comma-separated fields of each data line (no header, no comments)."""
     for line in open(csv):
         line = line.strip()
         if line and not line.startswith("#") and not line.startswith("row,"):
-            f = line.split(",")
-            rows.append(dict(row=f[0], filter=f[1], rms=float(f[2]), p99=float(f[3]), max=float(f[4]),
-                             s=float(f[5]), lookups=int(f[6]), ns=float(f[7]),
-                             setup=float(f[8]) if len(f) > 8 else None))
-    return rows
+            yield line.split(",")
+
+
+def load(csv):
+    return [dict(row=f[0], filter=f[1], rms=float(f[2]), p99=float(f[3]), max=float(f[4]), s=float(f[5]),
+                 lookups=int(f[6]), ns=float(f[7]), setup=float(f[8]) if len(f) > 8 else None)
+            for f in fields(csv)]
 
 
 def table(rows):
@@ -51,14 +53,8 @@ def table(rows):
 
 def load_plane(csv):
     """lockstep_texture_study --plane: row,filter,threads,seconds,lookups,ns_per_lookup,setup_seconds."""
-    rows = []
-    for line in open(csv):
-        line = line.strip()
-        if line and not line.startswith("#") and not line.startswith("row,"):
-            f = line.split(",")
-            rows.append(dict(row=f[0], filter=f[1], threads=int(f[2]), s=float(f[3]), lookups=int(f[4]),
-                             ns=float(f[5]), setup=float(f[6])))
-    return rows
+    return [dict(row=f[0], filter=f[1], threads=int(f[2]), s=float(f[3]), lookups=int(f[4]), ns=float(f[5]),
+                 setup=float(f[6])) for f in fields(csv)]
 
 
 def plane_table(rows):
