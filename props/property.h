@@ -76,6 +76,28 @@ void set_case_runner(Property& p, rc::Gen<Case> gen, std::function<Verdict(const
   p.replay = [judge, read](const std::string& text, const std::string& file) { return judge(read(text, file)); };
 }
 
+// A property of one of family's rows whose cases are values of type Case with
+// a text form: the names every family's properties share (the GoogleTest
+// name family__impl, the pair the family), its unit and units, and
+// set_case_runner's run and replay.
+template <class Case, class Write, class Read>
+Property case_property(const Family& family, const FamilyImpl& impl, std::string suite, std::string check,
+                       std::string generator, std::string unit, std::string units, rc::Gen<Case> gen,
+                       std::function<Verdict(const Case&)> judge, Write write, Read read) {
+  Property p;
+  p.family = std::string(family.name);
+  p.check = std::move(check);
+  p.suite = std::move(suite);
+  p.name = std::string(family.name) + "__" + std::string(impl.name);
+  p.generator = std::move(generator);
+  p.pair = std::string(family.name);
+  p.impl = std::string(impl.name);
+  p.unit = std::move(unit);
+  p.units = std::move(units);
+  set_case_runner<Case>(p, std::move(gen), std::move(judge), write, read);
+  return p;
+}
+
 // A plain test of the family that is not a random property (e.g. an exhaustive sweep).
 struct FixedTest {
   std::string suite, name;

@@ -95,18 +95,8 @@ namespace {
 
 Property property(const Family& family, const FamilyImpl& impl, std::string suite, std::string check,
                   std::string generator, rc::Gen<McCase> gen, std::function<Verdict(const McCase&)> judge) {
-  Property p;
-  p.family = std::string(family.name);
-  p.check = std::move(check);
-  p.suite = std::move(suite);
-  p.name = std::string(family.name) + "__" + std::string(impl.name);
-  p.generator = std::move(generator);
-  p.pair = std::string(family.name);
-  p.impl = std::string(impl.name);
-  p.unit = "meshes";
-  p.units = "volumes";
-  set_case_runner<McCase>(p, std::move(gen), std::move(judge), write_case, read_case);
-  return p;
+  return case_property<McCase>(family, impl, std::move(suite), std::move(check), std::move(generator), "meshes",
+                               "volumes", std::move(gen), std::move(judge), write_case, read_case);
 }
 
 }  // namespace

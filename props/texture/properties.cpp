@@ -480,18 +480,8 @@ Verdict lookups(const TexCase& c) {
 Property property(const Family& family, const FamilyImpl& impl, std::string suite, std::string check,
                   std::string generator, rc::Gen<TexCase> gen, std::function<Verdict(const TexCase&)> judge,
                   std::string unit) {
-  Property p;
-  p.family = std::string(family.name);
-  p.check = std::move(check);
-  p.suite = std::move(suite);
-  p.name = std::string(family.name) + "__" + std::string(impl.name);
-  p.generator = std::move(generator);
-  p.pair = std::string(family.name);
-  p.impl = std::string(impl.name);
-  p.unit = std::move(unit);
-  p.units = "pixels";
-  set_case_runner<TexCase>(p, std::move(gen), std::move(judge), write_case, read_case);
-  return p;
+  return case_property<TexCase>(family, impl, std::move(suite), std::move(check), std::move(generator),
+                                std::move(unit), "pixels", std::move(gen), std::move(judge), write_case, read_case);
 }
 
 }  // namespace

@@ -55,18 +55,10 @@ namespace {
 Property property(const Family& family, const FamilyImpl& impl, std::string suite, std::string check,
                   std::string generator, rc::Gen<VrCase> gen, double bound,
                   std::function<Verdict(const VrCase&)> judge) {
-  Property p;
-  p.family = std::string(family.name);
-  p.check = std::move(check);
-  p.suite = std::move(suite);
-  p.name = std::string(family.name) + "__" + std::string(impl.name);
-  p.generator = std::move(generator);
-  p.pair = std::string(family.name);
-  p.impl = std::string(impl.name);
+  Property p = case_property<VrCase>(family, impl, std::move(suite), std::move(check), std::move(generator),
+                                     "largest channel difference", "pixels", std::move(gen), std::move(judge),
+                                     write_case, read_case);
   p.bound = bound;
-  p.unit = "largest channel difference";
-  p.units = "pixels";
-  set_case_runner<VrCase>(p, std::move(gen), std::move(judge), write_case, read_case);
   return p;
 }
 
