@@ -222,6 +222,15 @@ std::string version() {
 namespace {
 
 // One frame through ctx, made (or remade for another size) when needed.
+// ctx, made (or remade) for opts' frame size when it is not: the seconds
+// that took (0 when kept), its notes added to notes.
+double fit_context(std::unique_ptr<Context>& ctx, const FrameOptions& opts, std::vector<std::string>& notes) {
+  if (ctx && ctx->width() == opts.width && ctx->height() == opts.height) return 0;
+  ctx.reset();
+  ctx = std::make_unique<Context>(opts.width, opts.height, opts.threads, &notes);
+  return ctx->create_seconds();
+}
+
 Image draw_frame(std::unique_ptr<Context>& ctx, const Scene& scene, const FrameOptions& opts,
                  FrameStats* stats) {
   const RasterSettings s =
@@ -229,12 +238,7 @@ Image draw_frame(std::unique_ptr<Context>& ctx, const Scene& scene, const FrameO
   if (const std::string why = unsupported(s); !why.empty()) throw InputError(scene.source, 0, why);
   const ScreenMesh mesh = view_scene(scene, opts.width, opts.height, s);
   std::vector<std::string> notes;
-  double create = 0;
-  if (!ctx || ctx->width() != opts.width || ctx->height() != opts.height) {
-    ctx.reset();
-    ctx = std::make_unique<Context>(opts.width, opts.height, opts.threads, &notes);
-    create = ctx->create_seconds();
-  }
+  const double create = fit_context(ctx, opts, notes);
   DrawTimes t;
   Image img;
   ctx->draw(mesh, scene.background, s, img, &t);
@@ -286,12 +290,7 @@ Image texture_frame(std::unique_ptr<Context>& ctx, const TextureScene& scene, co
   const TextureFilterSettings f = texture_filter_settings(opts.params, scene.source);
   if (std::string why = texture_unsupported(opts.params); !why.empty()) throw InputError(scene.source, 0, why);
   std::vector<std::string> notes;
-  double create = 0;
-  if (!ctx || ctx->width() != opts.width || ctx->height() != opts.height) {
-    ctx.reset();
-    ctx = std::make_unique<Context>(opts.width, opts.height, opts.threads, &notes);
-    create = ctx->create_seconds();
-  }
+  const double create = fit_context(ctx, opts, notes);
   DrawTimes t;
   Image img;
   ctx->draw_texture(scene, f, img, &t);

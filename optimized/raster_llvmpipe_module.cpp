@@ -36,6 +36,24 @@ struct State {
   bool texture_mipmaps = false;
 };
 
+// Projection: the frustum of core/camera.h's pixel centres for a W x H frame
+// (see the host's header comment); modelview: the look-at rotation, GL's eye
+// looking down -z (column-major).
+void load_camera(const Camera& cam, double n, double f, int W, int H) {
+  const double half_w = n * cam.pitch * 0.5 * W, half_h = n * cam.pitch * 0.5 * H;
+  glMatrixMode(GL_PROJECTION);
+  glLoadIdentity();
+  glFrustum(-half_w, half_w, -half_h, half_h, n, f);
+  // clang-format off
+  const GLdouble look[16] = {cam.right.x, cam.up.x, -cam.forward.x, 0,
+                             cam.right.y, cam.up.y, -cam.forward.y, 0,
+                             cam.right.z, cam.up.z, -cam.forward.z, 0,
+                             0,           0,        0,              1};
+  // clang-format on
+  glMatrixMode(GL_MODELVIEW);
+  glLoadMatrixd(look);
+}
+
 void* create(int width, int height) {
   auto* st = new State;
   st->width = width;
@@ -89,23 +107,9 @@ void draw(void* p, const ScreenMesh& mesh, const Vec3& background, const DrawSet
   glClearColor(GLfloat(background.x), GLfloat(background.y), GLfloat(background.z), 1.0f);
   glViewport(0, 0, W, H);
 
-  // Projection: the frustum of core/camera.h's pixel centres (see the host's header comment).
   const Camera& cam = mesh.camera;
-  const double n = setup.near_plane;
-  const double f = setup.far_plane;
-  const double half_w = n * cam.pitch * 0.5 * W, half_h = n * cam.pitch * 0.5 * H;
-  glMatrixMode(GL_PROJECTION);
-  glLoadIdentity();
-  glFrustum(-half_w, half_w, -half_h, half_h, n, f);
-  // Modelview: the look-at rotation; GL's eye looks down -z. Column-major.
-  // clang-format off
-  const GLdouble look[16] = {cam.right.x, cam.up.x, -cam.forward.x, 0,
-                             cam.right.y, cam.up.y, -cam.forward.y, 0,
-                             cam.right.z, cam.up.z, -cam.forward.z, 0,
-                             0,           0,        0,              1};
-  // clang-format on
-  glMatrixMode(GL_MODELVIEW);
-  glLoadMatrixd(look);
+  const double n = setup.near_plane, f = setup.far_plane;
+  load_camera(cam, n, f, W, H);
 
   // Shading: flat takes the provoking (last) vertex's colour, which is the
   // triangle's flat_color on all three; Gouraud interpolates the vertex colours.
@@ -197,19 +201,7 @@ void draw_texture(void* p, const Camera& cam, const Texture& tex, const TextureD
   glDisable(GL_BLEND);
   glClearColor(GLfloat(background.x), GLfloat(background.y), GLfloat(background.z), 1.0f);
   glViewport(0, 0, W, H);
-  const double n = setup.near_plane, f = setup.far_plane;
-  const double half_w = n * cam.pitch * 0.5 * W, half_h = n * cam.pitch * 0.5 * H;
-  glMatrixMode(GL_PROJECTION);
-  glLoadIdentity();
-  glFrustum(-half_w, half_w, -half_h, half_h, n, f);
-  // clang-format off
-  const GLdouble look[16] = {cam.right.x, cam.up.x, -cam.forward.x, 0,
-                             cam.right.y, cam.up.y, -cam.forward.y, 0,
-                             cam.right.z, cam.up.z, -cam.forward.z, 0,
-                             0,           0,        0,              1};
-  // clang-format on
-  glMatrixMode(GL_MODELVIEW);
-  glLoadMatrixd(look);
+  load_camera(cam, setup.near_plane, setup.far_plane, W, H);
 
   Stopwatch clock;
   // The texture: uploaded (with its mipmaps) once per context while the same
