@@ -5,6 +5,7 @@
 // through foreach_target.h), the entry point once (HWY_ONCE) calling the
 // best target the CPU has.
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
@@ -97,6 +98,9 @@ namespace hn = hwy::HWY_NAMESPACE;
 // A texel is a 4-lane vector: the scalar target (never chosen on x86, whose
 // baseline has 128-bit vectors) has none.
 void BuildRows(const Level&, Level&, Wrap, int, int) { throw std::runtime_error("texture simd: no 128-bit vectors"); }
+void AreaAt(const Pyramid&, const TexelMap&, int, int, float*) {
+  throw std::runtime_error("texture simd: no 128-bit vectors");
+}
 void FilterRows(const Pyramid&, const TexelMap&, const TextureFilterSettings&, const float*, Image&, int, int, int,
                 int, uint64_t*) {
   throw std::runtime_error("texture simd: no 128-bit vectors");
@@ -608,6 +612,11 @@ void aniso_segment(const Pyramid& p, const RowCoords& rc, int n, int max_probes,
     hn::StoreU(count[k] ? hn::Mul(sum[k], hn::Set(d, 1.0f / float(count[k]))) : background, d, out + 4 * size_t(k));
 }
 
+// Area sampling at pixel (x, y) whose centre sees the quad (AreaSampler).
+void AreaAt(const Pyramid& pyr, const TexelMap& map, int x, int y, float* out) {
+  hn::StoreU(area(pyr, map, x, y), D4(), out);
+}
+
 void FilterRows(const Pyramid& pyr, const TexelMap& map, const TextureFilterSettings& f, const float* bg, Image& img,
                 int x0, int y0, int x1, int y1, uint64_t* count) {
   const D4 d;
@@ -687,6 +696,7 @@ HWY_AFTER_NAMESPACE();
 namespace lockstep::opt::texture_kernels {
 HWY_EXPORT(BuildRows);
 HWY_EXPORT(FilterRows);
+HWY_EXPORT(AreaAt);
 }  // namespace lockstep::opt::texture_kernels
 
 namespace lockstep::opt::simd {
@@ -757,6 +767,26 @@ Image texture_filter(const TextureScene& scene, const FrameOptions& opts, FrameS
     stats->build_seconds = build_seconds;
   }
   return img;
+}
+
+struct AreaSampler::Impl {
+  Pyramid pyr;
+  TexelMap map;
+  std::array<float, 4> background;
+};
+
+AreaSampler::AreaSampler(const TextureScene& scene, int width, int height)
+    : impl_(new Impl{build_pyramid(scene.texture, false, 1), TexelMap::make(scene, width, height),
+                     {float(scene.background.x), float(scene.background.y), float(scene.background.z), 1}}) {}
+
+AreaSampler::~AreaSampler() = default;
+
+std::array<float, 4> AreaSampler::at(int x, int y) const {
+  double a, b;
+  if (!impl_->map.texel_at(x + 0.5, y + 0.5, a, b) || !impl_->map.on_quad(a, b)) return impl_->background;
+  std::array<float, 4> out;
+  HWY_DYNAMIC_DISPATCH(AreaAt)(impl_->pyr, impl_->map, x, y, out.data());
+  return out;
 }
 
 }  // namespace lockstep::opt::simd

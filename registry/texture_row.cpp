@@ -3,6 +3,7 @@
 #include "registry/texture_row.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -149,7 +150,7 @@ double rgb_rms(const ref::Rgba& a, const ref::Rgba& b) {
 
 // Per tile of core/texture.h's plan: 18 sample pixels (a 6 x 3 grid over
 // the tile; where some miss the quad, 18 of the tile's pixels that see it,
-// evenly spread), the yardstick at each -- area sampling, the average of the
+// evenly spread), the yardstick at each -- area sampling (the simd row's), the average of the
 // texels over the pixel's footprint (within the bound props/texture states of
 // the pixel's exact box filter: 0.0014 RMS on the study's zone plate) -- and
 // each ladder filter's value there by the reference's lookups; the tile gets
@@ -166,8 +167,9 @@ FilterChoice choose_filters(const TextureScene& scene, int width, int height, do
     parse_texture_filter(name, f);
     ladder.push_back(f);
   }
-  TextureFilterSettings area;
-  parse_texture_filter("area", area);
+  // Area sampling by the simd row (its interior texels summed unclipped:
+  // about 3x the reference's speed; the two agree within 2.4e-7).
+  const opt::simd::AreaSampler yardstick(scene, width, height);
   auto sees = [&](int x, int y) {
     double a, b;
     return map.texel_at(x + 0.5, y + 0.5, a, b) && map.on_quad(a, b);
@@ -199,8 +201,10 @@ FilterChoice choose_filters(const TextureScene& scene, int width, int height, do
       double err_of_pick = 0;
       if (!samples.empty()) {
         std::vector<ref::Rgba> yard(samples.size());
-        for (size_t k = 0; k < samples.size(); ++k)
-          ref::filter_pixel(scene.texture, pyramid, map, area, samples[k].first, samples[k].second, bg, yard[k]);
+        for (size_t k = 0; k < samples.size(); ++k) {
+          const std::array<float, 4> v = yardstick.at(samples[k].first, samples[k].second);
+          yard[k] = {v[0], v[1], v[2], v[3]};
+        }
         for (size_t l = 0; l < ladder.size(); ++l) {
           double worst = 0;
           for (size_t k = 0; k < samples.size() && worst <= target; ++k) {
