@@ -27,7 +27,7 @@ void print_help() {
       "  --error E       instead of --filter, E in (0, 1]: per tile of 64 x 16 pixels the cheapest of\n"
       "                  point, trilinear, aniso2, aniso4, aniso8, aniso16 whose largest error at 18\n"
       "                  sample pixels of the tile (RGB RMS against area sampling) is at most E, else\n"
-      "                  area; the search is the reference's lookups at the samples (build time), the\n"
+      "                  area; the search (lookups at the samples) is the build time, the\n"
       "                  summary names the filters chosen. E bounds the samples, not every pixel.\n"
       "                  reference and simd only\n"
       "  --texture SPEC  the texture in place of the scene's, as the words of a texture line:\n"

@@ -597,22 +597,24 @@ TEXTURE_TARGETS_NOTE = """Evaluated by bench/scripts/texture_chart.py over the t
 pyramid, stays in cache; its figure is its frame less its pyramid, timed
 apart: the noisiest figure here, 59-77 ns over runs); on the issue's 1024^2
 plane (a 22 MB pyramid) every row waits on memory, the reference most. Both
-ratios move 0.5-1x between runs (ad-hoc runs of the same frames gave 8.9-11.9x on
-the 1024^2 plane): the target is not met reliably on either."""
+ratios move 0.5-1x between runs (the 1024^2 plane: 9.6x and 10.3x in the last two
+runs of this study, 8.9-11.9x in ad-hoc runs of the same frames; 192^2: 8.3x and
+8.6x): the target is not met reliably on either."""
 
 TEXTURE_ERROR_NOTE = """`lockstep texture SCENE --error E` (registry/texture_row.cpp): per 64 x 16
 tile, the cheapest of point, trilinear, aniso2, aniso4, aniso8 and aniso16
 whose largest error at 18 sample pixels of the tile (RGB RMS against area
 sampling, the average of the texels over each footprint) is at most E, else
-area sampling. The search is its one-shot cost (the reference's lookups at
-the samples; search column); the frame is then drawn once, a filter per
+area sampling. The search is its one-shot cost (the lookups at the samples:
+the reference's filters, the simd row's area sampling; search column); the frame is then drawn once, a filter per
 tile. E bounds the samples, not every pixel: the frame's RMS against the
 pixel's exact box filter stays under E (checked by `ctest -R
 texture_study`), single pixels do not (max column). Between aniso16 and
 area sampling no single filter has a point; error=E fills that stretch, and
 at E = 0.1-0.2 it is cheaper than the single filters of the same error. The
-search grows with the footprints: 0.05 s at 192^2, 4 s for the 1024^2 plane
-below (horizon tiles: area sampling over thousands of texels a sample)."""
+search grows with the footprints: 16 ms at 192^2, 0.5 s on two threads for
+the 1024^2 plane below (its yardstick is the simd row's area sampling;
+horizon samples cover thousands of texels)."""
 
 TEXTURE_PLANE_NOTE = """`./build/bench/lockstep_texture_study --plane > bench/results/texture_plane.csv`:
 the registry's benchmark input (the scene of the issue's peer figures),
