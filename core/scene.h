@@ -41,6 +41,10 @@ struct Material {
   double shine = 1.0;
   double transmittance = 0.0;
   double ior = 1.0;
+  // lockstep's NFF extension '#lockstep emit r g b' (io/nff.h): the radiosity
+  // the surfaces emit, per channel; radiosity's emitters. Other families do
+  // not draw emission (a ray-cast emitter looks like its colour).
+  Vec3 emission{0, 0, 0};
   // NFF: polygons are one-sided unless the material transmits light.
   bool two_sided() const { return transmittance > 0.0; }
 };

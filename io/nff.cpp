@@ -41,10 +41,35 @@ class Lines : public text::Tokenizer {
   Vec3 vec3(size_t i) const { return {number(i), number(i + 1), number(i + 2)}; }
 };
 
-// A #lockstep line that does not follow a light.
+// A #lockstep line that does not follow what it modifies (a light; for
+// emit, a material).
 [[noreturn]] void misplaced_extension(const Lines& in) {
   const std::string what = in.words().size() > 1 ? " " + std::string(in.words()[1].substr(0, 32)) : "";
+  if (what == " emit") in.fail("'#lockstep emit' does not follow a material: it must come right after an 'f' line");
   in.fail("'#lockstep" + what + "' does not follow a light: it must come right after an 'l' line");
+}
+
+// Reads a "#lockstep emit r g b" line into the material it follows (the
+// emitted radiosity of the surfaces that use it; radiosity's emitters).
+// seen_emit catches a second line. Other keywords are a light's, misplaced.
+void read_material_extension(const Lines& in, Material& m, int material_line, bool& seen_emit) {
+  const auto& w = in.words();
+  if (w.size() < 2) in.fail("'#lockstep' without a keyword (expected 'emit' after a material)");
+  if (w[1] == "atten" || w[1] == "spot") misplaced_extension(in);
+  if (w[1] != "emit") {
+    std::string shown(w[1].substr(0, 32));
+    for (char& ch : shown)
+      if (!std::isprint(static_cast<unsigned char>(ch))) ch = '?';
+    in.fail("unknown '#lockstep' keyword '" + shown + "' after a material (expected 'emit')");
+  }
+  in.expect_count(5, "#lockstep emit r g b");
+  if (seen_emit) in.fail("a second '#lockstep emit' for the material on line " + std::to_string(material_line));
+  seen_emit = true;
+  const Vec3 e{in.number(2), in.number(3), in.number(4)};
+  if (e.x < 0 || e.y < 0 || e.z < 0)
+    in.fail("emission must not be negative, got " + std::string(w[2]) + " " + std::string(w[3]) + " " +
+            std::string(w[4]));
+  m.emission = Vec3{e.x == 0 ? 0.0 : e.x, e.y == 0 ? 0.0 : e.y, e.z == 0 ? 0.0 : e.z};  // -0 reads as 0
 }
 
 // Reads a "#lockstep atten|spot ..." line into the light it follows (the
@@ -54,6 +79,7 @@ void read_extension(const Lines& in, Light& light, int light_line, bool& seen_at
   const auto& w = in.words();
   if (w.size() < 2) in.fail("'#lockstep' without a keyword (expected 'atten' or 'spot')");
   const std::string_view key = w[1];
+  if (key == "emit") misplaced_extension(in);
   auto twice = [&](bool& seen) {
     if (seen)
       in.fail("a second '#lockstep " + std::string(key) + "' for the light on line " + std::to_string(light_line));
@@ -226,17 +252,22 @@ Scene parse_nff(std::string_view text, const std::string& name) {
   bool after_light = false;
   int light_line = 0;
   bool seen_atten = false, seen_spot = false;
+  // The same for the material an 'f' line made (#lockstep emit).
+  bool after_material = false, seen_emit = false;
+  int material_line = 0;
 
   if (text.empty()) throw InputError(name, 0, "file is empty");
   while (in.next()) {
     const auto& w = in.words();
     const std::string_view e = w[0];
     if (e == kExtension) {
-      if (!after_light) misplaced_extension(in);
-      read_extension(in, scene.lights.back(), light_line, seen_atten, seen_spot);
+      if (after_light) read_extension(in, scene.lights.back(), light_line, seen_atten, seen_spot);
+      else if (after_material) read_material_extension(in, scene.materials[material], material_line, seen_emit);
+      else misplaced_extension(in);
       continue;
     }
     after_light = e == "l";
+    after_material = e == "f";
     if (e == "v") {
       if (have_view) in.fail("a second viewpoint ('v'); NFF allows one");
       read_view(in, scene.view);
@@ -266,6 +297,8 @@ Scene parse_nff(std::string_view text, const std::string& name) {
       m.ior = in.number(8);
       material = add_material(scene, m);
       have_material = true;
+      material_line = in.line();
+      seen_emit = false;
     } else if (e == "s") {
       in.expect_count(5, "s x y z radius");
       const double r = in.number(4);

@@ -22,11 +22,18 @@
 //       the angle between -L and D is at most cutoff_degrees, else 0.
 //       0 < cutoff_degrees <= 90, exponent >= 0.
 //
-// Both factors multiply the light's intensity (core/shading.h, light_at). Any
+// And per material, after an 'f' line (radiosity's emitters, issue #33):
+//   #lockstep emit r g b
+//       the radiosity the surfaces of that material emit, per channel, >= 0
+//       (Material::emission); the material's colour times Kd is their
+//       reflectance. Ray casting, the z-buffer and the others ignore it.
+//
+// Both light factors multiply the light's intensity (core/shading.h, light_at). Any
 // other keyword, a missing or extra field, a non-number, NaN or Inf, a negative
 // or all-zero attenuation, a zero direction, a cutoff outside (0, 90], a
-// negative exponent, a second line of the same kind, or a #lockstep line that
-// does not follow a light is an InputError naming the line. Only a first word
+// negative exponent or emission, a second line of the same kind, or a #lockstep
+// line that does not follow a light (emit: a material) is an InputError naming
+// the line. Only a first word
 // of exactly "#lockstep" is special: "# lockstep ..." and "#lockstepx" are
 // ordinary comments, and so is any '#' after the line's first word.
 //

@@ -5,9 +5,11 @@
 // closed cube, and every solver reaching B = E / (1 - rho) in a closed
 // enclosure of uniform emission and reflectance; a reflectance of 1 refused.
 #include "core/radiosity.h"
+#include "io/nff.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -197,6 +199,33 @@ TEST(Meshing, PiecesCoverThePolygonWithinTheArea) {
   for (const Patch& p : tris) tt += p.area();
   EXPECT_EQ(tris.size(), 256u);  // area 0.707: four halvings to 0.0028
   EXPECT_NEAR(tt, 0.5 * std::sqrt(2.0), 1e-12);
+}
+
+TEST(CornellBox, ReadsWithItsEmitterAndEveryPolygonFacesTheRoom) {
+  const Scene s = read_nff(LOCKSTEP_CORPUS_DIR "/radiosity/cornell_box.nff");
+  ASSERT_EQ(s.poly_material.size(), 16u);  // light, 5 walls, 2 blocks of 5 faces
+  int emitters = 0;
+  for (size_t i = 0; i < s.poly_material.size(); ++i) {
+    const Material& m = s.materials[s.poly_material[i]];
+    Vec3 c{0, 0, 0};
+    const uint32_t first = s.poly_first[i], last = s.poly_first[i + 1];
+    for (uint32_t k = first; k < last; ++k) c = c + s.vertex[k];
+    c = c / double(last - first);
+    const Vec3 n = s.poly_plane[i].n;
+    // The light and the walls face the room's middle; the blocks' faces face
+    // away from their block's middle.
+    const Vec3 towards = i < 6 ? Vec3{278, 274, 280} - c
+                         : i < 11 ? c - Vec3{186, 82, 168}
+                                  : c - Vec3{368, 165, 351};
+    EXPECT_GT(dot(n, towards), 0) << "polygon " << i;
+    if (m.emission.x > 0) {
+      ++emitters;
+      EXPECT_EQ(m.emission, (Vec3{17, 12, 4}));
+      EXPECT_NEAR(n.y, -1, 1e-12);  // the light shines down
+    }
+    EXPECT_LT(std::max({m.color.x, m.color.y, m.color.z}) * m.kd, 1.0) << "polygon " << i;
+  }
+  EXPECT_EQ(emitters, 1);
 }
 
 }  // namespace
