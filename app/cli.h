@@ -50,6 +50,8 @@ int render_main(Args args);
 // render with the family fixed by its --algo name (forced_algo; "" for the
 // extension's first) and `who` on every line it prints (app/render.cpp).
 int render_as(const std::string& who, const std::string& forced_algo, Args args);
+// The same for a subcommand with a help text of its own: help() on --help or -h.
+int render_subcommand(const std::string& who, const std::string& forced_algo, Args args, void (*help)());
 int isosurface_main(Args args);
 int texture_main(Args args);  // app/texture.cpp
 int volume_main(Args args);

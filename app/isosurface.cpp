@@ -34,13 +34,6 @@ void print_help() {
 
 }  // namespace
 
-int isosurface_main(Args args) {
-  for (const std::string_view a : args)
-    if (a == "--help" || a == "-h") {
-      print_help();
-      return kExitOk;
-    }
-  return render_as("lockstep isosurface", "isosurface", args);
-}
+int isosurface_main(Args args) { return render_subcommand("lockstep isosurface", "isosurface", args, print_help); }
 
 }  // namespace lockstep::cli

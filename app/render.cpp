@@ -169,6 +169,15 @@ const Family& family_for(const std::string& in_path, const std::string& algo) {
 
 int render_main(Args args) { return render_as("lockstep render", "", args); }
 
+int render_subcommand(const std::string& who, const std::string& forced_algo, Args args, void (*help)()) {
+  for (const std::string_view a : args)
+    if (a == "--help" || a == "-h") {
+      help();
+      return kExitOk;
+    }
+  return render_as(who, forced_algo, args);
+}
+
 int render_as(const std::string& who, const std::string& forced_algo, Args args) {
   std::string in_path, out_path, impl_name, value, algo = forced_algo;
   int width = 0, height = 0, threads = 0, repeat = 1;

@@ -52,13 +52,6 @@ void print_help() {
 
 }  // namespace
 
-int texture_main(Args args) {
-  for (const std::string_view a : args)
-    if (a == "--help" || a == "-h") {
-      print_help();
-      return kExitOk;
-    }
-  return render_as("lockstep texture", "texture", args);
-}
+int texture_main(Args args) { return render_subcommand("lockstep texture", "texture", args, print_help); }
 
 }  // namespace lockstep::cli

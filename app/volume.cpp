@@ -58,13 +58,6 @@ void print_help() {
 
 }  // namespace
 
-int volume_main(Args args) {
-  for (const std::string_view a : args)
-    if (a == "--help" || a == "-h") {
-      print_help();
-      return kExitOk;
-    }
-  return render_as("lockstep volume", "raycast", args);
-}
+int volume_main(Args args) { return render_subcommand("lockstep volume", "raycast", args, print_help); }
 
 }  // namespace lockstep::cli

@@ -156,8 +156,10 @@ std::string pixel_text(const float* p) {
   return b;
 }
 
-Verdict agreement(const FamilyImpl& ref, const FamilyImpl& impl, const TexCase& c) {
-  const Image a = run(ref, c), b = run(impl, c);
+// Per pixel, the largest channel difference of a and b; over bound an
+// unexplained outcome labelled label, described by describe(x, y, err).
+Verdict compare_pixels(const Image& a, const Image& b, double bound, const char* label,
+                       const std::function<std::string(int, int, double)>& describe) {
   Verdict v;
   for (int y = 0; y < a.height; ++y)
     for (int x = 0; x < a.width; ++x) {
@@ -167,16 +169,23 @@ Verdict agreement(const FamilyImpl& ref, const FamilyImpl& impl, const TexCase& 
       Outcome o;
       o.err = err;
       o.measured = true;
-      if (err > kAgree) {
+      if (err > bound) {
         o.kind = Outcome::unexplained;
-        o.label = "disagree";
-        o.detail = c.filter + " pixel (" + std::to_string(x) + ", " + std::to_string(y) + "): reference " +
-                   pixel_text(a.pixel(x, y)) + ", " + std::string(impl.name) + " " + pixel_text(b.pixel(x, y)) +
-                   ", error " + std::to_string(err) + " > " + std::to_string(kAgree);
+        o.label = label;
+        o.detail = describe(x, y, err);
       }
       v.rays.push_back(std::move(o));
     }
   return v;
+}
+
+Verdict agreement(const FamilyImpl& ref, const FamilyImpl& impl, const TexCase& c) {
+  const Image a = run(ref, c), b = run(impl, c);
+  return compare_pixels(a, b, kAgree, "disagree", [&](int x, int y, double err) {
+    return c.filter + " pixel (" + std::to_string(x) + ", " + std::to_string(y) + "): reference " +
+           pixel_text(a.pixel(x, y)) + ", " + std::string(impl.name) + " " + pixel_text(b.pixel(x, y)) + ", error " +
+           std::to_string(err) + " > " + std::to_string(kAgree);
+  });
 }
 
 // A filter per tile: every tile of the frame equals the same tile of the
@@ -184,15 +193,12 @@ Verdict agreement(const FamilyImpl& ref, const FamilyImpl& impl, const TexCase& 
 // the same tiles).
 Verdict tiles(const FamilyImpl& impl, const TexCase& c) {
   const Image planned = run(impl, c);
-  const TextureFilterPlan plan = texture_filter_plan(
-      [&] {
-        Params p;
-        p.set("filter_tiles", c.tiles);
-        return p;
-      }(),
-      c.scene.width, c.scene.height, "case");
+  Params p;
+  p.set("filter_tiles", c.tiles);
+  const TextureFilterPlan plan = texture_filter_plan(p, c.scene.width, c.scene.height, "case");
+  // Each filter's frame alone, and from them the frame the plan should give.
   std::map<std::string, Image> alone;
-  Verdict v;
+  Image expected = planned;
   for (int y = 0; y < planned.height; ++y)
     for (int x = 0; x < planned.width; ++x) {
       const std::string& name = plan.at(x, y).name;
@@ -202,22 +208,12 @@ Verdict tiles(const FamilyImpl& impl, const TexCase& c) {
         one.filter = name;
         alone[name] = run(impl, one);
       }
-      const Image& a = alone[name];
-      double err = 0;
-      for (int k = 0; k < 4; ++k) err = std::max(err, double(std::abs(a.pixel(x, y)[k] - planned.pixel(x, y)[k])));
-      if (!(err == err)) err = INFINITY;
-      Outcome o;
-      o.err = err;
-      o.measured = true;
-      if (err > 0) {
-        o.kind = Outcome::unexplained;
-        o.label = "tile_differs";
-        o.detail = "pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") of a " + name + " tile: alone " +
-                   pixel_text(a.pixel(x, y)) + ", in the plan " + pixel_text(planned.pixel(x, y));
-      }
-      v.rays.push_back(std::move(o));
+      std::copy_n(alone[name].pixel(x, y), 4, expected.pixel(x, y));
     }
-  return v;
+  return compare_pixels(expected, planned, 0, "tile_differs", [&](int x, int y, double) {
+    return "pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") of a " + plan.at(x, y).name +
+           " tile: alone " + pixel_text(expected.pixel(x, y)) + ", in the plan " + pixel_text(planned.pixel(x, y));
+  });
 }
 
 // Whether impl can draw the case's filter (a peer's limits: FamilyImpl::unsupported).
