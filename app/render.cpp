@@ -156,6 +156,17 @@ const Family& family_for(const std::string& in_path, const std::string& algo) {
   const Family& first = family_for_path(in_path);
   if (algo.empty()) return first;
   const std::string_view want = registry().canonical(algo);
+  // An algorithm only other extensions' families have: say which files they read.
+  std::string readers;
+  bool here = false;
+  for (const Family& f : registry().families) {
+    if (f.algo != want) continue;
+    here = here || f.extension == first.extension;
+    if (!readers.empty()) readers += " or ";
+    readers += f.input;
+  }
+  if (!here && !readers.empty())
+    throw UsageError("'" + in_path + "' is not " + readers + ": what " + std::string(want) + " draws");
   std::string known;
   for (const Family& f : registry().families) {
     if (f.extension != first.extension || f.algo.empty()) continue;
