@@ -54,6 +54,7 @@ int render_as(const std::string& who, const std::string& forced_algo, Args args)
 int render_subcommand(const std::string& who, const std::string& forced_algo, Args args, void (*help)());
 int isosurface_main(Args args);
 int texture_main(Args args);  // app/texture.cpp
+int radiosity_main(Args args);  // app/radiosity.cpp
 int volume_main(Args args);
 int trace_main(Args args);  // app/trace.cpp: one pixel's ray tree (ray_trace family)
 int composite_main(Args args);

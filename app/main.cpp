@@ -45,6 +45,8 @@ void print_help() {
       "      render a volume: ray casting, splatting, or the isosurface ray cast\n"
       "  lockstep texture SCENE [--filter F] [--texture SPEC] [--wrap W] [--impl NAME] -o IMAGE\n"
       "      filter a texture on a plane under perspective (.texscene): point .. anisotropic, EWA\n"
+      "  lockstep radiosity SCENE [--patch-area A] [--form-factors rays|hemicube] [--solver S] -o IMAGE\n"
+      "      solve an NFF scene with emitters for radiosity, drawn through the z-buffer\n"
       "  lockstep trace SCENE --pixel X,Y [--depth N] [--impl reference|embree]\n"
       "      print the ray tree of one pixel as the ray tracer (render --algo ray_trace) traces it\n"
       "  lockstep diff A B | DIR_A DIR_B | --list FILE [--fail T] [--failpercent P] [--warn W] [--heatmap OUT]\n"
@@ -119,7 +121,7 @@ int families_main(cli::Args args) {
 
 int run(int argc, char** argv, std::string& sub) {
   std::vector<std::string_view> args(argv + 1, argv + argc);
-  if (args.empty()) throw cli::UsageError("missing subcommand (render, composite, isosurface, volume, texture, trace, diff, verify, merge-reports, spd or families)");
+  if (args.empty()) throw cli::UsageError("missing subcommand (render, composite, isosurface, volume, texture, radiosity, trace, diff, verify, merge-reports, spd or families)");
   const std::string_view first = args.front();
   if (first == "--help" || first == "-h" || first == "help") {
     print_help();
@@ -147,12 +149,13 @@ int run(int argc, char** argv, std::string& sub) {
   if (first == "isosurface") return cli::isosurface_main(rest);
   if (first == "texture") return cli::texture_main(rest);
   if (first == "volume") return cli::volume_main(rest);
+  if (first == "radiosity") return cli::radiosity_main(rest);
   if (first == "trace") return cli::trace_main(rest);
   if (first == "spd") return cli::spd_main(rest);
   if (first == "families") return families_main(rest);
   sub.clear();
   if (cli::is_option(first)) cli::unknown_option(first);
-  throw cli::UsageError("unknown subcommand '" + std::string(first) + "' (render, composite, isosurface, volume, texture, trace, diff, verify, merge-reports, spd or families)");
+  throw cli::UsageError("unknown subcommand '" + std::string(first) + "' (render, composite, isosurface, volume, texture, radiosity, trace, diff, verify, merge-reports, spd or families)");
 }
 
 }  // namespace

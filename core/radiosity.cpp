@@ -4,8 +4,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
+#include <tuple>
 #include <numbers>
 #include <stdexcept>
+
+#include "core/error.h"
+#include "core/param_values.h"
 
 namespace lockstep {
 
@@ -269,6 +274,283 @@ SolveResult solve_radiosity(const std::vector<Patch>& patches, const std::vector
     }
   }
   return out;
+}
+
+// ------------------------------------------------------------- the family's steps
+
+namespace {
+
+constexpr std::string_view kMethods = "rays|hemicube";
+constexpr std::string_view kSolvers = "jacobi|gauss-seidel|progressive";
+
+// A unit vector perpendicular to unit n.
+Vec3 perpendicular(const Vec3& n) {
+  const Vec3 a = std::abs(n.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+  return normalize(cross(n, a));
+}
+
+bool convex_quad(std::span<const Vec3> q, const Vec3& n) {
+  for (size_t i = 0; i < 4; ++i)
+    if (!(dot(cross(q[(i + 1) % 4] - q[i], q[(i + 2) % 4] - q[(i + 1) % 4]), n) > 0)) return false;
+  return true;
+}
+
+}  // namespace
+
+std::vector<ParamSpec> radiosity_params() {
+  return {
+      {"form_factors", kMethods, "rays",
+       "rays: Lambert's point-to-patch factor times the share of k x k rays that arrive; hemicube: the "
+       "patch's view through the z-buffer"},
+      {"rays", "k, 1..16", "2", "form_factors=rays: k x k rays from a patch's centre to each patch"},
+      {"hemicube", "pixels, even, 8..1024", "64", "form_factors=hemicube: pixels a side of the top face"},
+      {"solver", kSolvers, "gauss-seidel", "how B = E + rho F B is solved"},
+      {"patch_area", "scene units^2, > 0", "area/256", "the largest patch: polygons are cut until every piece is this small"},
+      {"tolerance", "1e-12..0.1", "1e-4", "stop when the residual (progressive: the unshot energy) is this share of the emission"},
+  };
+}
+
+RadiositySettings radiosity_settings(const Params& params, const std::string& source) {
+  RadiositySettings s;
+  for (const auto& [name, value] : params.items) {
+    if (name == "form_factors") {
+      s.method = FormFactorMethod(param_choice(source, name, value, kMethods));
+    } else if (name == "rays") {
+      s.rays = param_int(source, name, value, 1, 16);
+    } else if (name == "hemicube") {
+      s.hemicube = param_int(source, name, value, 8, 1024);
+      if (s.hemicube % 2 != 0) throw InputError(source, 0, "hemicube: '" + value + "' is not even (the sides are half faces)");
+    } else if (name == "solver") {
+      s.solver = RadiositySolver(param_choice(source, name, value, kSolvers));
+    } else if (name == "patch_area") {
+      s.patch_area = param_number(source, name, value, 1e-300, 1e300);
+    } else if (name == "tolerance") {
+      s.tolerance = param_number(source, name, value, 1e-12, 0.1);
+    } else {
+      std::string known;
+      for (const ParamSpec& p : radiosity_params()) known += (known.empty() ? "" : ", ") + std::string(p.name);
+      throw InputError(source, 0, "unknown setting '" + name + "' (known: " + known + ")");
+    }
+  }
+  return s;
+}
+
+PatchMesh mesh_scene(const Scene& scene, double max_area) {
+  PatchMesh out;
+  out.spheres_and_cones = uint64_t(scene.sphere_count()) + scene.cone_count();
+  double total = 0;
+  for (uint32_t p = 0; p < scene.polygon_count(); ++p) total += 0.5 * length(vector_area2(scene.polygon_vertices(p)));
+  if (max_area <= 0) max_area = total / 256;
+  if (!(max_area > 0)) return out;  // no polygon has area
+  // The count before cutting: a dense n x n matrix must fit.
+  constexpr double kMaxPatches = 20000;
+  if (total / max_area > kMaxPatches)
+    throw InputError(scene.source, 0,
+                     "patch_area " + std::to_string(max_area) + " cuts the scene's polygon area " +
+                         std::to_string(total) + " into more than 20000 patches (a dense form-factor matrix of 3.2 GB)");
+  out.max_area = max_area;
+  std::map<std::tuple<uint32_t, double, double, double>, uint32_t> shared;
+  for (uint32_t p = 0; p < scene.polygon_count(); ++p) {
+    const Material& m = scene.materials[scene.poly_material[p]];
+    const Vec3 rho = m.color * m.kd;
+    for (double r : {rho.x, rho.y, rho.z})
+      if (!(r >= 0 && r < 1))
+        throw InputError(scene.source, m.line,
+                         "reflectance (colour x Kd) " + std::to_string(r) +
+                             " is not below 1: radiosity's B = E + rho F B would not converge");
+    const std::span<const Vec3> v = scene.polygon_vertices(p);
+    std::vector<Patch> pieces;
+    if (v.size() == 4 && convex_quad(v, scene.poly_plane[p].n)) {
+      pieces = mesh_polygon(v, rho, m.emission, max_area, int(p));
+    } else {
+      for (uint32_t t = scene.poly_tri_first[p]; t < scene.poly_tri_first[p + 1]; ++t) {
+        const auto& tv = scene.tri_vertex[t];
+        const Vec3 tri[3] = {scene.vertex[tv[0]], scene.vertex[tv[1]], scene.vertex[tv[2]]};
+        for (Patch& q : mesh_polygon(tri, rho, m.emission, max_area, int(p))) pieces.push_back(q);
+      }
+    }
+    for (Patch& q : pieces) {
+      std::array<uint32_t, 4> c{0, 0, 0, 0};
+      for (int k = 0; k < q.count; ++k) {
+        const auto key = std::make_tuple(p, q.v[k].x, q.v[k].y, q.v[k].z);
+        auto [it, fresh] = shared.emplace(key, uint32_t(out.vertex.size()));
+        if (fresh) out.vertex.push_back(q.v[k]);
+        c[k] = it->second;
+      }
+      out.patches.push_back(q);
+      out.corner.push_back(c);
+    }
+  }
+  return out;
+}
+
+Scene patch_scene(const PatchMesh& mesh, const View& view) {
+  Scene s;
+  s.view = view;
+  add_material(s, Material{});
+  for (const Patch& p : mesh.patches) add_polygon(s, p.corners(), {}, 0);
+  return s;
+}
+
+HemicubeWeights hemicube_weights(int res) {
+  HemicubeWeights w;
+  w.res = res;
+  const double pitch = 2.0 / res, da = pitch * pitch;
+  auto centre = [&](int i) { return -1 + (i + 0.5) * pitch; };  // x of column i; y of row j is -centre(j)
+  w.top.resize(size_t(res) * res);
+  w.side.resize(size_t(res) * (res / 2));
+  for (int j = 0; j < res; ++j)
+    for (int i = 0; i < res; ++i) {
+      const double x = centre(i), y = -centre(j);
+      const double r2 = x * x + y * y + 1;
+      w.top[size_t(j) * res + i] = da / (kPi * r2 * r2);
+      if (j < res / 2) {
+        // A side face: y is the height z above the patch's plane.
+        w.side[size_t(j) * res + i] = y * da / (kPi * r2 * r2);
+      }
+    }
+  return w;
+}
+
+double hemicube_turn(size_t patch) {
+  const double golden = 0.6180339887498949;
+  const double f = double(patch) * golden - std::floor(double(patch) * golden);
+  return f * kPi / 2;
+}
+
+View hemicube_view(const Vec3& c, const Vec3& n, int face, int res, double near, double turn) {
+  const Vec3 u0 = perpendicular(n), v0 = cross(n, u0);
+  const Vec3 u = u0 * std::cos(turn) + v0 * std::sin(turn), v = cross(n, u);
+  const Vec3 dirs[5] = {n, u, -u, v, -v};
+  View view;
+  view.from = c;
+  view.at = c + dirs[face];
+  view.up = face == 0 ? u : n;
+  // Camera: the angle spans the edge pixels' centres, 1 - 1/res from the axis.
+  view.angle = 2 * std::atan(double(res - 1) / res) * 180 / kPi;
+  view.hither = near;
+  view.xres = view.yres = res;
+  return view;
+}
+
+void add_hemicube_face(const PatchMesh& mesh, const Scene& items, const ScreenMesh& screen, const Visibility& vis,
+                       const HemicubeWeights& w, size_t i, int face, double* f_row) {
+  const int res = w.res;
+  const Vec3 c = mesh.patches[i].centre();
+  // Side faces: only the upper half looks above the patch's plane.
+  const int rows = face == 0 ? res : res / 2;
+  const std::vector<double>& delta = face == 0 ? w.top : w.side;
+  for (int y = 0; y < rows; ++y)
+    for (int x = 0; x < res; ++x) {
+      const uint32_t t = vis.tri[size_t(y) * res + x];
+      if (t == Visibility::kNone) continue;
+      const uint32_t j = items.tri_poly[screen.tris[t].source_tri];
+      const Patch& to = mesh.patches[j];
+      if (j == i || !(dot(to.normal(), c - to.v[0]) > 0)) continue;
+      f_row[j] += delta[size_t(y) * res + x];
+    }
+}
+
+double centre_form_factor(const PatchMesh& mesh, size_t i, size_t j) {
+  if (i == j) return 0;
+  const Patch& from = mesh.patches[i];
+  const Patch& to = mesh.patches[j];
+  const Vec3 c = from.centre();
+  // In or behind j's plane, c gets nothing from j; "in" within 1e-9 rad of
+  // it, far above rounding (the other patches of i's own polygon, far from
+  // the origin, come out a few ulps off their plane).
+  const Vec3 r = c - to.v[0];
+  if (!(dot(to.normal(), r) > 1e-9 * length(r))) return 0;
+  return point_polygon_form_factor(c, from.normal(), to.corners());
+}
+
+std::vector<Vec3> patch_targets(const Patch& p, int k) {
+  std::vector<Vec3> out;
+  if (p.count == 4) {
+    for (int j = 0; j < k; ++j)
+      for (int i = 0; i < k; ++i) {
+        const double s = (i + 0.5) / k, t = (j + 0.5) / k;
+        out.push_back(p.v[0] * ((1 - s) * (1 - t)) + p.v[1] * (s * (1 - t)) + p.v[2] * (s * t) + p.v[3] * ((1 - s) * t));
+      }
+    return out;
+  }
+  const Vec3 e1 = (p.v[1] - p.v[0]) / double(k), e2 = (p.v[2] - p.v[0]) / double(k);
+  for (int j = 0; j < k; ++j)
+    for (int i = 0; i + j < k; ++i) {
+      const Vec3 base = p.v[0] + e1 * double(i) + e2 * double(j);
+      out.push_back(base + (e1 + e2) / 3.0);
+      if (i + j + 1 < k) out.push_back(base + (e1 + e2) * (2.0 / 3));
+    }
+  return out;
+}
+
+void radiosity_notes(const PatchMesh& mesh, const SolveResult& solved, const RadiositySettings& s,
+                     FrameStats& stats) {
+  if (mesh.spheres_and_cones) stats.drop("spheres and cones: radiosity meshes polygons only", mesh.spheres_and_cones);
+  bool emits = false;
+  for (const Patch& p : mesh.patches) emits = emits || p.emission.x > 0 || p.emission.y > 0 || p.emission.z > 0;
+  if (!emits)
+    stats.notes.push_back("no emitter: every patch is black (an emitter is '#lockstep emit r g b' after an 'f' line)");
+  if (solved.iterations >= s.max_iterations)
+    stats.notes.push_back("the solve stopped after " + std::to_string(solved.iterations) + " " +
+                          (s.solver == RadiositySolver::progressive ? "shots" : "sweeps") + " with residual " +
+                          std::to_string(solved.residual));
+}
+
+std::vector<Vec3> vertex_radiosity(const PatchMesh& mesh, const std::vector<Vec3>& b) {
+  std::vector<Vec3> sum(mesh.vertex.size(), Vec3{0, 0, 0});
+  std::vector<double> weight(mesh.vertex.size(), 0.0);
+  for (size_t p = 0; p < mesh.patches.size(); ++p) {
+    const double a = mesh.patches[p].area();
+    for (int k = 0; k < mesh.patches[p].count; ++k) {
+      sum[mesh.corner[p][k]] = sum[mesh.corner[p][k]] + b[p] * a;
+      weight[mesh.corner[p][k]] += a;
+    }
+  }
+  for (size_t v = 0; v < sum.size(); ++v) sum[v] = weight[v] > 0 ? sum[v] / weight[v] : Vec3{0, 0, 0};
+  return sum;
+}
+
+Image radiosity_image(const Scene& patches, const PatchMesh& mesh, const std::vector<Vec3>& vertex_b,
+                      const ScreenMesh& screen, const Visibility& vis, const Vec3& background) {
+  const int w = screen.width, h = screen.height;
+  Image image(w, h);
+  image.depth.assign(size_t(w) * h, float(kInfinity));
+  const Camera& cam = screen.camera;
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i) {
+      const uint32_t t = vis.tri[(size_t(j) * w + i) * vis.spp];
+      if (t == Visibility::kNone) {
+        image.set(i, j, background);
+        continue;
+      }
+      const uint32_t tri = screen.tris[t].source_tri;
+      const uint32_t p = patches.tri_poly[tri];
+      const auto& tv = patches.tri_vertex[tri];
+      const Vec3 a = patches.vertex[tv[0]], b = patches.vertex[tv[1]], c = patches.vertex[tv[2]];
+      // Where the pixel's centre ray meets the triangle's plane: barycentrics
+      // by Cramer's rule (Moller and Trumbore 1997), no inside test (the
+      // z-buffer decided coverage on snapped vertices; clamped below).
+      const Ray r = cam.primary(i, j);
+      const Vec3 e1 = b - a, e2 = c - a, pv = cross(r.d, e2);
+      const double det = dot(e1, pv);
+      double l1 = 0, l2 = 0, dist = 0;
+      if (det != 0) {
+        const Vec3 tv0 = r.o - a, q = cross(tv0, e1);
+        l1 = dot(tv0, pv) / det;
+        l2 = dot(r.d, q) / det;
+        dist = dot(e2, q) / det;
+      }
+      l1 = std::clamp(l1, 0.0, 1.0);
+      l2 = std::clamp(l2, 0.0, 1.0 - l1);
+      const double l0 = 1 - l1 - l2;
+      const uint32_t first = patches.poly_first[p];
+      const Vec3 colour = vertex_b[mesh.corner[p][tv[0] - first]] * l0 + vertex_b[mesh.corner[p][tv[1] - first]] * l1 +
+                          vertex_b[mesh.corner[p][tv[2] - first]] * l2;
+      image.set(i, j, colour);
+      image.depth[size_t(j) * w + i] = float(dist * dot(r.d, cam.forward));
+    }
+  return image;
 }
 
 }  // namespace lockstep

@@ -26,7 +26,10 @@
 #include <string>
 #include <vector>
 
+#include "core/family.h"
 #include "core/math.h"
+#include "core/raster.h"
+#include "core/scene.h"
 
 namespace lockstep {
 
@@ -98,5 +101,128 @@ SolveResult solve_radiosity(const std::vector<Patch>& patches, const std::vector
 // max_i,c |B_i - E_i - rho_i sum_j F_ij B_j|.
 double radiosity_residual(const std::vector<Patch>& patches, const std::vector<double>& f,
                           const std::vector<Vec3>& b);
+
+// ------------------------------------------------------------- the family
+//
+// The radiosity family (registry/radiosity_row.cpp) reads an NFF scene whose
+// emitters carry '#lockstep emit' (io/nff.h), cuts its polygons into patches
+// (mesh_scene), computes the form factors by one of two methods, solves, and
+// displays the solution through the z-buffer: every row runs these steps,
+// and they share the ones below.
+//
+// Form factors (settings form_factors=...):
+//   rays      F_ij = F(c_i -> j) V_ij: Lambert's exact point-to-polygon
+//             factor from i's centre c_i (point_polygon_form_factor), times
+//             the fraction V_ij of k x k points of j (the midpoints of its
+//             grid) that a segment from c_i reaches unblocked by any scene
+//             polygon. 0 when j faces away from c_i.
+//   hemicube  Cohen and Greenberg (1985): the scene seen from c_i through the
+//             five faces of a unit half-cube (res x res on the top, the upper
+//             halves of four sides), each pixel's visible patch getting the
+//             pixel's delta form factor (hemicube_weights). A pixel whose
+//             nearest polygon faces away from c_i gives its share to no one.
+// Both are point-to-area: exact in j, one point of i. The error against the
+// area-to-area factor is the method's (docs/radiosity.md).
+
+enum class FormFactorMethod { rays, hemicube };
+
+struct RadiositySettings {
+  FormFactorMethod method = FormFactorMethod::rays;
+  int rays = 2;                    // rays: k x k points on each patch j
+  int hemicube = 64;               // hemicube: pixels a side of the top face (even)
+  RadiositySolver solver = RadiositySolver::gauss_seidel;
+  double patch_area = 0;           // the largest patch area; 0: the scene's polygon area / 256
+  double tolerance = 1e-4;         // the solve's residual, relative to the largest emission
+  int max_iterations = 10000;      // sweeps or shots
+};
+
+// Reads a family's Params (form_factors, rays, hemicube, solver, patch_area,
+// tolerance). Throws InputError(source, 0, ...) naming the setting.
+RadiositySettings radiosity_settings(const Params& params, const std::string& source);
+std::vector<ParamSpec> radiosity_params();
+
+// The scene cut into patches, with the vertices the display interpolates.
+struct PatchMesh {
+  std::vector<Patch> patches;
+  // Display vertices: patch corners, shared by the patches of one scene
+  // polygon that meet there (not across polygons: a crease keeps both sides).
+  std::vector<Vec3> vertex;
+  std::vector<std::array<uint32_t, 4>> corner;  // per patch: its corners' display vertices
+  uint64_t spheres_and_cones = 0;               // left out: not polygons (FrameStats::dropped)
+  double max_area = 0;                          // the patch area it was cut at
+};
+
+// Cuts every polygon of the scene into patches of at most max_area (0: the
+// scene's total polygon area / 256): convex quads on their grid, other
+// polygons through their triangulation. Reflectance is the material's
+// colour x Kd, emission its '#lockstep emit'. Throws InputError naming the
+// scene (and the material's line) when a reflectance is 1 or more, or when
+// the patch count would pass 20000 (a dense matrix of 3.2 GB).
+PatchMesh mesh_scene(const Scene& scene, double max_area);
+
+// The patches as a scene of polygons (polygon p = patch p, one material): the
+// z-buffer's item buffer names patches by the polygons it draws.
+Scene patch_scene(const PatchMesh& mesh, const View& view);
+
+// The delta form factors of a hemicube of res x res pixels on the top face
+// (res even): top[j * res + i] for pixel (i, j) of the top face, side[j * res
+// + i] for pixel (i, j) of a side face's upper half (rows j < res / 2, the
+// row nearest the top face first). Pixel (i, j) of a face seen through a
+// camera with pitch 2 / res (Camera: centres at sx(i), sy(j)): top 1 / (pi
+// (x^2 + y^2 + 1)^2) dA, side z / (pi (x^2 + z^2 + 1)^2) dA, dA = (2/res)^2.
+struct HemicubeWeights {
+  int res = 0;
+  std::vector<double> top, side;
+};
+HemicubeWeights hemicube_weights(int res);
+// The camera of face f (0: top, along n; 1-4: sides, along u, -u, v, -v with
+// n up) of a hemicube at c with unit normal n, res pixels a side of the full
+// face, hither at near: a View for view_scene. u is turned by `turn`
+// radians about n from a fixed perpendicular.
+View hemicube_view(const Vec3& c, const Vec3& n, int face, int res, double near, double turn);
+// Patch i's hemicube turn, in [0, pi/2): the golden-ratio sequence. A
+// hemicube square to the room lines its pixel centres up with the room's
+// edges (every sample of a column on the edge where two walls meet, each
+// z-buffer's rounding then deciding which wall it sees); turned, such a
+// sample has probability 0, and the aliasing of regular edges spreads out
+// (Cohen and Wallace, 5.8: rotating the hemicube about the normal).
+double hemicube_turn(size_t patch);
+// Adds face f's pixels to row i of the form factors (f_row[j] = F_ij): each
+// pixel of the face (the upper half of a side) its delta form factor to the
+// patch the item buffer vis shows there (screen: the face's view of
+// patch_scene(mesh)); nothing for patch i itself or a patch seen from behind
+// (the pixel's share is lost).
+void add_hemicube_face(const PatchMesh& mesh, const Scene& items, const ScreenMesh& screen, const Visibility& vis,
+                       const HemicubeWeights& w, size_t i, int face, double* f_row);
+
+// F(c_i -> j): the unoccluded point-to-polygon factor from patch i's centre
+// to patch j; 0 when j == i or c_i is not in front of j (j sends nothing to
+// a point behind it, nor to one in its plane: within 1e-9 rad of it). The rays method scales it by j's visible fraction.
+double centre_form_factor(const PatchMesh& mesh, size_t i, size_t j);
+// The k x k points of patch p its rays aim at (grid midpoints; triangles:
+// the centroids of k^2 congruent pieces).
+std::vector<Vec3> patch_targets(const Patch& p, int k);
+// Rays stop this fraction of their length short of each end: a polygon
+// that touches the patch at the end (a corner of the room) does not block.
+// The two patches' own polygons are never tested (reference/radiosity.h).
+inline constexpr double kSegmentMargin = 1e-6;
+
+// What a run tells its user (FrameStats::notes, dropped): spheres and cones
+// left out, no emitter (a black image), a solve stopped by max_iterations.
+void radiosity_notes(const PatchMesh& mesh, const SolveResult& solved, const RadiositySettings& s,
+                     FrameStats& stats);
+
+// Vertex radiosities by area-weighted averaging of the patches that share
+// each display vertex.
+std::vector<Vec3> vertex_radiosity(const PatchMesh& mesh, const std::vector<Vec3>& b);
+
+// The display (Gouraud through the z-buffer): each pixel shows the vertex
+// radiosities of its visible triangle (vis over the patch scene's screen
+// mesh), interpolated with the perspective-correct barycentrics of the
+// point where the pixel's centre ray meets the triangle's plane; background
+// where nothing is visible. Depth is that point's eye distance along the
+// view axis.
+Image radiosity_image(const Scene& patches, const PatchMesh& mesh, const std::vector<Vec3>& vertex_b,
+                      const ScreenMesh& screen, const Visibility& vis, const Vec3& background);
 
 }  // namespace lockstep

@@ -5,39 +5,12 @@
 #include <string>
 
 #include "core/error.h"
+#include "core/param_values.h"
 #include "core/raster.h"
 
 namespace lockstep {
 
 namespace {
-
-// The index of value among the '|'-separated choices, or throws naming the setting.
-int choose(const std::string& source, std::string_view name, const std::string& value, std::string_view choices) {
-  int index = 0;
-  size_t start = 0;
-  while (start <= choices.size()) {
-    const size_t end = std::min(choices.find('|', start), choices.size());
-    if (choices.substr(start, end - start) == value) return index;
-    ++index;
-    start = end + 1;
-  }
-  throw InputError(source, 0,
-                   std::string(name) + ": '" + value + "' is not one of " + std::string(choices));
-}
-
-double number(const std::string& source, std::string_view name, const std::string& value, double lo, double hi) {
-  char* end = nullptr;
-  const double x = std::strtod(value.c_str(), &end);
-  if (value.empty() || end != value.c_str() + value.size() || !std::isfinite(x) || x < lo || x > hi)
-    throw InputError(source, 0,
-                     std::string(name) + ": '" + value + "' is not a number in [" + std::to_string(lo) + ", " +
-                         std::to_string(hi) + "]");
-  return x;
-}
-
-bool flag(const std::string& source, std::string_view name, const std::string& value) {
-  return choose(source, name, value, "0|1") == 1;
-}
 
 constexpr std::string_view kShadings = "flat|gouraud|phong|blinn|toon";
 constexpr std::string_view kCulls = "world|projection|none";
@@ -83,45 +56,45 @@ RasterSettings raster_settings(const Params& params, const std::string& source) 
   RasterSettings s;
   for (const auto& [name, value] : params.items) {
     if (name == "shading") {
-      s.shading = Shading(choose(source, name, value, kShadings));
+      s.shading = Shading(param_choice(source, name, value, kShadings));
     } else if (name == "cull") {
-      s.cull = CullMode(choose(source, name, value, kCulls));
+      s.cull = CullMode(param_choice(source, name, value, kCulls));
     } else if (name == "silhouette") {
-      s.silhouette = flag(source, name, value);
+      s.silhouette = param_flag(source, name, value);
     } else if (name == "spp") {
-      const double spp = number(source, name, value, 1, 256);
+      const double spp = param_number(source, name, value, 1, 256);
       const int n = int(std::lround(std::sqrt(spp)));
       if (spp != std::floor(spp) || n * n != int(spp))
         throw InputError(source, 0, "spp: '" + value + "' is not a square (1, 4, 9, 16, ... 256: an n x n grid)");
       s.spp = int(spp);
     } else if (name == "grid") {
-      s.grid = SampleGrid(choose(source, name, value, kGrids));
+      s.grid = SampleGrid(param_choice(source, name, value, kGrids));
     } else if (name == "split") {
-      s.split = flag(source, name, value);
+      s.split = param_flag(source, name, value);
     } else if (name == "tess_error") {
-      s.tess_error = number(source, name, value, 0.01, 16);
+      s.tess_error = param_number(source, name, value, 0.01, 16);
     } else if (name == "depth") {
-      s.depth = DepthFormat(choose(source, name, value, kDepths));
+      s.depth = DepthFormat(param_choice(source, name, value, kDepths));
     } else if (name == "interp") {
-      s.perspective = choose(source, name, value, kInterps) == 0;
+      s.perspective = param_choice(source, name, value, kInterps) == 0;
     } else if (name == "order") {
-      s.order = DrawOrder(choose(source, name, value, kOrders));
+      s.order = DrawOrder(param_choice(source, name, value, kOrders));
     } else if (name == "hidden") {
-      s.skip_hidden = choose(source, name, value, kHidden) == 0;
+      s.skip_hidden = param_choice(source, name, value, kHidden) == 0;
     } else if (name == "shadows") {
-      s.shadows = ShadowMode(choose(source, name, value, kShadows));
+      s.shadows = ShadowMode(param_choice(source, name, value, kShadows));
     } else if (name == "zfail") {
-      s.zfail = flag(source, name, value);
+      s.zfail = param_flag(source, name, value);
     } else if (name == "bias") {
-      s.bias = number(source, name, value, 0, 1e6);
+      s.bias = param_number(source, name, value, 0, 1e6);
     } else if (name == "slope_bias") {
-      s.slope_bias = number(source, name, value, 0, 1e3);
+      s.slope_bias = param_number(source, name, value, 0, 1e3);
     } else if (name == "map_size") {
-      const double n = number(source, name, value, 16, 4096);
+      const double n = param_number(source, name, value, 16, 4096);
       if (n != std::floor(n)) throw InputError(source, 0, "map_size: '" + value + "' is not a whole number of texels");
       s.map_size = int(n);
     } else if (name == "pcf") {
-      s.pcf = choose(source, name, value, "0|1|2|3|4|5|6|7|8|9");
+      s.pcf = param_choice(source, name, value, "0|1|2|3|4|5|6|7|8|9");
       if (s.pcf > 1 && s.pcf % 2 == 0)
         throw InputError(source, 0, "pcf: '" + value + "' is not 0, 1 (off) or an odd kernel width 3, 5, 7, 9");
     } else {

@@ -45,6 +45,9 @@ struct Material {
   // the surfaces emit, per channel; radiosity's emitters. Other families do
   // not draw emission (a ray-cast emitter looks like its colour).
   Vec3 emission{0, 0, 0};
+  // The line of its 'f' in the file it came from (0: none), for messages
+  // about it that only a family can give (radiosity: reflectance >= 1).
+  int line = 0;
   // NFF: polygons are one-sided unless the material transmits light.
   bool two_sided() const { return transmittance > 0.0; }
 };

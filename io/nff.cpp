@@ -295,6 +295,7 @@ Scene parse_nff(std::string_view text, const std::string& name) {
       m.shine = in.number(6);
       m.transmittance = in.number(7);
       m.ior = in.number(8);
+      m.line = in.line();
       material = add_material(scene, m);
       have_material = true;
       material_line = in.line();

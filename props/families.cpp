@@ -28,6 +28,9 @@ FamilyProperties properties(const Family&, RunResources&);
 namespace texture {
 FamilyProperties properties(const Family&, RunResources&);
 }
+namespace radiosity {
+FamilyProperties properties(const Family&, RunResources&);
+}
 
 const std::vector<ProviderRow>& property_providers() {
   static const std::vector<ProviderRow> rows = {
@@ -42,6 +45,7 @@ const std::vector<ProviderRow>& property_providers() {
       {"splat", volume::properties},
       {"ray_trace", ray_trace::properties},
       {"texture", texture::properties},
+      {"radiosity", radiosity::properties},
   };
   return rows;
 }

@@ -3,6 +3,7 @@
 
 #include "registry/composite_row.h"
 #include "registry/marching_cubes_row.h"
+#include "registry/radiosity_row.h"
 #include "registry/ray_cast_row.h"
 #include "registry/ray_trace_row.h"
 #include "registry/raster_rows.h"
@@ -26,6 +27,7 @@ const Registry& registry() {
               volume_iso_family(),
               ray_trace_family(),
               texture_family(),
+              radiosity_family(),
           },
       // Old spellings still accepted (issue 31: one spelling per family).
       .aliases = {{"raytrace", "ray_trace"}},

@@ -55,6 +55,7 @@ STEMS = {
     "splat": ["volume_splat", "splat"],
     "volume_iso": ["volume_iso"],
     "texture": ["texture", "texture_filter", "texture_scene", "textures"],
+    "radiosity": ["radiosity"],
 }
 # C++ sources of reference/, optimized/ and registry/ that belong to no one
 # family (basename without extension: what uses them).

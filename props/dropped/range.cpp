@@ -1,5 +1,5 @@
 // Nothing dropped silently (issue #22): every row of every family that draws
-// NFF scenes (ray_cast, ray_trace, zbuffer, scanline, painter: whatever the
+// NFF scenes (ray_cast, ray_trace, zbuffer, scanline, painter, radiosity: whatever the
 // registry lists for .nff, peers included) against random huge, tiny and far
 // geometry. A row may fail to draw a primitive (float kernels, overflow,
 // underflow), but then it must say so (FrameStats::dropped, count and reason);
@@ -282,10 +282,12 @@ void check_case(const std::string& base_text, const std::string& text, Tally& ta
     }
     const Rendered a = render(r, base_text, "base");
     if (!a.ok) continue;
-    RC_ASSERT_FALSE(a.stats.dropped_count() != 0);  // the base scene is well within every row's range
+    // The base scene is well within every row's range: what a row drops there
+    // it drops by design at every scale (radiosity meshes polygons only: the
+    // spheres), and the case must then drop the same and draw the same image.
     const Rendered b = render(r, text, "case");
     RC_ASSERT(b.ok);
-    if (b.stats.dropped_count() != 0) {
+    if (b.stats.dropped_count() != 0 && b.stats.dropped != a.stats.dropped) {
       for (const auto& [why, n] : b.stats.dropped) ++tally.drops[r.name()][why];
       continue;  // said: the image may differ
     }

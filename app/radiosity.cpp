@@ -1,0 +1,51 @@
+// lockstep radiosity: an NFF scene with emitters, solved for radiosity and
+// displayed through the z-buffer -- `lockstep render` with the family fixed
+// to radiosity (registry/radiosity_row.h).
+#include <cstdio>
+
+#include "app/cli.h"
+
+namespace lockstep::cli {
+
+namespace {
+
+void print_help() {
+  std::printf(
+      "usage: lockstep radiosity SCENE [--patch-area A] [--form-factors rays|hemicube]\n"
+      "                          [--rays K] [--hemicube N] [--solver jacobi|gauss-seidel|progressive]\n"
+      "                          [--tolerance T] [--impl NAME] [--size WxH] [--threads N] -o IMAGE\n"
+      "\n"
+      "Cuts SCENE's polygons into patches, computes the form factors, solves\n"
+      "B = E + rho F B and draws the solution through the z-buffer, the vertex\n"
+      "radiosities Gouraud-interpolated, without light sources (docs/radiosity.md).\n"
+      "The format follows IMAGE's extension (.exr and .tif keep float values, .png 8 bits).\n"
+      "\n"
+      "  SCENE               an NFF scene (.nff); emitters are polygons after\n"
+      "                      '#lockstep emit R G B' (an 'f' line's extension); reflectance is the\n"
+      "                      f line's colour x Kd, below 1 (corpus/radiosity/cornell_box.nff)\n"
+      "  --patch-area A      the largest patch, in scene units squared (default: the scene's\n"
+      "                      polygon area / 256)\n"
+      "  --form-factors M    rays (default): Lambert's factor from each patch's centre times the\n"
+      "                      share of K x K rays that reach the other patch; hemicube: the patch's\n"
+      "                      view through the z-buffer on five half-cube faces\n"
+      "  --rays K            1..16, default 2\n"
+      "  --hemicube N        pixels a side of the top face, even, 8..1024, default 64\n"
+      "  --solver S          gauss-seidel (default), jacobi or progressive (shooting, Cohen et al. 1988)\n"
+      "  --tolerance T       stop at a residual of T times the largest emission (default 1e-4)\n"
+      "  --impl NAME         reference (single-threaded, brute-force rays) or simd (default:\n"
+      "                      Embree's rays, TBB)\n"
+      "  --size WxH          image size (default: the scene's resolution)\n"
+      "  --threads N         worker threads, N >= 1 (default: all cores)\n"
+      "  --repeat N          run N times in this process (default 1)\n"
+      "  -o, --output F      the image to write (required)\n"
+      "\n"
+      "Prints one summary line on stderr: implementation, size, time, form factors per second,\n"
+      "patches and solver iterations; notes (no emitter, spheres left out) follow it.\n"
+      "Exit codes: 0 ok, 2 bad usage or bad input (nothing written), 3 internal error.\n");
+}
+
+}  // namespace
+
+int radiosity_main(Args args) { return render_subcommand("lockstep radiosity", "radiosity", args, print_help); }
+
+}  // namespace lockstep::cli

@@ -1,0 +1,147 @@
+// lockstep reference: radiosity (reference/radiosity.h).
+//
+// Goral, Torrance, Greenberg and Battaile, "Modeling the interaction of light
+// between diffuse surfaces" (1984); Cohen and Greenberg, "The hemi-cube"
+// (1985); Cohen and Wallace, "Radiosity and Realistic Image Synthesis" (1993),
+// ch. 4-5. The lecture notes' steps, one by one:
+//   1. cut the surfaces into patches small enough that each is one colour;
+//   2. form factors: how much of the light leaving patch i reaches patch j;
+//   3. solve B_i = E_i + rho_i sum_j F_ij B_j (energy conservation);
+//   4. display: vertex radiosities, Gouraud-interpolated through the
+//      z-buffer, with no light sources (the solution replaces ambient light).
+#include "reference/radiosity.h"
+
+#include <cmath>
+#include <string>
+
+#include "core/error.h"
+#include "reference/raster.h"
+
+namespace lockstep::ref {
+
+namespace {
+
+// The settings the display's z-buffer draws with: visibility only.
+RasterSettings item_buffer_settings() {
+  RasterSettings s;
+  s.shading = Shading::kFlat;
+  s.cull = CullMode::kNone;  // a back face hides what is behind it too
+  // Depth: float, the default. (The simd z-buffer breaks exact depth ties at
+  // edges shared by two polygons as this one does in float; with
+  // depth=double it kept other triangles there, whole hemicube pixels.)
+  return s;
+}
+
+// Moller and Trumbore (1997): does the segment a + t (b - a), t in (lo, hi),
+// cross triangle (p0, p1, p2), from either side?
+bool segment_meets_triangle(const Vec3& a, const Vec3& d, double lo, double hi, const Vec3& p0, const Vec3& p1,
+                            const Vec3& p2) {
+  const Vec3 e1 = p1 - p0, e2 = p2 - p0;
+  const Vec3 pv = cross(d, e2);
+  const double det = dot(e1, pv);
+  if (det == 0) return false;  // the segment is parallel to the plane
+  const Vec3 s = a - p0;
+  const double u = dot(s, pv) / det;
+  if (u < 0 || u > 1) return false;
+  const Vec3 q = cross(s, e1);
+  const double v = dot(d, q) / det;
+  if (v < 0 || u + v > 1) return false;
+  const double t = dot(e2, q) / det;
+  return t > lo && t < hi;
+}
+
+}  // namespace
+
+bool segment_clear(const Scene& scene, const Vec3& a, const Vec3& b, int from, int to) {
+  const Vec3 d = b - a;
+  for (size_t k = 0; k < scene.tri_vertex.size(); ++k) {
+    const int poly = int(scene.tri_poly[k]);
+    if (poly == from || poly == to) continue;
+    const auto& t = scene.tri_vertex[k];
+    if (segment_meets_triangle(a, d, kSegmentMargin, 1 - kSegmentMargin, scene.vertex[t[0]], scene.vertex[t[1]],
+                               scene.vertex[t[2]]))
+      return false;
+  }
+  return true;
+}
+
+std::vector<double> form_factors_rays(const Scene& scene, const PatchMesh& mesh, int k) {
+  const size_t n = mesh.patches.size();
+  std::vector<double> f(n * n, 0.0);
+  for (size_t i = 0; i < n; ++i) {
+    const Vec3 c = mesh.patches[i].centre();
+    for (size_t j = 0; j < n; ++j) {
+      // Unoccluded: Lambert's contour integral from i's centre over j.
+      const double unoccluded = centre_form_factor(mesh, i, j);
+      if (!(unoccluded > 0)) continue;
+      // Occluded: the share of rays from the centre to j's points that arrive.
+      const std::vector<Vec3> targets = patch_targets(mesh.patches[j], k);
+      int arrived = 0;
+      for (const Vec3& y : targets)
+        if (segment_clear(scene, c, y, mesh.patches[i].polygon, mesh.patches[j].polygon)) ++arrived;
+      f[i * n + j] = unoccluded * arrived / double(targets.size());
+    }
+  }
+  return f;
+}
+
+std::vector<double> form_factors_hemicube(const PatchMesh& mesh, int res) {
+  const size_t n = mesh.patches.size();
+  std::vector<double> f(n * n, 0.0);
+  const HemicubeWeights w = hemicube_weights(res);
+  const RasterSettings s = item_buffer_settings();
+  Scene items = patch_scene(mesh, View{});
+  // Nothing nearer than a hundredth of a patch's side is drawn (another
+  // patch is at least half a side from a centre).
+  const double near = 1e-2 * std::sqrt(mesh.max_area);
+  for (size_t i = 0; i < n; ++i) {
+    const Patch& from = mesh.patches[i];
+    const Vec3 c = from.centre(), normal = from.normal();
+    for (int face = 0; face < 5; ++face) {
+      // The face's view, through the reference z-buffer: which patch each pixel sees.
+      items.view = hemicube_view(c, normal, face, res, near, hemicube_turn(size_t(i)));
+      const ScreenMesh screen = view_scene(items, res, res, s);
+      Visibility vis;
+      zbuffer_visibility(screen, s, vis);
+      // Each pixel's delta form factor to the patch it sees.
+      add_hemicube_face(mesh, items, screen, vis, w, i, face, &f[i * n]);
+    }
+  }
+  return f;
+}
+
+Image radiosity(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
+  const RadiositySettings rs = radiosity_settings(opts.params, scene.source);
+  // 1. Patches.
+  const PatchMesh mesh = mesh_scene(scene, rs.patch_area);
+  const size_t n = mesh.patches.size();
+  if (opts.progress) opts.progress(0.0);
+  // 2. Form factors.
+  const std::vector<double> f = rs.method == FormFactorMethod::rays ? form_factors_rays(scene, mesh, rs.rays)
+                                                                    : form_factors_hemicube(mesh, rs.hemicube);
+  if (opts.progress) opts.progress(0.8);
+  // 3. Solve.
+  SolveResult solved;
+  try {
+    solved = solve_radiosity(mesh.patches, f, rs.solver, rs.tolerance, rs.max_iterations);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(scene.source, 0, e.what());
+  }
+  // 4. Display: the patches through the z-buffer, vertex radiosities interpolated.
+  const Scene items = patch_scene(mesh, scene.view);
+  const RasterSettings s = item_buffer_settings();
+  const ScreenMesh screen = view_scene(items, opts.width, opts.height, s);
+  Visibility vis;
+  zbuffer_visibility(screen, s, vis);
+  Image image = radiosity_image(items, mesh, vertex_radiosity(mesh, solved.b), screen, vis, scene.background);
+  if (stats) {
+    stats->items = uint64_t(n) * n;
+    stats->counts = {{"patches", n}, {"iterations", uint64_t(solved.iterations)}};
+    if (mesh.spheres_and_cones) stats->drop("spheres and cones: radiosity meshes polygons only", mesh.spheres_and_cones);
+    radiosity_notes(mesh, solved, rs, *stats);
+  }
+  if (opts.progress) opts.progress(1.0);
+  return image;
+}
+
+}  // namespace lockstep::ref
