@@ -3,11 +3,15 @@
 
 #include <embree3/rtcore.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
+#include <span>
 #include <stdexcept>
 
 #include "core/error.h"
+#include "optimized/radiosity_simd_kernels.h"
 #include "optimized/tiling.h"
 #include "optimized/zbuffer/zbuffer_simd.h"
 
@@ -76,11 +80,50 @@ void build(Occluders& o, const Scene& scene, const embree::Device& device) {
   rtcCommitScene(o.scene);
 }
 
+// An axis-aligned box; overlaps: their interiors meet (boxes that only touch
+// hold no segment of one that crosses the other's polygon).
+struct Box {
+  Vec3 lo{kInfinity, kInfinity, kInfinity}, hi{-kInfinity, -kInfinity, -kInfinity};
+  void add(const Vec3& p) {
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  }
+  bool overlaps(const Box& b) const {
+    return lo.x < b.hi.x && b.lo.x < hi.x && lo.y < b.hi.y && b.lo.y < hi.y && lo.z < b.hi.z && b.lo.z < hi.z;
+  }
+};
+
+// The patches as structure of arrays for lambert_row, padded to 16 lanes.
+PatchSoA patch_soa(const PatchMesh& mesh) {
+  PatchSoA p;
+  p.count = mesh.patches.size();
+  p.padded = (p.count + 15) / 16 * 16;
+  for (int k = 0; k < 4; ++k) {
+    p.x[k].assign(p.padded, 0.0);
+    p.y[k].assign(p.padded, 0.0);
+    p.z[k].assign(p.padded, 0.0);
+  }
+  p.nx.assign(p.padded, 0.0);  // padding: a zero normal faces nothing
+  p.ny.assign(p.padded, 0.0);
+  p.nz.assign(p.padded, 0.0);
+  for (size_t j = 0; j < p.count; ++j) {
+    const Patch& q = mesh.patches[j];
+    for (int k = 0; k < 4; ++k) {
+      const Vec3& v = q.v[k < q.count ? k : q.count - 1];
+      p.x[k][j] = v.x, p.y[k][j] = v.y, p.z[k][j] = v.z;
+    }
+    const Vec3 n = q.normal();
+    p.nx[j] = n.x, p.ny[j] = n.y, p.nz[j] = n.z;
+  }
+  return p;
+}
+
 }  // namespace
 
 std::vector<double> radiosity_form_factors_rays(const Scene& scene, const PatchMesh& mesh, int k, int threads,
                                                 const embree::Device& device,
-                                                const std::function<void(double)>& progress) {
+                                                const std::function<void(double)>& progress, RayCounts* counts) {
+  std::atomic<uint64_t> cast{0}, culled{0};
   const size_t n = mesh.patches.size();
   std::vector<double> f(n * n, 0.0);
   if (n == 0) return f;
@@ -94,7 +137,55 @@ std::vector<double> radiosity_form_factors_rays(const Scene& scene, const PatchM
     centre[i] = mesh.patches[i].centre();
     targets[i] = patch_targets(mesh.patches[i], k);
   }
+  const PatchSoA soa = patch_soa(mesh);
+  // The shaft test's boxes: every scene polygon's, every patch's targets'.
+  // Scenes of more than kShaftPolygons polygons skip it (every pair casts).
+  constexpr uint32_t kShaftPolygons = 256;
+  std::vector<Box> poly_box(scene.polygon_count());
+  for (uint32_t p = 0; p < scene.polygon_count(); ++p)
+    for (const Vec3& v : scene.polygon_vertices(p)) poly_box[p].add(v);
+  std::vector<Box> target_box(n);
+  for (size_t j = 0; j < n; ++j)
+    for (const Vec3& y : targets[j]) target_box[j].add(y);
+  // Whether polygon p lies wholly outside the pyramid from c over patch j
+  // (which holds every segment from c to j's targets): beyond j's plane, or
+  // beyond a plane through c and one of j's edges. Clearly beyond: by more
+  // than 1e-12 of the lengths involved, so rounding never culls a blocker.
+  std::vector<Vec3> patch_normal(n);
+  for (size_t j = 0; j < n; ++j) patch_normal[j] = mesh.patches[j].normal();
+  auto outside_pyramid = [&](const Vec3& c, size_t j, uint32_t p) {
+    const Patch& pj = mesh.patches[j];
+    const std::span<const Vec3> v = scene.polygon_vertices(p);
+    auto all_beyond = [&](const Vec3& origin, const Vec3& m) {
+      const double mm = dot(m, m);
+      for (const Vec3& q : v) {
+        const Vec3 r = q - origin;
+        const double h = dot(m, r);
+        if (!(h < 0 && h * h > 1e-24 * mm * dot(r, r))) return false;
+      }
+      return true;
+    };
+    const Vec3& inside = centre[j];
+    if (all_beyond(pj.v[0], patch_normal[j])) return true;  // behind j (c is in front of it)
+    for (int e = 0; e < pj.count; ++e) {
+      Vec3 m = cross(pj.v[e] - c, pj.v[(e + 1) % pj.count] - c);
+      if (dot(m, inside - c) < 0) m = -m;  // pointing into the pyramid
+      if (all_beyond(c, m)) return true;
+    }
+    return false;
+  };
+  auto may_block = [&](const Vec3& c, Box b, int from, size_t j) {
+    if (scene.polygon_count() > kShaftPolygons) return true;
+    const int to = mesh.patches[j].polygon;
+    b.add(c);
+    for (uint32_t p = 0; p < poly_box.size(); ++p)
+      if (int(p) != from && int(p) != to && poly_box[p].overlaps(b) && !outside_pyramid(c, j, p))
+        return true;
+    return false;
+  };
   parallel_tiles(int(n), 1, 4, 1, threads, progress, [&](int x0, int, int x1, int) {
+    std::vector<double> lambert(soa.padded);
+    std::vector<unsigned char> clip(soa.padded);
     std::vector<RTCRay> rays;
     std::vector<uint32_t> to;                      // per ray: the polygon it arrives at
     std::vector<std::pair<uint32_t, double>> row;  // (j, unoccluded factor) of the rays in order
@@ -104,10 +195,25 @@ std::vector<double> radiosity_form_factors_rays(const Scene& scene, const PatchM
       row.clear();
       const Vec3 c = centre[size_t(i)];
       const Vec3 o = c - occ.centre;
+      // Lambert's factors from c to every patch at once; the few patches that
+      // reach behind c's tangent plane by the reference's clipping code.
+      lambert_row(soa, c, mesh.patches[size_t(i)].normal(), lambert.data(), clip.data());
+      const int from = mesh.patches[size_t(i)].polygon;
+      uint64_t spared = 0;
       for (size_t j = 0; j < n; ++j) {
-        const double unoccluded = centre_form_factor(mesh, size_t(i), j);
+        const double unoccluded = clip[j] ? centre_form_factor(mesh, size_t(i), j) : lambert[j];
         if (!(unoccluded > 0)) continue;
-        row.emplace_back(uint32_t(j), unoccluded);
+        // Shaft culling (Haines and Wallace 1994): no polygon but the two
+        // patches' own both overlaps the box of c and j's targets and reaches
+        // into the pyramid from c over j, so no segment between them can be
+        // blocked: every ray arrives.
+        if (may_block(c, target_box[j], from, j)) {
+          row.emplace_back(uint32_t(j), unoccluded);
+        } else {
+          f[size_t(i) * n + j] = unoccluded;
+          ++spared;
+          continue;
+        }
         for (const Vec3& y : targets[j]) {
           const Vec3 d = y - c;
           RTCRay r{};
@@ -130,6 +236,8 @@ std::vector<double> radiosity_form_factors_rays(const Scene& scene, const PatchM
         context.to = to.data();
         rtcOccluded1M(occ.scene, &context.base, rays.data(), unsigned(rays.size()), sizeof(RTCRay));
       }
+      cast += rays.size();
+      culled += spared;
       // Blocked rays come back with tfar = -inf.
       size_t r = 0;
       for (const auto& [j, unoccluded] : row) {
@@ -140,6 +248,10 @@ std::vector<double> radiosity_form_factors_rays(const Scene& scene, const PatchM
       }
     }
   });
+  if (counts) {
+    counts->rays = cast;
+    counts->culled_pairs = culled;
+  }
   return f;
 }
 
@@ -176,9 +288,10 @@ Image radiosity_with(const Scene& scene, const FrameOptions& opts, FrameStats* s
     if (!opts.progress) return {};
     return [&opts, lo, hi](double x) { opts.progress(lo + (hi - lo) * x); };
   };
+  RayCounts counts;
   const std::vector<double> f =
       rs.method == FormFactorMethod::rays
-          ? radiosity_form_factors_rays(scene, mesh, rs.rays, opts.threads, device, part(0, 0.8))
+          ? radiosity_form_factors_rays(scene, mesh, rs.rays, opts.threads, device, part(0, 0.8), &counts)
           : radiosity_form_factors_hemicube(mesh, rs.hemicube, opts.threads, part(0, 0.8));
   SolveResult solved;
   try {
@@ -195,6 +308,8 @@ Image radiosity_with(const Scene& scene, const FrameOptions& opts, FrameStats* s
   if (stats) {
     stats->items = uint64_t(n) * n;
     stats->counts = {{"patches", n}, {"iterations", uint64_t(solved.iterations)}};
+    if (rs.method == FormFactorMethod::rays)
+      stats->counts.insert(stats->counts.end(), {{"rays", counts.rays}, {"shaft_culled_pairs", counts.culled_pairs}});
     radiosity_notes(mesh, solved, rs, *stats);
   }
   if (opts.progress) opts.progress(1.0);

@@ -1,9 +1,13 @@
 // lockstep optimized: radiosity (issue #33) on TBB threads, Embree's rays and
 // the simd z-buffer's hemicubes; the contract of core/radiosity.h, the
 // reference's steps (reference/radiosity.h) done fast:
-//   rays      every segment of patch i's row in one Embree stream
-//             (rtcOccluded1M, float, the scene's triangles, both sides), rows
-//             on TBB threads; Lambert's factors in double, as the reference;
+//   rays      Lambert's factors from patch i's centre to 8 patches a vector
+//             (optimized/radiosity_simd_kernels.h, double; patches reaching
+//             behind the tangent plane by the reference's clipping code);
+//             shaft culling by boxes (Haines and Wallace 1994): a pair whose
+//             box of rays no other polygon's box enters casts none; the rest
+//             of row i's segments in one Embree stream (rtcOccluded1M, float,
+//             the scene's triangles, both sides); rows on TBB threads;
 //   hemicube  each face through opt::simd's view_scene and z-buffer (one
 //             thread each; the depth format the reference's, float, whose
 //             ties the two z-buffers break alike), patches on TBB threads;
@@ -12,6 +16,8 @@
 // The solve is the shared one (core/radiosity.h solve_radiosity).
 #pragma once
 
+#include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "core/family.h"
@@ -22,9 +28,14 @@
 
 namespace lockstep::opt::simd {
 
+// What the rays method did: segments cast, patch pairs the shaft test spared.
+struct RayCounts {
+  uint64_t rays = 0, culled_pairs = 0;
+};
 std::vector<double> radiosity_form_factors_rays(const Scene& scene, const PatchMesh& mesh, int k, int threads,
                                                 const embree::Device& device,
-                                                const std::function<void(double)>& progress = {});
+                                                const std::function<void(double)>& progress = {},
+                                                RayCounts* counts = nullptr);
 std::vector<double> radiosity_form_factors_hemicube(const PatchMesh& mesh, int res, int threads,
                                                     const std::function<void(double)>& progress = {});
 

@@ -20,8 +20,9 @@ constexpr TypedImpl<Scene> kImpls[] = {
     {"reference", ref::radiosity, 0, {}, {}, false},
     // A hemicube sample exactly on an edge shared by two polygons: each
     // z-buffer rounds the tie its own way (props/radiosity Agree); measured
-    // 0.106% of the pixels of hemicube cases (1000 deep cases), cap 0.2%.
-    {"simd", opt::simd::radiosity, 0, {"hemicube_tie", 0.002, "hemicube"}},
+    // 0.029% and 0.106% of the pixels of hemicube cases (two seeds of 1000
+    // deep cases; ties cluster in a case), cap 0.15%.
+    {"simd", opt::simd::radiosity, 0, {"hemicube_tie", 0.0015, "hemicube"}},
 };
 
 }  // namespace
@@ -43,7 +44,7 @@ Family radiosity_family() {
   // rays decide in float (Embree), the reference's in double: p99 3.7e-5 of
   // a pixel's value, never over 1/255 so far. Its hemicube z-buffer breaks
   // exact depth ties at shared edges its own way (the row's known failure):
-  // 0.106% of the hemicube cases' pixels over 1/255, at most 0.0109.
+  // 0.029-0.106% of the hemicube cases' pixels over 1/255, at most 0.0109.
   f.tol.abs = 1.0 / 255;
   f.tol.fraction = 0.999;
   f.tol.hard = 0.02;

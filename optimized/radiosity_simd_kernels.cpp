@@ -1,0 +1,96 @@
+// lockstep optimized: Lambert's form factor over many patches (radiosity_simd_kernels.h).
+//
+// Per lane (one patch j), the reference's steps (core/radiosity.cpp
+// point_polygon_form_factor): for each edge (p_k, p_k+1) with r0 = p_k - c,
+// r1 = p_k+1 - c, the angle gamma = atan2(|r0 x r1|, r0 . r1) it subtends at
+// c and the unit normal of the plane through c and the edge; F = |sum gamma
+// n . (r0 x r1) / |r0 x r1|| / (2 pi). Highway 1.0 has no Atan2: for
+// len >= 0, atan2(len, d) is atan(min/max) or pi/2 minus it, mirrored to
+// pi - that for d < 0 (Highway's Atan: 3 ULP).
+#include "optimized/radiosity_simd_kernels.h"
+
+#include <cmath>
+
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "optimized/radiosity_simd_kernels.cpp"
+#include "hwy/foreach_target.h"  // IWYU pragma: keep
+#include "hwy/highway.h"
+#include "hwy/contrib/math/math-inl.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace lockstep::opt::simd {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+void LambertRow(const PatchSoA& p, const Vec3& c, const Vec3& n, double* f, unsigned char* clip) {
+  const hn::ScalableTag<double> d;
+  using V = hn::Vec<decltype(d)>;
+  const size_t L = hn::Lanes(d);
+  const V cx = hn::Set(d, c.x), cy = hn::Set(d, c.y), cz = hn::Set(d, c.z);
+  const V nx = hn::Set(d, n.x), ny = hn::Set(d, n.y), nz = hn::Set(d, n.z);
+  const V zero = hn::Zero(d), half_pi = hn::Set(d, M_PI / 2), pi = hn::Set(d, M_PI);
+  for (size_t j = 0; j < p.padded; j += L) {
+    V rx[4], ry[4], rz[4];
+    for (int k = 0; k < 4; ++k) {
+      rx[k] = hn::Sub(hn::LoadU(d, p.x[k].data() + j), cx);
+      ry[k] = hn::Sub(hn::LoadU(d, p.y[k].data() + j), cy);
+      rz[k] = hn::Sub(hn::LoadU(d, p.z[k].data() + j), cz);
+    }
+    // j sends nothing to a point behind or (within 1e-9 rad) in its plane:
+    // its normal . (c - p_0) > 1e-9 |c - p_0|.
+    const V qx = hn::LoadU(d, p.nx.data() + j), qy = hn::LoadU(d, p.ny.data() + j), qz = hn::LoadU(d, p.nz.data() + j);
+    const V facing = hn::Neg(hn::Add(hn::Add(hn::Mul(qx, rx[0]), hn::Mul(qy, ry[0])), hn::Mul(qz, rz[0])));
+    const V dist = hn::Sqrt(hn::Add(hn::Add(hn::Mul(rx[0], rx[0]), hn::Mul(ry[0], ry[0])), hn::Mul(rz[0], rz[0])));
+    const auto sends = hn::Gt(facing, hn::Mul(hn::Set(d, 1e-9), dist));
+    // Corners behind c's tangent plane: the reference clips; the caller does.
+    auto behind = hn::FirstN(d, 0);
+    for (int k = 0; k < 4; ++k) {
+      const V h = hn::Add(hn::Add(hn::Mul(nx, rx[k]), hn::Mul(ny, ry[k])), hn::Mul(nz, rz[k]));
+      behind = hn::Or(behind, hn::Lt(h, zero));
+    }
+    V sum = zero;
+    for (int k = 0; k < 4; ++k) {
+      const int k1 = (k + 1) & 3;
+      const V ex = hn::Sub(hn::Mul(ry[k], rz[k1]), hn::Mul(rz[k], ry[k1]));
+      const V ey = hn::Sub(hn::Mul(rz[k], rx[k1]), hn::Mul(rx[k], rz[k1]));
+      const V ez = hn::Sub(hn::Mul(rx[k], ry[k1]), hn::Mul(ry[k], rx[k1]));
+      const V len = hn::Sqrt(hn::Add(hn::Add(hn::Mul(ex, ex), hn::Mul(ey, ey)), hn::Mul(ez, ez)));
+      const V dt = hn::Add(hn::Add(hn::Mul(rx[k], rx[k1]), hn::Mul(ry[k], ry[k1])), hn::Mul(rz[k], rz[k1]));
+      // gamma = atan2(len, dt) in [0, pi].
+      const V a = hn::Abs(dt);
+      const V lo = hn::Min(len, a), hi = hn::Max(len, a);
+      const auto some = hn::Gt(hi, zero);
+      const V t = hn::Atan(d, hn::IfThenElse(some, hn::Div(lo, hn::IfThenElse(some, hi, hn::Set(d, 1))), zero));
+      const V first = hn::IfThenElse(hn::Le(len, a), t, hn::Sub(half_pi, t));
+      const V gamma = hn::IfThenElse(hn::Lt(dt, zero), hn::Sub(pi, first), first);
+      const V nd = hn::Add(hn::Add(hn::Mul(nx, ex), hn::Mul(ny, ey)), hn::Mul(nz, ez));
+      const auto edge = hn::Gt(len, zero);  // an edge through c's line of sight: no area
+      sum = hn::Add(sum, hn::IfThenElseZero(edge, hn::Div(hn::Mul(gamma, nd), hn::IfThenElse(edge, len, hn::Set(d, 1)))));
+    }
+    const V F = hn::IfThenElseZero(sends, hn::Mul(hn::Abs(sum), hn::Set(d, 1 / (2 * M_PI))));
+    hn::StoreU(F, d, f + j);
+    const auto needs_clip = hn::And(sends, behind);
+    for (size_t l = 0; l < L; ++l) clip[j + l] = 0;
+    if (!hn::AllFalse(d, needs_clip)) {
+      alignas(64) double m[HWY_MAX_BYTES / sizeof(double)];
+      hn::Store(hn::IfThenElseZero(needs_clip, hn::Set(d, 1)), d, m);
+      for (size_t l = 0; l < L; ++l) clip[j + l] = m[l] != 0;
+    }
+  }
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace lockstep::opt::simd
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace lockstep::opt::simd {
+
+HWY_EXPORT(LambertRow);
+
+void lambert_row(const PatchSoA& p, const Vec3& c, const Vec3& n, double* f, unsigned char* clip) {
+  HWY_DYNAMIC_DISPATCH(LambertRow)(p, c, n, f, clip);
+}
+
+}  // namespace lockstep::opt::simd
+#endif  // HWY_ONCE
