@@ -27,7 +27,7 @@ ROOT=$PWD
 abs() { case "$1" in /*) echo "$1" ;; *) echo "$here/$1" ;; esac; }
 
 STEPS=(machine ray_cast_composite accuracy charts raster raster_study cones shadow_map shadows mc_study mc_topology
-       volume volume_study ray_trace ray_trace_study ray_trace_depth embree_raw oneshot oneshot_pages page)
+       volume volume_study ray_trace ray_trace_study ray_trace_depth embree_raw oneshot oneshot_pages radiosity page)
 # Results no step writes (the page shows them as committed).
 KEPT=(composite_accuracy.json llvmpipe_warm.json mc_bench.json raster_deep.json ray_cast_known.json
       volpack_agreement.json volpack_peer.json ray_trace_packets.json)
@@ -215,6 +215,14 @@ step_ray_trace() {  # ray tracing's frames: rays per second
   bench "$f" "$R"/ray_trace.json "${gbr[@]}"
   $PY bench/scripts/ray_trace_bench_table.py "$R"/ray_trace.json "$R"/ray_trace_rates.json
   made "$R"/ray_trace.json "$R"/ray_trace_rates.json
+}
+
+step_radiosity() {  # radiosity's Cornell box frames, reference and simd
+  local f='^frame/radiosity/' gbr=(--benchmark_min_time=0.2)
+  ((quick)) && f='^frame/radiosity/cornell-305-rays/(reference|simd)/threads:1/' gbr=()
+  bench "$f" "$R"/radiosity.json "${gbr[@]}"
+  $PY bench/scripts/radiosity_table.py "$R"/radiosity.json "$R"/radiosity_frames.json
+  made "$R"/radiosity.json "$R"/radiosity_frames.json
 }
 
 step_ray_trace_study() {  # ray tracing's failure map: acne and leaks

@@ -339,7 +339,10 @@ PatchMesh mesh_scene(const Scene& scene, double max_area) {
   PatchMesh out;
   out.spheres_and_cones = uint64_t(scene.sphere_count()) + scene.cone_count();
   double total = 0;
-  for (uint32_t p = 0; p < scene.polygon_count(); ++p) total += 0.5 * length(vector_area2(scene.polygon_vertices(p)));
+  for (uint32_t p = 0; p < scene.polygon_count(); ++p) {
+    const double a = 0.5 * length(vector_area2(scene.polygon_vertices(p)));
+    if (std::isfinite(a)) total += a;
+  }
   if (max_area <= 0) max_area = total / 256;
   if (!(max_area > 0)) return out;  // no polygon has area
   // The count before cutting: a dense n x n matrix must fit.
@@ -359,6 +362,12 @@ PatchMesh mesh_scene(const Scene& scene, double max_area) {
                          "reflectance (colour x Kd) " + std::to_string(r) +
                              " is not below 1: radiosity's B = E + rho F B would not converge");
     const std::span<const Vec3> v = scene.polygon_vertices(p);
+    // A polygon without area (its vertices on a line) has no patches.
+    const double a = 0.5 * length(vector_area2(v));
+    if (!(a > 0) || !std::isfinite(a)) {
+      ++out.no_area;
+      continue;
+    }
     std::vector<Patch> pieces;
     if (v.size() == 4 && convex_quad(v, scene.poly_plane[p].n)) {
       pieces = mesh_polygon(v, rho, m.emission, max_area, int(p));
@@ -487,6 +496,7 @@ std::vector<Vec3> patch_targets(const Patch& p, int k) {
 void radiosity_notes(const PatchMesh& mesh, const SolveResult& solved, const RadiositySettings& s,
                      FrameStats& stats) {
   if (mesh.spheres_and_cones) stats.drop("spheres and cones: radiosity meshes polygons only", mesh.spheres_and_cones);
+  if (mesh.no_area) stats.drop("polygons without area: no patches", mesh.no_area);
   bool emits = false;
   for (const Patch& p : mesh.patches) emits = emits || p.emission.x > 0 || p.emission.y > 0 || p.emission.z > 0;
   if (!emits)

@@ -149,6 +149,7 @@ struct PatchMesh {
   std::vector<Vec3> vertex;
   std::vector<std::array<uint32_t, 4>> corner;  // per patch: its corners' display vertices
   uint64_t spheres_and_cones = 0;               // left out: not polygons (FrameStats::dropped)
+  uint64_t no_area = 0;                         // polygons without area, left out (FrameStats::dropped)
   double max_area = 0;                          // the patch area it was cut at
 };
 

@@ -43,6 +43,11 @@ std::string spd_dir() {
   return LOCKSTEP_SPD_DIR;
 }
 
+std::string corpus_dir() {
+  if (const char* e = std::getenv("LOCKSTEP_CORPUS_DIR")) return e;
+  return LOCKSTEP_CORPUS_DIR;
+}
+
 std::string volumes_dir() {
   if (const char* e = std::getenv("LOCKSTEP_VOLUMES_DIR")) return e;
   return LOCKSTEP_VOLUMES_DIR;

@@ -27,6 +27,9 @@ void refuse_cones(Family& f, std::initializer_list<std::string_view> draws_cones
 // beside the source tree (as configured at build time).
 std::string spd_dir();
 
+// Where the corpus is (its inputs, for benchmarks that draw a corpus scene):
+// $LOCKSTEP_CORPUS_DIR, else corpus/ in the source tree.
+std::string corpus_dir();
 // Where the real CT/MRI volumes are: $LOCKSTEP_VOLUMES_DIR, else
 // ../shared/volumes beside the source tree.
 std::string volumes_dir();

@@ -2,6 +2,7 @@
 // contract, props/radiosity/ for the properties and bounds).
 #include "registry/radiosity_row.h"
 
+#include <filesystem>
 #include <memory>
 #include <string>
 
@@ -24,6 +25,34 @@ constexpr TypedImpl<Scene> kImpls[] = {
     // deep cases; ties cluster in a case), cap 0.15%.
     {"simd", opt::simd::radiosity, 0, {"hemicube_tie", 0.0015, "hemicube"}},
 };
+
+// The Cornell box (corpus/radiosity/) at 128 x 128 and three patch counts
+// (305, 1078, 4119 patches), rays k = 2; the hemicube (32) at the first.
+// items: form factors (n^2).
+std::vector<BenchInput> bench_frames() {
+  std::vector<BenchInput> out;
+  const std::string path = corpus_dir() + "/radiosity/cornell_box.nff";
+  if (!std::filesystem::exists(path)) return out;
+  const Input in = load_nff(path);
+  struct Case {
+    const char* name;
+    const char* area;
+    const char* method;
+  };
+  for (const Case& c : {Case{"cornell-305-rays", "8000", "rays"}, Case{"cornell-1078-rays", "2000", "rays"},
+                        Case{"cornell-4119-rays", "500", "rays"}, Case{"cornell-305-hemicube", "8000", "hemicube"}}) {
+    BenchInput b;
+    b.name = c.name;
+    b.input = in;
+    b.width = b.height = 128;
+    b.params.set("patch_area", c.area);
+    b.params.set("form_factors", c.method);
+    if (std::string(c.method) == "hemicube") b.params.set("hemicube", "32");
+    b.counters = {{"patches", double(mesh_scene(input_as<Scene>(in), std::stod(c.area)).patches.size())}};
+    out.push_back(std::move(b));
+  }
+  return out;
+}
 
 }  // namespace
 
@@ -61,6 +90,7 @@ Family radiosity_family() {
       };
       impl.session_any_input = true;
     }
+  f.bench = bench_frames;
   f.properties = {"enclosure", "agree"};
   f.params = radiosity_params();
   f.check_params = [](const Params& p) { radiosity_settings(p, "settings"); };
