@@ -493,6 +493,24 @@ std::vector<Vec3> patch_targets(const Patch& p, int k) {
   return out;
 }
 
+RasterSettings radiosity_item_buffer() {
+  RasterSettings s;
+  s.shading = Shading::kFlat;
+  s.cull = CullMode::kNone;
+  return s;
+}
+
+double hemicube_near(const PatchMesh& mesh) { return 1e-2 * std::sqrt(mesh.max_area); }
+
+SolveResult solve_patches(const PatchMesh& mesh, const std::vector<double>& f, const RadiositySettings& s,
+                          const std::string& source) {
+  try {
+    return solve_radiosity(mesh.patches, f, s.solver, s.tolerance, s.max_iterations);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(source, 0, e.what());
+  }
+}
+
 void radiosity_notes(const PatchMesh& mesh, const SolveResult& solved, const RadiositySettings& s,
                      FrameStats& stats) {
   if (mesh.spheres_and_cones) stats.drop("spheres and cones: radiosity meshes polygons only", mesh.spheres_and_cones);

@@ -208,6 +208,20 @@ std::vector<Vec3> patch_targets(const Patch& p, int k);
 // The two patches' own polygons are never tested (reference/radiosity.h).
 inline constexpr double kSegmentMargin = 1e-6;
 
+// The z-buffer settings every row draws item buffers with (hemicube faces
+// and the display): visibility only, back faces drawn (a back face hides what
+// is behind it too), float depth (the simd z-buffer breaks exact depth ties
+// at edges shared by two polygons as the reference does in float; with
+// depth=double it kept other triangles there, whole hemicube pixels).
+RasterSettings radiosity_item_buffer();
+// A hemicube's hither: a hundredth of the largest patch's side (another
+// patch is at least half a side from a patch's centre).
+double hemicube_near(const PatchMesh& mesh);
+// solve_radiosity with the row's settings; a refused system (reflectance,
+// emission) is an InputError naming source.
+SolveResult solve_patches(const PatchMesh& mesh, const std::vector<double>& f, const RadiositySettings& s,
+                          const std::string& source);
+
 // What a run tells its user (FrameStats::notes, dropped): spheres and cones
 // left out, no emitter (a black image), a solve stopped by max_iterations.
 void radiosity_notes(const PatchMesh& mesh, const SolveResult& solved, const RadiositySettings& s,

@@ -19,12 +19,6 @@ namespace lockstep::opt::simd {
 
 namespace {
 
-RasterSettings item_buffer_settings() {
-  RasterSettings s;
-  s.shading = Shading::kFlat;
-  s.cull = CullMode::kNone;
-  return s;
-}
 
 // The scene's triangles in Embree, moved to be centred on the origin (float
 // keeps relative precision near the scene, not near the world origin).
@@ -260,9 +254,9 @@ std::vector<double> radiosity_form_factors_hemicube(const PatchMesh& mesh, int r
   const size_t n = mesh.patches.size();
   std::vector<double> f(n * n, 0.0);
   const HemicubeWeights w = hemicube_weights(res);
-  const RasterSettings s = item_buffer_settings();
+  const RasterSettings s = radiosity_item_buffer();
   const Scene shared = patch_scene(mesh, View{});
-  const double near = 1e-2 * std::sqrt(mesh.max_area);
+  const double near = hemicube_near(mesh);
   parallel_tiles(int(n), 1, 4, 1, threads, progress, [&](int x0, int, int x1, int) {
     Scene items = shared;  // each task its own view
     Visibility vis;
@@ -293,14 +287,9 @@ Image radiosity_with(const Scene& scene, const FrameOptions& opts, FrameStats* s
       rs.method == FormFactorMethod::rays
           ? radiosity_form_factors_rays(scene, mesh, rs.rays, opts.threads, device, part(0, 0.8), &counts)
           : radiosity_form_factors_hemicube(mesh, rs.hemicube, opts.threads, part(0, 0.8));
-  SolveResult solved;
-  try {
-    solved = solve_radiosity(mesh.patches, f, rs.solver, rs.tolerance, rs.max_iterations);
-  } catch (const std::invalid_argument& e) {
-    throw InputError(scene.source, 0, e.what());
-  }
+  const SolveResult solved = solve_patches(mesh, f, rs, scene.source);
   const Scene items = patch_scene(mesh, scene.view);
-  const RasterSettings s = item_buffer_settings();
+  const RasterSettings s = radiosity_item_buffer();
   const ScreenMesh screen = view_scene(items, opts.width, opts.height, s, opts.threads);
   Visibility vis;
   zbuffer_visibility(screen, s, opts.threads, vis);

@@ -21,17 +21,6 @@ namespace lockstep::ref {
 
 namespace {
 
-// The settings the display's z-buffer draws with: visibility only.
-RasterSettings item_buffer_settings() {
-  RasterSettings s;
-  s.shading = Shading::kFlat;
-  s.cull = CullMode::kNone;  // a back face hides what is behind it too
-  // Depth: float, the default. (The simd z-buffer breaks exact depth ties at
-  // edges shared by two polygons as this one does in float; with
-  // depth=double it kept other triangles there, whole hemicube pixels.)
-  return s;
-}
-
 // Moller and Trumbore (1997): does the segment a + t (b - a), t in (lo, hi),
 // cross triangle (p0, p1, p2), from either side?
 bool segment_meets_triangle(const Vec3& a, const Vec3& d, double lo, double hi, const Vec3& p0, const Vec3& p1,
@@ -89,11 +78,9 @@ std::vector<double> form_factors_hemicube(const PatchMesh& mesh, int res) {
   const size_t n = mesh.patches.size();
   std::vector<double> f(n * n, 0.0);
   const HemicubeWeights w = hemicube_weights(res);
-  const RasterSettings s = item_buffer_settings();
+  const RasterSettings s = radiosity_item_buffer();
   Scene items = patch_scene(mesh, View{});
-  // Nothing nearer than a hundredth of a patch's side is drawn (another
-  // patch is at least half a side from a centre).
-  const double near = 1e-2 * std::sqrt(mesh.max_area);
+  const double near = hemicube_near(mesh);
   for (size_t i = 0; i < n; ++i) {
     const Patch& from = mesh.patches[i];
     const Vec3 c = from.centre(), normal = from.normal();
@@ -121,15 +108,10 @@ Image radiosity(const Scene& scene, const FrameOptions& opts, FrameStats* stats)
                                                                     : form_factors_hemicube(mesh, rs.hemicube);
   if (opts.progress) opts.progress(0.8);
   // 3. Solve.
-  SolveResult solved;
-  try {
-    solved = solve_radiosity(mesh.patches, f, rs.solver, rs.tolerance, rs.max_iterations);
-  } catch (const std::invalid_argument& e) {
-    throw InputError(scene.source, 0, e.what());
-  }
+  const SolveResult solved = solve_patches(mesh, f, rs, scene.source);
   // 4. Display: the patches through the z-buffer, vertex radiosities interpolated.
   const Scene items = patch_scene(mesh, scene.view);
-  const RasterSettings s = item_buffer_settings();
+  const RasterSettings s = radiosity_item_buffer();
   const ScreenMesh screen = view_scene(items, opts.width, opts.height, s);
   Visibility vis;
   zbuffer_visibility(screen, s, vis);
@@ -137,7 +119,6 @@ Image radiosity(const Scene& scene, const FrameOptions& opts, FrameStats* stats)
   if (stats) {
     stats->items = uint64_t(n) * n;
     stats->counts = {{"patches", n}, {"iterations", uint64_t(solved.iterations)}};
-    if (mesh.spheres_and_cones) stats->drop("spheres and cones: radiosity meshes polygons only", mesh.spheres_and_cones);
     radiosity_notes(mesh, solved, rs, *stats);
   }
   if (opts.progress) opts.progress(1.0);
