@@ -74,6 +74,12 @@ void print_help() {
                   std::string(p.def).c_str());
     }
   }
+  for (const Family& f : registry().families) {
+    if (f.sides.empty()) continue;
+    std::printf("\n  files %s also writes, on request:\n", std::string(f.name).c_str());
+    for (const SideOutput& side : f.sides)
+      std::printf("    %-44s %s\n", ("--" + std::string(side.name) + " FILE").c_str(), std::string(side.help).c_str());
+  }
   std::printf(
       "\n"
       "  --impl NAME     implementation (default: the family's, above)\n"
@@ -178,6 +184,36 @@ const Family& family_for(const std::string& in_path, const std::string& algo) {
   throw UsageError("--algo: '" + algo + "' is not one of " + known + " for " + std::string(first.extension) + " files");
 }
 
+const SideOutput* find_side(const Family& f, std::string_view option) {
+  for (const SideOutput& side : f.sides)
+    if (option.size() > 2 && option.substr(0, 2) == "--" && (option.substr(2) == side.name ||
+                                                             option.substr(2).starts_with(std::string(side.name) + "=")))
+      return &side;
+  return nullptr;
+}
+
+// The side outputs after the output: each written atomically; when one
+// fails, the files written before it (the output too) are removed, so a
+// call leaves all of its files or none.
+void write_sides(const std::vector<std::pair<const SideOutput*, std::string>>& side_paths, const FrameStats& stats,
+                 const std::string& out_path) {
+  std::vector<std::string> written = {out_path};
+  try {
+    for (const auto& [side, path] : side_paths) {
+      const Output* value = nullptr;
+      for (const auto& [name, v] : stats.sides)
+        if (name == side->name) value = &v;
+      if (!value) throw std::runtime_error("the run made no " + std::string(side->name) + " for --" + std::string(side->name));
+      side->write(*value, path);
+      written.push_back(path);
+    }
+  } catch (...) {
+    std::error_code ec;
+    for (const std::string& w : written) std::filesystem::remove(w, ec);
+    throw;
+  }
+}
+
 int render_main(Args args) { return render_as("lockstep render", "", args); }
 
 int render_subcommand(const std::string& who, const std::string& forced_algo, Args args, void (*help)()) {
@@ -191,6 +227,7 @@ int render_subcommand(const std::string& who, const std::string& forced_algo, Ar
 
 int render_as(const std::string& who, const std::string& forced_algo, Args args) {
   std::string in_path, out_path, impl_name, value, algo = forced_algo;
+  std::vector<std::pair<const SideOutput*, std::string>> side_paths;  // --patches OUT.ply
   int width = 0, height = 0, threads = 0, repeat = 1;
   // --algo and the input first: they decide which family's settings the other
   // options may name. Every option but --help and the families' flags takes a
@@ -226,6 +263,8 @@ int render_as(const std::string& who, const std::string& forced_algo, Args args)
       out_path = value;
     } else if (take_option(args, i, "--algo", value)) {
       // read above
+    } else if (const SideOutput* side = chosen ? find_side(*chosen, a) : nullptr) {
+      if (take_option(args, i, a, value)) side_paths.emplace_back(side, value);
     } else if (const ParamSpec* p = chosen ? find_param(*chosen, a) : nullptr) {
       if (p->flag) params.set(std::string(p->name), "1");
       else if (take_option(args, i, a, value)) params.set(std::string(p->name), value);
@@ -259,6 +298,10 @@ int render_as(const std::string& who, const std::string& forced_algo, Args args)
   // is reported before rendering (it has thrown by the time the input is
   // loaded); an unknown format may be reported after it. Either way nothing is
   // written: the check is joined before the output is.
+  for (const auto& [side, path] : side_paths) {
+    side->check_path(path);
+    if (path == out_path) throw UsageError("--" + std::string(side->name) + " and -o name one file: " + path);
+  }
   std::future<void> path_checked =
       std::async(std::launch::async, [&] { family.kind->check_path(out_path); });
   // TBB starts while the input loads (our rows run on it; a peer's own
@@ -274,6 +317,7 @@ int render_as(const std::string& who, const std::string& forced_algo, Args args)
   opts.height = height > 0 ? height : input.height;
   opts.threads = threads;
   opts.params = params;
+  for (const auto& [side, path] : side_paths) opts.sides.emplace_back(side->name);
   Run r = run_for_cli(who, family, impl, input, opts);
   // --repeat: the frames after the first, each drawn once the one before is
   // released (as the benchmarks' frames are: its memory is the next one's).
@@ -284,6 +328,7 @@ int render_as(const std::string& who, const std::string& forced_algo, Args args)
   }
   if (path_checked.valid()) path_checked.get();
   family.kind->write(r.out, out_path);
+  write_sides(side_paths, r.stats, out_path);
   for (const std::string& note : r.stats.notes) std::fprintf(stderr, "%s: %s\n", who.c_str(), note.c_str());
   std::fprintf(stderr, "%s%s -> %s\n", run_summary(who, family, impl, r).c_str(),
                repeat_text(repeat, first_seconds).c_str(), out_path.c_str());

@@ -81,6 +81,14 @@ struct FrameOptions {
   int threads = 0;
   std::function<void(double)> progress;  // fraction done, may be empty; called from one thread at a time
   Params params;                          // the family's own settings (checked by Family::check_params)
+  // Side outputs asked for, by name (Family::sides: the radiosity family's
+  // "patches"); a row builds only these, into FrameStats::sides.
+  std::vector<std::string> sides;
+  bool wants(std::string_view side) const {
+    for (const std::string& s : sides)
+      if (s == side) return true;
+    return false;
+  }
 };
 
 // What an implementation reports about its own run. The harness times the run
@@ -103,6 +111,9 @@ struct FrameStats {
   // (issue #22). The CLI's stats line and the verify report carry them; an
   // image may differ from the oracle only where a run says it dropped something.
   std::map<std::string, uint64_t> dropped;
+  // The side outputs FrameOptions::sides asked for, by name; the family's
+  // SideOutput of that name writes each.
+  std::vector<std::pair<std::string, Output>> sides;
   void drop(const std::string& reason, uint64_t n = 1) {
     if (n != 0) dropped[reason] += n;
   }
@@ -305,6 +316,16 @@ inline PeerRow module_peer(std::string row, bool built, std::string version, con
   return p;
 }
 
+// A second thing a run can write beside its output, on request (the CLI's
+// --NAME FILE): the radiosity family's patches as PLY. Its value is
+// family-specific data, not an output kind's: nothing compares it.
+struct SideOutput {
+  std::string_view name;  // "patches": the option --patches and the FrameOptions::sides name
+  std::string_view help;  // one line for --help
+  void (*check_path)(const std::string& path);  // throws InputError before any work
+  void (*write)(const Output& value, const std::string& path);  // atomically; throws InputError
+};
+
 struct Family {
   std::string_view name;     // "ray_cast"
   std::string_view what;     // one line for --help
@@ -333,6 +354,7 @@ struct Family {
   // Throws InputError(source, 0, ...) naming the bad setting; may be empty when params is.
   std::function<void(const Params&)> check_params;
   std::vector<PeerRow> peer_rows;  // the peers above, built or not (--version)
+  std::vector<SideOutput> sides;   // may be empty
 
   const FamilyImpl& reference() const { return impls.front(); }
   const FamilyImpl* find(std::string_view n) const {

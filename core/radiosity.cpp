@@ -581,4 +581,9 @@ Image radiosity_image(const Scene& patches, const PatchMesh& mesh, const std::ve
   return image;
 }
 
+void radiosity_sides(const PatchMesh& mesh, const std::vector<Vec3>& b, const std::vector<Vec3>& vertex_b,
+                     const FrameOptions& opts, FrameStats* stats) {
+  if (stats && opts.wants("patches")) stats->sides.emplace_back("patches", make_output(PatchSolution{mesh, b, vertex_b}));
+}
+
 }  // namespace lockstep

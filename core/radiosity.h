@@ -231,6 +231,17 @@ void radiosity_notes(const PatchMesh& mesh, const SolveResult& solved, const Rad
 // each display vertex.
 std::vector<Vec3> vertex_radiosity(const PatchMesh& mesh, const std::vector<Vec3>& b);
 
+// The patches and their solution: the family's side output "patches"
+// (`lockstep radiosity --patches OUT.ply`, registry/radiosity_row.cpp).
+struct PatchSolution {
+  PatchMesh mesh;
+  std::vector<Vec3> b;         // per patch
+  std::vector<Vec3> vertex_b;  // per display vertex (vertex_radiosity)
+};
+// Adds the side outputs opts asks for (FrameOptions::sides) to stats.
+void radiosity_sides(const PatchMesh& mesh, const std::vector<Vec3>& b, const std::vector<Vec3>& vertex_b,
+                     const FrameOptions& opts, FrameStats* stats);
+
 // The display (Gouraud through the z-buffer): each pixel shows the vertex
 // radiosities of its visible triangle (vis over the patch scene's screen
 // mesh), interpolated with the perspective-correct barycentrics of the

@@ -121,6 +121,82 @@ void write_mesh_through_cgal(const Mesh& mesh, const std::string& path, bool asc
   });
 }
 
+void check_coloured_polygons_path(const std::string& path) {
+  check_mesh_path(path);
+  if (extension(path) != ".ply") throw InputError(path, 0, "cannot write coloured polygons: only .ply keeps the colours");
+}
+
+namespace {
+
+uint8_t colour_byte(float v) {
+  const double s = double(v) * 255.0 + 0.5;
+  return s >= 0.0 ? (s <= 255.0 ? uint8_t(s) : uint8_t(255)) : uint8_t(0);  // NaN: 0
+}
+
+// One record of the PLY body: the bytes of each field in turn.
+struct Record {
+  std::vector<unsigned char> bytes;
+  template <class T>
+  void put(T v) {
+    const size_t at = bytes.size();
+    bytes.resize(at + sizeof(T));
+    std::memcpy(&bytes[at], &v, sizeof(T));
+  }
+  void colour(const Vec3f& v) {
+    put(colour_byte(v.x));
+    put(colour_byte(v.y));
+    put(colour_byte(v.z));
+  }
+  void values(const Vec3f& v) {
+    put(v.x);
+    put(v.y);
+    put(v.z);
+  }
+};
+
+bool write_coloured_ply(const ColouredPolygons& p, const std::string& file) {
+  static_assert(std::endian::native == std::endian::little, "binary PLY is written as the host's numbers");
+  std::FILE* f = std::fopen(file.c_str(), "wb");
+  if (!f) return false;
+  const char* n = p.value_name.c_str();
+  bool ok = std::fprintf(f,
+                         "ply\nformat binary_little_endian 1.0\ncomment lockstep: colours are the values clamped to "
+                         "[0, 1]; %s_r/g/b unclamped\n"
+                         "element vertex %zu\nproperty float x\nproperty float y\nproperty float z\n"
+                         "property uchar red\nproperty uchar green\nproperty uchar blue\n"
+                         "property float %s_r\nproperty float %s_g\nproperty float %s_b\n"
+                         "element face %zu\nproperty list uchar int vertex_indices\n"
+                         "property uchar red\nproperty uchar green\nproperty uchar blue\n"
+                         "property float %s_r\nproperty float %s_g\nproperty float %s_b\nproperty int group\n"
+                         "end_header\n",
+                         n, p.vertices.size(), n, n, n, p.faces.size(), n, n, n) > 0;
+  Record r;
+  for (size_t i = 0; i < p.vertices.size() && ok; ++i) {
+    r.bytes.clear();
+    r.values(p.vertices[i]);
+    r.colour(p.vertex_values[i]);
+    r.values(p.vertex_values[i]);
+    ok = std::fwrite(r.bytes.data(), 1, r.bytes.size(), f) == r.bytes.size();
+  }
+  for (size_t k = 0; k < p.faces.size() && ok; ++k) {
+    r.bytes.clear();
+    r.put(p.corners[k]);
+    for (int c = 0; c < p.corners[k]; ++c) r.put(int32_t(p.faces[k][size_t(c)]));
+    r.colour(p.face_values[k]);
+    r.values(p.face_values[k]);
+    r.put(p.face_groups[k]);
+    ok = std::fwrite(r.bytes.data(), 1, r.bytes.size(), f) == r.bytes.size();
+  }
+  return std::fclose(f) == 0 && ok;
+}
+
+}  // namespace
+
+void write_coloured_polygons(const ColouredPolygons& polygons, const std::string& path) {
+  check_coloured_polygons_path(path);
+  write_atomically(path, [&](const std::string& tmp) { return write_coloured_ply(polygons, tmp); });
+}
+
 Mesh read_mesh(const std::string& path) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) throw InputError(path, 0, fs::exists(path, ec) ? "not a file" : "no such file");

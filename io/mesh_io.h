@@ -8,8 +8,12 @@
 // atomic (a temporary file renamed into place).
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <string>
+#include <vector>
 
+#include "core/math.h"
 #include "core/mesh.h"
 
 namespace lockstep {
@@ -27,5 +31,26 @@ Mesh read_mesh(const std::string& path);
 // Fails (InputError) before any work when path cannot take a mesh: missing
 // folder, no or unknown extension.
 void check_mesh_path(const std::string& path);
+
+// Polygons of 3 or 4 corners with a colour value per vertex and per face (the
+// radiosity family's patches), for viewers: MeshLab, Blender and ParaView
+// show the uchar red green blue of vertices and faces. Binary little-endian
+// PLY: vertex float x y z, uchar red green blue, float <name>_r _g _b; face
+// list uchar int vertex_indices, uchar red green blue, float <name>_r _g _b,
+// int group. The uchar colour is the value clamped to [0, 1] times 255,
+// rounded (as the CLI's PNG); the floats keep it unclamped.
+struct ColouredPolygons {
+  std::string value_name = "value";  // "radiosity"
+  std::vector<Vec3f> vertices;
+  std::vector<Vec3f> vertex_values;
+  std::vector<std::array<uint32_t, 4>> faces;  // corners; faces[k][3] unused when corners[k] == 3
+  std::vector<uint8_t> corners;               // 3 or 4 per face
+  std::vector<Vec3f> face_values;
+  std::vector<int32_t> face_groups;           // e.g. the scene polygon a patch was cut from
+};
+// Only .ply; throws InputError naming path when it cannot be written (nothing left behind).
+void write_coloured_polygons(const ColouredPolygons& polygons, const std::string& path);
+// Fails (InputError) before any work when path cannot take them: missing folder, not .ply.
+void check_coloured_polygons_path(const std::string& path);
 
 }  // namespace lockstep

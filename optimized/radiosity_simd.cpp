@@ -293,7 +293,9 @@ Image radiosity_with(const Scene& scene, const FrameOptions& opts, FrameStats* s
   const ScreenMesh screen = view_scene(items, opts.width, opts.height, s, opts.threads);
   Visibility vis;
   zbuffer_visibility(screen, s, opts.threads, vis);
-  Image image = radiosity_image(items, mesh, vertex_radiosity(mesh, solved.b), screen, vis, scene.background);
+  const std::vector<Vec3> vertex_b = vertex_radiosity(mesh, solved.b);
+  Image image = radiosity_image(items, mesh, vertex_b, screen, vis, scene.background);
+  radiosity_sides(mesh, solved.b, vertex_b, opts, stats);
   if (stats) {
     stats->items = uint64_t(n) * n;
     stats->counts = {{"patches", n}, {"iterations", uint64_t(solved.iterations)}};

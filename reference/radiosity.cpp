@@ -115,7 +115,9 @@ Image radiosity(const Scene& scene, const FrameOptions& opts, FrameStats* stats)
   const ScreenMesh screen = view_scene(items, opts.width, opts.height, s);
   Visibility vis;
   zbuffer_visibility(screen, s, vis);
-  Image image = radiosity_image(items, mesh, vertex_radiosity(mesh, solved.b), screen, vis, scene.background);
+  const std::vector<Vec3> vertex_b = vertex_radiosity(mesh, solved.b);
+  Image image = radiosity_image(items, mesh, vertex_b, screen, vis, scene.background);
+  radiosity_sides(mesh, solved.b, vertex_b, opts, stats);
   if (stats) {
     stats->items = uint64_t(n) * n;
     stats->counts = {{"patches", n}, {"iterations", uint64_t(solved.iterations)}};

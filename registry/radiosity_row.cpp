@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/radiosity.h"
+#include "io/mesh_io.h"
 #include "kinds/image_kind.h"
 #include "optimized/radiosity_simd.h"
 #include "reference/radiosity.h"
@@ -54,6 +55,25 @@ std::vector<BenchInput> bench_frames() {
   return out;
 }
 
+// --patches OUT.ply: each patch a face with its radiosity, the display
+// vertices with theirs (the image's Gouraud colours), in scene units.
+void write_patches(const Output& value, const std::string& path) {
+  const PatchSolution& s = output_as<PatchSolution>(value);
+  ColouredPolygons p;
+  p.value_name = "radiosity";
+  for (size_t v = 0; v < s.mesh.vertex.size(); ++v) {
+    p.vertices.push_back(Vec3f(s.mesh.vertex[v]));
+    p.vertex_values.push_back(Vec3f(s.vertex_b[v]));
+  }
+  for (size_t k = 0; k < s.mesh.patches.size(); ++k) {
+    p.faces.push_back(s.mesh.corner[k]);
+    p.corners.push_back(uint8_t(s.mesh.patches[k].count));
+    p.face_values.push_back(Vec3f(s.b[k]));
+    p.face_groups.push_back(s.mesh.patches[k].polygon);
+  }
+  write_coloured_polygons(p, path);
+}
+
 }  // namespace
 
 Family radiosity_family() {
@@ -94,6 +114,8 @@ Family radiosity_family() {
   f.properties = {"enclosure", "agree"};
   f.params = radiosity_params();
   f.check_params = [](const Params& p) { radiosity_settings(p, "settings"); };
+  f.sides = {{"patches", "the patches as binary PLY: faces coloured by their radiosity, vertices by the display's",
+              check_coloured_polygons_path, write_patches}};
   return f;
 }
 

@@ -3,7 +3,11 @@
 // are one InputError naming the file; topology counts what it says.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -110,6 +114,61 @@ TEST(MeshIo, BadFilesAreInputErrors) {
   EXPECT_THROW(check_mesh_path(tmp("m.png").string()), InputError);
   fs::remove(junk);
   fs::remove(quad);
+}
+
+// Coloured polygons (the radiosity patches' PLY): the header a viewer reads,
+// then every number back from the binary body, colours clamped and rounded.
+TEST(MeshIo, ColouredPolygonsReadBack) {
+  ColouredPolygons p;
+  p.value_name = "radiosity";
+  p.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {2, 0.5f, -1}};
+  p.vertex_values = {{0, 0.5f, 1}, {2, -1, 0.25f}, {0.1f, 0.2f, 0.3f}, {1, 1, 1}, {0.998f, 0.999f, 1e-3f}};
+  p.faces = {{0, 1, 2, 3}, {1, 4, 2, 0}};
+  p.corners = {4, 3};
+  p.face_values = {{0.5f, 7, 0}, {0.25f, 0.125f, 1.5f}};
+  p.face_groups = {3, -1};
+  const fs::path file = tmp("coloured.ply");
+  write_coloured_polygons(p, file.string());
+  std::ifstream in(file, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const size_t body = bytes.find("end_header\n") + 11;
+  ASSERT_NE(body, std::string::npos + 11);
+  const std::string header = bytes.substr(0, body);
+  EXPECT_NE(header.find("element vertex 5\n"), std::string::npos) << header;
+  EXPECT_NE(header.find("element face 2\n"), std::string::npos) << header;
+  EXPECT_NE(header.find("property float radiosity_g\n"), std::string::npos) << header;
+  size_t at = body;
+  auto take = [&](auto v) {
+    std::memcpy(&v, bytes.data() + at, sizeof v);
+    at += sizeof v;
+    return v;
+  };
+  auto byte = [](float v) { return uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255)); };
+  auto expect_values = [&](const Vec3f& want, const std::string& what) {
+    EXPECT_EQ(take(uint8_t()), byte(want.x)) << what;
+    EXPECT_EQ(take(uint8_t()), byte(want.y)) << what;
+    EXPECT_EQ(take(uint8_t()), byte(want.z)) << what;
+    EXPECT_EQ(take(float()), want.x) << what;
+    EXPECT_EQ(take(float()), want.y) << what;
+    EXPECT_EQ(take(float()), want.z) << what;
+  };
+  for (size_t v = 0; v < p.vertices.size(); ++v) {
+    EXPECT_EQ(take(float()), p.vertices[v].x);
+    EXPECT_EQ(take(float()), p.vertices[v].y);
+    EXPECT_EQ(take(float()), p.vertices[v].z);
+    expect_values(p.vertex_values[v], "vertex " + std::to_string(v));
+  }
+  for (size_t k = 0; k < p.faces.size(); ++k) {
+    ASSERT_EQ(take(uint8_t()), p.corners[k]);
+    for (int c = 0; c < p.corners[k]; ++c) EXPECT_EQ(take(int32_t()), int32_t(p.faces[k][size_t(c)]));
+    expect_values(p.face_values[k], "face " + std::to_string(k));
+    EXPECT_EQ(take(int32_t()), p.face_groups[k]);
+  }
+  EXPECT_EQ(at, bytes.size());
+  // Only PLY keeps colours; nothing is written for another extension.
+  EXPECT_THROW(write_coloured_polygons(p, tmp("coloured.obj").string()), InputError);
+  EXPECT_FALSE(fs::exists(tmp("coloured.obj")));
+  fs::remove(file);
 }
 
 TEST(MeshTopology, ClosedTetrahedronAndWhatBreaksIt) {
