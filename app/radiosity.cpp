@@ -11,7 +11,7 @@ namespace {
 
 void print_help() {
   std::printf(
-      "usage: lockstep radiosity SCENE [--patch-area A] [--form-factors rays|hemicube]\n"
+      "usage: lockstep radiosity SCENE [--patch-area A] [--form-factors rays|hemicube|exact]\n"
       "                          [--rays K] [--hemicube N] [--solver jacobi|gauss-seidel|progressive]\n"
       "                          [--tolerance T] [--impl NAME] [--size WxH] [--threads N] -o IMAGE\n"
       "                          [--patches OUT.ply]\n"
@@ -28,8 +28,10 @@ void print_help() {
       "                      polygon area / 256)\n"
       "  --form-factors M    rays (default): Lambert's factor from each patch's centre times the\n"
       "                      share of K x K rays that reach the other patch; hemicube: the patch's\n"
-      "                      view through the z-buffer on five half-cube faces\n"
-      "  --rays K            1..16, default 2\n"
+      "                      view through the z-buffer on five half-cube faces; exact: the\n"
+      "                      area-to-area factor (a double contour integral, exact for unoccluded\n"
+      "                      patches) times the share of K x K rays that arrive\n"
+      "  --rays K            1..16, default 2 (rays and exact)\n"
       "  --hemicube N        pixels a side of the top face, even, 8..1024, default 64\n"
       "  --solver S          gauss-seidel (default), jacobi or progressive (shooting, Cohen et al. 1988)\n"
       "  --tolerance T       stop at a residual of T times the largest emission (default 1e-4)\n"

@@ -107,12 +107,149 @@ double patch_form_factor(const Patch& from, const Patch& to, int n) {
   return sum / (n * n);
 }
 
+namespace {
+
+// Int_{s0}^{s1} ln(sqrt(s^2 + h^2) / r0) ds: the integral of ln(r / r0) along
+// a line at distance h from the point, s along the line. Its antiderivative
+// is s ln(r / r0) - s + h atan(s / h); the last two cancel to -s^3 / (3 h^2)
+// for s << h, summed by series there (else the contour sum loses digits).
+double log_distance_integral(double s0, double s1, double h, double r0_squared) {
+  auto g = [h, r0_squared](double s) {
+    const double q = s * s + h * h;
+    const double t = s == 0 ? 0 : 0.5 * s * std::log(q / r0_squared);  // s ln s -> 0 at 0
+    if (h == 0) return t - s;
+    const double x = s / h;
+    if (std::abs(x) < 1e-2) {
+      const double x2 = x * x;
+      return t + s * x2 * (-1.0 / 3 + x2 * (1.0 / 5 + x2 * (-1.0 / 7 + x2 / 9)));
+    }
+    return t + (h * std::atan(x) - s);
+  };
+  return g(s1) - g(s0);
+}
+
+// One Gauss-Kronrod panel (7 / 15 points) of Int_a^b f: the Kronrod value,
+// its error estimate |K - G|, and the integral of |f| (for rounding's floor).
+struct Panel {
+  double a, b, value, error, magnitude;
+};
+
+template <class F>
+Panel gauss_kronrod_panel(const F& f, double a, double b) {
+  static constexpr double xk[8] = {0.991455371120812639206854697526329, 0.949107912342758524526189684047851,
+                                   0.864864423359769072789712788640926, 0.741531185599394439863864773280788,
+                                   0.586087235467691130294144845693013, 0.405845151377397166906606412076961,
+                                   0.207784955007898467600689403773245, 0.0};
+  static constexpr double wk[8] = {0.022935322010529224963732008058970, 0.063092092629978553290700663189204,
+                                   0.104790010322250183839876322541518, 0.140653259715525918745189590510238,
+                                   0.169004726639267902826583426598550, 0.190350578064785409913256402421014,
+                                   0.204432940075298892414161999234649, 0.209482141084727828012999174891714};
+  static constexpr double wg[4] = {0.129484966168869693270611432679082, 0.279705391489276667901467771423780,
+                                   0.381830050505118944950369775488975, 0.417959183673469387755102040816327};
+  const double c = 0.5 * (a + b), hl = 0.5 * (b - a);
+  const double fc = f(c);
+  double kronrod = wk[7] * fc, gauss = wg[3] * fc, magnitude = wk[7] * std::abs(fc);
+  for (int i = 0; i < 7; ++i) {
+    const double f0 = f(c - hl * xk[i]), f1 = f(c + hl * xk[i]);
+    kronrod += wk[i] * (f0 + f1);
+    magnitude += wk[i] * (std::abs(f0) + std::abs(f1));
+    if (i % 2 == 1) gauss += wg[i / 2] * (f0 + f1);
+  }
+  return {a, b, kronrod * hl, std::abs(kronrod - gauss) * hl, magnitude * hl};
+}
+
+// Int_a^b f by globally adaptive Gauss-Kronrod (QUADPACK's QAG): the panel
+// of largest error is halved until the errors total at most tol, or each is
+// at rounding's floor (1e-14 of its integral of |f|: the integrand is itself
+// a difference, log_distance_integral), or max_panels are in use. Bounded
+// work whatever f does: a singularity or noise costs panels, not time.
+template <class F>
+double gauss_kronrod(const F& f, double a, double b, double tol, int max_panels) {
+  std::vector<Panel> panels = {gauss_kronrod_panel(f, a, b)};
+  auto open = [](const Panel& p) { return p.error > 1e-14 * p.magnitude; };
+  auto worse = [&](const Panel& x, const Panel& y) { return (open(x) ? x.error : 0) < (open(y) ? y.error : 0); };
+  double error = panels[0].error;
+  while (error > tol && int(panels.size()) < max_panels) {
+    std::pop_heap(panels.begin(), panels.end(), worse);
+    const Panel worst = panels.back();
+    if (!open(worst)) {
+      panels.push_back(worst);  // every panel is at its floor
+      break;
+    }
+    panels.pop_back();
+    const double c = 0.5 * (worst.a + worst.b);
+    panels.push_back(gauss_kronrod_panel(f, worst.a, c));
+    std::push_heap(panels.begin(), panels.end(), worse);
+    panels.push_back(gauss_kronrod_panel(f, c, worst.b));
+    std::push_heap(panels.begin(), panels.end(), worse);
+    error = 0;
+    for (const Panel& p : panels) error += open(p) ? p.error : 0;
+  }
+  double sum = 0;
+  for (const Panel& p : panels) sum += p.value;
+  return sum;
+}
+
+}  // namespace
+
+double polygon_form_factor(std::span<const Vec3> from, std::span<const Vec3> to) {
+  // Only the part of each polygon in front of the other's plane exchanges
+  // energy (the cosines clamp at 0), and the two clips are independent.
+  const Vec3 nf_area = vector_area2(from), nt_area = vector_area2(to);
+  const double area_from = 0.5 * length(nf_area);
+  if (!(area_from > 0) || !(length(nt_area) > 0)) return 0;
+  const Vec3 nf = normalize(nf_area), nt = normalize(nt_area);
+  // Clipping can leave an edge of rounding's length (a corner a hair off the
+  // other's plane): dropped, it carries no energy and only noise.
+  auto clipped = [](std::span<const Vec3> poly, const Vec3& x, const Vec3& n) {
+    std::vector<Vec3> c = clip_in_front(poly, x, n), out;
+    double size = 0;
+    for (size_t k = 0; k < c.size(); ++k) size = std::max(size, length(c[(k + 1) % c.size()] - c[k]));
+    for (size_t k = 0; k < c.size(); ++k)
+      if (length(c[(k + 1) % c.size()] - c[k]) > 1e-9 * size) out.push_back(c[k]);
+    return out;
+  };
+  const std::vector<Vec3> a = clipped(from, to[0], nt);
+  const std::vector<Vec3> b = clipped(to, from[0], nf);
+  if (a.size() < 3 || b.size() < 3) return 0;
+  if (!(length(vector_area2(a)) > 0) || !(length(vector_area2(b)) > 0)) return 0;  // in the other's plane
+  // ln r measured from r0, the distance between the polygons' first corners
+  // (or 1): the constant ln r0 the closed contours cancel, the terms smaller.
+  double r0_squared = dot(b[0] - a[0], b[0] - a[0]);
+  if (!(r0_squared > 0)) r0_squared = 1;
+  double sum = 0;
+  for (size_t p = 0; p < a.size(); ++p) {
+    const Vec3 x0 = a[p], e = a[(p + 1) % a.size()] - a[p];
+    for (size_t q = 0; q < b.size(); ++q) {
+      const Vec3 y0 = b[q], d = b[(q + 1) % b.size()] - b[q];
+      const double len = length(d);
+      if (!(len > 0)) continue;
+      const Vec3 u = d / len;
+      const double eu = dot(e, u);
+      if (eu == 0) continue;  // perpendicular edges add nothing
+      // Inner: along edge q in closed form (in length units: Int ln r ds);
+      // outer: along edge p by quadrature. e . d dt_q = (e . u) ds.
+      const Vec3 base = x0 - y0;  // first: exact for nearby corners far from the origin
+      auto inner = [&](double t) {
+        const Vec3 w = base + e * t;
+        const double along = dot(w, u);
+        const double h = length(w - u * along);
+        return log_distance_integral(-along, len - along, h, r0_squared);
+      };
+      sum += eu * gauss_kronrod(inner, 0.0, 1.0, 1e-14 * len, 200);
+    }
+  }
+  // Sparrow's contour form (Cohen and Wallace eq. 4.16): F = 1/(2 pi A_i) sum sum e_p . e_q Int Int ln r.
+  return std::max(0.0, sum / (2 * kPi * area_from));
+}
+
 double parallel_rectangles_form_factor(double a, double b, double c) {
   const double x = a / c, y = b / c;
   const double x2 = x * x, y2 = y * y;
   const double sx = std::sqrt(1 + x2), sy = std::sqrt(1 + y2);
   return 2 / (kPi * x * y) *
-         (0.5 * std::log((1 + x2) * (1 + y2) / (1 + x2 + y2)) + x * sy * std::atan(x / sy) +
+         // log1p: for small plates far apart the terms cancel to x^2 y^2.
+         (0.5 * (std::log1p(x2) + std::log1p(y2) - std::log1p(x2 + y2)) + x * sy * std::atan(x / sy) +
           y * sx * std::atan(y / sx) - x * std::atan(x) - y * std::atan(y));
 }
 
@@ -280,7 +417,7 @@ SolveResult solve_radiosity(const std::vector<Patch>& patches, const std::vector
 
 namespace {
 
-constexpr std::string_view kMethods = "rays|hemicube";
+constexpr std::string_view kMethods = "rays|hemicube|exact";
 constexpr std::string_view kSolvers = "jacobi|gauss-seidel|progressive";
 
 // A unit vector perpendicular to unit n.
@@ -301,8 +438,8 @@ std::vector<ParamSpec> radiosity_params() {
   return {
       {"form_factors", kMethods, "rays",
        "rays: Lambert's point-to-patch factor times the share of k x k rays that arrive; hemicube: the "
-       "patch's view through the z-buffer"},
-      {"rays", "k, 1..16", "2", "form_factors=rays: k x k rays from a patch's centre to each patch"},
+       "patch's view through the z-buffer; exact: the area-to-area factor (contour integral) times that share"},
+      {"rays", "k, 1..16", "2", "form_factors=rays|exact: k x k rays from a patch's centre to each patch"},
       {"hemicube", "pixels, even, 8..1024", "64", "form_factors=hemicube: pixels a side of the top face"},
       {"solver", kSolvers, "gauss-seidel", "how B = E + rho F B is solved"},
       {"patch_area", "scene units^2, > 0", "area/256", "the largest patch: polygons are cut until every piece is this small"},
@@ -471,6 +608,11 @@ double centre_form_factor(const PatchMesh& mesh, size_t i, size_t j) {
   const Vec3 r = c - to.v[0];
   if (!(dot(to.normal(), r) > 1e-9 * length(r))) return 0;
   return point_polygon_form_factor(c, from.normal(), to.corners());
+}
+
+double exact_form_factor(const PatchMesh& mesh, size_t i, size_t j) {
+  if (i == j || mesh.patches[i].polygon == mesh.patches[j].polygon) return 0;
+  return polygon_form_factor(mesh.patches[i].corners(), mesh.patches[j].corners());
 }
 
 std::vector<Vec3> patch_targets(const Patch& p, int k) {

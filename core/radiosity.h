@@ -59,6 +59,24 @@ double point_polygon_form_factor(const Vec3& x, const Vec3& n, std::span<const V
 // 1/n^2 for patches that do not touch.
 double patch_form_factor(const Patch& from, const Patch& to, int n);
 
+// F from polygon `from` to polygon `to` (planar, convex, each facing the
+// side from which its corners run counter-clockwise, as a Patch does),
+// unoccluded, area to area and exact: Stokes turns the double area integral
+// into a double contour integral (Sparrow 1963; Cohen and Wallace eq. 4.16),
+//   F = 1/(2 pi A_from) sum_p sum_q (e_p . e_q) Int_0^1 Int_0^1 ln r dt_q dt_p,
+// e_p and e_q the edges; the inner integral in closed form, the outer by
+// adaptive Gauss-Kronrod (1e-14 per edge pair, or rounding's floor, at
+// most 200 panels). Each
+// polygon is first clipped to the half-space in front of the other's plane
+// (the cosines clamp at 0). Polygons that share an edge or a corner are
+// fine: ln r is integrable. The oracle for form_factors=exact and for the
+// other methods' error; reciprocity holds to rounding.
+double polygon_form_factor(std::span<const Vec3> from, std::span<const Vec3> to);
+
+// From a differential area to a coaxial parallel disk of radius r at
+// distance h: r^2 / (h^2 + r^2) (Howell B-13).
+inline double point_disk_form_factor(double r, double h) { return r * r / (h * h + r * r); }
+
 // Closed forms (Howell's catalogue of configuration factors, C-11, C-14,
 // B-3), the oracles the rows' form factors are measured against.
 // Two directly opposed parallel rectangles a x b at distance c.
@@ -121,10 +139,13 @@ double radiosity_residual(const std::vector<Patch>& patches, const std::vector<d
 //             halves of four sides), each pixel's visible patch getting the
 //             pixel's delta form factor (hemicube_weights). A pixel whose
 //             nearest polygon faces away from c_i gives its share to no one.
-// Both are point-to-area: exact in j, one point of i. The error against the
-// area-to-area factor is the method's (docs/radiosity.md).
+//   exact     F_ij = F(i -> j) V_ij: the area-to-area factor (exact_form_factor,
+//             polygon_form_factor) times V_ij as for rays. Exact where
+//             nothing occludes; the oracle of the other two.
+// rays and hemicube are point-to-area: exact in j, one point of i. Their
+// error against the area-to-area factor is the method's (docs/radiosity.md).
 
-enum class FormFactorMethod { rays, hemicube };
+enum class FormFactorMethod { rays, hemicube, exact };
 
 struct RadiositySettings {
   FormFactorMethod method = FormFactorMethod::rays;
@@ -200,6 +221,10 @@ void add_hemicube_face(const PatchMesh& mesh, const Scene& items, const ScreenMe
 // to patch j; 0 when j == i or c_i is not in front of j (j sends nothing to
 // a point behind it, nor to one in its plane: within 1e-9 rad of it). The rays method scales it by j's visible fraction.
 double centre_form_factor(const PatchMesh& mesh, size_t i, size_t j);
+// F_ij area to area, unoccluded (polygon_form_factor); 0 between patches of
+// one scene polygon (planar: they exchange nothing). The exact method scales
+// it by j's visible fraction from i's centre.
+double exact_form_factor(const PatchMesh& mesh, size_t i, size_t j);
 // The k x k points of patch p its rays aim at (grid midpoints; triangles:
 // the centroids of k^2 congruent pieces).
 std::vector<Vec3> patch_targets(const Patch& p, int k);

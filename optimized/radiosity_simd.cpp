@@ -116,7 +116,9 @@ PatchSoA patch_soa(const PatchMesh& mesh) {
 
 std::vector<double> radiosity_form_factors_rays(const Scene& scene, const PatchMesh& mesh, int k, int threads,
                                                 const embree::Device& device,
-                                                const std::function<void(double)>& progress, RayCounts* counts) {
+                                                const std::function<void(double)>& progress, RayCounts* counts,
+                                                FormFactorMethod method) {
+  const bool exact = method == FormFactorMethod::exact;
   std::atomic<uint64_t> cast{0}, culled{0};
   const size_t n = mesh.patches.size();
   std::vector<double> f(n * n, 0.0);
@@ -191,11 +193,14 @@ std::vector<double> radiosity_form_factors_rays(const Scene& scene, const PatchM
       const Vec3 o = c - occ.centre;
       // Lambert's factors from c to every patch at once; the few patches that
       // reach behind c's tangent plane by the reference's clipping code.
-      lambert_row(soa, c, mesh.patches[size_t(i)].normal(), lambert.data(), clip.data());
+      // (exact: the area-to-area factor, scalar, per pair below).
+      if (!exact) lambert_row(soa, c, mesh.patches[size_t(i)].normal(), lambert.data(), clip.data());
       const int from = mesh.patches[size_t(i)].polygon;
       uint64_t spared = 0;
       for (size_t j = 0; j < n; ++j) {
-        const double unoccluded = clip[j] ? centre_form_factor(mesh, size_t(i), j) : lambert[j];
+        const double unoccluded = exact     ? exact_form_factor(mesh, size_t(i), j)
+                                  : clip[j] ? centre_form_factor(mesh, size_t(i), j)
+                                            : lambert[j];
         if (!(unoccluded > 0)) continue;
         // Shaft culling (Haines and Wallace 1994): no polygon but the two
         // patches' own both overlaps the box of c and j's targets and reaches
@@ -284,9 +289,9 @@ Image radiosity_with(const Scene& scene, const FrameOptions& opts, FrameStats* s
   };
   RayCounts counts;
   const std::vector<double> f =
-      rs.method == FormFactorMethod::rays
-          ? radiosity_form_factors_rays(scene, mesh, rs.rays, opts.threads, device, part(0, 0.8), &counts)
-          : radiosity_form_factors_hemicube(mesh, rs.hemicube, opts.threads, part(0, 0.8));
+      rs.method == FormFactorMethod::hemicube
+          ? radiosity_form_factors_hemicube(mesh, rs.hemicube, opts.threads, part(0, 0.8))
+          : radiosity_form_factors_rays(scene, mesh, rs.rays, opts.threads, device, part(0, 0.8), &counts, rs.method);
   const SolveResult solved = solve_patches(mesh, f, rs, scene.source);
   const Scene items = patch_scene(mesh, scene.view);
   const RasterSettings s = radiosity_item_buffer();
@@ -299,7 +304,7 @@ Image radiosity_with(const Scene& scene, const FrameOptions& opts, FrameStats* s
   if (stats) {
     stats->items = uint64_t(n) * n;
     stats->counts = {{"patches", n}, {"iterations", uint64_t(solved.iterations)}};
-    if (rs.method == FormFactorMethod::rays)
+    if (rs.method != FormFactorMethod::hemicube)
       stats->counts.insert(stats->counts.end(), {{"rays", counts.rays}, {"shaft_culled_pairs", counts.culled_pairs}});
     radiosity_notes(mesh, solved, rs, *stats);
   }

@@ -35,7 +35,8 @@ struct RayCounts {
 std::vector<double> radiosity_form_factors_rays(const Scene& scene, const PatchMesh& mesh, int k, int threads,
                                                 const embree::Device& device,
                                                 const std::function<void(double)>& progress = {},
-                                                RayCounts* counts = nullptr);
+                                                RayCounts* counts = nullptr,
+                                                FormFactorMethod method = FormFactorMethod::rays);
 std::vector<double> radiosity_form_factors_hemicube(const PatchMesh& mesh, int res, int threads,
                                                     const std::function<void(double)>& progress = {});
 

@@ -54,14 +54,16 @@ bool segment_clear(const Scene& scene, const Vec3& a, const Vec3& b, int from, i
   return true;
 }
 
-std::vector<double> form_factors_rays(const Scene& scene, const PatchMesh& mesh, int k) {
+std::vector<double> form_factors_rays(const Scene& scene, const PatchMesh& mesh, int k, FormFactorMethod method) {
   const size_t n = mesh.patches.size();
   std::vector<double> f(n * n, 0.0);
   for (size_t i = 0; i < n; ++i) {
     const Vec3 c = mesh.patches[i].centre();
     for (size_t j = 0; j < n; ++j) {
-      // Unoccluded: Lambert's contour integral from i's centre over j.
-      const double unoccluded = centre_form_factor(mesh, i, j);
+      // Unoccluded: Lambert's contour integral from i's centre over j, or
+      // Sparrow's double contour integral over both (exact).
+      const double unoccluded =
+          method == FormFactorMethod::exact ? exact_form_factor(mesh, i, j) : centre_form_factor(mesh, i, j);
       if (!(unoccluded > 0)) continue;
       // Occluded: the share of rays from the centre to j's points that arrive.
       const std::vector<Vec3> targets = patch_targets(mesh.patches[j], k);
@@ -104,8 +106,9 @@ Image radiosity(const Scene& scene, const FrameOptions& opts, FrameStats* stats)
   const size_t n = mesh.patches.size();
   if (opts.progress) opts.progress(0.0);
   // 2. Form factors.
-  const std::vector<double> f = rs.method == FormFactorMethod::rays ? form_factors_rays(scene, mesh, rs.rays)
-                                                                    : form_factors_hemicube(mesh, rs.hemicube);
+  const std::vector<double> f = rs.method == FormFactorMethod::hemicube
+                                    ? form_factors_hemicube(mesh, rs.hemicube)
+                                    : form_factors_rays(scene, mesh, rs.rays, rs.method);
   if (opts.progress) opts.progress(0.8);
   // 3. Solve.
   const SolveResult solved = solve_patches(mesh, f, rs, scene.source);

@@ -23,8 +23,11 @@ namespace lockstep::ref {
 
 // The n x n form factor matrix (row-major, F_ij at i * n + j) by rays from
 // each patch's centre to k x k points of every other patch, every segment
-// tested against every triangle of the scene (brute force, double).
-std::vector<double> form_factors_rays(const Scene& scene, const PatchMesh& mesh, int k);
+// tested against every triangle of the scene (brute force, double). The
+// unoccluded factor is the centre's (method rays) or the area-to-area one
+// (method exact): core/radiosity.h.
+std::vector<double> form_factors_rays(const Scene& scene, const PatchMesh& mesh, int k,
+                                      FormFactorMethod method = FormFactorMethod::rays);
 
 // The same by hemicubes of res pixels a side, each face drawn through the
 // reference z-buffer (reference/raster.h) as an item buffer of patches.

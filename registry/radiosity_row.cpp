@@ -79,7 +79,7 @@ void write_patches(const Output& value, const std::string& path) {
 Family radiosity_family() {
   Family f;
   f.name = "radiosity";
-  f.what = "radiosity: patches, form factors (rays, hemicube), Jacobi / Gauss-Seidel / progressive solve, "
+  f.what = "radiosity: patches, form factors (rays, hemicube, exact), Jacobi / Gauss-Seidel / progressive solve, "
            "Gouraud display through the z-buffer";
   f.input = "an NFF scene (.nff) with emitters ('#lockstep emit r g b' after an 'f' line)";
   f.unit = "form factors";

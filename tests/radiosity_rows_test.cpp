@@ -70,12 +70,17 @@ double wall_factor(const PatchMesh& m, const std::vector<double>& f, int a, int 
 }
 
 struct Rows {
-  std::vector<double> ref_rays, simd_rays, ref_cube, simd_cube;
+  std::vector<double> ref_rays, simd_rays, ref_cube, simd_cube, ref_exact, simd_exact;
 };
 Rows all_rows(const Scene& s, const PatchMesh& m, int k, int res) {
   const opt::embree::Device device = opt::embree::Device::create();
-  return {ref::form_factors_rays(s, m, k), opt::simd::radiosity_form_factors_rays(s, m, k, 2, device),
-          ref::form_factors_hemicube(m, res), opt::simd::radiosity_form_factors_hemicube(m, res, 2)};
+  const FormFactorMethod exact = FormFactorMethod::exact;
+  return {ref::form_factors_rays(s, m, k),
+          opt::simd::radiosity_form_factors_rays(s, m, k, 2, device),
+          ref::form_factors_hemicube(m, res),
+          opt::simd::radiosity_form_factors_hemicube(m, res, 2),
+          ref::form_factors_rays(s, m, k, exact),
+          opt::simd::radiosity_form_factors_rays(s, m, k, 2, device, {}, nullptr, exact)};
 }
 
 TEST(Hemicube, WeightsSumToOneAsTheResolutionGrows) {
@@ -99,13 +104,28 @@ TEST(ClosedBox, RowsSumToOneByRaysAndToTheWeightsByHemicube) {
     ASSERT_GT(n, 80u);
     const Rows r = all_rows(s, m, 2, 64);
     const double w = hemicube_total(64);
-    double worst_rays = 0, worst_cube = 0;
+    double worst_rays = 0, worst_cube = 0, worst_exact = 0;
     for (size_t i = 0; i < n; ++i) {
       worst_rays = std::max({worst_rays, std::abs(row_sum(r.ref_rays, n, i) - 1), std::abs(row_sum(r.simd_rays, n, i) - 1)});
       worst_cube = std::max({worst_cube, std::abs(row_sum(r.ref_cube, n, i) - w), std::abs(row_sum(r.simd_cube, n, i) - w)});
+      worst_exact =
+          std::max({worst_exact, std::abs(row_sum(r.ref_exact, n, i) - 1), std::abs(row_sum(r.simd_exact, n, i) - 1)});
     }
+    std::printf("offset %g: rows sum to 1 within %.3g (rays), %.3g (exact)\n", o.x, worst_rays, worst_exact);
     EXPECT_LT(worst_rays, 1e-12) << "offset " << o.x;
     EXPECT_LT(worst_cube, 1e-12) << "offset " << o.x;
+    // Measured 1.4e-15; 3e4 away 5.2e-12: the corners themselves round there
+    // (an ulp of 3e4 is 3.6e-12), so the patches tile the walls only so closely.
+    EXPECT_LT(worst_exact, o.x == 0 ? 1e-14 : 1e-11) << "offset " << o.x;
+    // The exact factors: the same scalar code in both rows, reciprocal.
+    EXPECT_EQ(r.ref_exact, r.simd_exact);
+    double gap = 0;
+    for (size_t i = 0; i < n; ++i)
+      for (size_t j = 0; j < n; ++j)
+        gap = std::max(gap, std::abs(m.patches[i].area() * r.ref_exact[i * n + j] -
+                                     m.patches[j].area() * r.ref_exact[j * n + i]));
+    std::printf("offset %g: exact A_i F_ij - A_j F_ji at most %.3g\n", o.x, gap);
+    EXPECT_LT(gap, 1e-15) << "offset " << o.x;  // measured 3.4e-17
     // No ray is blocked in an empty box: the simd row's factors are the
     // reference's but for its vector atan (3 ULP) and order of operations.
     double worst = 0;
@@ -138,7 +158,10 @@ TEST(ClosedBox, WallFactorsAgainstClosedForms) {
   // to wall, wall to floor, reciprocity gap: rays 1.07e-4, 3.2e-5, 9.0e-5,
   // 8.1e-4; hemicube (turned, hemicube_turn) 7.9e-5, 1.32e-4, 8.9e-5, 1.19e-3
   // (the same for both rows).
-  for (const Got& g : {Got{"reference rays", &r.ref_rays, 1.6e-4, 5e-5, 1.35e-4, 1.25e-3},
+  // Exact: 2.4e-16, 2.0e-15, 1.4e-16, 8.9e-15.
+  for (const Got& g : {Got{"reference exact", &r.ref_exact, 1e-15, 1e-14, 1e-15, 2e-14},
+                       Got{"simd exact", &r.simd_exact, 1e-15, 1e-14, 1e-15, 2e-14},
+                       Got{"reference rays", &r.ref_rays, 1.6e-4, 5e-5, 1.35e-4, 1.25e-3},
                        Got{"simd rays", &r.simd_rays, 1.6e-4, 5e-5, 1.35e-4, 1.25e-3},
                        Got{"reference hemicube", &r.ref_cube, 1.2e-4, 2e-4, 1.35e-4, 1.8e-3},
                        Got{"simd hemicube", &r.simd_cube, 1.2e-4, 2e-4, 1.35e-4, 1.8e-3}}) {
@@ -156,6 +179,22 @@ TEST(ClosedBox, WallFactorsAgainstClosedForms) {
     EXPECT_NEAR(back, back_exact, g.back_bound) << g.what;
     EXPECT_LT(std::abs(gap), g.gap_bound) << g.what;
   }
+  // Patch by patch against the exact factors: the point-to-area methods'
+  // own error, largest where patches meet at a corner (proximity).
+  const size_t n = m.patches.size();
+  auto row_error = [&](const std::vector<double>& f) {
+    double worst = 0;
+    for (size_t i = 0; i < n; ++i) {
+      double e = 0;
+      for (size_t j = 0; j < n; ++j) e += std::abs(f[i * n + j] - r.ref_exact[i * n + j]);
+      worst = std::max(worst, e);
+    }
+    return worst;
+  };
+  const double rays = row_error(r.ref_rays), cube = row_error(r.ref_cube);
+  std::printf("%zu patches: max_i sum_j |F_ij - exact|: rays %.3g, hemicube %.3g\n", n, rays, cube);
+  EXPECT_LT(rays, 0.067);  // measured 0.0556
+  EXPECT_LT(cube, 0.2);    // measured 0.166
 }
 
 }  // namespace

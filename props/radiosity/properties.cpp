@@ -4,7 +4,7 @@
 // along the box's edges, so the patches leave no crack): sides 0.5-4 times a
 // scale of 10^-2..10^3, moved up to 10^3 scales from the origin, the camera
 // inside looking anywhere, 6-16 pixels a side, 20-150 patches, a random
-// form-factor method (rays k = 1-3, hemicube 16-32 pixels) and solver.
+// form-factor method (rays or exact k = 1-3, hemicube 16-32 pixels) and solver.
 //
 //   Enclosure.radiosity__<impl>  (part "enclosure") every wall emits E and
 //       reflects rho: in a closed enclosure B = E / (1 - rho sum_j F_ij) for
@@ -155,8 +155,8 @@ rc::Gen<RadCase> case_gen(Kind kind) {
     c.nff = s;
     const double area = 2 * (size.x * size.y + size.y * size.z + size.z * size.x);
     c.params.set("patch_area", num(area / *gen::uniform(20, 120)));
-    if (*gen::int_in(0, 1) == 0) {
-      c.params.set("form_factors", "rays");
+    if (const int m = *gen::int_in(0, 2); m < 2) {
+      c.params.set("form_factors", m == 0 ? "rays" : "exact");
       c.params.set("rays", std::to_string(*gen::int_in(1, 3)));
     } else {
       c.params.set("form_factors", "hemicube");
