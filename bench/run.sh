@@ -27,7 +27,7 @@ ROOT=$PWD
 abs() { case "$1" in /*) echo "$1" ;; *) echo "$here/$1" ;; esac; }
 
 STEPS=(machine ray_cast_composite accuracy charts raster raster_study cones shadow_map shadows mc_study mc_topology
-       volume volume_study ray_trace ray_trace_study ray_trace_depth embree_raw oneshot oneshot_pages radiosity page)
+       volume volume_study ray_trace ray_trace_study ray_trace_depth embree_raw oneshot oneshot_pages radiosity radiosity_study page)
 # Results no step writes (the page shows them as committed).
 KEPT=(composite_accuracy.json llvmpipe_warm.json mc_bench.json raster_deep.json ray_cast_known.json
       volpack_agreement.json volpack_peer.json ray_trace_packets.json)
@@ -77,7 +77,7 @@ if ((do_build)); then
   echo "== build ($build)"
   cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
   ninja -C "$build" lockstep lockstep_bench lockstep_props lockstep_raster_study lockstep_cones_study \
-    lockstep_shadow_study lockstep_mc_study lockstep_volume_study lockstep_ray_trace_study lockstep_ray_trace_depth \
+    lockstep_shadow_study lockstep_mc_study lockstep_radiosity_study lockstep_volume_study lockstep_ray_trace_study lockstep_ray_trace_depth \
     lockstep_embree_raw >/dev/null
 fi
 
@@ -222,7 +222,15 @@ step_radiosity() {  # radiosity's Cornell box frames, reference and simd
   ((quick)) && f='^frame/radiosity/cornell-305-rays/(reference|simd)/threads:1/' gbr=()
   bench "$f" "$R"/radiosity.json "${gbr[@]}"
   $PY bench/scripts/radiosity_table.py "$R"/radiosity.json "$R"/radiosity_frames.json
-  made "$R"/radiosity.json "$R"/radiosity_frames.json
+  # One call of the CLI per frame, fresh processes: the one-shot cost beside the warm frame.
+  $PY bench/scripts/radiosity_oneshot.py "$L" "$R"/radiosity.json "$R"/radiosity_oneshot.json $( ((quick)) && echo 1) > /dev/null
+  made "$R"/radiosity.json "$R"/radiosity_frames.json "$R"/radiosity_oneshot.json
+}
+
+step_radiosity_study() {  # radiosity's form-factor error and solver residual against time
+  "$B"/lockstep_radiosity_study $( ((quick)) && echo --quick) > "$R"/radiosity_study.csv
+  $PY bench/scripts/radiosity_chart.py "$R"/radiosity_study.csv "$C" > /dev/null
+  made "$R"/radiosity_study.csv "$C"/radiosity_form_factors.png "$C"/radiosity_solvers.png
 }
 
 step_ray_trace_study() {  # ray tracing's failure map: acne and leaks

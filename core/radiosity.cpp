@@ -172,10 +172,7 @@ double gauss_kronrod(const F& f, double a, double b, double tol, int max_panels)
   while (error > tol && int(panels.size()) < max_panels) {
     std::pop_heap(panels.begin(), panels.end(), worse);
     const Panel worst = panels.back();
-    if (!open(worst)) {
-      panels.push_back(worst);  // every panel is at its floor
-      break;
-    }
+    if (!open(worst)) break;  // every panel is at its floor (this one stays, at the back)
     panels.pop_back();
     const double c = 0.5 * (worst.a + worst.b);
     panels.push_back(gauss_kronrod_panel(f, worst.a, c));

@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "core/error.h"
+#include "core/timer.h"
 #include "optimized/radiosity_simd_kernels.h"
 #include "optimized/tiling.h"
 #include "optimized/zbuffer/zbuffer_simd.h"
@@ -124,8 +125,10 @@ std::vector<double> radiosity_form_factors_rays(const Scene& scene, const PatchM
   std::vector<double> f(n * n, 0.0);
   if (n == 0) return f;
   Occluders occ;
+  const Stopwatch building;
   build(occ, scene, device);
   embree::Device(device).check("radiosity occluders");
+  if (counts) counts->build_seconds = building.seconds();
   // Every patch's centre and targets once.
   std::vector<Vec3> centre(n);
   std::vector<std::vector<Vec3>> targets(n);
@@ -303,6 +306,7 @@ Image radiosity_with(const Scene& scene, const FrameOptions& opts, FrameStats* s
   radiosity_sides(mesh, solved.b, vertex_b, opts, stats);
   if (stats) {
     stats->items = uint64_t(n) * n;
+    stats->build_seconds = counts.build_seconds;  // the Embree BVH (rays, exact)
     stats->counts = {{"patches", n}, {"iterations", uint64_t(solved.iterations)}};
     if (rs.method != FormFactorMethod::hemicube)
       stats->counts.insert(stats->counts.end(), {{"rays", counts.rays}, {"shaft_culled_pairs", counts.culled_pairs}});

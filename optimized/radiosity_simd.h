@@ -28,9 +28,11 @@
 
 namespace lockstep::opt::simd {
 
-// What the rays method did: segments cast, patch pairs the shaft test spared.
+// What the rays method did: segments cast, patch pairs the shaft test
+// spared, and the seconds its Embree BVH of the scene took to build.
 struct RayCounts {
   uint64_t rays = 0, culled_pairs = 0;
+  double build_seconds = 0;
 };
 std::vector<double> radiosity_form_factors_rays(const Scene& scene, const PatchMesh& mesh, int k, int threads,
                                                 const embree::Device& device,

@@ -21,10 +21,12 @@ namespace {
 constexpr TypedImpl<Scene> kImpls[] = {
     {"reference", ref::radiosity, 0, {}, {}, false},
     // A hemicube sample exactly on an edge shared by two polygons: each
-    // z-buffer rounds the tie its own way (props/radiosity Agree); measured
-    // 0.029% and 0.106% of the pixels of hemicube cases (two seeds of 1000
-    // deep cases; ties cluster in a case), cap 0.15%.
-    {"simd", opt::simd::radiosity, 0, {"hemicube_tie", 0.0015, "hemicube"}},
+    // z-buffer rounds the tie its own way (props/radiosity Agree). Per
+    // hemicube case (ties cluster in a case: per pixel four seeds gave 0%,
+    // 0%, 0.0017% and 0.12%): measured 0.42%, 0.40% and 0.2% of the
+    // hemicube cases on three seeds of 1000 deep cases (2 of 480, 2 of 497,
+    // 1), cap 1%.
+    {"simd", opt::simd::radiosity, 0, {"hemicube_tie", 0.01, "hemicube case"}},
 };
 
 // The Cornell box (corpus/radiosity/) at 128 x 128 and three patch counts
@@ -93,7 +95,7 @@ Family radiosity_family() {
   // rays decide in float (Embree), the reference's in double: p99 3.7e-5 of
   // a pixel's value, never over 1/255 so far. Its hemicube z-buffer breaks
   // exact depth ties at shared edges its own way (the row's known failure):
-  // 0.029-0.106% of the hemicube cases' pixels over 1/255, at most 0.0109.
+  // 0.2-0.42% of the hemicube cases, their pixels at most 0.0109 off.
   f.tol.abs = 1.0 / 255;
   f.tol.fraction = 0.999;
   f.tol.hard = 0.02;

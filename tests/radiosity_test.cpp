@@ -176,6 +176,17 @@ TEST(FormFactor, ContourIntegralIsExact) {
   const Patch q = quad({0.9, 1, 0.3}, {0.9, 1.3, 1.1}, {0.2, 1.3, 1.1}, {0.2, 1, 0.3});
   EXPECT_NEAR(p.area() * polygon_form_factor(p.corners(), q.corners()),
               q.area() * polygon_form_factor(q.corners(), p.corners()), 1e-14);
+  // A floor patch and a block's face whose bottom edge lies in the floor's
+  // plane (the Cornell box's, patches 48 and 285): reciprocal to rounding.
+  // (A quadrature that counted a panel twice gave 0 one way, 0.081 the other.)
+  const Patch floor_patch = quad({392.89795918367349, 0, 479.31428571428575}, {314.31836734693877, 0, 479.31428571428569},
+                                 {314.05714285714288, 0, 559.20000000000005}, {392.57142857142861, 0, 559.20000000000005});
+  const Patch block_face = quad({393, 0, 431}, {393, 82.5, 431}, {314, 82.5, 456}, {314, 0, 456});
+  const double fb = polygon_form_factor(floor_patch.corners(), block_face.corners());
+  const double bf = polygon_form_factor(block_face.corners(), floor_patch.corners());
+  std::printf("floor patch to block face %.15f, back %.15f\n", fb, bf);
+  EXPECT_NEAR(floor_patch.area() * fb, block_face.area() * bf, 1e-12 * floor_patch.area() * fb);
+  EXPECT_NEAR(fb, patch_form_factor(floor_patch, block_face, 256), 1e-5);
   // Against the midpoint rule of the point form (converging as 1/n^2): within its error.
   EXPECT_NEAR(polygon_form_factor(p.corners(), q.corners()), patch_form_factor(p, q, 256), 1e-6);
 }

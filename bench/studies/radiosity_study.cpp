@@ -11,7 +11,9 @@
 // exact method, k = 16). F* is exact for every pair nothing occludes; for
 // the others its visibility is the centre's, as every method's here. Error:
 // max_i sum_j |F_ij - F*_ij| (the largest share of a patch's gathered light
-// that is wrong) and its mean over i.
+// that is wrong: a few patches at the room's corners and the blocks' feet,
+// where a point's view is not the patch's) and its mean over i (the claims'
+// measure).
 //
 // Solvers: Jacobi, Gauss-Seidel and progressive refinement on the 1,078
 // patches' exact factors (305 with --quick), stopped after 1, 2, 4, ...
@@ -22,10 +24,11 @@
 //   ff,SCENE,PATCHES,METHOD,SETTING,IMPL,MS,MAX_ROW_ERROR,MEAN_ROW_ERROR
 //   solve,SCENE,PATCHES,SOLVER,ITERATIONS,MS,RESIDUAL
 // Claims (checked; the ctest radiosity_study.quick keeps them): the hemicube's
-// error falls as its resolution doubles from 16 to 64 pixels; exact with k
-// rays is more accurate than rays with k; the simd row is faster than the
-// reference for every method; Gauss-Seidel reaches 1e-6 in fewer sweeps than
-// Jacobi; each row's factors match the other row's error within 1e-3.
+// mean error falls as its resolution doubles; exact with k rays is more
+// accurate than rays with k (mean and max); the simd row is faster than the
+// reference for every method; the rows' mean errors agree within 1e-3;
+// Gauss-Seidel reaches 1e-6 in fewer sweeps than Jacobi; progressive
+// refinement stalls between 1e-3 and 1e-2 (below).
 //
 // usage: lockstep_radiosity_study [--quick]
 #include <algorithm>
@@ -86,10 +89,10 @@ int run(bool quick) {
     const size_t n = mesh.patches.size();
     const std::vector<double> oracle =
         opt::simd::radiosity_form_factors_rays(scene, mesh, 16, 2, device, {}, nullptr, FormFactorMethod::exact);
-    std::vector<double> hemicube_max;
+    std::vector<double> hemicube_mean;
     for (const Setting& s : settings) {
       if (quick && s.method == FormFactorMethod::hemicube && s.value > 64) continue;
-      double err[2] = {0, 0}, ms[2] = {0, 0};
+      double err[2] = {0, 0}, ms[2] = {0, 0};  // mean row error, ms
       for (int row = 0; row < 2; ++row) {
         // The reference's hemicubes of 128 pixels at 1,078 patches take minutes: left out.
         if (row == 0 && s.method == FormFactorMethod::hemicube && s.value > 64 && n > 500) continue;
@@ -104,7 +107,7 @@ int run(bool quick) {
                     : opt::simd::radiosity_form_factors_rays(scene, mesh, s.value, 2, device, {}, nullptr, s.method);
         });
         const RowError e = row_error(f, oracle, n);
-        err[row] = e.max;
+        err[row] = e.mean;
         ms[row] = seconds * 1e3;
         std::printf("ff,cornell,%zu,%s,%d,%s,%.3f,%.4g,%.4g\n", n, method_name(s.method), s.value,
                     row == 0 ? "reference" : "simd", ms[row], e.max, e.mean);
@@ -116,10 +119,10 @@ int run(bool quick) {
         claims.check(ms[1] < ms[0], "simd faster than the reference: " + what);
         claims.check(std::abs(err[0] - err[1]) < 1e-3, "the rows' errors within 1e-3: " + what);
       }
-      if (s.method == FormFactorMethod::hemicube) hemicube_max.push_back(err[1]);
+      if (s.method == FormFactorMethod::hemicube) hemicube_mean.push_back(err[1]);
     }
-    for (size_t k = 1; k < hemicube_max.size() && k < 3; ++k)
-      claims.check(hemicube_max[k] < hemicube_max[k - 1],
+    for (size_t k = 1; k < hemicube_mean.size(); ++k)
+      claims.check(hemicube_mean[k] < hemicube_mean[k - 1],
                    "the hemicube's error falls as the resolution doubles, at " + std::to_string(n) + " patches");
     solve_f = oracle;
     solve_patches = mesh.patches;
@@ -133,7 +136,8 @@ int run(bool quick) {
       const auto r = opt::simd::radiosity_form_factors_rays(scene, mesh, k, 2, device);
       const auto x = opt::simd::radiosity_form_factors_rays(scene, mesh, k, 2, device, {}, nullptr,
                                                             FormFactorMethod::exact);
-      claims.check(row_error(x, solve_f, n).max < row_error(r, solve_f, n).max,
+      claims.check(row_error(x, solve_f, n).mean < row_error(r, solve_f, n).mean &&
+                       row_error(x, solve_f, n).max < row_error(r, solve_f, n).max,
                    "exact more accurate than rays at k = " + std::to_string(k));
     }
   }
@@ -142,21 +146,50 @@ int run(bool quick) {
   double emission = 0;
   for (const Patch& p : solve_patches) emission = std::max({emission, p.emission.x, p.emission.y, p.emission.z});
   int sweeps_to[2] = {0, 0};
+  double progressive_last = 0;
   for (const RadiositySolver solver : {RadiositySolver::jacobi, RadiositySolver::gauss_seidel, RadiositySolver::progressive}) {
     const char* name = solver == RadiositySolver::jacobi ? "jacobi" : solver == RadiositySolver::gauss_seidel ? "gauss-seidel" : "progressive";
-    const int most = solver == RadiositySolver::progressive ? (quick ? 4096 : 16384) : 64;
-    for (int it = 1; it <= most; it *= 2) {
+    // Sweeps one by one; shots by powers of 2.
+    const bool shots = solver == RadiositySolver::progressive;
+    const int most = shots ? (quick ? 4096 : 16384) : 40;
+    for (int it = 1; it <= most; it = shots ? 2 * it : it + 1) {
       SolveResult r;
       const double seconds =
           study::best_time(runs, [&] { r = solve_radiosity(solve_patches, solve_f, solver, 1e-300, it); });
       const double residual = radiosity_residual(solve_patches, solve_f, r.b) / emission;
       std::printf("solve,cornell,%zu,%s,%d,%.3f,%.4g\n", solve_patches.size(), name, r.iterations, seconds * 1e3,
                   residual);
-      if (solver != RadiositySolver::progressive && residual <= 1e-6 && sweeps_to[int(solver)] == 0)
-        sweeps_to[int(solver)] = it;
+      if (!shots && residual <= 1e-6 && sweeps_to[int(solver)] == 0) sweeps_to[int(solver)] = it;
+      if (shots) progressive_last = residual;
     }
   }
-  claims.check(sweeps_to[1] > 0 && sweeps_to[0] > sweeps_to[1], "Gauss-Seidel reaches 1e-6 in fewer sweeps than Jacobi");
+  claims.check(sweeps_to[1] > 0 && sweeps_to[0] > sweeps_to[1],
+               "Gauss-Seidel reaches 1e-6 in fewer sweeps than Jacobi (" + std::to_string(sweeps_to[1]) + " against " +
+                   std::to_string(sweeps_to[0]) + ")");
+  // Progressive refinement shoots by reciprocity, A_i F_ij = A_j F_ji, which
+  // the visibility from each patch's centre breaks where a pair is partly
+  // occluded: it converges to a neighbouring system, its residual in this
+  // one stalls (measured 4e-3 of the emission at 305 patches, 4.8e-3 at 1,078). On the closed
+// box's exact factors (reciprocal) the same 16384 shots reach 2e-14.
+  claims.check(progressive_last > 1e-3 && progressive_last < 1e-2,
+               "progressive refinement stalls between 1e-3 and 1e-2 (" + std::to_string(progressive_last) + ")");
+  // Where the factors are reciprocal (the closed box, nothing occluded, exact
+  // factors), the same shots converge.
+  {
+    const Scene box = read_nff(LOCKSTEP_CORPUS_DIR "/radiosity/enclosure.nff");
+    const PatchMesh mesh = mesh_scene(box, 0);
+    const std::vector<double> f =
+        opt::simd::radiosity_form_factors_rays(box, mesh, 1, 2, device, {}, nullptr, FormFactorMethod::exact);
+    double e = 0;
+    for (const Patch& p : mesh.patches) e = std::max({e, p.emission.x, p.emission.y, p.emission.z});
+    SolveResult r;
+    const double seconds = study::best_time(
+        runs, [&] { r = solve_radiosity(mesh.patches, f, RadiositySolver::progressive, 1e-300, 16384); });
+    const double residual = radiosity_residual(mesh.patches, f, r.b) / e;
+    std::printf("solve,enclosure,%zu,progressive,%d,%.3f,%.4g\n", mesh.patches.size(), r.iterations, seconds * 1e3,
+                residual);
+    claims.check(residual < 1e-12, "progressive refinement converges on reciprocal factors (the closed box)");
+  }
   return claims.exit_code();
 }
 

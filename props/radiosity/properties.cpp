@@ -18,16 +18,18 @@
 //       |W - 1| is the hemicube's own error (tests/radiosity_rows_test.cpp bounds it).
 //   Agree.radiosity__<impl>      (part "agree") the ceiling emits, a block
 //       floats inside: every pixel of the row's image equals the
-//       reference's within the family's abs (1/255), rays and hemicube alike
+//       reference's within the family's abs (1/255), every method alike
 //       (the rays decide in float in the simd row, in double in the
-//       reference). Known failure (simd, per pixel of hemicube cases): a
+//       reference). Known failure (simd, per hemicube case): a
 //       hemicube sample exactly on the edge where two polygons meet sees
 //       both at one depth, and each z-buffer rounds that depth its own way
 //       (the reference from interpolated 1/z, the simd one from the depth
 //       plane): the pixel goes to another patch. Such an image pixel is
 //       explained when the two form-factor matrices differ by at most
 //       kMaxTiePixels pixels' delta form factors in all and the pixel's
-//       difference is within the family's hard bound.
+//       difference is within the family's hard bound; the case, one unit of
+//       class "hemicube case", then carries the known failure's label (ties
+//       cluster in a case: its pixels are not independent trials).
 #include <gtest/gtest.h>
 #include <rapidcheck.h>
 
@@ -155,7 +157,9 @@ rc::Gen<RadCase> case_gen(Kind kind) {
     c.nff = s;
     const double area = 2 * (size.x * size.y + size.y * size.z + size.z * size.x);
     c.params.set("patch_area", num(area / *gen::uniform(20, 120)));
-    if (const int m = *gen::int_in(0, 2); m < 2) {
+    // Half the cases hemicube: its known failure (ties) is rare and clusters
+    // in a case, and its stated rate was measured on this share.
+    if (const int m = *gen::int_in(0, 3); m < 2) {
       c.params.set("form_factors", m == 0 ? "rays" : "exact");
       c.params.set("rays", std::to_string(*gen::int_in(1, 3)));
     } else {
@@ -247,15 +251,29 @@ Verdict agree(const Family& family, const FamilyImpl& ref, const FamilyImpl& imp
            pixel_text(a.pixel(x, y)) + ", " + std::string(impl.name) + " " + pixel_text(b.pixel(x, y)) +
            ", error " + std::to_string(err) + " > " + std::to_string(tol.abs);
   });
-  // Hemicube cases: every pixel is of the class the known tie rate is per.
-  if (c.params.get("form_factors") == "hemicube")
-    for (Outcome& o : v.rays) o.cls = "hemicube";
+  if (c.params.get("form_factors") != "hemicube") return v;
+  // Hemicube cases: the pixels a z-buffer tie moved are explained (at most
+  // kMaxTiePixels hemicube pixels changed hands, none over the hard bound),
+  // and the case is the unit of the known failure's rate: ties cluster in a
+  // case (one edge through a column of sample points), so its pixels are not
+  // independent trials (measured per pixel: 0% to 0.12% over four seeds).
+  bool tied = false;
   if (!v.passed() && !impl.known.label.empty() && hemicube_ties_only(c, impl))
     for (Outcome& o : v.rays)
       if (o.kind == Outcome::unexplained && o.err <= tol.hard) {
         o.kind = Outcome::explained;
-        o.label = known_label(std::string(impl.name), impl.known);
+        o.label = "hemicube_tie_pixel";
+        tied = true;
       }
+  Outcome whole;
+  whole.cls = "hemicube case";
+  whole.unit = "hemicube cases";
+  if (tied) {
+    whole.kind = Outcome::explained;
+    whole.label = known_label(std::string(impl.name), impl.known);
+    whole.detail = c.params.str() + ": pixels moved by hemicube z-buffer ties";
+  }
+  v.rays.push_back(whole);
   return v;
 }
 

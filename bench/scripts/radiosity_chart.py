@@ -1,0 +1,129 @@
+#!/usr/bin/env python3
+"""Radiosity's speed against accuracy: charts and tables for BENCHMARKS.md (issue #33).
+
+usage: radiosity_chart.py STUDY_CSV OUT_DIR
+
+STUDY_CSV is the output of `lockstep_radiosity_study` (bench/studies/radiosity_study.cpp):
+  ./build/bench/lockstep_radiosity_study > bench/results/radiosity_study.csv
+  python3 bench/scripts/radiosity_chart.py bench/results/radiosity_study.csv bench/charts
+
+  radiosity_form_factors.png  the mean row error (over i of sum_j |F_ij - F*_ij|) against the
+                              form-factor matrix's time, per method and row, points
+                              labelled by k (rays, exact) or pixels (hemicube)
+  radiosity_solvers.png       the residual against the solve's time per solver
+Prints the two markdown tables used in BENCHMARKS.md.
+"""
+import os
+import subprocess
+
+import chartlib
+
+
+def load(csv):
+    ff, solve = [], []
+    for line in open(csv):
+        line = line.strip()
+        if not line or line.startswith("#"):
+            continue
+        f = line.split(",")
+        if f[0] == "ff":
+            ff.append(dict(patches=int(f[2]), method=f[3], setting=int(f[4]), impl=f[5], ms=float(f[6]),
+                           max=float(f[7]), mean=float(f[8])))
+        elif f[0] == "solve" and f[1] == "cornell":
+            solve.append(dict(patches=int(f[2]), solver=f[3], iterations=int(f[4]), ms=float(f[5]),
+                              residual=float(f[6])))
+    return ff, solve
+
+
+def form_factor_table(ff):
+    out = ["| patches | method | k / pixels | reference ms | simd ms (2 threads) | speed-up | max row error | mean row error |",
+           "|---:|---|---:|---:|---:|---:|---:|---:|"]
+    keys = sorted({(r["patches"], r["method"], r["setting"]) for r in ff},
+                  key=lambda k: (k[0], ["rays", "exact", "hemicube"].index(k[1]), k[2]))
+    for patches, method, setting in keys:
+        by = {r["impl"]: r for r in ff if (r["patches"], r["method"], r["setting"]) == (patches, method, setting)}
+        ref, simd = by.get("reference"), by["simd"]
+        up = f"{ref['ms'] / simd['ms']:.1f}x" if ref else ""
+        out.append(f"| {patches} | {method} | {setting} | {ref['ms']:.1f} | {simd['ms']:.1f} | {up} | "
+                   f"{simd['max']:.3g} | {simd['mean']:.3g} |" if ref else
+                   f"| {patches} | {method} | {setting} |  | {simd['ms']:.1f} |  | {simd['max']:.3g} | {simd['mean']:.3g} |")
+    return "\n".join(out)
+
+
+def solver_table(solve):
+    """Sweeps 1, 2, 4, ... 32 and the first to reach 1e-6 and 1e-12; shots 1, 4, 16, ..."""
+    out = ["| solver | sweeps / shots | ms | residual / emission |", "|---|---:|---:|---:|"]
+    for name in ("jacobi", "gauss-seidel", "progressive"):
+        rows = [r for r in solve if r["solver"] == name]
+        keep = set()
+        for goal in (1e-6, 1e-12):
+            first = next((r["iterations"] for r in rows if r["residual"] <= goal), None)
+            if first:
+                keep.add(first)
+        for r in rows:
+            n = r["iterations"]
+            power = n & (n - 1) == 0
+            if (name == "progressive" and power and (n.bit_length() - 1) % 2 == 0) or (
+                    name != "progressive" and power) or n in keep:
+                out.append(f"| {name} | {n} | {r['ms']:.2f} | {r['residual']:.3g} |")
+    return "\n".join(out)
+
+
+def table(csv):
+    ff, solve = load(csv)
+    return form_factor_table(ff) + "\n\n" + solver_table(solve)
+
+
+def chart(ff, solve, out):
+    dat = os.path.join(out, "radiosity_form_factors.dat")
+    largest = max(r["patches"] for r in ff)
+    series = [(m, i) for m in ("rays", "exact", "hemicube") for i in ("reference", "simd")
+              if any(r["method"] == m and r["impl"] == i and r["patches"] == largest for r in ff)]
+    with open(dat, "w") as f:
+        for m, i in series:
+            f.write(f"# {m} {i}\n")
+            for r in ff:
+                if (r["method"], r["impl"], r["patches"]) == (m, i, largest):
+                    f.write(f"{r['ms']} {r['mean']} {r['setting']}\n")
+            f.write("\n\n")
+    plots = ", ".join(
+        f"'{dat}' index {k} using 1:2 with linespoints title '{m} {i}', "
+        f"'' index {k} using 1:2:3 with labels offset 1,0.6 notitle"
+        for k, (m, i) in enumerate(series))
+    subprocess.run(["gnuplot"], text=True, check=True, input=f"""set terminal pngcairo size 800,500
+set output '{out}/radiosity_form_factors.png'
+set title "Form factors, Cornell box, {largest} patches (labels: k or hemicube pixels)"
+set xlabel "ms per form-factor matrix (simd: 2 threads)"; set ylabel "mean over i of sum_j |F_ij - F*_ij|"
+set logscale xy; set grid; set key outside right; set format y "%.0e"
+plot {plots}
+""")
+    dat = os.path.join(out, "radiosity_solvers.dat")
+    solvers = [s for s in ("jacobi", "gauss-seidel", "progressive") if any(r["solver"] == s for r in solve)]
+    with open(dat, "w") as f:
+        for s in solvers:
+            f.write(f"# {s}\n")
+            for r in solve:
+                if r["solver"] == s and r["residual"] > 0:
+                    f.write(f"{max(r['ms'], 1e-3)} {r['residual']} {r['iterations']}\n")
+            f.write("\n\n")
+    plots = ", ".join(f"'{dat}' index {k} using 1:2 with linespoints title '{s}'" for k, s in enumerate(solvers))
+    subprocess.run(["gnuplot"], text=True, check=True, input=f"""set terminal pngcairo size 800,500
+set output '{out}/radiosity_solvers.png'
+set title "Radiosity solvers, Cornell box, {solve[0]['patches']} patches, exact form factors"
+set xlabel "ms per solve (one thread)"; set ylabel "residual / largest emission"
+set logscale xy; set grid; set key top right; set format y "%.0e"
+plot {plots}
+""")
+
+
+def main():
+    a = chartlib.args(__doc__)
+    ff, solve = load(a.study_csv)
+    print(form_factor_table(ff))
+    print()
+    print(solver_table(solve))
+    chart(ff, solve, a.out_dir)
+
+
+if __name__ == "__main__":
+    main()
