@@ -1,4 +1,4 @@
-// lockstep spd: writes one of Eric Haines' SPD scenes as NFF (spd/spd.h).
+// lockstep spd: writes one of Eric Haines' SPD scenes, or the Cornell box, as NFF (spd/spd.h).
 #include "spd/spd.h"
 
 #include <cstdio>
@@ -18,7 +18,8 @@ void print_help() {
       "\n"
       "Writes one of Eric Haines' Standard Procedural Databases (public domain), generated\n"
       "from the SPD programs' definitions, as the SPD's own `NAME -s N -r 1 [-t]` writes it:\n"
-      "the same entities in the same order, numbers printed with %%g (spd/README.md).\n"
+      "the same entities in the same order, numbers printed with %%g (spd/README.md);\n"
+      "or the Cornell box, Cornell's measured data with its light an emitter, for radiosity.\n"
       "\n"
       "  NAME            the scene, one of:\n");
   for (const spd::SceneSpec& s : spd::scenes())

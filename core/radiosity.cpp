@@ -315,7 +315,7 @@ std::vector<Patch> mesh_polygon(std::span<const Vec3> polygon, const Vec3& rho,
   return out;
 }
 
-double radiosity_residual(const std::vector<Patch>& patches, const std::vector<double>& f,
+double radiosity_residual(const std::vector<Patch>& patches, const FormFactors& f,
                           const std::vector<Vec3>& b) {
   const size_t n = patches.size();
   double worst = 0;
@@ -328,7 +328,7 @@ double radiosity_residual(const std::vector<Patch>& patches, const std::vector<d
   return worst;
 }
 
-SolveResult solve_radiosity(const std::vector<Patch>& patches, const std::vector<double>& f,
+SolveResult solve_radiosity(const std::vector<Patch>& patches, const FormFactors& f,
                             RadiositySolver solver, double tolerance, int max_iterations) {
   const size_t n = patches.size();
   if (f.size() != n * n)
@@ -641,7 +641,7 @@ RasterSettings radiosity_item_buffer() {
 
 double hemicube_near(const PatchMesh& mesh) { return 1e-2 * std::sqrt(mesh.max_area); }
 
-SolveResult solve_patches(const PatchMesh& mesh, const std::vector<double>& f, const RadiositySettings& s,
+SolveResult solve_patches(const PatchMesh& mesh, const FormFactors& f, const RadiositySettings& s,
                           const std::string& source) {
   try {
     return solve_radiosity(mesh.patches, f, s.solver, s.tolerance, s.max_iterations);

@@ -27,11 +27,19 @@
 #include <vector>
 
 #include "core/family.h"
+#include "core/large_buffer.h"
 #include "core/math.h"
 #include "core/raster.h"
 #include "core/scene.h"
 
 namespace lockstep {
+
+// The dense form-factor matrix, row-major (F_ij at i * n + j): n^2 doubles,
+// 136 MB at 4,119 patches, on huge pages where the kernel allows
+// (core/large_buffer.h: its first touch was most of a one-shot call's extra
+// cost). Constructed without a value it is not initialized: a row writes
+// every entry of its own, or the maker fills it.
+using FormFactors = UninitVector<double>;
 
 struct Patch {
   Vec3 v[4];         // the corners, counter-clockwise about the normal
@@ -113,11 +121,11 @@ struct SolveResult {
 // what is left unshot is at most tolerance of what was emitted. Throws
 // std::invalid_argument when a reflectance is outside [0, 1) or an emission
 // is negative or not finite.
-SolveResult solve_radiosity(const std::vector<Patch>& patches, const std::vector<double>& f,
+SolveResult solve_radiosity(const std::vector<Patch>& patches, const FormFactors& f,
                             RadiositySolver solver, double tolerance, int max_iterations);
 
 // max_i,c |B_i - E_i - rho_i sum_j F_ij B_j|.
-double radiosity_residual(const std::vector<Patch>& patches, const std::vector<double>& f,
+double radiosity_residual(const std::vector<Patch>& patches, const FormFactors& f,
                           const std::vector<Vec3>& b);
 
 // ------------------------------------------------------------- the family
@@ -244,7 +252,7 @@ RasterSettings radiosity_item_buffer();
 double hemicube_near(const PatchMesh& mesh);
 // solve_radiosity with the row's settings; a refused system (reflectance,
 // emission) is an InputError naming source.
-SolveResult solve_patches(const PatchMesh& mesh, const std::vector<double>& f, const RadiositySettings& s,
+SolveResult solve_patches(const PatchMesh& mesh, const FormFactors& f, const RadiositySettings& s,
                           const std::string& source);
 
 // What a run tells its user (FrameStats::notes, dropped): spheres and cones

@@ -115,14 +115,14 @@ PatchSoA patch_soa(const PatchMesh& mesh) {
 
 }  // namespace
 
-std::vector<double> radiosity_form_factors_rays(const Scene& scene, const PatchMesh& mesh, int k, int threads,
+FormFactors radiosity_form_factors_rays(const Scene& scene, const PatchMesh& mesh, int k, int threads,
                                                 const embree::Device& device,
                                                 const std::function<void(double)>& progress, RayCounts* counts,
                                                 FormFactorMethod method) {
   const bool exact = method == FormFactorMethod::exact;
   std::atomic<uint64_t> cast{0}, culled{0};
   const size_t n = mesh.patches.size();
-  std::vector<double> f(n * n, 0.0);
+  FormFactors f(n * n);  // each row zeroed by its own task: the first touch spread over the threads
   if (n == 0) return f;
   Occluders occ;
   const Stopwatch building;
@@ -189,6 +189,7 @@ std::vector<double> radiosity_form_factors_rays(const Scene& scene, const PatchM
     std::vector<uint32_t> to;                      // per ray: the polygon it arrives at
     std::vector<std::pair<uint32_t, double>> row;  // (j, unoccluded factor) of the rays in order
     for (int i = x0; i < x1; ++i) {
+      std::fill_n(&f[size_t(i) * n], n, 0.0);
       rays.clear();
       to.clear();
       row.clear();
@@ -257,10 +258,10 @@ std::vector<double> radiosity_form_factors_rays(const Scene& scene, const PatchM
   return f;
 }
 
-std::vector<double> radiosity_form_factors_hemicube(const PatchMesh& mesh, int res, int threads,
+FormFactors radiosity_form_factors_hemicube(const PatchMesh& mesh, int res, int threads,
                                                     const std::function<void(double)>& progress) {
   const size_t n = mesh.patches.size();
-  std::vector<double> f(n * n, 0.0);
+  FormFactors f(n * n);  // each row zeroed by its own task: the first touch spread over the threads
   const HemicubeWeights w = hemicube_weights(res);
   const RasterSettings s = radiosity_item_buffer();
   const Scene shared = patch_scene(mesh, View{});
@@ -269,6 +270,7 @@ std::vector<double> radiosity_form_factors_hemicube(const PatchMesh& mesh, int r
     Scene items = shared;  // each task its own view
     Visibility vis;
     for (int i = x0; i < x1; ++i) {
+      std::fill_n(&f[size_t(i) * n], n, 0.0);
       const Patch& from = mesh.patches[size_t(i)];
       const Vec3 c = from.centre(), normal = from.normal();
       for (int face = 0; face < 5; ++face) {
@@ -291,7 +293,7 @@ Image radiosity_with(const Scene& scene, const FrameOptions& opts, FrameStats* s
     return [&opts, lo, hi](double x) { opts.progress(lo + (hi - lo) * x); };
   };
   RayCounts counts;
-  const std::vector<double> f =
+  const FormFactors f =
       rs.method == FormFactorMethod::hemicube
           ? radiosity_form_factors_hemicube(mesh, rs.hemicube, opts.threads, part(0, 0.8))
           : radiosity_form_factors_rays(scene, mesh, rs.rays, opts.threads, device, part(0, 0.8), &counts, rs.method);

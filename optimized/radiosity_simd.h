@@ -34,12 +34,12 @@ struct RayCounts {
   uint64_t rays = 0, culled_pairs = 0;
   double build_seconds = 0;
 };
-std::vector<double> radiosity_form_factors_rays(const Scene& scene, const PatchMesh& mesh, int k, int threads,
+FormFactors radiosity_form_factors_rays(const Scene& scene, const PatchMesh& mesh, int k, int threads,
                                                 const embree::Device& device,
                                                 const std::function<void(double)>& progress = {},
                                                 RayCounts* counts = nullptr,
                                                 FormFactorMethod method = FormFactorMethod::rays);
-std::vector<double> radiosity_form_factors_hemicube(const PatchMesh& mesh, int res, int threads,
+FormFactors radiosity_form_factors_hemicube(const PatchMesh& mesh, int res, int threads,
                                                     const std::function<void(double)>& progress = {});
 
 Image radiosity(const Scene& scene, const FrameOptions& opts, FrameStats* stats);

@@ -54,9 +54,9 @@ bool segment_clear(const Scene& scene, const Vec3& a, const Vec3& b, int from, i
   return true;
 }
 
-std::vector<double> form_factors_rays(const Scene& scene, const PatchMesh& mesh, int k, FormFactorMethod method) {
+FormFactors form_factors_rays(const Scene& scene, const PatchMesh& mesh, int k, FormFactorMethod method) {
   const size_t n = mesh.patches.size();
-  std::vector<double> f(n * n, 0.0);
+  FormFactors f(n * n, 0.0);
   for (size_t i = 0; i < n; ++i) {
     const Vec3 c = mesh.patches[i].centre();
     for (size_t j = 0; j < n; ++j) {
@@ -76,9 +76,9 @@ std::vector<double> form_factors_rays(const Scene& scene, const PatchMesh& mesh,
   return f;
 }
 
-std::vector<double> form_factors_hemicube(const PatchMesh& mesh, int res) {
+FormFactors form_factors_hemicube(const PatchMesh& mesh, int res) {
   const size_t n = mesh.patches.size();
-  std::vector<double> f(n * n, 0.0);
+  FormFactors f(n * n, 0.0);
   const HemicubeWeights w = hemicube_weights(res);
   const RasterSettings s = radiosity_item_buffer();
   Scene items = patch_scene(mesh, View{});
@@ -106,7 +106,7 @@ Image radiosity(const Scene& scene, const FrameOptions& opts, FrameStats* stats)
   const size_t n = mesh.patches.size();
   if (opts.progress) opts.progress(0.0);
   // 2. Form factors.
-  const std::vector<double> f = rs.method == FormFactorMethod::hemicube
+  const FormFactors f = rs.method == FormFactorMethod::hemicube
                                     ? form_factors_hemicube(mesh, rs.hemicube)
                                     : form_factors_rays(scene, mesh, rs.rays, rs.method);
   if (opts.progress) opts.progress(0.8);

@@ -26,12 +26,12 @@ namespace lockstep::ref {
 // tested against every triangle of the scene (brute force, double). The
 // unoccluded factor is the centre's (method rays) or the area-to-area one
 // (method exact): core/radiosity.h.
-std::vector<double> form_factors_rays(const Scene& scene, const PatchMesh& mesh, int k,
+FormFactors form_factors_rays(const Scene& scene, const PatchMesh& mesh, int k,
                                       FormFactorMethod method = FormFactorMethod::rays);
 
 // The same by hemicubes of res pixels a side, each face drawn through the
 // reference z-buffer (reference/raster.h) as an item buffer of patches.
-std::vector<double> form_factors_hemicube(const PatchMesh& mesh, int res);
+FormFactors form_factors_hemicube(const PatchMesh& mesh, int res);
 
 // Whether the segment from a (on scene polygon from) to b (on polygon to),
 // shortened by kSegmentMargin of its length at each end, meets no triangle

@@ -10,6 +10,7 @@
 namespace lockstep::spd {
 
 void balls(Writer& w, int size);
+void cornell(Writer& w, int size);  // not an SPD program: the Cornell box (size 1 only)
 void gears(Writer& w, int size);
 void jacks(Writer& w, int size);
 void lattice(Writer& w, int size);

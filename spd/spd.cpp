@@ -19,9 +19,12 @@ struct Entry {
 // (balls grows 9x a step, jacks 8x, sombrero and tetra 4x; tessellation turns
 // a sphere into 6*2*U*V patches, U = V = 3 but 2 for jacks), and inside the
 // SPD's own limits (mount's hash shifts by 7 - size bits).
-constexpr std::array<Entry, 11> kScenes = {{
+constexpr std::array<Entry, 12> kScenes = {{
     {{"balls", 4, 6, 4, true, "sphereflake: sum of 9^k spheres, k = 0 .. size, on a floor square"},
      balls},
+    {{"cornell", 1, 1, 1, false,
+      "the Cornell box (not an SPD program): 16 quads in mm, the light an emitter"},
+     cornell},
     {{"gears", 4, 12, 12, false, "size^3 gears: concave 144-gons and 144 rectangles each"}, gears},
     {{"jacks", 1, 6, 4, true, "recursive jacks: cylinders and spheres, 8x per level"}, jacks},
     {{"lattice", 12, 40, 16, true, "(size+1)^3 spheres joined by cylinders"}, lattice},

@@ -72,6 +72,8 @@ void Writer::color(const Vec3& c, double /*ka*/, double kd, double ks, double /*
   print("f %g %g %g %g %g %g %g %g\n", c[0], c[1], c[2], kd, ks, phong, kt, ior);
 }
 
+void Writer::emit(const Vec3& e) { print("#lockstep emit %g %g %g\n", e[0], e[1], e[2]); }
+
 void Writer::sphere(Vec4 c) {
   if (tess_) return polygon_sphere(c);
   if (tx_active()) {

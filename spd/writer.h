@@ -46,6 +46,10 @@ class Writer {
   // SPD does); ka and ks_spec are not part of NFF.
   void color(const Vec3& c, double ka, double kd, double ks, double ks_spec, double ang, double kt,
              double ior);
+  // lockstep's NFF extension (io/nff.h): the polygons after the current
+  // `f` line emit radiosity e per channel ("#lockstep emit r g b", a comment
+  // to other readers).
+  void emit(const Vec3& e);
   void sphere(Vec4 center);
   void cylcone(Vec4 base, Vec4 apex);
   // A planar polygon; adjacent duplicate vertices are merged first and a

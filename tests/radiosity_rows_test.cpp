@@ -42,7 +42,7 @@ Scene closed_box(const Vec3& o, double a, double b, double c) {
   return s;
 }
 
-double row_sum(const std::vector<double>& f, size_t n, size_t i) {
+double row_sum(const FormFactors& f, size_t n, size_t i) {
   double t = 0;
   for (size_t j = 0; j < n; ++j) t += f[i * n + j];
   return t;
@@ -57,7 +57,7 @@ double hemicube_total(int res) {
 }
 
 // F from wall a to wall b: sum over a's patches of A_i sum_{j in b} F_ij, over A_a.
-double wall_factor(const PatchMesh& m, const std::vector<double>& f, int a, int b) {
+double wall_factor(const PatchMesh& m, const FormFactors& f, int a, int b) {
   const size_t n = m.patches.size();
   double num = 0, area = 0;
   for (size_t i = 0; i < n; ++i) {
@@ -70,7 +70,7 @@ double wall_factor(const PatchMesh& m, const std::vector<double>& f, int a, int 
 }
 
 struct Rows {
-  std::vector<double> ref_rays, simd_rays, ref_cube, simd_cube, ref_exact, simd_exact;
+  FormFactors ref_rays, simd_rays, ref_cube, simd_cube, ref_exact, simd_exact;
 };
 Rows all_rows(const Scene& s, const PatchMesh& m, int k, int res) {
   const opt::embree::Device device = opt::embree::Device::create();
@@ -151,7 +151,7 @@ TEST(ClosedBox, WallFactorsAgainstClosedForms) {
   const double floor_wall = perpendicular_rectangles_form_factor(a, c, b);
   struct Got {
     const char* what;
-    const std::vector<double>* f;
+    const FormFactors* f;
     double parallel_bound, perpendicular_bound, back_bound, gap_bound;
   };
   // Measured (patches of 0.05, k = 2, 64 pixels), floor to ceiling, floor
@@ -182,7 +182,7 @@ TEST(ClosedBox, WallFactorsAgainstClosedForms) {
   // Patch by patch against the exact factors: the point-to-area methods'
   // own error, largest where patches meet at a corner (proximity).
   const size_t n = m.patches.size();
-  auto row_error = [&](const std::vector<double>& f) {
+  auto row_error = [&](const FormFactors& f) {
     double worst = 0;
     for (size_t i = 0; i < n; ++i) {
       double e = 0;
@@ -210,8 +210,8 @@ TEST(CornellBox, SimdRaysAgreeWithTheReference) {
   const Scene s = read_nff(LOCKSTEP_CORPUS_DIR "/radiosity/cornell_box.nff");
   const PatchMesh m = mesh_scene(s, 0);
   const size_t n = m.patches.size();
-  const std::vector<double> a = ref::form_factors_rays(s, m, 2);
-  const std::vector<double> b =
+  const FormFactors a = ref::form_factors_rays(s, m, 2);
+  const FormFactors b =
       opt::simd::radiosity_form_factors_rays(s, m, 2, 2, opt::embree::Device::create());
   size_t visibility = 0, blocked = 0;
   double rounding = 0;

@@ -45,9 +45,9 @@ std::vector<Patch> closed_cube(int k, double rho, double e) {
 // F_ij from each patch's centre (point-to-polygon, exact): in a closed
 // convex enclosure each row sums to 1 (the centre's hemisphere sees
 // nothing but the other faces).
-std::vector<double> centre_form_factors(const std::vector<Patch>& p) {
+FormFactors centre_form_factors(const std::vector<Patch>& p) {
   const size_t n = p.size();
-  std::vector<double> f(n * n, 0.0);
+  FormFactors f(n * n, 0.0);
   for (size_t i = 0; i < n; ++i)
     for (size_t j = 0; j < n; ++j)
       if (i != j)
@@ -214,7 +214,7 @@ TEST(FormFactor, PointToRegularPolygonApproachesTheDisk) {
 
 TEST(Enclosure, CubeRowsSumToOne) {
   const std::vector<Patch> p = closed_cube(3, 0.5, 1);
-  const std::vector<double> f = centre_form_factors(p);
+  const FormFactors f = centre_form_factors(p);
   const size_t n = p.size();
   double worst = 0;
   for (size_t i = 0; i < n; ++i) {
@@ -229,7 +229,7 @@ TEST(Enclosure, CubeRowsSumToOne) {
 TEST(Enclosure, EverySolverGivesEOverOneMinusRho) {
   const double rho = 0.7, e = 0.3;
   const std::vector<Patch> p = closed_cube(2, rho, e);
-  const std::vector<double> f = centre_form_factors(p);
+  const FormFactors f = centre_form_factors(p);
   for (RadiositySolver s :
        {RadiositySolver::jacobi, RadiositySolver::gauss_seidel, RadiositySolver::progressive}) {
     const SolveResult r = solve_radiosity(p, f, s, 1e-12, 100000);
@@ -244,7 +244,7 @@ TEST(Enclosure, EverySolverGivesEOverOneMinusRho) {
 TEST(Solve, GaussSeidelTakesFewerSweepsThanJacobi) {
   std::vector<Patch> p = closed_cube(2, 0.8, 0);
   p[0].emission = {1, 1, 1};  // one light
-  const std::vector<double> f = centre_form_factors(p);
+  const FormFactors f = centre_form_factors(p);
   const SolveResult j = solve_radiosity(p, f, RadiositySolver::jacobi, 1e-9, 10000);
   const SolveResult g = solve_radiosity(p, f, RadiositySolver::gauss_seidel, 1e-9, 10000);
   std::printf("one light, rho 0.8: Jacobi %d sweeps, Gauss-Seidel %d\n", j.iterations,

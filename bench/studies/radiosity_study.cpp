@@ -50,7 +50,7 @@ struct RowError {
   double max = 0, mean = 0;
 };
 
-RowError row_error(const std::vector<double>& f, const std::vector<double>& oracle, size_t n) {
+RowError row_error(const FormFactors& f, const FormFactors& oracle, size_t n) {
   RowError e;
   for (size_t i = 0; i < n; ++i) {
     double s = 0;
@@ -82,12 +82,12 @@ int run(bool quick) {
   for (int k : {1, 2, 4}) settings.push_back({FormFactorMethod::exact, k});
   for (int res : {16, 32, 64, 128}) settings.push_back({FormFactorMethod::hemicube, res});
   std::printf("# kind,scene,patches,method,setting,impl,ms,max_row_error,mean_row_error\n");
-  std::vector<double> solve_f;
+  FormFactors solve_f;
   std::vector<Patch> solve_patches;
   for (const double area : areas) {
     const PatchMesh mesh = mesh_scene(scene, area);
     const size_t n = mesh.patches.size();
-    const std::vector<double> oracle =
+    const FormFactors oracle =
         opt::simd::radiosity_form_factors_rays(scene, mesh, 16, 2, device, {}, nullptr, FormFactorMethod::exact);
     std::vector<double> hemicube_mean;
     for (const Setting& s : settings) {
@@ -96,7 +96,7 @@ int run(bool quick) {
       for (int row = 0; row < 2; ++row) {
         // The reference's hemicubes of 128 pixels at 1,078 patches take minutes: left out.
         if (row == 0 && s.method == FormFactorMethod::hemicube && s.value > 64 && n > 500) continue;
-        std::vector<double> f;
+        FormFactors f;
         const double seconds = study::best_time(runs, [&] {
           if (row == 0)
             f = s.method == FormFactorMethod::hemicube ? ref::form_factors_hemicube(mesh, s.value)
@@ -178,7 +178,7 @@ int run(bool quick) {
   {
     const Scene box = read_nff(LOCKSTEP_CORPUS_DIR "/radiosity/enclosure.nff");
     const PatchMesh mesh = mesh_scene(box, 0);
-    const std::vector<double> f =
+    const FormFactors f =
         opt::simd::radiosity_form_factors_rays(box, mesh, 1, 2, device, {}, nullptr, FormFactorMethod::exact);
     double e = 0;
     for (const Patch& p : mesh.patches) e = std::max({e, p.emission.x, p.emission.y, p.emission.z});

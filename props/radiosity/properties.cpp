@@ -232,8 +232,8 @@ bool hemicube_ties_only(const RadCase& c, const FamilyImpl& impl) {
   const Scene scene = parse_nff(c.nff, "case.nff");
   const RadiositySettings rs = radiosity_settings(c.params, "case");
   const PatchMesh mesh = mesh_scene(scene, rs.patch_area);
-  const std::vector<double> a = ref::form_factors_hemicube(mesh, rs.hemicube);
-  const std::vector<double> b = opt::simd::radiosity_form_factors_hemicube(mesh, rs.hemicube, 1);
+  const FormFactors a = ref::form_factors_hemicube(mesh, rs.hemicube);
+  const FormFactors b = opt::simd::radiosity_form_factors_hemicube(mesh, rs.hemicube, 1);
   const HemicubeWeights w = hemicube_weights(rs.hemicube);
   const double pixel = *std::max_element(w.top.begin(), w.top.end());
   // A pixel that changes hands moves its weight out of one entry and into
