@@ -11,12 +11,23 @@ STUDY_CSV is the output of `lockstep_radiosity_study` (bench/studies/radiosity_s
                               form-factor matrix's time, per method and row, points
                               labelled by k (rays, exact) or pixels (hemicube)
   radiosity_solvers.png       the residual against the solve's time per solver
+  radiosity_failure_map.png   two facing unit plates at distance d: F's relative error, the
+                              centre point's (proximity) and the hemicube's per resolution (aliasing)
 Prints the two markdown tables used in BENCHMARKS.md.
 """
 import os
 import subprocess
 
 import chartlib
+
+
+def load_maps(csv):
+    maps = []
+    for line in open(csv):
+        f = line.strip().split(",")
+        if f[0] == "map":
+            maps.append(dict(method=f[1], res=int(f[2]), d=float(f[3]), err=float(f[4])))
+    return maps
 
 
 def load(csv):
@@ -116,9 +127,50 @@ plot {plots}
 """)
 
 
+def map_table(maps):
+    ds = sorted({m["d"] for m in maps})
+    series = [("point", 0)] + sorted({("hemicube", m["res"]) for m in maps if m["method"] == "hemicube"},
+                                     key=lambda x: x[1])
+    out = ["| d / side | " + " | ".join("centre point" if r == 0 else f"hemicube {r}" for _, r in series) + " |",
+           "|---:|" + "---:|" * len(series)]
+    for d in ds:
+        cells = []
+        for meth, r in series:
+            e = next((m["err"] for m in maps if m["method"] == meth and m["res"] == r and m["d"] == d), None)
+            cells.append(f"{e:.3g}" if e is not None else "")
+        out.append(f"| {d:g} | " + " | ".join(cells) + " |")
+    return "\n".join(out)
+
+
+def map_chart(maps, out):
+    dat = os.path.join(out, "radiosity_failure_map.dat")
+    series = [("point", 0)] + sorted({("hemicube", m["res"]) for m in maps if m["method"] == "hemicube"},
+                                     key=lambda x: x[1])
+    with open(dat, "w") as f:
+        for meth, r in series:
+            f.write(f"# {meth} {r}\n")
+            for m in maps:
+                if m["method"] == meth and m["res"] == r:
+                    f.write(f"{m['d']} {max(m['err'], 1e-6)}\n")
+            f.write("\n\n")
+    plots = ", ".join(f"'{dat}' index {k} using 1:2 with linespoints title '"
+                      + ("centre point (rays, any k)" if r == 0 else f"hemicube {r}") + "'"
+                      for k, (meth, r) in enumerate(series))
+    subprocess.run(["gnuplot"], text=True, check=True, input=f"""set terminal pngcairo size 800,500
+set output '{out}/radiosity_failure_map.png'
+set title "Two facing unit plates at distance d: F's relative error against the exact factor"
+set xlabel "d / side"; set ylabel "relative error of F"
+set logscale xy; set grid; set key bottom left; set format y "%.0e"
+plot {plots}
+""")
+
+
 def main():
     a = chartlib.args(__doc__)
     ff, solve = load(a.study_csv)
+    maps = load_maps(a.study_csv)
+    if maps:
+        map_chart(maps, a.out_dir)
     print(form_factor_table(ff))
     print()
     print(solver_table(solve))

@@ -23,10 +23,11 @@
 // CSV on stdout:
 //   ff,SCENE,PATCHES,METHOD,SETTING,IMPL,MS,MAX_ROW_ERROR,MEAN_ROW_ERROR
 //   solve,SCENE,PATCHES,SOLVER,ITERATIONS,MS,RESIDUAL
+//   map,METHOD,RES,DISTANCE_OVER_SIDE,RELATIVE_ERROR  (failure_maps below)
 // Claims (checked; the ctest radiosity_study.quick keeps them): the hemicube's
 // mean error falls as its resolution doubles; exact with k rays is more
-// accurate than rays with k (mean and max); the simd row is faster than the
-// reference for every method; the rows' mean errors agree within 1e-3;
+// accurate than rays with k (mean and max); the rows' mean errors agree
+// within 1e-3 (times are reported, never claimed: this runs as a ctest);
 // Gauss-Seidel reaches 1e-6 in fewer sweeps than Jacobi; progressive
 // refinement stalls between 1e-3 and 1e-2 (below).
 //
@@ -68,6 +69,51 @@ struct Setting {
 
 const char* method_name(FormFactorMethod m) {
   return m == FormFactorMethod::rays ? "rays" : m == FormFactorMethod::hemicube ? "hemicube" : "exact";
+}
+
+// The failure maps: two parallel square plates of side 1 facing each other
+// across distance d, a patch each (the mesh cut at area 1). The relative
+// error of F_01 against the exact factor: the hemicube at res pixels
+// (aliasing: the far plate covers few pixels) and the point-to-area factor
+// from the centre (proximity: near plates, the centre's view is not the
+// plate's). Rows: "map,METHOD,RES,D,REL_ERROR" (RES 0 for the point).
+void failure_maps(study::Claims& claims, bool quick) {
+  std::printf("# map,method,res,distance_over_side,relative_error\n");
+  std::vector<double> point_err;
+  std::vector<double> distances = {0.05, 0.1, 0.25, 0.5, 1, 2, 4, 8, 16};
+  const std::vector<int> resolutions = quick ? std::vector<int>{16, 64} : std::vector<int>{16, 32, 64, 128, 256};
+  std::vector<std::vector<double>> cube_err(resolutions.size());
+  for (const double d : distances) {
+    Scene s;
+    Material m;
+    m.color = {0.5, 0.5, 0.5};
+    add_material(s, m);
+    const std::vector<Vec3> lower = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};   // facing +z
+    const std::vector<Vec3> upper = {{0, 0, d}, {0, 1, d}, {1, 1, d}, {1, 0, d}};   // facing -z
+    add_polygon(s, lower, {}, 0);
+    add_polygon(s, upper, {}, 0);
+    const PatchMesh mesh = mesh_scene(s, 1.0);
+    const double exact = parallel_rectangles_form_factor(1, 1, d);
+    const double point = centre_form_factor(mesh, 0, 1);
+    point_err.push_back(std::abs(point - exact) / exact);
+    std::printf("map,point,0,%g,%.4g\n", d, point_err.back());
+    for (size_t r = 0; r < resolutions.size(); ++r) {
+      const FormFactors f = ref::form_factors_hemicube(mesh, resolutions[r]);
+      cube_err[r].push_back(std::abs(f[1] - exact) / exact);
+      std::printf("map,hemicube,%d,%g,%.4g\n", resolutions[r], d, cube_err[r].back());
+    }
+  }
+  // Proximity: a point's view is not the plate's where the plates are about
+  // as far apart as they are wide (measured: 33% at d = 0.5, the peak; 9% at
+  // 0.05, where both factors near 1; 0.5% at 8, falling as 1/d^2).
+  claims.check(*std::max_element(point_err.begin(), point_err.end()) > 0.3 && point_err[7] < 0.01,
+               "the point-to-area error peaks above 30% and is below 1% at d = 8");
+  // Aliasing: at d = 16 the far plate (1/256 of the view's width) falls
+  // between the pixel centres of a 16-pixel hemicube (error 100%: F = 0);
+  // at 64 pixels it is within 1%.
+  const size_t at64 = size_t(std::find(resolutions.begin(), resolutions.end(), 64) - resolutions.begin());
+  claims.check(cube_err.front().back() > 0.5 && cube_err[at64].back() < 0.01,
+               "the 16-pixel hemicube misses the plate at d = 16, the 64-pixel one is within 1%");
 }
 
 int run(bool quick) {
@@ -115,10 +161,9 @@ int run(bool quick) {
       }
       const std::string what = std::string(method_name(s.method)) + " " + std::to_string(s.value) + " at " +
                                std::to_string(n) + " patches";
-      if (ms[0] > 0) {
-        claims.check(ms[1] < ms[0], "simd faster than the reference: " + what);
-        claims.check(std::abs(err[0] - err[1]) < 1e-3, "the rows' errors within 1e-3: " + what);
-      }
+      // No claim on time: speed is for the benchmarks, never a test's verdict
+      // (this runs as a ctest, on a loaded machine).
+      if (ms[0] > 0) claims.check(std::abs(err[0] - err[1]) < 1e-3, "the rows' errors within 1e-3: " + what);
       if (s.method == FormFactorMethod::hemicube) hemicube_mean.push_back(err[1]);
     }
     for (size_t k = 1; k < hemicube_mean.size(); ++k)
@@ -141,6 +186,7 @@ int run(bool quick) {
                    "exact more accurate than rays at k = " + std::to_string(k));
     }
   }
+  failure_maps(claims, quick);
   // Solvers: residual against time.
   std::printf("# kind,scene,patches,solver,iterations,ms,residual\n");
   double emission = 0;
