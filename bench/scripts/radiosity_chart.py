@@ -85,46 +85,44 @@ def table(csv):
     return form_factor_table(ff) + "\n\n" + solver_table(solve)
 
 
-def chart(ff, solve, out):
-    dat = os.path.join(out, "radiosity_form_factors.dat")
-    largest = max(r["patches"] for r in ff)
-    series = [(m, i) for m in ("rays", "exact", "hemicube") for i in ("reference", "simd")
-              if any(r["method"] == m and r["impl"] == i and r["patches"] == largest for r in ff)]
+def plot_series(out, name, series, settings, labels=False):
+    """A log-log gnuplot chart OUT/NAME.png of series [(title, [(x, y, label), ...])],
+    its data in OUT/NAME.dat (one indexed block per series); labels: each point's
+    third column printed beside it."""
+    dat = os.path.join(out, name + ".dat")
     with open(dat, "w") as f:
-        for m, i in series:
-            f.write(f"# {m} {i}\n")
-            for r in ff:
-                if (r["method"], r["impl"], r["patches"]) == (m, i, largest):
-                    f.write(f"{r['ms']} {r['mean']} {r['setting']}\n")
-            f.write("\n\n")
+        for title, points in series:
+            f.write(f"# {title}\n" + "".join(f"{x} {y} {label}\n" for x, y, label in points) + "\n\n")
     plots = ", ".join(
-        f"'{dat}' index {k} using 1:2 with linespoints title '{m} {i}', "
-        f"'' index {k} using 1:2:3 with labels offset 1,0.6 notitle"
-        for k, (m, i) in enumerate(series))
+        f"'{dat}' index {k} using 1:2 with linespoints title '{title}'"
+        + (f", '' index {k} using 1:2:3 with labels offset 1,0.6 notitle" if labels else "")
+        for k, (title, _) in enumerate(series))
     subprocess.run(["gnuplot"], text=True, check=True, input=f"""set terminal pngcairo size 800,500
-set output '{out}/radiosity_form_factors.png'
-set title "Form factors, Cornell box, {largest} patches (labels: k or hemicube pixels)"
+set output '{out}/{name}.png'
+{settings}
+set logscale xy; set grid; set format y "%.0e"
+plot {plots}
+""")
+
+
+def chart(ff, solve, out):
+    largest = max(r["patches"] for r in ff)
+    series = []
+    for m in ("rays", "exact", "hemicube"):
+        for i in ("reference", "simd"):
+            points = [(r["ms"], r["mean"], r["setting"]) for r in ff
+                      if (r["method"], r["impl"], r["patches"]) == (m, i, largest)]
+            if points:
+                series.append((f"{m} {i}", points))
+    plot_series(out, "radiosity_form_factors", series, f"""set title "Form factors, Cornell box, {largest} patches (labels: k or hemicube pixels)"
 set xlabel "ms per form-factor matrix (simd: 2 threads)"; set ylabel "mean over i of sum_j |F_ij - F*_ij|"
-set logscale xy; set grid; set key outside right; set format y "%.0e"
-plot {plots}
-""")
-    dat = os.path.join(out, "radiosity_solvers.dat")
-    solvers = [s for s in ("jacobi", "gauss-seidel", "progressive") if any(r["solver"] == s for r in solve)]
-    with open(dat, "w") as f:
-        for s in solvers:
-            f.write(f"# {s}\n")
-            for r in solve:
-                if r["solver"] == s and r["residual"] > 0:
-                    f.write(f"{max(r['ms'], 1e-3)} {r['residual']} {r['iterations']}\n")
-            f.write("\n\n")
-    plots = ", ".join(f"'{dat}' index {k} using 1:2 with linespoints title '{s}'" for k, s in enumerate(solvers))
-    subprocess.run(["gnuplot"], text=True, check=True, input=f"""set terminal pngcairo size 800,500
-set output '{out}/radiosity_solvers.png'
-set title "Radiosity solvers, Cornell box, {solve[0]['patches']} patches, exact form factors"
+set key outside right""", labels=True)
+    series = [(s, [(max(r["ms"], 1e-3), r["residual"], r["iterations"]) for r in solve
+                   if r["solver"] == s and r["residual"] > 0])
+              for s in ("jacobi", "gauss-seidel", "progressive") if any(r["solver"] == s for r in solve)]
+    plot_series(out, "radiosity_solvers", series, f"""set title "Radiosity solvers, Cornell box, {solve[0]['patches']} patches, exact form factors"
 set xlabel "ms per solve (one thread)"; set ylabel "residual / largest emission"
-set logscale xy; set grid; set key top right; set format y "%.0e"
-plot {plots}
-""")
+set key top right""")
 
 
 def map_table(maps):
@@ -143,26 +141,14 @@ def map_table(maps):
 
 
 def map_chart(maps, out):
-    dat = os.path.join(out, "radiosity_failure_map.dat")
-    series = [("point", 0)] + sorted({("hemicube", m["res"]) for m in maps if m["method"] == "hemicube"},
-                                     key=lambda x: x[1])
-    with open(dat, "w") as f:
-        for meth, r in series:
-            f.write(f"# {meth} {r}\n")
-            for m in maps:
-                if m["method"] == meth and m["res"] == r:
-                    f.write(f"{m['d']} {max(m['err'], 1e-6)}\n")
-            f.write("\n\n")
-    plots = ", ".join(f"'{dat}' index {k} using 1:2 with linespoints title '"
-                      + ("centre point (rays, any k)" if r == 0 else f"hemicube {r}") + "'"
-                      for k, (meth, r) in enumerate(series))
-    subprocess.run(["gnuplot"], text=True, check=True, input=f"""set terminal pngcairo size 800,500
-set output '{out}/radiosity_failure_map.png'
-set title "Two facing unit plates at distance d: F's relative error against the exact factor"
+    kinds = [("point", 0)] + sorted({("hemicube", m["res"]) for m in maps if m["method"] == "hemicube"},
+                                    key=lambda x: x[1])
+    series = [("centre point (rays, any k)" if r == 0 else f"hemicube {r}",
+               [(m["d"], max(m["err"], 1e-6), "") for m in maps if m["method"] == meth and m["res"] == r])
+              for meth, r in kinds]
+    plot_series(out, "radiosity_failure_map", series, """set title "Two facing unit plates at distance d: F's relative error against the exact factor"
 set xlabel "d / side"; set ylabel "relative error of F"
-set logscale xy; set grid; set key bottom left; set format y "%.0e"
-plot {plots}
-""")
+set key bottom left""")
 
 
 def main():
