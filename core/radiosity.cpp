@@ -18,17 +18,23 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-// The polygon's part where dot(n, p - x) >= 0 (Sutherland-Hodgman, one plane).
-std::vector<Vec3> clip_in_front(std::span<const Vec3> poly, const Vec3& x, const Vec3& n) {
-  std::vector<Vec3> out;
+// The polygon's part where dot(n, p - x) >= 0 (Sutherland-Hodgman, one
+// plane), into out (room for poly.size() + 1 corners); returns its count.
+size_t clip_in_front(std::span<const Vec3> poly, const Vec3& x, const Vec3& n, Vec3* out) {
+  size_t m = 0;
   const size_t k = poly.size();
   for (size_t i = 0; i < k; ++i) {
     const Vec3& a = poly[i];
     const Vec3& b = poly[(i + 1) % k];
     const double da = dot(n, a - x), db = dot(n, b - x);
-    if (da >= 0) out.push_back(a);
-    if ((da >= 0) != (db >= 0)) out.push_back(a + (b - a) * (da / (da - db)));
+    if (da >= 0) out[m++] = a;
+    if ((da >= 0) != (db >= 0)) out[m++] = a + (b - a) * (da / (da - db));
   }
+  return m;
+}
+std::vector<Vec3> clip_in_front(std::span<const Vec3> poly, const Vec3& x, const Vec3& n) {
+  std::vector<Vec3> out(poly.size() + 1);
+  out.resize(clip_in_front(poly, x, n, out.data()));
   return out;
 }
 
@@ -58,7 +64,12 @@ Vec3 Patch::centre() const {
 }
 
 double point_polygon_form_factor(const Vec3& x, const Vec3& n, std::span<const Vec3> polygon) {
-  const std::vector<Vec3> p = clip_in_front(polygon, x, n);
+  // Patches have 3 or 4 corners: their clipped copy on the stack.
+  Vec3 small[8];
+  std::vector<Vec3> large;
+  if (polygon.size() + 1 > std::size(small)) large.resize(polygon.size() + 1);
+  Vec3* buffer = large.empty() ? small : large.data();
+  const std::span<const Vec3> p(buffer, clip_in_front(polygon, x, n, buffer));
   if (p.size() < 3) return 0;
   // F = 1/(2 pi) sum_i gamma_i n . u_i: gamma_i the angle the edge (p_i,
   // p_i+1) subtends at x, u_i the unit normal of the plane through x and the
@@ -328,10 +339,8 @@ double radiosity_residual(const std::vector<Patch>& patches, const FormFactors& 
   return worst;
 }
 
-SolveResult solve_radiosity(const std::vector<Patch>& patches, const FormFactors& f,
-                            RadiositySolver solver, double tolerance, int max_iterations) {
-  const size_t n = patches.size();
-  if (f.size() != n * n)
+double radiosity_system_check(const std::vector<Patch>& patches, const FormFactors& f) {
+  if (f.size() != patches.size() * patches.size())
     throw std::invalid_argument("solve_radiosity: the form factor matrix is not n x n");
   double e_max = 0;
   for (const Patch& p : patches) {
@@ -345,6 +354,13 @@ SolveResult solve_radiosity(const std::vector<Patch>& patches, const FormFactors
       e_max = std::max(e_max, e);
     }
   }
+  return e_max;
+}
+
+SolveResult solve_radiosity(const std::vector<Patch>& patches, const FormFactors& f,
+                            RadiositySolver solver, double tolerance, int max_iterations) {
+  const size_t n = patches.size();
+  const double e_max = radiosity_system_check(patches, f);
   SolveResult out;
   out.b.resize(n);
   for (size_t i = 0; i < n; ++i) out.b[i] = patches[i].emission;
@@ -360,9 +376,9 @@ SolveResult solve_radiosity(const std::vector<Patch>& patches, const FormFactors
       // Jacobi: every B_i from the last sweep's B. Gauss-Seidel: from the
       // newest values, this sweep's where already computed.
       std::vector<Vec3> next = out.b;
-      while (out.iterations < max_iterations) {
+      for (;;) {
         out.residual = radiosity_residual(patches, f, out.b);
-        if (out.residual <= goal) break;
+        if (out.residual <= goal || out.iterations >= max_iterations) break;
         for (size_t i = 0; i < n; ++i) {
           if (solver == RadiositySolver::jacobi)
             next[i] = gather(i, out.b);
@@ -642,8 +658,9 @@ RasterSettings radiosity_item_buffer() {
 double hemicube_near(const PatchMesh& mesh) { return 1e-2 * std::sqrt(mesh.max_area); }
 
 SolveResult solve_patches(const PatchMesh& mesh, const FormFactors& f, const RadiositySettings& s,
-                          const std::string& source) {
+                          const std::string& source, const RadiositySolve& solve) {
   try {
+    if (solve) return solve(mesh.patches, f, s.solver, s.tolerance, s.max_iterations);
     return solve_radiosity(mesh.patches, f, s.solver, s.tolerance, s.max_iterations);
   } catch (const std::invalid_argument& e) {
     throw InputError(source, 0, e.what());

@@ -22,6 +22,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -123,6 +124,11 @@ struct SolveResult {
 // is negative or not finite.
 SolveResult solve_radiosity(const std::vector<Patch>& patches, const FormFactors& f,
                             RadiositySolver solver, double tolerance, int max_iterations);
+
+// What solve_radiosity checks first (every solver's precondition): f is n x
+// n, every reflectance in [0, 1), every emission finite and >= 0; throws
+// std::invalid_argument naming the value. Returns the largest emission.
+double radiosity_system_check(const std::vector<Patch>& patches, const FormFactors& f);
 
 // max_i,c |B_i - E_i - rho_i sum_j F_ij B_j|.
 double radiosity_residual(const std::vector<Patch>& patches, const FormFactors& f,
@@ -236,6 +242,26 @@ double exact_form_factor(const PatchMesh& mesh, size_t i, size_t j);
 // The k x k points of patch p its rays aim at (grid midpoints; triangles:
 // the centroids of k^2 congruent pieces).
 std::vector<Vec3> patch_targets(const Patch& p, int k);
+// Moller and Trumbore (1997): does the segment a + t d, t in (lo, hi),
+// cross triangle (p0, p1, p2), from either side? (Its edges count; a
+// segment in the triangle's plane does not.) The rays method's visibility
+// predicate, in double, in both rows.
+inline bool segment_meets_triangle(const Vec3& a, const Vec3& d, double lo, double hi, const Vec3& p0,
+                                   const Vec3& p1, const Vec3& p2) {
+  const Vec3 e1 = p1 - p0, e2 = p2 - p0;
+  const Vec3 pv = cross(d, e2);
+  const double det = dot(e1, pv);
+  if (det == 0) return false;  // the segment is parallel to the plane
+  const Vec3 s = a - p0;
+  const double u = dot(s, pv) / det;
+  if (u < 0 || u > 1) return false;
+  const Vec3 q = cross(s, e1);
+  const double v = dot(d, q) / det;
+  if (v < 0 || u + v > 1) return false;
+  const double t = dot(e2, q) / det;
+  return t > lo && t < hi;
+}
+
 // Rays stop this fraction of their length short of each end: a polygon
 // that touches the patch at the end (a corner of the room) does not block.
 // The two patches' own polygons are never tested (reference/radiosity.h).
@@ -250,10 +276,12 @@ RasterSettings radiosity_item_buffer();
 // A hemicube's hither: a hundredth of the largest patch's side (another
 // patch is at least half a side from a patch's centre).
 double hemicube_near(const PatchMesh& mesh);
-// solve_radiosity with the row's settings; a refused system (reflectance,
-// emission) is an InputError naming source.
+// solve_radiosity (or a row's own solve) with the row's settings; a refused
+// system (reflectance, emission) is an InputError naming source.
+using RadiositySolve =
+    std::function<SolveResult(const std::vector<Patch>&, const FormFactors&, RadiositySolver, double, int)>;
 SolveResult solve_patches(const PatchMesh& mesh, const FormFactors& f, const RadiositySettings& s,
-                          const std::string& source);
+                          const std::string& source, const RadiositySolve& solve = {});
 
 // What a run tells its user (FrameStats::notes, dropped): spheres and cones
 // left out, no emitter (a black image), a solve stopped by max_iterations.

@@ -4,11 +4,19 @@
 #include <embree3/rtcore.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <optional>
 #include <span>
 #include <stdexcept>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_invoke.h>
+#include <tbb/parallel_reduce.h>
+#include <tbb/task_arena.h>
 
 #include "core/error.h"
 #include "core/timer.h"
@@ -88,6 +96,256 @@ struct Box {
   }
 };
 
+// The pyramid from an apex c over a convex planar polygon (c in front of
+// its plane): every segment from c to a point of the polygon lies in it.
+// Its faces as planes through a point, normals pointing inwards: the
+// polygon's plane and one through c and each edge. Default: no planes
+// (excludes nothing).
+struct Pyramid {
+  Vec3 origin[9], inward[9];
+  int planes = 0;
+  Pyramid() = default;
+  Pyramid(const Vec3& c, std::span<const Vec3> base) {
+    if (base.size() < 3 || base.size() > 8) return;
+    Vec3 area{0, 0, 0}, mid{0, 0, 0};
+    for (size_t k = 0; k < base.size(); ++k) {
+      area = area + cross(base[k], base[(k + 1) % base.size()]);
+      mid = mid + base[k];
+    }
+    mid = mid / double(base.size());
+    // The apex clearly in front of the base's plane (else: no planes).
+    const Vec3 r = c - base[0];
+    double h = dot(area, r);
+    if (!(h * h > 1e-18 * dot(area, area) * dot(r, r))) return;
+    add(base[0], h > 0 ? area : -area);
+    for (size_t k = 0; k < base.size(); ++k) {
+      Vec3 m = cross(base[k] - c, base[(k + 1) % base.size()] - c);
+      if (dot(m, mid - c) < 0) m = -m;
+      add(c, m);
+    }
+  }
+  void add(const Vec3& o, const Vec3& m) { origin[planes] = o, inward[planes++] = m; }
+  // Whether polygon v lies wholly outside: all its corners clearly beyond
+  // one face (by more than 1e-12 of the lengths involved, so rounding never
+  // culls a blocker).
+  bool excludes(std::span<const Vec3> v) const {
+    for (int f = 0; f < planes; ++f) {
+      const double mm = dot(inward[f], inward[f]);
+      bool beyond = true;
+      for (const Vec3& q : v) {
+        const Vec3 r = q - origin[f];
+        const double h = dot(inward[f], r);
+        if (!(h < 0 && h * h > 1e-24 * mm * dot(r, r))) {
+          beyond = false;
+          break;
+        }
+      }
+      if (beyond) return true;
+    }
+    return false;
+  }
+};
+
+// A 2-D box in a plane frame, closed (boxes that touch overlap).
+struct Box2 {
+  double lo[2] = {kInfinity, kInfinity}, hi[2] = {-kInfinity, -kInfinity};
+  void add(const std::array<double, 2>& p) {
+    for (int a = 0; a < 2; ++a) lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
+  }
+  bool overlaps(const Box2& b) const {
+    return lo[0] <= b.hi[0] && b.lo[0] <= hi[0] && lo[1] <= b.hi[1] && b.lo[1] <= hi[1];
+  }
+};
+
+// Whether a planar polygon is convex: every corner turns the same way.
+bool convex(std::span<const Vec3> v) {
+  if (v.size() < 3) return false;
+  Vec3 area{0, 0, 0};
+  for (size_t k = 0; k < v.size(); ++k) area = area + cross(v[k], v[(k + 1) % v.size()]);
+  for (size_t k = 0; k < v.size(); ++k) {
+    const Vec3& a = v[k];
+    const Vec3& b = v[(k + 1) % v.size()];
+    const Vec3& c = v[(k + 2) % v.size()];
+    if (!(dot(cross(b - a, c - b), area) > 0)) return false;
+  }
+  return true;
+}
+
+// A scene polygon as the plane its patches' targets lie on (or near: the
+// Cornell box's measured walls are warped by up to 1.6 mm): a point o on
+// it, its unit normal n (Newell's), two unit axes u, v in it; thickness:
+// how far its corners and targets lie off the plane.
+struct Receiver {
+  uint32_t polygon = 0;
+  Vec3 o, n, u, v;
+  Box box;
+  double thickness = 0;
+  bool pyramid = false;       // convex and flat: the pyramid from a point over it holds every segment to it
+  bool flat_targets = false;  // its patches' targets on its plane
+  std::span<const Vec3> corners;
+  Receiver(uint32_t p, std::span<const Vec3> w, double size) : polygon(p), corners(w) {
+    Vec3 area{0, 0, 0};
+    for (size_t k = 0; k < w.size(); ++k) area = area + cross(w[k], w[(k + 1) % w.size()]);
+    o = w[0];
+    n = normalize(area);
+    u = normalize(std::abs(n.x) < 0.5 ? cross(n, Vec3{1, 0, 0}) : cross(n, Vec3{0, 1, 0}));
+    v = cross(n, u);
+    for (const Vec3& x : w) box.add(x), thickness = std::max(thickness, std::abs(height(x)));
+    pyramid = convex(w) && thickness <= 1e-12 * size;
+  }
+  double height(const Vec3& x) const { return dot(n, x - o); }
+  std::array<double, 2> flat(const Vec3& x) const { return {dot(x - o, u), dot(x - o, v)}; }
+};
+
+// A flat receiver's patches binned on a kBins x kBins grid over its
+// targets' box. Cells: the bins a box covers, clamped to the grid (monotone:
+// a box overlapping another shares a bin with it).
+constexpr int kBins = 16;
+constexpr size_t kCells = size_t(kBins) * kBins;
+int cell(const Box2& grid, double v, int axis) {
+  const double w = grid.hi[axis] - grid.lo[axis];
+  const double k = w > 0 ? std::floor((v - grid.lo[axis]) / w * kBins) : 0;
+  return int(std::clamp(k, 0.0, double(kBins - 1)));
+}
+struct Cells {
+  int x0, x1, y0, y1;
+  Cells(const Box2& grid, const Box2& b)
+      : x0(cell(grid, b.lo[0], 0)), x1(cell(grid, b.hi[0], 0)), y0(cell(grid, b.lo[1], 1)), y1(cell(grid, b.hi[1], 1)) {}
+};
+
+// Shadow polygons (Atherton, Weiler and Greenberg 1978, here as a filter):
+// seen from c, a blocker that meets the segment from c to a target y
+// covers y's central projection y' onto the receiver's plane, and only
+// the part of it between c and y counts. So each candidate blocker (a
+// convex flat polygon whole, else each triangle) is clipped to the heights
+// a segment passes through (from kSegmentMargin to 1 - kSegmentMargin of
+// its length, widened by the receiver's thickness), projected from c
+// (which keeps it convex) and grown by 1e-9 of the scene: its shade. A
+// target whose y' falls in no shade arrives; one deep in a shade's core
+// (the blocker's part clear of both ends) is hidden; the rest are decided
+// by the exact predicate (segment_meets_triangle) against that blocker's
+// triangles: the reference's answer, found without testing every triangle.
+
+// A convex polygon in a plane's frame as the half-planes inside its edges:
+// a x + b y + c, the distance inside (unit normals), >= 0 for every edge.
+struct HalfPlanes {
+  int edges = 0;
+  double a[10], b[10], c[10];
+  // Corners p[0..m) (m <= 10) in either turn; every inside distance raised by grow.
+  void set(const std::array<double, 2>* p, int m, double grow) {
+    double area = 0;
+    for (int k = 0; k < m; ++k) area += p[k][0] * p[(k + 1) % m][1] - p[(k + 1) % m][0] * p[k][1];
+    const double turn = area >= 0 ? 1 : -1;  // edge-on (area 0): a sliver, grown
+    edges = 0;
+    for (int k = 0; k < m; ++k) {
+      const auto& u = p[k];
+      const auto& v = p[(k + 1) % m];
+      const double len = std::hypot(v[0] - u[0], v[1] - u[1]);
+      if (!(len > 0)) continue;  // a repeated corner: no edge (the others bound it)
+      a[edges] = -(v[1] - u[1]) * turn / len, b[edges] = (v[0] - u[0]) * turn / len;
+      c[edges] = -(a[edges] * u[0] + b[edges] * u[1]) + grow;
+      ++edges;
+    }
+  }
+  // Whether every inside distance is at least least (a NaN is not).
+  bool inside(const std::array<double, 2>& y, double least) const {
+    for (int e = 0; e < edges; ++e)
+      if (!(a[e] * y[0] + b[e] * y[1] + c[e] >= least)) return false;
+    return true;
+  }
+};
+
+struct Shade {
+  Box2 box;
+  uint32_t tri_first = 0, tri_end = 0;  // the blocker's triangles (the scene's, in order)
+  HalfPlanes outer;  // the shade, grown by 1e-9 of the scene: nothing outside is hidden
+  // The core: the shade of the blocker's part clear of either end of the
+  // heights (2e-9 of the scene above the plane's end, a thousandth of the
+  // height below c; the receiver flat). A point more than 1e-9 of the scene
+  // inside it is hidden: its segment crosses the blocker's interior, well
+  // within the segment and well inside the blocker's edges.
+  HalfPlanes core;
+  double deep = 0;
+  bool has_core = false;
+  // -1: outside; 0: the exact predicate decides; 1: hidden.
+  int covers(const std::array<double, 2>& y) const {
+    if (!outer.inside(y, 0)) return -1;
+    return has_core && core.inside(y, deep) ? 1 : 0;
+  }
+};
+
+struct Shadow {
+  const Receiver* to = nullptr;
+  Vec3 c;
+  std::array<double, 2> c_flat;
+  double h = 0, side = 1, grow = 0, lo = 0, hi = 0;
+  bool valid = false;
+  Shadow(const Vec3& apex, const Receiver& r, double size) : to(&r), c(apex), c_flat(r.flat(apex)) {
+    h = r.height(c);
+    if (h < 0) h = -h, side = -1;
+    grow = 1e-9 * size;
+    const double m = kSegmentMargin;
+    lo = m * h - r.thickness - grow;
+    hi = (1 - m) * h + m * r.thickness + grow;
+    // c clearly off the plane, and the heights clear of c's own.
+    valid = h > 1e-6 * size && hi < (1 - 0.5 * m) * h;
+  }
+  // Where the line from c through x meets the plane: x' in flat
+  // coordinates (x_height: x's height as Receiver::height gives it).
+  std::array<double, 2> project(const std::array<double, 2>& x_flat, double x_height) const {
+    const double t = h / (h - side * x_height);
+    return {c_flat[0] + (x_flat[0] - c_flat[0]) * t, c_flat[1] + (x_flat[1] - c_flat[1]) * t};
+  }
+  // The blocker's part at heights [low, high], projected: its corners into
+  // p (room for 10), their count.
+  int clip(std::span<const Vec3> poly, double low, double high, std::array<double, 2>* p) const {
+    const int corners = int(poly.size());
+    int m = 0;
+    auto put = [&](const Vec3& x, double hx) { p[m++] = project(to->flat(x), side * hx); };
+    for (int k = 0; k < corners; ++k) {
+      const Vec3& a = poly[size_t(k)];
+      const Vec3& b = poly[size_t((k + 1) % corners)];
+      const double ha = side * to->height(a), hb = side * to->height(b);
+      if (ha >= low && ha <= high) put(a, ha);
+      // Where the edge enters or leaves the heights, in order from a to b.
+      double cut[2];
+      int cuts = 0;
+      for (double level : {low, high})
+        if ((ha < level) != (hb < level)) cut[cuts++] = (level - ha) / (hb - ha);
+      if (cuts == 2 && cut[0] > cut[1]) std::swap(cut[0], cut[1]);
+      for (int q = 0; q < cuts; ++q) put(a + (b - a) * cut[q], ha + (hb - ha) * cut[q]);
+    }
+    return m;
+  }
+  // Adds the shade of a convex planar blocker of at most 8 corners (a
+  // triangle, or a polygon whose triangles are the scene's [tri_first,
+  // tri_end)); nothing when no part of it is in the heights.
+  void add(std::span<const Vec3> poly, uint32_t tri_first, uint32_t tri_end, std::vector<Shade>& out) const {
+    std::array<double, 2> p[10];
+    const int m = clip(poly, lo, hi, p);
+    if (m < 3) return;
+    Shade s;
+    s.tri_first = tri_first, s.tri_end = tri_end;
+    s.outer.set(p, m, grow);
+    for (int k = 0; k < m; ++k) {
+      s.box.add({p[k][0] - grow, p[k][1] - grow});
+      s.box.add({p[k][0] + grow, p[k][1] + grow});
+    }
+    if (to->flat_targets) {
+      // Not within a thousandth of the segment from c either: there the
+      // projection magnifies more than 1000 times, and 1e-9 of the scene
+      // on the plane would be rounding's size on the blocker.
+      const int mc = clip(poly, kSegmentMargin * h + 2 * grow, (1 - 1e-3) * h, p);
+      if (mc >= 3) {
+        s.core.set(p, mc, 0);
+        s.deep = grow;
+        s.has_core = true;
+      }
+    }
+    out.push_back(s);
+  }
+};
+
 // The patches as structure of arrays for lambert_row, padded to 16 lanes.
 PatchSoA patch_soa(const PatchMesh& mesh) {
   PatchSoA p;
@@ -118,11 +376,12 @@ PatchSoA patch_soa(const PatchMesh& mesh) {
 FormFactors radiosity_form_factors_rays(const Scene& scene, const PatchMesh& mesh, int k, int threads,
                                                 const embree::Device& device,
                                                 const std::function<void(double)>& progress, RayCounts* counts,
-                                                FormFactorMethod method) {
+                                                FormFactorMethod method, FormFactors storage) {
   const bool exact = method == FormFactorMethod::exact;
-  std::atomic<uint64_t> cast{0}, culled{0};
+  std::atomic<uint64_t> cast{0}, culled{0}, by_shades{0};
   const size_t n = mesh.patches.size();
-  FormFactors f(n * n);  // each row zeroed by its own task: the first touch spread over the threads
+  FormFactors f = std::move(storage);
+  if (f.size() != n * n) f = FormFactors(n * n);  // each row written whole by its task: the first touch spread
   if (n == 0) return f;
   Occluders occ;
   const Stopwatch building;
@@ -130,66 +389,113 @@ FormFactors radiosity_form_factors_rays(const Scene& scene, const PatchMesh& mes
   embree::Device(device).check("radiosity occluders");
   if (counts) counts->build_seconds = building.seconds();
   // Every patch's centre and targets once.
-  std::vector<Vec3> centre(n);
+  std::vector<Vec3> centre(n), normal(n);
   std::vector<std::vector<Vec3>> targets(n);
   for (size_t i = 0; i < n; ++i) {
     centre[i] = mesh.patches[i].centre();
+    normal[i] = mesh.patches[i].normal();
     targets[i] = patch_targets(mesh.patches[i], k);
   }
   const PatchSoA soa = patch_soa(mesh);
-  // The shaft test's boxes: every scene polygon's, every patch's targets'.
-  // Scenes of more than kShaftPolygons polygons skip it (every pair casts).
-  constexpr uint32_t kShaftPolygons = 256;
-  std::vector<Box> poly_box(scene.polygon_count());
-  for (uint32_t p = 0; p < scene.polygon_count(); ++p)
+  // Scenes of more than kShadowPolygons polygons skip the shadows (every
+  // pair casts through Embree): they cost polygons^2 a patch.
+  constexpr uint32_t kShadowPolygons = 256;
+  const uint32_t polys = scene.polygon_count();
+  const bool shadows = polys <= kShadowPolygons;
+  Vec3 lo, hi;
+  scene_bounds(scene, lo, hi);
+  const double size = length(hi - lo);
+  std::vector<Box> poly_box(polys);
+  std::vector<unsigned char> whole_shade(polys);  // a blocker shaded whole: convex, flat, at most 8 corners
+  std::vector<Receiver> receivers;
+  for (uint32_t p = 0; p < polys; ++p) {
     for (const Vec3& v : scene.polygon_vertices(p)) poly_box[p].add(v);
-  std::vector<Box> target_box(n);
-  for (size_t j = 0; j < n; ++j)
-    for (const Vec3& y : targets[j]) target_box[j].add(y);
-  // Whether polygon p lies wholly outside the pyramid from c over patch j
-  // (which holds every segment from c to j's targets): beyond j's plane, or
-  // beyond a plane through c and one of j's edges. Clearly beyond: by more
-  // than 1e-12 of the lengths involved, so rounding never culls a blocker.
-  std::vector<Vec3> patch_normal(n);
-  for (size_t j = 0; j < n; ++j) patch_normal[j] = mesh.patches[j].normal();
-  auto outside_pyramid = [&](const Vec3& c, size_t j, uint32_t p) {
-    const Patch& pj = mesh.patches[j];
-    const std::span<const Vec3> v = scene.polygon_vertices(p);
-    auto all_beyond = [&](const Vec3& origin, const Vec3& m) {
-      const double mm = dot(m, m);
-      for (const Vec3& q : v) {
-        const Vec3 r = q - origin;
-        const double h = dot(m, r);
-        if (!(h < 0 && h * h > 1e-24 * mm * dot(r, r))) return false;
-      }
-      return true;
-    };
-    const Vec3& inside = centre[j];
-    if (all_beyond(pj.v[0], patch_normal[j])) return true;  // behind j (c is in front of it)
-    for (int e = 0; e < pj.count; ++e) {
-      Vec3 m = cross(pj.v[e] - c, pj.v[(e + 1) % pj.count] - c);
-      if (dot(m, inside - c) < 0) m = -m;  // pointing into the pyramid
-      if (all_beyond(c, m)) return true;
+    receivers.emplace_back(p, scene.polygon_vertices(p), size);
+    whole_shade[p] = receivers.back().pyramid && scene.polygon_vertices(p).size() <= 8;
+  }
+  // Each target in its polygon's frame, and its height off the plane; the
+  // box of each patch's targets; each receiver's box of its targets.
+  std::vector<std::vector<std::array<double, 2>>> flat_targets(n);
+  std::vector<std::vector<double>> target_height(n);
+  std::vector<Box2> target_box(n), receiver_box(polys);
+  for (size_t j = 0; j < n; ++j) {
+    const size_t q = size_t(mesh.patches[j].polygon);
+    Receiver& r = receivers[q];
+    for (const Vec3& y : targets[j]) {
+      flat_targets[j].push_back(r.flat(y));
+      target_height[j].push_back(r.height(y));
+      target_box[j].add(flat_targets[j].back());
+      r.thickness = std::max(r.thickness, std::abs(r.height(y)));
     }
-    return false;
+    receiver_box[q].add({target_box[j].lo[0], target_box[j].lo[1]});
+    receiver_box[q].add({target_box[j].hi[0], target_box[j].hi[1]});
+  }
+  // Targets within 1e-12 of the scene of a receiver's plane are taken as
+  // on it (their projections move them by far less than a shade grows).
+  for (Receiver& r : receivers) r.flat_targets = r.thickness <= 1e-12 * size;
+  // The patches of each flat receiver in its bins (patch_first, patch_bin
+  // as for compressed rows: bin b of receiver q is q * kCells + b).
+  std::vector<uint32_t> patch_first(size_t(polys) * kCells + 1, 0), patch_bin;
+  std::vector<Cells> patch_cells;
+  patch_cells.reserve(n);
+  for (size_t j = 0; j < n; ++j) patch_cells.emplace_back(receiver_box[size_t(mesh.patches[j].polygon)], target_box[j]);
+  auto each_bin = [&](size_t j, auto&& fn) {
+    const size_t q = size_t(mesh.patches[j].polygon);
+    const Cells& cells = patch_cells[j];
+    for (int y = cells.y0; y <= cells.y1; ++y)
+      for (int x = cells.x0; x <= cells.x1; ++x) fn(q * kCells + size_t(y * kBins + x));
   };
-  auto may_block = [&](const Vec3& c, Box b, int from, size_t j) {
-    if (scene.polygon_count() > kShaftPolygons) return true;
-    const int to = mesh.patches[j].polygon;
-    b.add(c);
-    for (uint32_t p = 0; p < poly_box.size(); ++p)
-      if (int(p) != from && int(p) != to && poly_box[p].overlaps(b) && !outside_pyramid(c, j, p))
-        return true;
-    return false;
-  };
+  for (size_t j = 0; j < n; ++j)
+    if (receivers[size_t(mesh.patches[j].polygon)].flat_targets) each_bin(j, [&](size_t b) { ++patch_first[b + 1]; });
+  for (size_t b = 1; b < patch_first.size(); ++b) patch_first[b] += patch_first[b - 1];
+  patch_bin.resize(patch_first.back());
+  {
+    std::vector<uint32_t> next(patch_first.begin(), patch_first.end() - 1);
+    for (size_t j = 0; j < n; ++j)
+      if (receivers[size_t(mesh.patches[j].polygon)].flat_targets)
+        each_bin(j, [&](size_t b) { patch_bin[next[b]++] = uint32_t(j); });
+  }
   parallel_tiles(int(n), 1, 4, 1, threads, progress, [&](int x0, int, int x1, int) {
     std::vector<double> lambert(soa.padded);
     std::vector<unsigned char> clip(soa.padded);
     std::vector<RTCRay> rays;
     std::vector<uint32_t> to;                      // per ray: the polygon it arrives at
     std::vector<std::pair<uint32_t, double>> row;  // (j, unoccluded factor) of the rays in order
+    // Per receiver (scene polygon) R: the shadow from c and the shades on
+    // it (first, count in `shades`).
+    std::vector<Shadow> shadow;
+    std::vector<Shade> shades;
+    std::vector<uint32_t> first(polys + 1);
+    // The (patch, shade) pairs whose boxes meet, counted and sorted by patch.
+    std::vector<std::pair<uint32_t, uint32_t>> hits;
+    std::vector<uint32_t> hit_first(n + 1), hit_shade;
+    std::vector<const Shade*> near;                // the shades over one patch's targets
+    std::vector<std::array<double, 2>> projected;  // one patch's targets, projected
+    // Whether the segments to patch j's targets are hidden: the number
+    // that arrive, given the shades over them (near) and their points on
+    // the receiver's plane.
+    auto arrive = [&](const Vec3& c, size_t j, const std::array<double, 2>* points) {
+      const size_t count = targets[j].size();
+      int arrived = int(count);
+      for (size_t t = 0; t < count; ++t)
+        for (const Shade* h : near) {
+          const int inside = h->covers(points[t]);
+          if (inside < 0) continue;
+          bool hidden = inside > 0;
+          for (uint32_t k = h->tri_first; k < h->tri_end && !hidden; ++k) {
+            const auto& tv = scene.tri_vertex[k];
+            hidden = segment_meets_triangle(c, targets[j][t] - c, kSegmentMargin, 1 - kSegmentMargin,
+                                            scene.vertex[tv[0]], scene.vertex[tv[1]], scene.vertex[tv[2]]);
+          }
+          if (hidden) {
+            --arrived;
+            break;
+          }
+        }
+      return arrived;
+    };
     for (int i = x0; i < x1; ++i) {
-      std::fill_n(&f[size_t(i) * n], n, 0.0);
+      double* f_row = &f[size_t(i) * n];
       rays.clear();
       to.clear();
       row.clear();
@@ -198,25 +504,116 @@ FormFactors radiosity_form_factors_rays(const Scene& scene, const PatchMesh& mes
       // Lambert's factors from c to every patch at once; the few patches that
       // reach behind c's tangent plane by the reference's clipping code.
       // (exact: the area-to-area factor, scalar, per pair below).
-      if (!exact) lambert_row(soa, c, mesh.patches[size_t(i)].normal(), lambert.data(), clip.data());
-      const int from = mesh.patches[size_t(i)].polygon;
-      uint64_t spared = 0;
+      if (!exact) lambert_row(soa, c, normal[size_t(i)], lambert.data(), clip.data());
       for (size_t j = 0; j < n; ++j) {
-        const double unoccluded = exact     ? exact_form_factor(mesh, size_t(i), j)
-                                  : clip[j] ? centre_form_factor(mesh, size_t(i), j)
-                                            : lambert[j];
+        // (A clipped lane: centre_form_factor's steps, its centre and
+        // normals computed once.)
+        auto clipped = [&] {
+          const Vec3 r = c - mesh.patches[j].v[0];
+          if (j == size_t(i) || !(dot(normal[j], r) > 1e-9 * length(r))) return 0.0;
+          return point_polygon_form_factor(c, normal[size_t(i)], mesh.patches[j].corners());
+        };
+        const double unoccluded = exact ? exact_form_factor(mesh, size_t(i), j) : clip[j] ? clipped() : lambert[j];
+        f_row[j] = unoccluded > 0 ? unoccluded : 0.0;
+      }
+      const int from = mesh.patches[size_t(i)].polygon;
+      // The shades on every receiver.
+      shadow.clear();
+      shades.clear();
+      for (uint32_t q = 0; q < polys && shadows; ++q) {
+        first[q] = uint32_t(shades.size());
+        const Receiver& r = receivers[q];
+        shadow.emplace_back(c, r, size);
+        if (int(q) == from || !shadow.back().valid) continue;
+        // Shaft culling (Haines and Wallace 1994): only polygons that
+        // overlap the box of c and R, and reach into the pyramid from c
+        // over R, can meet a segment to it.
+        Box b = r.box;
+        b.add(c);
+        const Pyramid shaft = r.pyramid ? Pyramid(c, r.corners) : Pyramid{};  // else boxes alone
+        for (uint32_t p = 0; p < polys; ++p) {
+          if (int(p) == from || p == q || !poly_box[p].overlaps(b)) continue;
+          if (shaft.excludes(scene.polygon_vertices(p))) continue;
+          const uint32_t t0 = scene.poly_tri_first[p], t1 = scene.poly_tri_first[p + 1];
+          if (whole_shade[p]) {
+            shadow.back().add(scene.polygon_vertices(p), t0, t1, shades);
+            continue;
+          }
+          for (uint32_t t = t0; t < t1; ++t) {
+            const auto& tv = scene.tri_vertex[t];
+            const Vec3 tri[3] = {scene.vertex[tv[0]], scene.vertex[tv[1]], scene.vertex[tv[2]]};
+            shadow.back().add(tri, t, t + 1, shades);
+          }
+        }
+      }
+      first[polys] = uint32_t(shades.size());
+      // Flat receivers: each shade against the patches in its bins; a pair
+      // counted once, in the bin holding the low corner of the boxes'
+      // overlap.
+      hits.clear();
+      for (uint32_t q = 0; q < polys && shadows; ++q) {
+        if (!shadow[q].valid || !receivers[q].flat_targets) continue;
+        for (uint32_t k = first[q]; k < first[q + 1]; ++k) {
+          const Box2& sb = shades[k].box;
+          const Cells cells(receiver_box[q], sb);
+          for (int y = cells.y0; y <= cells.y1; ++y)
+            for (int x = cells.x0; x <= cells.x1; ++x) {
+              const size_t b = q * kCells + size_t(y * kBins + x);
+              for (uint32_t e = patch_first[b]; e < patch_first[b + 1]; ++e) {
+                const uint32_t j = patch_bin[e];
+                const Box2& tb = target_box[j];
+                // (cell() is monotone: the overlap's low corner is in the
+                // later of the two boxes' low cells.)
+                if (x != std::max(cells.x0, patch_cells[j].x0) || y != std::max(cells.y0, patch_cells[j].y0)) continue;
+                if (!(f_row[j] > 0) || !sb.overlaps(tb)) continue;
+                hits.emplace_back(j, k);
+              }
+            }
+        }
+      }
+      std::fill(hit_first.begin(), hit_first.end(), 0);
+      for (const auto& [j, k] : hits) ++hit_first[j + 1];
+      for (size_t j = 1; j <= n; ++j) hit_first[j] += hit_first[j - 1];
+      hit_shade.resize(hits.size());
+      {
+        std::vector<uint32_t>& next = to;  // borrowed: the rays have none yet
+        next.assign(hit_first.begin(), hit_first.end() - 1);
+        for (const auto& [j, k] : hits) hit_shade[next[j]++] = k;
+        to.clear();
+      }
+      uint64_t spared = 0, shaded = 0;
+      for (size_t j = 0; j < n; ++j) {
+        const double unoccluded = f_row[j];
         if (!(unoccluded > 0)) continue;
-        // Shaft culling (Haines and Wallace 1994): no polygon but the two
-        // patches' own both overlaps the box of c and j's targets and reaches
-        // into the pyramid from c over j, so no segment between them can be
-        // blocked: every ray arrives.
-        if (may_block(c, target_box[j], from, j)) {
-          row.emplace_back(uint32_t(j), unoccluded);
-        } else {
-          f[size_t(i) * n + j] = unoccluded;
-          ++spared;
+        const uint32_t q = uint32_t(mesh.patches[j].polygon);
+        if (shadows && shadow[q].valid) {
+          const Receiver& r = receivers[q];
+          near.clear();
+          const std::array<double, 2>* points = flat_targets[j].data();
+          if (r.flat_targets) {
+            for (uint32_t e = hit_first[j]; e < hit_first[j + 1]; ++e) near.push_back(&shades[hit_shade[e]]);
+          } else {
+            // A warped receiver: the targets' projections, every shade.
+            Box2 box;
+            projected.clear();
+            for (size_t t = 0; t < targets[j].size(); ++t) {
+              projected.push_back(shadow[q].project(flat_targets[j][t], target_height[j][t]));
+              box.add(projected.back());
+            }
+            points = projected.data();
+            for (uint32_t k = first[q]; k < first[q + 1]; ++k)
+              if (shades[k].box.overlaps(box)) near.push_back(&shades[k]);
+          }
+          if (near.empty()) {
+            ++spared;  // no segment can be blocked: f_row[j] stands
+            continue;
+          }
+          shaded += targets[j].size();
+          f_row[j] = unoccluded * arrive(c, j, points) / double(targets[j].size());
           continue;
         }
+        // Else Embree: every segment cast.
+        row.emplace_back(uint32_t(j), unoccluded);
         for (const Vec3& y : targets[j]) {
           const Vec3 d = y - c;
           RTCRay r{};
@@ -228,40 +625,152 @@ FormFactors radiosity_form_factors_rays(const Scene& scene, const PatchMesh& mes
           r.flags = 0;
           r.id = unsigned(rays.size());
           rays.push_back(r);
-          to.push_back(uint32_t(mesh.patches[j].polygon));
+          to.push_back(q);
         }
       }
       if (!rays.empty()) {
         SkipContext context;
         rtcInitIntersectContext(&context.base);
         context.occ = &occ;
-        context.from = uint32_t(mesh.patches[size_t(i)].polygon);
+        context.from = uint32_t(from);
         context.to = to.data();
         rtcOccluded1M(occ.scene, &context.base, rays.data(), unsigned(rays.size()), sizeof(RTCRay));
       }
       cast += rays.size();
       culled += spared;
+      by_shades += shaded;
       // Blocked rays come back with tfar = -inf.
       size_t r = 0;
       for (const auto& [j, unoccluded] : row) {
         const size_t m = targets[j].size();
         int arrived = 0;
         for (size_t q = 0; q < m; ++q, ++r) arrived += rays[r].tfar >= 0 ? 1 : 0;
-        f[size_t(i) * n + j] = unoccluded * arrived / double(m);
+        f_row[j] = unoccluded * arrived / double(m);
       }
     }
   });
   if (counts) {
     counts->rays = cast;
     counts->culled_pairs = culled;
+    counts->shaded = by_shades;
   }
   return f;
 }
 
+SolveResult solve_radiosity(const std::vector<Patch>& patches, const FormFactors& f, RadiositySolver solver,
+                            double tolerance, int max_iterations, int threads) {
+  // Progressive refinement costs O(n) a shot: the shared solver.
+  if (solver == RadiositySolver::progressive)
+    return lockstep::solve_radiosity(patches, f, solver, tolerance, max_iterations);
+  const double goal = tolerance * radiosity_system_check(patches, f);
+  const size_t n = patches.size();
+  // The system as structure of arrays, channel by channel.
+  std::vector<double> e[3], rho[3], old_b[3], new_b[3];
+  for (int c = 0; c < 3; ++c) {
+    e[c].resize(n), rho[c].resize(n);
+    for (size_t i = 0; i < n; ++i) e[c][i] = patches[i].emission[c], rho[c][i] = patches[i].rho[c];
+    old_b[c] = e[c];
+    new_b[c].resize(n);
+  }
+  const double* old_p[3] = {old_b[0].data(), old_b[1].data(), old_b[2].data()};
+  const double* new_p[3] = {new_b[0].data(), new_b[1].data(), new_b[2].data()};
+  // Row i in one pass over F's row: its residual in the last sweep's B (the
+  // stopping test) and its new B_i (Jacobi from the last sweep's B,
+  // Gauss-Seidel from this sweep's below i): sweep k+1 is computed with
+  // the residual of sweep k, and dropped when that one is small enough.
+  const bool gs = solver == RadiositySolver::gauss_seidel;
+  auto row = [&](size_t i) {
+    double g[9];
+    gather_row(&f[i * n], n, old_p, gs ? i : 0, new_p, g);
+    double worst = 0;
+    for (int c = 0; c < 3; ++c) {
+      const double last = g[c] + g[6 + c];        // sum_j F_ij B_j, last sweep's B
+      const double fresh = gs ? g[3 + c] + g[6 + c] : last;
+      worst = std::max(worst, std::abs(old_b[c][i] - e[c][i] - rho[c][i] * last));
+      new_b[c][i] = e[c][i] + rho[c][i] * fresh;
+    }
+    return worst;
+  };
+  // Gauss-Seidel on two threads: row i's suffix sum_{j>=i} F_ij B_j (last
+  // sweep's B only) does not wait for this sweep, so a helper computes the
+  // suffixes row after row (the upper triangle of F) while the sweep, in
+  // order, reads the lower one: each thread half the matrix. A row's suffix
+  // is claimed by whoever reaches it first (the sweep too, when the helper
+  // is behind or never runs), so nothing waits on a thread that is not there.
+  std::vector<std::array<double, 3>> suffix(n);
+  std::unique_ptr<std::atomic<unsigned char>[]> ready(new std::atomic<unsigned char>[n]);
+  std::atomic<size_t> next_suffix{0};
+  auto compute_suffix = [&](size_t i) {
+    const double* shifted[3] = {old_p[0] + i, old_p[1] + i, old_p[2] + i};
+    double g[9];
+    gather_row(&f[i * n + i], n - i, shifted, 0, nullptr, g);
+    suffix[i] = {g[6], g[7], g[8]};
+    ready[i].store(1, std::memory_order_release);
+  };
+  auto claim_suffixes = [&](size_t until) {  // up to row `until` (excluded), or all
+    for (;;) {
+      size_t k = next_suffix.load();
+      if (k >= until) return;
+      if (next_suffix.compare_exchange_weak(k, k + 1)) compute_suffix(k);
+    }
+  };
+  auto gs_row = [&](size_t i) {
+    double g[9];
+    gather_row(&f[i * n], i, old_p, i, new_p, g);  // the prefix, old and new
+    claim_suffixes(i + 1);
+    while (!ready[i].load(std::memory_order_acquire)) {
+    }  // the helper is finishing it
+    double worst = 0;
+    for (int c = 0; c < 3; ++c) {
+      const double last = g[c] + suffix[i][size_t(c)];
+      worst = std::max(worst, std::abs(old_b[c][i] - e[c][i] - rho[c][i] * last));
+      new_b[c][i] = e[c][i] + rho[c][i] * (g[3 + c] + suffix[i][size_t(c)]);
+    }
+    return worst;
+  };
+  SolveResult out;
+  const int workers = resolve_threads(threads);
+  tbb::task_arena arena(workers);
+  for (;;) {
+    double worst = 0;
+    if (gs && workers >= 2 && n >= 256) {
+      for (size_t i = 0; i < n; ++i) ready[i].store(0, std::memory_order_relaxed);
+      next_suffix.store(0);
+      arena.execute([&] {
+        tbb::parallel_invoke([&] { claim_suffixes(n); },
+                             [&] {
+                               for (size_t i = 0; i < n; ++i) worst = std::max(worst, gs_row(i));
+                             });
+      });
+    } else if (gs) {
+      for (size_t i = 0; i < n; ++i) worst = std::max(worst, row(i));
+    } else {  // Jacobi: rows independent, on the threads
+      worst = arena.execute([&] {
+        return tbb::parallel_reduce(
+            tbb::blocked_range<size_t>(0, n, 64), 0.0,
+            [&](const tbb::blocked_range<size_t>& r, double w) {
+              for (size_t i = r.begin(); i < r.end(); ++i) w = std::max(w, row(i));
+              return w;
+            },
+            [](double a, double b) { return std::max(a, b); });
+      });
+    }
+    out.residual = worst;
+    if (worst <= goal || out.iterations >= max_iterations) break;
+    for (int c = 0; c < 3; ++c) old_b[c].swap(new_b[c]);
+    std::swap(old_p, new_p);
+    ++out.iterations;
+  }
+  out.b.resize(n);
+  for (size_t i = 0; i < n; ++i) out.b[i] = {old_b[0][i], old_b[1][i], old_b[2][i]};
+  return out;
+}
+
 FormFactors radiosity_form_factors_hemicube(const PatchMesh& mesh, int res, int threads,
-                                                    const std::function<void(double)>& progress) {
+                                                    const std::function<void(double)>& progress, FormFactors storage) {
   const size_t n = mesh.patches.size();
-  FormFactors f(n * n);  // each row zeroed by its own task: the first touch spread over the threads
+  FormFactors f = std::move(storage);
+  if (f.size() != n * n) f = FormFactors(n * n);  // each row zeroed by its own task: the first touch spread
   const HemicubeWeights w = hemicube_weights(res);
   const RasterSettings s = radiosity_item_buffer();
   const Scene shared = patch_scene(mesh, View{});
@@ -284,7 +793,11 @@ FormFactors radiosity_form_factors_hemicube(const PatchMesh& mesh, int res, int 
   return f;
 }
 
-Image radiosity_with(const Scene& scene, const FrameOptions& opts, FrameStats* stats, const embree::Device& device) {
+Image radiosity_with(const Scene& scene, const FrameOptions& opts, FrameStats* stats, const embree::Device& device,
+                     RadiosityScratch* scratch) {
+  std::unique_lock<std::mutex> keep;
+  if (scratch) keep = std::unique_lock<std::mutex>(scratch->busy, std::try_to_lock);
+  FormFactors storage = keep.owns_lock() ? std::move(scratch->f) : FormFactors{};
   const RadiositySettings rs = radiosity_settings(opts.params, scene.source);
   const PatchMesh mesh = mesh_scene(scene, rs.patch_area);
   const size_t n = mesh.patches.size();
@@ -293,16 +806,21 @@ Image radiosity_with(const Scene& scene, const FrameOptions& opts, FrameStats* s
     return [&opts, lo, hi](double x) { opts.progress(lo + (hi - lo) * x); };
   };
   RayCounts counts;
-  const FormFactors f =
+  FormFactors f =
       rs.method == FormFactorMethod::hemicube
-          ? radiosity_form_factors_hemicube(mesh, rs.hemicube, opts.threads, part(0, 0.8))
-          : radiosity_form_factors_rays(scene, mesh, rs.rays, opts.threads, device, part(0, 0.8), &counts, rs.method);
-  const SolveResult solved = solve_patches(mesh, f, rs, scene.source);
+          ? radiosity_form_factors_hemicube(mesh, rs.hemicube, opts.threads, part(0, 0.8), std::move(storage))
+          : radiosity_form_factors_rays(scene, mesh, rs.rays, opts.threads, device, part(0, 0.8), &counts, rs.method,
+                                        std::move(storage));
+  const SolveResult solved = solve_patches(
+      mesh, f, rs, scene.source, [&](const std::vector<Patch>& p, const FormFactors& m, RadiositySolver r, double t, int k) {
+        return solve_radiosity(p, m, r, t, k, opts.threads);
+      });
   const Scene items = patch_scene(mesh, scene.view);
   const RasterSettings s = radiosity_item_buffer();
   const ScreenMesh screen = view_scene(items, opts.width, opts.height, s, opts.threads);
   Visibility vis;
   zbuffer_visibility(screen, s, opts.threads, vis);
+  if (keep.owns_lock()) scratch->f = std::move(f);  // the next frame's storage
   const std::vector<Vec3> vertex_b = vertex_radiosity(mesh, solved.b);
   Image image = radiosity_image(items, mesh, vertex_b, screen, vis, scene.background);
   radiosity_sides(mesh, solved.b, vertex_b, opts, stats);
@@ -311,7 +829,9 @@ Image radiosity_with(const Scene& scene, const FrameOptions& opts, FrameStats* s
     stats->build_seconds = counts.build_seconds;  // the Embree BVH (rays, exact)
     stats->counts = {{"patches", n}, {"iterations", uint64_t(solved.iterations)}};
     if (rs.method != FormFactorMethod::hemicube)
-      stats->counts.insert(stats->counts.end(), {{"rays", counts.rays}, {"shaft_culled_pairs", counts.culled_pairs}});
+      stats->counts.insert(stats->counts.end(), {{"rays", counts.rays},
+                                                 {"shadow_tested_segments", counts.shaded},
+                                                 {"shaft_culled_pairs", counts.culled_pairs}});
     radiosity_notes(mesh, solved, rs, *stats);
   }
   if (opts.progress) opts.progress(1.0);

@@ -4,20 +4,37 @@
 //   rays      Lambert's factors from patch i's centre to 8 patches a vector
 //             (optimized/radiosity_simd_kernels.h, double; patches reaching
 //             behind the tangent plane by the reference's clipping code);
-//             shaft culling by boxes (Haines and Wallace 1994): a pair whose
-//             box of rays no other polygon's box enters casts none; the rest
-//             of row i's segments in one Embree stream (rtcOccluded1M, float,
-//             the scene's triangles, both sides); rows on TBB threads;
+//             visibility by shadow polygons (Atherton, Weiler and Greenberg
+//             1978): from c, every blocker that may reach into the shaft
+//             over a receiving polygon (Haines and Wallace's shaft culling:
+//             boxes and the pyramid from c) is clipped to the heights a
+//             segment crosses and projected onto the receiver's plane; a
+//             target whose projection no shade covers arrives, one deep in
+//             a shade's core is hidden, the rest are decided by the
+//             reference's own predicate (Moller-Trumbore in double) against
+//             that blocker alone: the reference's answers without testing
+//             every triangle. Shades are binned per receiver, patches
+//             found by bins. Segments the shades cannot take (c within
+//             1e-6 of the scene of the receiver's plane, scenes of more than
+//             256 polygons) go to Embree in one stream (rtcOccluded1M,
+//             float); rows on TBB threads;
 //   hemicube  each face through opt::simd's view_scene and z-buffer (one
 //             thread each; the depth format the reference's, float, whose
 //             ties the two z-buffers break alike), patches on TBB threads;
 //   display   the patches through opt::simd's z-buffer, the shared display
 //             step (core/radiosity.h radiosity_image).
-// The solve is the shared one (core/radiosity.h solve_radiosity).
+//   solve     Jacobi and Gauss-Seidel over the radiosities as structure of
+//             arrays, each row's gathers in one Highway pass over its form
+//             factors (the residual of the last sweep and the new B_i
+//             together: the reference reads F twice a sweep); Jacobi's rows
+//             on TBB threads; Gauss-Seidel's on two, one taking the rows'
+//             suffixes (last sweep's B: the upper triangle) ahead of the
+//             sweep (the lower); progressive refinement the shared solver.
 #pragma once
 
 #include <cstdint>
 #include <functional>
+#include <mutex>
 #include <vector>
 
 #include "core/family.h"
@@ -28,22 +45,42 @@
 
 namespace lockstep::opt::simd {
 
-// What the rays method did: segments cast, patch pairs the shaft test
-// spared, and the seconds its Embree BVH of the scene took to build.
+// The form factors by rays (or exact) and by the hemicube, written into
+// storage (its memory reused when it holds n^2 values, else made).
+// What the rays method did: segments cast through Embree, segments decided
+// by shades, patch pairs no shade touched (every segment arrives), and the
+// seconds its Embree BVH of the scene took to build.
 struct RayCounts {
-  uint64_t rays = 0, culled_pairs = 0;
+  uint64_t rays = 0, culled_pairs = 0, shaded = 0;
   double build_seconds = 0;
 };
 FormFactors radiosity_form_factors_rays(const Scene& scene, const PatchMesh& mesh, int k, int threads,
                                                 const embree::Device& device,
                                                 const std::function<void(double)>& progress = {},
                                                 RayCounts* counts = nullptr,
-                                                FormFactorMethod method = FormFactorMethod::rays);
+                                                FormFactorMethod method = FormFactorMethod::rays,
+                                                FormFactors storage = {});
 FormFactors radiosity_form_factors_hemicube(const PatchMesh& mesh, int res, int threads,
-                                                    const std::function<void(double)>& progress = {});
+                                                    const std::function<void(double)>& progress = {},
+                                                    FormFactors storage = {});
+
+// solve_radiosity's contract (core/radiosity.h), on `threads` threads (0:
+// all cores; Jacobi's rows).
+SolveResult solve_radiosity(const std::vector<Patch>& patches, const FormFactors& f, RadiositySolver solver,
+                            double tolerance, int max_iterations, int threads);
 
 Image radiosity(const Scene& scene, const FrameOptions& opts, FrameStats* stats);
-// The same on a device the caller keeps (a session's, registry/radiosity_row.cpp).
-Image radiosity_with(const Scene& scene, const FrameOptions& opts, FrameStats* stats, const embree::Device& device);
+// What a session keeps from frame to frame (registry/radiosity_row.cpp): the
+// form-factor matrix's storage, touched once (its first touch, 136 MB at
+// 4,119 patches, is a tenth of a fresh frame). One frame at a time uses it;
+// a frame that finds it busy makes its own.
+struct RadiosityScratch {
+  std::mutex busy;
+  FormFactors f;
+};
+// The same on a device the caller keeps (a session's, registry/radiosity_row.cpp),
+// and the scratch it keeps (may be null).
+Image radiosity_with(const Scene& scene, const FrameOptions& opts, FrameStats* stats, const embree::Device& device,
+                     RadiosityScratch* scratch = nullptr);
 
 }  // namespace lockstep::opt::simd

@@ -79,6 +79,38 @@ void LambertRow(const PatchSoA& p, const Vec3& c, const Vec3& n, double* f, unsi
   }
 }
 
+// Row i's gathers in one pass over its form factors (radiosity_simd_kernels.h).
+void GatherRow(const double* f, size_t n, const double* const* old, size_t m, const double* const* fresh,
+               double* out) {
+  const hn::ScalableTag<double> d;
+  using V = hn::Vec<decltype(d)>;
+  const size_t L = hn::Lanes(d);
+  V pre_old[3] = {hn::Zero(d), hn::Zero(d), hn::Zero(d)}, pre_new[3] = {hn::Zero(d), hn::Zero(d), hn::Zero(d)};
+  V post[3] = {hn::Zero(d), hn::Zero(d), hn::Zero(d)};
+  double rest[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+  size_t j = 0;
+  for (; j + L <= m; j += L) {
+    const V w = hn::LoadU(d, f + j);
+    for (int c = 0; c < 3; ++c) {
+      pre_old[c] = hn::MulAdd(w, hn::LoadU(d, old[c] + j), pre_old[c]);
+      pre_new[c] = hn::MulAdd(w, hn::LoadU(d, fresh[c] + j), pre_new[c]);
+    }
+  }
+  for (; j < m; ++j)
+    for (int c = 0; c < 3; ++c) rest[c] += f[j] * old[c][j], rest[3 + c] += f[j] * fresh[c][j];
+  for (; j + L <= n; j += L) {
+    const V w = hn::LoadU(d, f + j);
+    for (int c = 0; c < 3; ++c) post[c] = hn::MulAdd(w, hn::LoadU(d, old[c] + j), post[c]);
+  }
+  for (; j < n; ++j)
+    for (int c = 0; c < 3; ++c) rest[6 + c] += f[j] * old[c][j];
+  for (int c = 0; c < 3; ++c) {
+    out[c] = hn::GetLane(hn::SumOfLanes(d, pre_old[c])) + rest[c];
+    out[3 + c] = hn::GetLane(hn::SumOfLanes(d, pre_new[c])) + rest[3 + c];
+    out[6 + c] = hn::GetLane(hn::SumOfLanes(d, post[c])) + rest[6 + c];
+  }
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace lockstep::opt::simd
 HWY_AFTER_NAMESPACE();
@@ -87,9 +119,15 @@ HWY_AFTER_NAMESPACE();
 namespace lockstep::opt::simd {
 
 HWY_EXPORT(LambertRow);
+HWY_EXPORT(GatherRow);
 
 void lambert_row(const PatchSoA& p, const Vec3& c, const Vec3& n, double* f, unsigned char* clip) {
   HWY_DYNAMIC_DISPATCH(LambertRow)(p, c, n, f, clip);
+}
+
+void gather_row(const double* f, size_t n, const double* const* old, size_t m, const double* const* fresh,
+                double* out) {
+  HWY_DYNAMIC_DISPATCH(GatherRow)(f, n, old, m, fresh, out);
 }
 
 }  // namespace lockstep::opt::simd

@@ -19,28 +19,8 @@
 
 namespace lockstep::ref {
 
-namespace {
-
-// Moller and Trumbore (1997): does the segment a + t (b - a), t in (lo, hi),
-// cross triangle (p0, p1, p2), from either side?
-bool segment_meets_triangle(const Vec3& a, const Vec3& d, double lo, double hi, const Vec3& p0, const Vec3& p1,
-                            const Vec3& p2) {
-  const Vec3 e1 = p1 - p0, e2 = p2 - p0;
-  const Vec3 pv = cross(d, e2);
-  const double det = dot(e1, pv);
-  if (det == 0) return false;  // the segment is parallel to the plane
-  const Vec3 s = a - p0;
-  const double u = dot(s, pv) / det;
-  if (u < 0 || u > 1) return false;
-  const Vec3 q = cross(s, e1);
-  const double v = dot(d, q) / det;
-  if (v < 0 || u + v > 1) return false;
-  const double t = dot(e2, q) / det;
-  return t > lo && t < hi;
-}
-
-}  // namespace
-
+// Every triangle of the scene but the two patches' own polygons, by Moller and
+// Trumbore (core/radiosity.h segment_meets_triangle).
 bool segment_clear(const Scene& scene, const Vec3& a, const Vec3& b, int from, int to) {
   const Vec3 d = b - a;
   for (size_t k = 0; k < scene.tri_vertex.size(); ++k) {

@@ -106,8 +106,10 @@ Family radiosity_family() {
     if (impl.name == "simd") {
       impl.session = [](const Input&, const FrameOptions&, RunResources& resources) {
         auto device = embree_device(resources);
-        return [device](const Input& in, const FrameOptions& o, FrameStats* stats) {
-          return make_output<Image>(opt::simd::radiosity_with(input_as<Scene>(in), o, stats, device->get()));
+        auto scratch = std::make_shared<opt::simd::RadiosityScratch>();  // the form factors' storage
+        return [device, scratch](const Input& in, const FrameOptions& o, FrameStats* stats) {
+          return make_output<Image>(
+              opt::simd::radiosity_with(input_as<Scene>(in), o, stats, device->get(), scratch.get()));
         };
       };
       impl.session_any_input = true;
