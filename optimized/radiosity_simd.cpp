@@ -418,6 +418,8 @@ FormFactors radiosity_form_factors_rays(const Scene& scene, const PatchMesh& mes
   std::vector<std::vector<std::array<double, 2>>> flat_targets(n);
   std::vector<std::vector<double>> target_height(n);
   std::vector<Box2> target_box(n), receiver_box(polys);
+  std::vector<uint32_t> poly_of(n);  // each patch's polygon, packed (the pair loop's stride)
+  for (size_t j = 0; j < n; ++j) poly_of[j] = uint32_t(mesh.patches[j].polygon);
   for (size_t j = 0; j < n; ++j) {
     const size_t q = size_t(mesh.patches[j].polygon);
     Receiver& r = receivers[q];
@@ -470,6 +472,7 @@ FormFactors radiosity_form_factors_rays(const Scene& scene, const PatchMesh& mes
     std::vector<std::pair<uint32_t, uint32_t>> hits;
     std::vector<uint32_t> hit_first(n + 1), hit_shade;
     std::vector<const Shade*> near;                // the shades over one patch's targets
+    std::vector<unsigned char> way;
     std::vector<std::array<double, 2>> projected;  // one patch's targets, projected
     // Whether the segments to patch j's targets are hidden: the number
     // that arrive, given the shades over them (near) and their points on
@@ -581,12 +584,20 @@ FormFactors radiosity_form_factors_rays(const Scene& scene, const PatchMesh& mes
         for (const auto& [j, k] : hits) hit_shade[next[j]++] = k;
         to.clear();
       }
+      // Per receiver: 0 Embree, 1 shades by bins (the hits), 2 shades by projection.
+      way.assign(polys, 0);
+      for (uint32_t q = 0; q < polys && shadows; ++q)
+        if (shadow[q].valid) way[q] = receivers[q].flat_targets ? 1 : 2;
       uint64_t spared = 0, shaded = 0;
       for (size_t j = 0; j < n; ++j) {
         const double unoccluded = f_row[j];
         if (!(unoccluded > 0)) continue;
-        const uint32_t q = uint32_t(mesh.patches[j].polygon);
-        if (shadows && shadow[q].valid) {
+        const uint32_t q = poly_of[j];
+        if (way[q] == 1 && hit_first[j] == hit_first[j + 1]) {
+          ++spared;  // no shade over j: f_row[j] stands
+          continue;
+        }
+        if (way[q] != 0) {
           const Receiver& r = receivers[q];
           near.clear();
           const std::array<double, 2>* points = flat_targets[j].data();
