@@ -45,7 +45,7 @@ void print_help() {
       "      render a volume: ray casting, splatting, or the isosurface ray cast\n"
       "  lockstep texture SCENE [--filter F] [--texture SPEC] [--wrap W] [--impl NAME] -o IMAGE\n"
       "      filter a texture on a plane under perspective (.texscene): point .. anisotropic, EWA\n"
-      "  lockstep radiosity SCENE [--patch-area A] [--form-factors rays|hemicube] [--solver S] -o IMAGE\n"
+      "  lockstep radiosity SCENE [--patch-area A | --error E] [--form-factors rays|hemicube|exact] [--solver S] -o IMAGE\n"
       "      solve an NFF scene with emitters for radiosity, drawn through the z-buffer\n"
       "  lockstep trace SCENE --pixel X,Y [--depth N] [--impl reference|embree]\n"
       "      print the ray tree of one pixel as the ray tracer (render --algo ray_trace) traces it\n"

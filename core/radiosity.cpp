@@ -456,6 +456,9 @@ std::vector<ParamSpec> radiosity_params() {
       {"hemicube", "pixels, even, 8..1024", "64", "form_factors=hemicube: pixels a side of the top face"},
       {"solver", kSolvers, "gauss-seidel", "how B = E + rho F B is solved"},
       {"patch_area", "scene units^2, > 0", "area/256", "the largest patch: polygons are cut until every piece is this small"},
+      {"error", "0..1, 0: off", "0",
+       "refine: cut patches in four where a neighbour's radiosity differs by more than this share of the largest "
+       "(weighted by the patch's side against the start's), and solve again (at most 4 cuts deep, 20000 patches)"},
       {"tolerance", "1e-12..0.1", "1e-4", "stop when the residual (progressive: the unshot energy) is this share of the emission"},
   };
 }
@@ -474,6 +477,8 @@ RadiositySettings radiosity_settings(const Params& params, const std::string& so
       s.solver = RadiositySolver(param_choice(source, name, value, kSolvers));
     } else if (name == "patch_area") {
       s.patch_area = param_number(source, name, value, 1e-300, 1e300);
+    } else if (name == "error") {
+      s.error = param_number(source, name, value, 0, 1);
     } else if (name == "tolerance") {
       s.tolerance = param_number(source, name, value, 1e-12, 0.1);
     } else {
@@ -496,13 +501,11 @@ PatchMesh mesh_scene(const Scene& scene, double max_area) {
   if (max_area <= 0) max_area = total / 256;
   if (!(max_area > 0)) return out;  // no polygon has area
   // The count before cutting: a dense n x n matrix must fit.
-  constexpr double kMaxPatches = 20000;
-  if (total / max_area > kMaxPatches)
+  if (total / max_area > double(kMaxPatches))
     throw InputError(scene.source, 0,
                      "patch_area " + std::to_string(max_area) + " cuts the scene's polygon area " +
                          std::to_string(total) + " into more than 20000 patches (a dense form-factor matrix of 3.2 GB)");
-  out.max_area = max_area;
-  std::map<std::tuple<uint32_t, double, double, double>, uint32_t> shared;
+  out.max_area = out.cut_area = max_area;
   for (uint32_t p = 0; p < scene.polygon_count(); ++p) {
     const Material& m = scene.materials[scene.poly_material[p]];
     const Vec3 rho = m.color * m.kd;
@@ -528,17 +531,147 @@ PatchMesh mesh_scene(const Scene& scene, double max_area) {
         for (Patch& q : mesh_polygon(tri, rho, m.emission, max_area, int(p))) pieces.push_back(q);
       }
     }
-    for (Patch& q : pieces) {
-      std::array<uint32_t, 4> c{0, 0, 0, 0};
-      for (int k = 0; k < q.count; ++k) {
-        const auto key = std::make_tuple(p, q.v[k].x, q.v[k].y, q.v[k].z);
-        auto [it, fresh] = shared.emplace(key, uint32_t(out.vertex.size()));
-        if (fresh) out.vertex.push_back(q.v[k]);
-        c[k] = it->second;
-      }
-      out.patches.push_back(q);
-      out.corner.push_back(c);
+    for (Patch& q : pieces) out.patches.push_back(q);
+  }
+  index_vertices(out);
+  return out;
+}
+
+void index_vertices(PatchMesh& mesh) {
+  mesh.vertex.clear();
+  mesh.corner.clear();
+  std::map<std::tuple<int, double, double, double>, uint32_t> shared;
+  for (const Patch& q : mesh.patches) {
+    std::array<uint32_t, 4> c{0, 0, 0, 0};
+    for (int k = 0; k < q.count; ++k) {
+      const auto key = std::make_tuple(q.polygon, q.v[k].x, q.v[k].y, q.v[k].z);
+      auto [it, fresh] = shared.emplace(key, uint32_t(mesh.vertex.size()));
+      if (fresh) mesh.vertex.push_back(q.v[k]);
+      c[k] = it->second;
     }
+    mesh.corner.push_back(c);
+  }
+}
+
+std::vector<double> radiosity_jumps(const PatchMesh& mesh, const std::vector<Vec3>& b) {
+  const size_t n = mesh.patches.size();
+  std::vector<double> jump(n, 0.0);
+  // Relative to the largest reflected radiosity B - E (an emitter's own
+  // emission would dwarf every jump on the walls).
+  double top = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const Vec3 r = b[i] - mesh.patches[i].emission;
+    top = std::max({top, r.x, r.y, r.z});
+  }
+  if (!(top > 0)) return jump;
+  // Neighbours: patches of one polygon whose boxes touch (within 1e-9 of
+  // their size): every pair of a polygon, sorted by the boxes' low x.
+  struct Item {
+    Vec3 lo, hi;
+    size_t index;
+  };
+  std::map<int, std::vector<Item>> by_polygon;
+  for (size_t i = 0; i < n; ++i) {
+    const Patch& p = mesh.patches[i];
+    Vec3 lo = p.v[0], hi = p.v[0];
+    for (const Vec3& v : p.corners())
+      lo = {std::min(lo.x, v.x), std::min(lo.y, v.y), std::min(lo.z, v.z)},
+      hi = {std::max(hi.x, v.x), std::max(hi.y, v.y), std::max(hi.z, v.z)};
+    const double pad = 1e-9 * length(hi - lo) + 1e-12 * length(hi);
+    by_polygon[p.polygon].push_back({lo - Vec3{pad, pad, pad}, hi + Vec3{pad, pad, pad}, i});
+  }
+  for (auto& [polygon, items] : by_polygon) {
+    std::sort(items.begin(), items.end(), [](const Item& a, const Item& c) { return a.lo.x < c.lo.x; });
+    for (size_t a = 0; a < items.size(); ++a)
+      for (size_t c = a + 1; c < items.size() && items[c].lo.x <= items[a].hi.x; ++c) {
+        const Item &p = items[a], &q = items[c];
+        if (p.lo.y > q.hi.y || q.lo.y > p.hi.y || p.lo.z > q.hi.z || q.lo.z > p.hi.z) continue;
+        const Vec3 d = b[p.index] - b[q.index];
+        const double j = std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)}) / top;
+        jump[p.index] = std::max(jump[p.index], j);
+        jump[q.index] = std::max(jump[q.index], j);
+      }
+  }
+  return jump;
+}
+
+Refined refine_patches(PatchMesh& mesh, const std::vector<Vec3>& b, double e, double min_area) {
+  Refined out;
+  const std::vector<double> jump = radiosity_jumps(mesh, b);
+  std::vector<double> jump_w(jump.size());
+  // The candidates, largest jump first; each cut adds three patches.
+  std::vector<size_t> order;
+  for (size_t i = 0; i < mesh.patches.size(); ++i) {
+    jump_w[i] = jump[i] * std::sqrt(mesh.patches[i].area() / mesh.max_area);
+    if (jump_w[i] > e) order.push_back(i);
+  }
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t c) { return jump_w[a] > jump_w[c]; });
+  std::vector<unsigned char> cut(mesh.patches.size(), 0);
+  size_t count = mesh.patches.size();
+  for (size_t i : order) {
+    if (mesh.patches[i].area() / 4 < min_area || count + 3 > kMaxPatches) {
+      ++out.held;
+      continue;
+    }
+    cut[i] = 1;
+    count += 3;
+    ++out.cut;
+  }
+  if (out.cut == 0) return out;
+  std::vector<Patch> next;
+  next.reserve(count);
+  for (size_t i = 0; i < mesh.patches.size(); ++i) {
+    const Patch& p = mesh.patches[i];
+    if (!cut[i]) {
+      next.push_back(p);
+      continue;
+    }
+    auto child = [&](std::initializer_list<Vec3> corners) {
+      Patch c = p;
+      c.count = int(corners.size());
+      std::copy(corners.begin(), corners.end(), c.v);
+      mesh.cut_area = std::min(mesh.cut_area, c.area());
+      next.push_back(c);
+    };
+    const Vec3* v = p.v;
+    if (p.count == 4) {  // the bilinear grid's 2 x 2: planar pieces of a planar quad
+      const Vec3 m01 = (v[0] + v[1]) / 2.0, m12 = (v[1] + v[2]) / 2.0, m23 = (v[2] + v[3]) / 2.0,
+                 m30 = (v[3] + v[0]) / 2.0, mid = (v[0] + v[1] + v[2] + v[3]) / 4.0;
+      child({v[0], m01, mid, m30});
+      child({m01, v[1], m12, mid});
+      child({mid, m12, v[2], m23});
+      child({m30, mid, m23, v[3]});
+    } else {
+      const Vec3 m01 = (v[0] + v[1]) / 2.0, m12 = (v[1] + v[2]) / 2.0, m20 = (v[2] + v[0]) / 2.0;
+      child({v[0], m01, m20});
+      child({m01, v[1], m12});
+      child({m20, m12, v[2]});
+      child({m01, m12, m20});
+    }
+  }
+  mesh.patches.swap(next);
+  index_vertices(mesh);
+  return out;
+}
+
+RadiositySolution solve_scene(const Scene& scene, const RadiositySettings& s, const FormFactorsOf& form_factors,
+                              const RadiositySolve& solve) {
+  RadiositySolution out;
+  out.mesh = mesh_scene(scene, s.patch_area);
+  const double smallest = out.mesh.max_area / std::pow(4.0, kRefineLevels);
+  for (;;) {
+    out.f = form_factors(out.mesh, std::move(out.f));
+    out.solved = solve_patches(out.mesh, out.f, s, scene.source, solve);
+    if (!(s.error > 0)) break;
+    const Refined r = refine_patches(out.mesh, out.solved.b, s.error, smallest);
+    out.held = r.held;
+    if (r.cut == 0) break;
+    ++out.rounds;
+  }
+  if (s.error > 0) {
+    const std::vector<double> jump = radiosity_jumps(out.mesh, out.solved.b);
+    for (size_t i = 0; i < jump.size(); ++i)
+      out.jump = std::max(out.jump, jump[i] * std::sqrt(out.mesh.patches[i].area() / out.mesh.max_area));
   }
   return out;
 }
@@ -655,7 +788,7 @@ RasterSettings radiosity_item_buffer() {
   return s;
 }
 
-double hemicube_near(const PatchMesh& mesh) { return 1e-2 * std::sqrt(mesh.max_area); }
+double hemicube_near(const PatchMesh& mesh) { return 1e-2 * std::sqrt(std::min(mesh.max_area, mesh.cut_area)); }
 
 SolveResult solve_patches(const PatchMesh& mesh, const FormFactors& f, const RadiositySettings& s,
                           const std::string& source, const RadiositySolve& solve) {
@@ -667,8 +800,13 @@ SolveResult solve_patches(const PatchMesh& mesh, const FormFactors& f, const Rad
   }
 }
 
-void radiosity_notes(const PatchMesh& mesh, const SolveResult& solved, const RadiositySettings& s,
-                     FrameStats& stats) {
+void radiosity_notes(const RadiositySolution& sol, const RadiositySettings& s, FrameStats& stats) {
+  const PatchMesh& mesh = sol.mesh;
+  const SolveResult& solved = sol.solved;
+  const uint64_t n = mesh.patches.size();
+  stats.items = n * n;
+  stats.counts.insert(stats.counts.begin(), {{"patches", n}, {"iterations", uint64_t(solved.iterations)}});
+  if (s.error > 0) stats.counts.push_back({"refinements", uint64_t(sol.rounds)});
   if (mesh.spheres_and_cones) stats.drop("spheres and cones: radiosity meshes polygons only", mesh.spheres_and_cones);
   if (mesh.no_area) stats.drop("polygons without area: no patches", mesh.no_area);
   bool emits = false;
@@ -679,6 +817,11 @@ void radiosity_notes(const PatchMesh& mesh, const SolveResult& solved, const Rad
     stats.notes.push_back("the solve stopped after " + std::to_string(solved.iterations) + " " +
                           (s.solver == RadiositySolver::progressive ? "shots" : "sweeps") + " with residual " +
                           std::to_string(solved.residual));
+  if (s.error > 0 && sol.held > 0)
+    stats.notes.push_back(std::to_string(sol.held) + " patches still jump from a neighbour by more than error " +
+                          std::to_string(s.error) + " (largest " + std::to_string(sol.jump) +
+                          "): cut " + std::to_string(kRefineLevels) + " times already, or the mesh at " +
+                          std::to_string(kMaxPatches) + " patches");
 }
 
 std::vector<Vec3> vertex_radiosity(const PatchMesh& mesh, const std::vector<Vec3>& b) {

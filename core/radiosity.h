@@ -167,6 +167,7 @@ struct RadiositySettings {
   int hemicube = 64;               // hemicube: pixels a side of the top face (even)
   RadiositySolver solver = RadiositySolver::gauss_seidel;
   double patch_area = 0;           // the largest patch area; 0: the scene's polygon area / 256
+  double error = 0;                // > 0: refine until no weighted jump between neighbours passes it (refine_patches)
   double tolerance = 1e-4;         // the solve's residual, relative to the largest emission
   int max_iterations = 10000;      // sweeps or shots
 };
@@ -186,6 +187,7 @@ struct PatchMesh {
   uint64_t spheres_and_cones = 0;               // left out: not polygons (FrameStats::dropped)
   uint64_t no_area = 0;                         // polygons without area, left out (FrameStats::dropped)
   double max_area = 0;                          // the patch area it was cut at
+  double cut_area = 0;                          // the smallest area refinement cut to (max_area when none)
 };
 
 // Cuts every polygon of the scene into patches of at most max_area (0: the
@@ -195,6 +197,66 @@ struct PatchMesh {
 // scene (and the material's line) when a reflectance is 1 or more, or when
 // the patch count would pass 20000 (a dense matrix of 3.2 GB).
 PatchMesh mesh_scene(const Scene& scene, double max_area);
+
+// The display vertices of mesh's patches again (after they changed): each
+// corner one vertex per scene polygon and position, as mesh_scene makes them.
+void index_vertices(PatchMesh& mesh);
+
+// ------------------------------------------------------- adaptive refinement
+//
+// --error E, "model no more than a scene needs": the uniform mesh is a
+// start; after each solve every patch whose radiosity differs from a
+// neighbour's (a patch of the same scene polygon whose box touches its own)
+// by a jump J, relative to the scene's largest reflected radiosity (B - E,
+// per channel: the emitters' own emission left out), with J sqrt(A / A0) > E
+// (A its area, A0 the start's patch area: a jump counts by the width it
+// spans, so a step that no cut removes, a shadow's edge or a block's foot,
+// stops being cut once its patches are narrow) is cut in four (a quad at its
+// edges' midpoints on its bilinear grid, a triangle at its edges'
+// midpoints), and the scene solved again: the patches gather where the
+// radiosity changes. Until no patch passes E, or none may be cut: none
+// smaller than A0 / 4^kRefineLevels, and the mesh at most kMaxPatches. Cut
+// neighbours leave T-junctions: the coarse patch's edge holds the fine
+// ones' corners, which its display vertices do not (the display's colour
+// steps there; docs/radiosity.md).
+inline constexpr int kRefineLevels = 4;
+inline constexpr size_t kMaxPatches = 20000;
+
+// Each patch's largest jump to a neighbour, relative to the largest
+// reflected radiosity B - E (0 when nothing is lit).
+std::vector<double> radiosity_jumps(const PatchMesh& mesh, const std::vector<Vec3>& b);
+
+struct Refined {
+  size_t cut = 0;          // patches cut in four
+  size_t held = 0;         // patches over E left whole: at the smallest size, or the cap reached
+};
+// Cuts the patches whose jump, times sqrt(area / mesh.max_area), passes e
+// (largest first while the cap allows), no patch below min_area; the
+// display vertices rebuilt.
+Refined refine_patches(PatchMesh& mesh, const std::vector<Vec3>& b, double e, double min_area);
+
+// solve_radiosity (or a row's own solve) with the row's settings; a refused
+// system (reflectance, emission) is an InputError naming source.
+using RadiositySolve =
+    std::function<SolveResult(const std::vector<Patch>&, const FormFactors&, RadiositySolver, double, int)>;
+SolveResult solve_patches(const PatchMesh& mesh, const FormFactors& f, const RadiositySettings& s,
+                          const std::string& source, const RadiositySolve& solve = {});
+// A scene's solution: its (refined) patches, their form factors and
+// radiosities.
+struct RadiositySolution {
+  PatchMesh mesh;
+  FormFactors f;
+  SolveResult solved;
+  int rounds = 0;      // solves after the first (refinements)
+  double jump = 0;     // the largest weighted jump left (refine_patches), when refining
+  size_t held = 0;     // patches over E left whole on the last round
+};
+// Every row's steps 1-3: mesh_scene at s.patch_area, the row's form factors
+// (given the mesh and the storage of the last round's), its solve; with
+// s.error > 0 refined and solved again until refine_patches cuts nothing.
+using FormFactorsOf = std::function<FormFactors(const PatchMesh&, FormFactors storage)>;
+RadiositySolution solve_scene(const Scene& scene, const RadiositySettings& s, const FormFactorsOf& form_factors,
+                              const RadiositySolve& solve = {});
 
 // The patches as a scene of polygons (polygon p = patch p, one material): the
 // z-buffer's item buffer names patches by the polygons it draws.
@@ -273,20 +335,15 @@ inline constexpr double kSegmentMargin = 1e-6;
 // at edges shared by two polygons as the reference does in float; with
 // depth=double it kept other triangles there, whole hemicube pixels).
 RasterSettings radiosity_item_buffer();
-// A hemicube's hither: a hundredth of the largest patch's side (another
+// A hemicube's hither: a hundredth of the side patches were cut to (another
 // patch is at least half a side from a patch's centre).
 double hemicube_near(const PatchMesh& mesh);
-// solve_radiosity (or a row's own solve) with the row's settings; a refused
-// system (reflectance, emission) is an InputError naming source.
-using RadiositySolve =
-    std::function<SolveResult(const std::vector<Patch>&, const FormFactors&, RadiositySolver, double, int)>;
-SolveResult solve_patches(const PatchMesh& mesh, const FormFactors& f, const RadiositySettings& s,
-                          const std::string& source, const RadiositySolve& solve = {});
 
-// What a run tells its user (FrameStats::notes, dropped): spheres and cones
-// left out, no emitter (a black image), a solve stopped by max_iterations.
-void radiosity_notes(const PatchMesh& mesh, const SolveResult& solved, const RadiositySettings& s,
-                     FrameStats& stats);
+// What a run tells its user: the stats' items (n^2 form factors) and counts
+// (patches, solver iterations, refinements with error), its notes and
+// dropped: spheres and cones left out, no emitter (a black image), a solve
+// stopped by max_iterations, patches refinement left over E.
+void radiosity_notes(const RadiositySolution& sol, const RadiositySettings& s, FrameStats& stats);
 
 // Vertex radiosities by area-weighted averaging of the patches that share
 // each display vertex.

@@ -808,42 +808,43 @@ Image radiosity_with(const Scene& scene, const FrameOptions& opts, FrameStats* s
                      RadiosityScratch* scratch) {
   std::unique_lock<std::mutex> keep;
   if (scratch) keep = std::unique_lock<std::mutex>(scratch->busy, std::try_to_lock);
-  FormFactors storage = keep.owns_lock() ? std::move(scratch->f) : FormFactors{};
+  FormFactors kept = keep.owns_lock() ? std::move(scratch->f) : FormFactors{};
   const RadiositySettings rs = radiosity_settings(opts.params, scene.source);
-  const PatchMesh mesh = mesh_scene(scene, rs.patch_area);
-  const size_t n = mesh.patches.size();
   auto part = [&](double lo, double hi) -> std::function<void(double)> {
     if (!opts.progress) return {};
     return [&opts, lo, hi](double x) { opts.progress(lo + (hi - lo) * x); };
   };
   RayCounts counts;
-  FormFactors f =
-      rs.method == FormFactorMethod::hemicube
-          ? radiosity_form_factors_hemicube(mesh, rs.hemicube, opts.threads, part(0, 0.8), std::move(storage))
-          : radiosity_form_factors_rays(scene, mesh, rs.rays, opts.threads, device, part(0, 0.8), &counts, rs.method,
-                                        std::move(storage));
-  const SolveResult solved = solve_patches(
-      mesh, f, rs, scene.source, [&](const std::vector<Patch>& p, const FormFactors& m, RadiositySolver r, double t, int k) {
+  RadiositySolution sol = solve_scene(
+      scene, rs,
+      [&](const PatchMesh& mesh, FormFactors storage) {
+        if (storage.empty()) storage = std::move(kept);  // the session's, on the first round
+        return rs.method == FormFactorMethod::hemicube
+                   ? radiosity_form_factors_hemicube(mesh, rs.hemicube, opts.threads, part(0, 0.8), std::move(storage))
+                   : radiosity_form_factors_rays(scene, mesh, rs.rays, opts.threads, device, part(0, 0.8), &counts,
+                                                 rs.method, std::move(storage));
+      },
+      [&](const std::vector<Patch>& p, const FormFactors& m, RadiositySolver r, double t, int k) {
         return solve_radiosity(p, m, r, t, k, opts.threads);
       });
+  const PatchMesh& mesh = sol.mesh;
+  const SolveResult& solved = sol.solved;
+  if (keep.owns_lock()) scratch->f = std::move(sol.f);  // the next frame's storage
   const Scene items = patch_scene(mesh, scene.view);
   const RasterSettings s = radiosity_item_buffer();
   const ScreenMesh screen = view_scene(items, opts.width, opts.height, s, opts.threads);
   Visibility vis;
   zbuffer_visibility(screen, s, opts.threads, vis);
-  if (keep.owns_lock()) scratch->f = std::move(f);  // the next frame's storage
   const std::vector<Vec3> vertex_b = vertex_radiosity(mesh, solved.b);
   Image image = radiosity_image(items, mesh, vertex_b, screen, vis, scene.background);
   radiosity_sides(mesh, solved.b, vertex_b, opts, stats);
   if (stats) {
-    stats->items = uint64_t(n) * n;
+    radiosity_notes(sol, rs, *stats);
     stats->build_seconds = counts.build_seconds;  // the Embree BVH (rays, exact)
-    stats->counts = {{"patches", n}, {"iterations", uint64_t(solved.iterations)}};
     if (rs.method != FormFactorMethod::hemicube)
       stats->counts.insert(stats->counts.end(), {{"rays", counts.rays},
                                                  {"shadow_tested_segments", counts.shaded},
                                                  {"shaft_culled_pairs", counts.culled_pairs}});
-    radiosity_notes(mesh, solved, rs, *stats);
   }
   if (opts.progress) opts.progress(1.0);
   return image;

@@ -81,17 +81,16 @@ FormFactors form_factors_hemicube(const PatchMesh& mesh, int res) {
 
 Image radiosity(const Scene& scene, const FrameOptions& opts, FrameStats* stats) {
   const RadiositySettings rs = radiosity_settings(opts.params, scene.source);
-  // 1. Patches.
-  const PatchMesh mesh = mesh_scene(scene, rs.patch_area);
-  const size_t n = mesh.patches.size();
+  // 1. Patches, 2. form factors, 3. solve (core/radiosity.h solve_scene:
+  // with --error, refined where neighbours differ and solved again).
   if (opts.progress) opts.progress(0.0);
-  // 2. Form factors.
-  const FormFactors f = rs.method == FormFactorMethod::hemicube
-                                    ? form_factors_hemicube(mesh, rs.hemicube)
-                                    : form_factors_rays(scene, mesh, rs.rays, rs.method);
+  const RadiositySolution sol = solve_scene(scene, rs, [&](const PatchMesh& mesh, FormFactors) {
+    return rs.method == FormFactorMethod::hemicube ? form_factors_hemicube(mesh, rs.hemicube)
+                                                   : form_factors_rays(scene, mesh, rs.rays, rs.method);
+  });
+  const PatchMesh& mesh = sol.mesh;
+  const SolveResult& solved = sol.solved;
   if (opts.progress) opts.progress(0.8);
-  // 3. Solve.
-  const SolveResult solved = solve_patches(mesh, f, rs, scene.source);
   // 4. Display: the patches through the z-buffer, vertex radiosities interpolated.
   const Scene items = patch_scene(mesh, scene.view);
   const RasterSettings s = radiosity_item_buffer();
@@ -101,11 +100,7 @@ Image radiosity(const Scene& scene, const FrameOptions& opts, FrameStats* stats)
   const std::vector<Vec3> vertex_b = vertex_radiosity(mesh, solved.b);
   Image image = radiosity_image(items, mesh, vertex_b, screen, vis, scene.background);
   radiosity_sides(mesh, solved.b, vertex_b, opts, stats);
-  if (stats) {
-    stats->items = uint64_t(n) * n;
-    stats->counts = {{"patches", n}, {"iterations", uint64_t(solved.iterations)}};
-    radiosity_notes(mesh, solved, rs, *stats);
-  }
+  if (stats) radiosity_notes(sol, rs, *stats);
   if (opts.progress) opts.progress(1.0);
   return image;
 }

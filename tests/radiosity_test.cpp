@@ -284,6 +284,55 @@ TEST(Meshing, PiecesCoverThePolygonWithinTheArea) {
   EXPECT_NEAR(tt, 0.5 * std::sqrt(2.0), 1e-12);
 }
 
+// Refinement (--error): a unit square cut 4 x 4, lit on its left half: the
+// jump is between the two middle columns, so those 8 patches are cut in
+// four and nothing else; areas and the polygon kept; a constant radiosity
+// has no jump; the smallest size holds a patch.
+TEST(Refine, CutsWhereNeighboursJumpAndNowhereElse) {
+  const Vec3 q[4] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  PatchMesh mesh;
+  mesh.patches = mesh_polygon(q, {0.5, 0.5, 0.5}, {0, 0, 0}, 1.0 / 16, 3);
+  mesh.max_area = mesh.cut_area = 1.0 / 16;
+  index_vertices(mesh);
+  ASSERT_EQ(mesh.patches.size(), 16u);
+  EXPECT_EQ(mesh.vertex.size(), 25u);
+  std::vector<Vec3> b;
+  for (const Patch& p : mesh.patches) b.push_back(p.centre().x < 0.5 ? Vec3{1, 1, 1} : Vec3{0, 0, 0});
+  const std::vector<double> jump = radiosity_jumps(mesh, b);
+  for (size_t i = 0; i < 16; ++i) {
+    const double x = mesh.patches[i].centre().x;
+    EXPECT_EQ(jump[i], std::abs(x - 0.5) < 0.25 ? 1.0 : 0.0) << "patch at x = " << x;
+  }
+  EXPECT_EQ(radiosity_jumps(mesh, std::vector<Vec3>(16, Vec3{2, 2, 2}))[5], 0.0);
+  PatchMesh held = mesh;
+  const Refined none = refine_patches(held, b, 0.5, 1.0 / 32);  // a quarter would be 1/64 < 1/32
+  EXPECT_EQ(none.cut, 0u);
+  EXPECT_EQ(none.held, 8u);
+  const Refined r = refine_patches(mesh, b, 0.5, 1.0 / 256);
+  EXPECT_EQ(r.cut, 8u);
+  EXPECT_EQ(r.held, 0u);
+  ASSERT_EQ(mesh.patches.size(), 16u + 8 * 3);
+  double total = 0;
+  size_t small = 0;
+  for (const Patch& p : mesh.patches) {
+    total += p.area();
+    small += std::abs(p.area() - 1.0 / 64) < 1e-15;
+    EXPECT_EQ(p.polygon, 3);
+    EXPECT_NEAR(dot(p.normal(), Vec3{0, 0, 1}), 1.0, 1e-15);
+  }
+  EXPECT_NEAR(total, 1.0, 1e-15);
+  EXPECT_EQ(small, 32u);
+  EXPECT_EQ(mesh.cut_area, 1.0 / 64);
+  EXPECT_EQ(mesh.corner.size(), mesh.patches.size());
+  // Two columns cut in four add their midpoints: 25 + 2 x (4 + 5) ... every
+  // corner a vertex, shared where corners meet.
+  for (size_t k = 0; k < mesh.patches.size(); ++k)
+    for (int c = 0; c < mesh.patches[k].count; ++c) {
+      const Vec3 d = mesh.vertex[mesh.corner[k][size_t(c)]] - mesh.patches[k].v[c];
+      EXPECT_EQ(length(d), 0.0);
+    }
+}
+
 TEST(CornellBox, ReadsWithItsEmitterAndEveryPolygonFacesTheRoom) {
   const Scene s = read_nff(LOCKSTEP_CORPUS_DIR "/radiosity/cornell_box.nff");
   ASSERT_EQ(s.poly_material.size(), 16u);  // light, 5 walls, 2 blocks of 5 faces
