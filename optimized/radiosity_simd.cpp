@@ -8,13 +8,11 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
-#include <memory>
 #include <optional>
 #include <span>
 #include <stdexcept>
 
 #include <tbb/blocked_range.h>
-#include <tbb/parallel_invoke.h>
 #include <tbb/parallel_reduce.h>
 #include <tbb/task_arena.h>
 
@@ -226,35 +224,6 @@ struct Cells {
 // by the exact predicate (segment_meets_triangle) against that blocker's
 // triangles: the reference's answer, found without testing every triangle.
 
-// A convex polygon in a plane's frame as the half-planes inside its edges:
-// a x + b y + c, the distance inside (unit normals), >= 0 for every edge.
-struct HalfPlanes {
-  int edges = 0;
-  double a[10], b[10], c[10];
-  // Corners p[0..m) (m <= 10) in either turn; every inside distance raised by grow.
-  void set(const std::array<double, 2>* p, int m, double grow) {
-    double area = 0;
-    for (int k = 0; k < m; ++k) area += p[k][0] * p[(k + 1) % m][1] - p[(k + 1) % m][0] * p[k][1];
-    const double turn = area >= 0 ? 1 : -1;  // edge-on (area 0): a sliver, grown
-    edges = 0;
-    for (int k = 0; k < m; ++k) {
-      const auto& u = p[k];
-      const auto& v = p[(k + 1) % m];
-      const double len = std::hypot(v[0] - u[0], v[1] - u[1]);
-      if (!(len > 0)) continue;  // a repeated corner: no edge (the others bound it)
-      a[edges] = -(v[1] - u[1]) * turn / len, b[edges] = (v[0] - u[0]) * turn / len;
-      c[edges] = -(a[edges] * u[0] + b[edges] * u[1]) + grow;
-      ++edges;
-    }
-  }
-  // Whether every inside distance is at least least (a NaN is not).
-  bool inside(const std::array<double, 2>& y, double least) const {
-    for (int e = 0; e < edges; ++e)
-      if (!(a[e] * y[0] + b[e] * y[1] + c[e] >= least)) return false;
-    return true;
-  }
-};
-
 struct Shade {
   Box2 box;
   uint32_t tri_first = 0, tri_end = 0;  // the blocker's triangles (the scene's, in order)
@@ -339,7 +308,7 @@ struct Shadow {
       if (mc >= 3) {
         s.core.set(p, mc, 0);
         s.deep = grow;
-        s.has_core = true;
+        s.has_core = s.core.edges > 0;
       }
     }
     out.push_back(s);
@@ -435,27 +404,36 @@ FormFactors radiosity_form_factors_rays(const Scene& scene, const PatchMesh& mes
   // Targets within 1e-12 of the scene of a receiver's plane are taken as
   // on it (their projections move them by far less than a shade grows).
   for (Receiver& r : receivers) r.flat_targets = r.thickness <= 1e-12 * size;
-  // The patches of each flat receiver in its bins (patch_first, patch_bin
-  // as for compressed rows: bin b of receiver q is q * kCells + b).
-  std::vector<uint32_t> patch_first(size_t(polys) * kCells + 1, 0), patch_bin;
-  std::vector<Cells> patch_cells;
-  patch_cells.reserve(n);
-  for (size_t j = 0; j < n; ++j) patch_cells.emplace_back(receiver_box[size_t(mesh.patches[j].polygon)], target_box[j]);
-  auto each_bin = [&](size_t j, auto&& fn) {
-    const size_t q = size_t(mesh.patches[j].polygon);
-    const Cells& cells = patch_cells[j];
-    for (int y = cells.y0; y <= cells.y1; ++y)
-      for (int x = cells.x0; x <= cells.x1; ++x) fn(q * kCells + size_t(y * kBins + x));
-  };
-  for (size_t j = 0; j < n; ++j)
-    if (receivers[size_t(mesh.patches[j].polygon)].flat_targets) each_bin(j, [&](size_t b) { ++patch_first[b + 1]; });
-  for (size_t b = 1; b < patch_first.size(); ++b) patch_first[b] += patch_first[b - 1];
-  patch_bin.resize(patch_first.back());
+  // The targets of flat receivers' patches in bins, each in the bin that
+  // holds it, as arrays (classify_points reads a run of bins at once): bin
+  // b of receiver q holds [tgt_first[q * kCells + b], tgt_first[q * kCells
+  // + b + 1]) of tgt_x, tgt_y (flat), tgt_patch, tgt_index (which of the
+  // patch's targets).
+  std::vector<uint32_t> tgt_first(size_t(polys) * kCells + 1, 0), tgt_patch;
+  std::vector<double> tgt_x, tgt_y;
+  std::vector<uint8_t> tgt_index;
   {
-    std::vector<uint32_t> next(patch_first.begin(), patch_first.end() - 1);
-    for (size_t j = 0; j < n; ++j)
-      if (receivers[size_t(mesh.patches[j].polygon)].flat_targets)
-        each_bin(j, [&](size_t b) { patch_bin[next[b]++] = uint32_t(j); });
+    auto bin_of = [&](size_t q, const std::array<double, 2>& y) {
+      return q * kCells + size_t(cell(receiver_box[q], y[1], 1) * kBins + cell(receiver_box[q], y[0], 0));
+    };
+    for (size_t j = 0; j < n; ++j) {
+      const size_t q = poly_of[j];
+      if (receivers[q].flat_targets)
+        for (const auto& y : flat_targets[j]) ++tgt_first[bin_of(q, y) + 1];
+    }
+    for (size_t b = 1; b < tgt_first.size(); ++b) tgt_first[b] += tgt_first[b - 1];
+    const size_t total = tgt_first.back();
+    tgt_x.resize(total), tgt_y.resize(total), tgt_patch.resize(total), tgt_index.resize(total);
+    std::vector<uint32_t> next(tgt_first.begin(), tgt_first.end() - 1);
+    for (size_t j = 0; j < n; ++j) {
+      const size_t q = poly_of[j];
+      if (!receivers[q].flat_targets) continue;
+      for (size_t t = 0; t < flat_targets[j].size(); ++t) {
+        const uint32_t g = next[bin_of(q, flat_targets[j][t])]++;
+        tgt_x[g] = flat_targets[j][t][0], tgt_y[g] = flat_targets[j][t][1];
+        tgt_patch[g] = uint32_t(j), tgt_index[g] = uint8_t(t);
+      }
+    }
   }
   parallel_tiles(int(n), 1, 4, 1, threads, progress, [&](int x0, int, int x1, int) {
     std::vector<double> lambert(soa.padded);
@@ -468,9 +446,11 @@ FormFactors radiosity_form_factors_rays(const Scene& scene, const PatchMesh& mes
     std::vector<Shadow> shadow;
     std::vector<Shade> shades;
     std::vector<uint32_t> first(polys + 1);
-    // The (patch, shade) pairs whose boxes meet, counted and sorted by patch.
-    std::vector<std::pair<uint32_t, uint32_t>> hits;
-    std::vector<uint32_t> hit_first(n + 1), hit_shade;
+    // Flat receivers' targets found hidden (by their place in tgt_*), and
+    // how many of each patch's; a run's verdicts.
+    std::vector<unsigned char> hidden(tgt_x.size());
+    std::vector<uint32_t> hidden_count(n);
+    std::vector<signed char> verdict;
     std::vector<const Shade*> near;                // the shades over one patch's targets
     std::vector<unsigned char> way;
     std::vector<std::array<double, 2>> projected;  // one patch's targets, projected
@@ -550,60 +530,61 @@ FormFactors radiosity_form_factors_rays(const Scene& scene, const PatchMesh& mes
         }
       }
       first[polys] = uint32_t(shades.size());
-      // Flat receivers: each shade against the patches in its bins; a pair
-      // counted once, in the bin holding the low corner of the boxes'
-      // overlap.
-      hits.clear();
+      // Flat receivers: each shade against the targets in its bins (a run
+      // of bins a row), classified a vector at a time; the exact test
+      // where a target is near a shade's edge.
+      std::fill(hidden.begin(), hidden.end(), 0);
+      std::fill(hidden_count.begin(), hidden_count.end(), 0);
+      uint64_t tests = 0;
       for (uint32_t q = 0; q < polys && shadows; ++q) {
         if (!shadow[q].valid || !receivers[q].flat_targets) continue;
         for (uint32_t k = first[q]; k < first[q + 1]; ++k) {
-          const Box2& sb = shades[k].box;
-          const Cells cells(receiver_box[q], sb);
-          for (int y = cells.y0; y <= cells.y1; ++y)
-            for (int x = cells.x0; x <= cells.x1; ++x) {
-              const size_t b = q * kCells + size_t(y * kBins + x);
-              for (uint32_t e = patch_first[b]; e < patch_first[b + 1]; ++e) {
-                const uint32_t j = patch_bin[e];
-                const Box2& tb = target_box[j];
-                // (cell() is monotone: the overlap's low corner is in the
-                // later of the two boxes' low cells.)
-                if (x != std::max(cells.x0, patch_cells[j].x0) || y != std::max(cells.y0, patch_cells[j].y0)) continue;
-                if (!(f_row[j] > 0) || !sb.overlaps(tb)) continue;
-                hits.emplace_back(j, k);
+          const Shade& h = shades[k];
+          const Cells cells(receiver_box[q], h.box);
+          for (int y = cells.y0; y <= cells.y1; ++y) {
+            const size_t row0 = q * kCells + size_t(y * kBins);
+            const uint32_t lo = tgt_first[row0 + size_t(cells.x0)], hi = tgt_first[row0 + size_t(cells.x1) + 1];
+            if (lo == hi) continue;
+            verdict.resize(hi - lo);
+            classify_points(&tgt_x[lo], &tgt_y[lo], hi - lo, h.outer, h.core, h.deep, verdict.data());
+            tests += hi - lo;
+            for (uint32_t g = lo; g < hi; ++g) {
+              const signed char v = verdict[g - lo];
+              if (v < 0 || hidden[g]) continue;
+              const uint32_t j = tgt_patch[g];
+              if (!(f_row[j] > 0)) continue;
+              bool hid = v > 0;
+              for (uint32_t t = h.tri_first; t < h.tri_end && !hid; ++t) {
+                const auto& tv = scene.tri_vertex[t];
+                hid = segment_meets_triangle(c, targets[j][tgt_index[g]] - c, kSegmentMargin, 1 - kSegmentMargin,
+                                             scene.vertex[tv[0]], scene.vertex[tv[1]], scene.vertex[tv[2]]);
               }
+              if (hid) hidden[g] = 1, ++hidden_count[j];
             }
+          }
         }
       }
-      std::fill(hit_first.begin(), hit_first.end(), 0);
-      for (const auto& [j, k] : hits) ++hit_first[j + 1];
-      for (size_t j = 1; j <= n; ++j) hit_first[j] += hit_first[j - 1];
-      hit_shade.resize(hits.size());
-      {
-        std::vector<uint32_t>& next = to;  // borrowed: the rays have none yet
-        next.assign(hit_first.begin(), hit_first.end() - 1);
-        for (const auto& [j, k] : hits) hit_shade[next[j]++] = k;
-        to.clear();
-      }
-      // Per receiver: 0 Embree, 1 shades by bins (the hits), 2 shades by projection.
+      // Per receiver: 0 Embree, 1 shades by bins (classified above), 2 shades by projection.
       way.assign(polys, 0);
       for (uint32_t q = 0; q < polys && shadows; ++q)
         if (shadow[q].valid) way[q] = receivers[q].flat_targets ? 1 : 2;
-      uint64_t spared = 0, shaded = 0;
+      uint64_t spared = 0, shaded = tests;
       for (size_t j = 0; j < n; ++j) {
         const double unoccluded = f_row[j];
         if (!(unoccluded > 0)) continue;
         const uint32_t q = poly_of[j];
-        if (way[q] == 1 && hit_first[j] == hit_first[j + 1]) {
-          ++spared;  // no shade over j: f_row[j] stands
+        if (way[q] == 1) {  // classified above
+          const size_t m = targets[j].size();
+          if (hidden_count[j] == 0)
+            ++spared;  // every segment arrives: f_row[j] stands
+          else
+            f_row[j] = unoccluded * double(m - hidden_count[j]) / double(m);
           continue;
         }
         if (way[q] != 0) {
-          const Receiver& r = receivers[q];
           near.clear();
           const std::array<double, 2>* points = flat_targets[j].data();
-          if (r.flat_targets) {
-            for (uint32_t e = hit_first[j]; e < hit_first[j + 1]; ++e) near.push_back(&shades[hit_shade[e]]);
-          } else {
+          {
             // A warped receiver: the targets' projections, every shade.
             Box2 box;
             projected.clear();
@@ -702,58 +683,11 @@ SolveResult solve_radiosity(const std::vector<Patch>& patches, const FormFactors
     }
     return worst;
   };
-  // Gauss-Seidel on two threads: row i's suffix sum_{j>=i} F_ij B_j (last
-  // sweep's B only) does not wait for this sweep, so a helper computes the
-  // suffixes row after row (the upper triangle of F) while the sweep, in
-  // order, reads the lower one: each thread half the matrix. A row's suffix
-  // is claimed by whoever reaches it first (the sweep too, when the helper
-  // is behind or never runs), so nothing waits on a thread that is not there.
-  std::vector<std::array<double, 3>> suffix(n);
-  std::unique_ptr<std::atomic<unsigned char>[]> ready(new std::atomic<unsigned char>[n]);
-  std::atomic<size_t> next_suffix{0};
-  auto compute_suffix = [&](size_t i) {
-    const double* shifted[3] = {old_p[0] + i, old_p[1] + i, old_p[2] + i};
-    double g[9];
-    gather_row(&f[i * n + i], n - i, shifted, 0, nullptr, g);
-    suffix[i] = {g[6], g[7], g[8]};
-    ready[i].store(1, std::memory_order_release);
-  };
-  auto claim_suffixes = [&](size_t until) {  // up to row `until` (excluded), or all
-    for (;;) {
-      size_t k = next_suffix.load();
-      if (k >= until) return;
-      if (next_suffix.compare_exchange_weak(k, k + 1)) compute_suffix(k);
-    }
-  };
-  auto gs_row = [&](size_t i) {
-    double g[9];
-    gather_row(&f[i * n], i, old_p, i, new_p, g);  // the prefix, old and new
-    claim_suffixes(i + 1);
-    while (!ready[i].load(std::memory_order_acquire)) {
-    }  // the helper is finishing it
-    double worst = 0;
-    for (int c = 0; c < 3; ++c) {
-      const double last = g[c] + suffix[i][size_t(c)];
-      worst = std::max(worst, std::abs(old_b[c][i] - e[c][i] - rho[c][i] * last));
-      new_b[c][i] = e[c][i] + rho[c][i] * (g[3 + c] + suffix[i][size_t(c)]);
-    }
-    return worst;
-  };
   SolveResult out;
-  const int workers = resolve_threads(threads);
-  tbb::task_arena arena(workers);
+  tbb::task_arena arena(resolve_threads(threads));
   for (;;) {
     double worst = 0;
-    if (gs && workers >= 2 && n >= 256) {
-      for (size_t i = 0; i < n; ++i) ready[i].store(0, std::memory_order_relaxed);
-      next_suffix.store(0);
-      arena.execute([&] {
-        tbb::parallel_invoke([&] { claim_suffixes(n); },
-                             [&] {
-                               for (size_t i = 0; i < n; ++i) worst = std::max(worst, gs_row(i));
-                             });
-      });
-    } else if (gs) {
+    if (gs) {  // in order: row i reads this sweep's B below i
       for (size_t i = 0; i < n; ++i) worst = std::max(worst, row(i));
     } else {  // Jacobi: rows independent, on the threads
       worst = arena.execute([&] {
@@ -843,8 +777,8 @@ Image radiosity_with(const Scene& scene, const FrameOptions& opts, FrameStats* s
     stats->build_seconds = counts.build_seconds;  // the Embree BVH (rays, exact)
     if (rs.method != FormFactorMethod::hemicube)
       stats->counts.insert(stats->counts.end(), {{"rays", counts.rays},
-                                                 {"shadow_tested_segments", counts.shaded},
-                                                 {"shaft_culled_pairs", counts.culled_pairs}});
+                                                 {"shade_tests", counts.shaded},
+                                                 {"clear_pairs", counts.culled_pairs}});
   }
   if (opts.progress) opts.progress(1.0);
   return image;

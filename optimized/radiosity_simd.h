@@ -13,11 +13,13 @@
 //             a shade's core is hidden, the rest are decided by the
 //             reference's own predicate (Moller-Trumbore in double) against
 //             that blocker alone: the reference's answers without testing
-//             every triangle. Shades are binned per receiver, patches
-//             found by bins. Segments the shades cannot take (c within
-//             1e-6 of the scene of the receiver's plane, scenes of more than
-//             256 polygons) go to Embree in one stream (rtcOccluded1M,
-//             float); rows on TBB threads;
+//             every triangle. The receiver's targets are kept in bins; a
+//             shade classifies the runs of bins under it a vector at a
+//             time (radiosity_simd_kernels.h classify_points). Segments
+//             the shades cannot take (c within 1e-6 of the scene of the
+//             receiver's plane, scenes of more than 256 polygons) go to
+//             Embree in one stream (rtcOccluded1M, float); rows on TBB
+//             threads;
 //   hemicube  each face through opt::simd's view_scene and z-buffer (one
 //             thread each; the depth format the reference's, float, whose
 //             ties the two z-buffers break alike), patches on TBB threads;
@@ -27,9 +29,10 @@
 //             arrays, each row's gathers in one Highway pass over its form
 //             factors (the residual of the last sweep and the new B_i
 //             together: the reference reads F twice a sweep); Jacobi's rows
-//             on TBB threads; Gauss-Seidel's on two, one taking the rows'
-//             suffixes (last sweep's B: the upper triangle) ahead of the
-//             sweep (the lower); progressive refinement the shared solver.
+//             on TBB threads (Gauss-Seidel's in order: a second thread
+//             taking the rows' suffixes ahead of the sweep gained 7%, the
+//             sweep being bound by memory: 9 GB/s); progressive refinement
+//             the shared solver.
 #pragma once
 
 #include <cstdint>
@@ -47,9 +50,10 @@ namespace lockstep::opt::simd {
 
 // The form factors by rays (or exact) and by the hemicube, written into
 // storage (its memory reused when it holds n^2 values, else made).
-// What the rays method did: segments cast through Embree, segments decided
-// by shades, patch pairs no shade touched (every segment arrives), and the
-// seconds its Embree BVH of the scene took to build.
+// What the rays method did: segments cast through Embree, targets tested
+// against shades (a target and a shade over it), patch pairs no shade hid
+// (every segment arrives), and the seconds its Embree BVH of the scene took
+// to build.
 struct RayCounts {
   uint64_t rays = 0, culled_pairs = 0, shaded = 0;
   double build_seconds = 0;

@@ -111,6 +111,37 @@ void GatherRow(const double* f, size_t n, const double* const* old, size_t m, co
   }
 }
 
+// Points against a shade (radiosity_simd_kernels.h): the least inside
+// distance over outer's edges and over core's, a vector of points at a time.
+void ClassifyPoints(const double* x, const double* y, size_t count, const HalfPlanes& outer, const HalfPlanes& core,
+                    double deep, signed char* verdict) {
+  const hn::ScalableTag<double> d;
+  using V = hn::Vec<decltype(d)>;
+  const size_t L = hn::Lanes(d);
+  const V zero = hn::Zero(d), one = hn::Set(d, 1), minus = hn::Set(d, -1), dv = hn::Set(d, deep);
+  alignas(64) double out[HWY_MAX_BYTES / sizeof(double)];
+  size_t t = 0;
+  for (; t + L <= count; t += L) {
+    const V px = hn::LoadU(d, x + t), py = hn::LoadU(d, y + t);
+    auto in = hn::FirstN(d, L);
+    for (int e = 0; e < outer.edges; ++e)
+      in = hn::And(in, hn::Ge(hn::MulAdd(hn::Set(d, outer.a[e]), px, hn::MulAdd(hn::Set(d, outer.b[e]), py,
+                                                                                 hn::Set(d, outer.c[e]))),
+                              zero));
+    auto deep_in = hn::FirstN(d, core.edges > 0 ? L : 0);
+    for (int e = 0; e < core.edges; ++e)
+      deep_in = hn::And(deep_in, hn::Gt(hn::MulAdd(hn::Set(d, core.a[e]), px, hn::MulAdd(hn::Set(d, core.b[e]), py,
+                                                                                          hn::Set(d, core.c[e]))),
+                                        dv));
+    hn::Store(hn::IfThenElse(in, hn::IfThenElseZero(deep_in, one), minus), d, out);
+    for (size_t l = 0; l < L; ++l) verdict[t + l] = static_cast<signed char>(out[l]);
+  }
+  for (; t < count; ++t) {
+    const std::array<double, 2> p{x[t], y[t]};
+    verdict[t] = !outer.inside(p, 0) ? -1 : core.edges > 0 && core.inside(p, deep) ? 1 : 0;
+  }
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace lockstep::opt::simd
 HWY_AFTER_NAMESPACE();
@@ -120,9 +151,15 @@ namespace lockstep::opt::simd {
 
 HWY_EXPORT(LambertRow);
 HWY_EXPORT(GatherRow);
+HWY_EXPORT(ClassifyPoints);
 
 void lambert_row(const PatchSoA& p, const Vec3& c, const Vec3& n, double* f, unsigned char* clip) {
   HWY_DYNAMIC_DISPATCH(LambertRow)(p, c, n, f, clip);
+}
+
+void classify_points(const double* x, const double* y, size_t count, const HalfPlanes& outer,
+                     const HalfPlanes& core, double deep, signed char* verdict) {
+  HWY_DYNAMIC_DISPATCH(ClassifyPoints)(x, y, count, outer, core, deep, verdict);
 }
 
 void gather_row(const double* f, size_t n, const double* const* old, size_t m, const double* const* fresh,

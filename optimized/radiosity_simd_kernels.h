@@ -1,12 +1,15 @@
 // lockstep optimized: the Highway radiosity kernel (radiosity_simd_kernels.cpp).
 //
-// Two kernels: Lambert's point-to-polygon form factor (core/radiosity.h
+// Three kernels: Lambert's point-to-polygon form factor (core/radiosity.h
 // point_polygon_form_factor) from one point to many patches at once, in
 // double, over the patches as structure of arrays; dispatched at run time to
 // the best target the CPU has (HWY_DYNAMIC_DISPATCH); and the solve's row
-// gather, sum_j F_ij B_j over the radiosities as structure of arrays.
+// gather, sum_j F_ij B_j over the radiosities as structure of arrays; and
+// points against a shade (a receiver's targets, a run of its bins at once).
 #pragma once
 
+#include <array>
+#include <cmath>
 #include <cstddef>
 #include <vector>
 
@@ -38,5 +41,41 @@ void lambert_row(const PatchSoA& p, const Vec3& c, const Vec3& n, double* f, uns
 // Jacobi: m = 0 (fresh not read); Gauss-Seidel: m = i.
 void gather_row(const double* f, size_t n, const double* const* old, size_t m, const double* const* fresh,
                 double* out);
+
+// A convex polygon in a plane's frame as the half-planes inside its edges:
+// a x + b y + c, the distance inside (unit normals), >= 0 for every edge
+// (radiosity_simd.cpp: a blocker's shade on a receiver's plane).
+struct HalfPlanes {
+  int edges = 0;
+  double a[10], b[10], c[10];
+  // Corners p[0..m) (m <= 10) in either turn; every inside distance raised by grow.
+  void set(const std::array<double, 2>* p, int m, double grow) {
+    double area = 0;
+    for (int k = 0; k < m; ++k) area += p[k][0] * p[(k + 1) % m][1] - p[(k + 1) % m][0] * p[k][1];
+    const double turn = area >= 0 ? 1 : -1;  // edge-on (area 0): a sliver, grown
+    edges = 0;
+    for (int k = 0; k < m; ++k) {
+      const auto& u = p[k];
+      const auto& v = p[(k + 1) % m];
+      const double len = std::hypot(v[0] - u[0], v[1] - u[1]);
+      if (!(len > 0)) continue;  // a repeated corner: no edge (the others bound it)
+      a[edges] = -(v[1] - u[1]) * turn / len, b[edges] = (v[0] - u[0]) * turn / len;
+      c[edges] = -(a[edges] * u[0] + b[edges] * u[1]) + grow;
+      ++edges;
+    }
+  }
+  // Whether every inside distance is at least least (a NaN is not).
+  bool inside(const std::array<double, 2>& y, double least) const {
+    for (int e = 0; e < edges; ++e)
+      if (!(a[e] * y[0] + b[e] * y[1] + c[e] >= least)) return false;
+    return true;
+  }
+};
+
+// For points (x[t], y[t]), t < count: verdict[t] = -1 when outside outer
+// (an inside distance below 0, or NaN), 1 when inside it and more than deep
+// inside core (core.edges > 0), else 0.
+void classify_points(const double* x, const double* y, size_t count, const HalfPlanes& outer,
+                     const HalfPlanes& core, double deep, signed char* verdict);
 
 }  // namespace lockstep::opt::simd

@@ -329,8 +329,8 @@ TEST(Clutter, SimdShadowsAgreeWithTheReference) {
             rounding = std::max(rounding, diff);
           }
         }
-        std::printf("offset %g scale %g seed %llu: %zu patches, %zu pairs partly blocked, %zu differ; %llu segments "
-                    "by shades, %llu by Embree\n",
+        std::printf("offset %g scale %g seed %llu: %zu patches, %zu pairs partly blocked, %zu differ; %llu shade "
+                    "tests, %llu segments by Embree\n",
                     offset, scale, (unsigned long long)seed, n, blocked, differ, (unsigned long long)counts.shaded,
                     (unsigned long long)counts.rays);
         EXPECT_GT(blocked, n * n / 50);  // the clutter does block

@@ -13,6 +13,8 @@ STUDY_CSV is the output of `lockstep_radiosity_study` (bench/studies/radiosity_s
   radiosity_solvers.png       the residual against the solve's time per solver
   radiosity_failure_map.png   two facing unit plates at distance d: F's relative error, the
                               centre point's (proximity) and the hemicube's per resolution (aliasing)
+  radiosity_refinement.png    the Cornell box image's error (largest pixel, rms) against patch
+                              count, uniform meshes and refined ones (--error)
 Prints the two markdown tables used in BENCHMARKS.md.
 """
 import os
@@ -140,6 +142,48 @@ def map_table(maps):
     return "\n".join(out)
 
 
+def load_rows(csv, kind):
+    """The study's rows of one kind, as lists of fields (the kind dropped)."""
+    return [line.strip().split(",")[1:] for line in open(csv) if line.startswith(kind + ",")]
+
+
+def leak_table(csv):
+    rows = load_rows(csv, "leak")
+    phases = sorted({float(r[1]) for r in rows})
+    out = ["| floor patches a side (cube: a quarter of the floor's side) | " +
+           " | ".join(f"phase {p:g}: leaked / darkened" for p in phases) + " |",
+           "|---:|" + "---:|" * len(phases)]
+    for n in sorted({int(r[0]) for r in rows}):
+        cells = [next((f"{float(r[2]):.3g} / {float(r[3]):.3g}" for r in rows if int(r[0]) == n and float(r[1]) == p), "")
+                 for p in phases]
+        out.append(f"| {n} | " + " | ".join(cells) + " |")
+    return "\n".join(out)
+
+
+def refinement_table(csv):
+    out = ["| mesh | setting | patches | largest pixel error | rms error | frame ms (simd 2T, 96²) |",
+           "|---|---:|---:|---:|---:|---:|"]
+    for kind, setting, patches, mx, rms, ms in load_rows(csv, "mesh"):
+        what = "uniform, patch area" if kind == "uniform" else "refined from 8000, error"
+        out.append(f"| {what} | {float(setting):g} | {patches} | {float(mx):.3g} | {float(rms):.3g} | {float(ms):.0f} |")
+    out += ["", "| mesh | T-junctions | largest step | mean step |", "|---|---:|---:|---:|"]
+    for e, count, mx, mean in load_rows(csv, "tjunction"):
+        what = "uniform (patch area 8000)" if float(e) == 0 else f"refined, error {float(e):g}"
+        out.append(f"| {what} | {count} | {float(mx):.3g} | {float(mean):.3g} |")
+    return "\n".join(out)
+
+
+def refinement_chart(csv, out):
+    rows = load_rows(csv, "mesh")
+    series = []
+    for kind in ("uniform", "refined"):
+        for col, what in ((3, "largest pixel"), (4, "rms")):
+            series.append((f"{kind}: {what}", [(int(r[2]), float(r[col]), r[1]) for r in rows if r[0] == kind]))
+    plot_series(out, "radiosity_refinement", series, """set title "Cornell box image (96^2) against 8,014 uniform patches: uniform meshes and refined ones"
+set xlabel "patches"; set ylabel "image error (labels: patch area or error E)"
+set key outside right""", labels=True)
+
+
 def map_chart(maps, out):
     kinds = [("point", 0)] + sorted({("hemicube", m["res"]) for m in maps if m["method"] == "hemicube"},
                                     key=lambda x: x[1])
@@ -157,6 +201,8 @@ def main():
     maps = load_maps(a.study_csv)
     if maps:
         map_chart(maps, a.out_dir)
+    if load_rows(a.study_csv, "mesh"):
+        refinement_chart(a.study_csv, a.out_dir)
     print(form_factor_table(ff))
     print()
     print(solver_table(solve))
