@@ -100,14 +100,17 @@ struct Box {
 // polygon's plane and one through c and each edge. Default: no planes
 // (excludes nothing).
 struct Pyramid {
-  Vec3 origin[9], inward[9];
+  Vec3 origin[9], inward[9];  // inward: unit normals
   int planes = 0;
+  double slack = 0;
   Pyramid() = default;
-  Pyramid(const Vec3& c, std::span<const Vec3> base) {
+  // slack: how far beyond a face a corner must be to count (rounding's
+  // reach, 1e-9 of the scene and of its largest coordinate).
+  Pyramid(const Vec3& c, std::span<const Vec3> base, double beyond) : slack(beyond) {
     if (base.size() < 3 || base.size() > 8) return;
     Vec3 area{0, 0, 0}, mid{0, 0, 0};
     for (size_t k = 0; k < base.size(); ++k) {
-      area = area + cross(base[k], base[(k + 1) % base.size()]);
+      area = area + cross(base[k] - base[0], base[(k + 1) % base.size()] - base[0]);  // relative: no cancellation far out
       mid = mid + base[k];
     }
     mid = mid / double(base.size());
@@ -122,22 +125,21 @@ struct Pyramid {
       add(c, m);
     }
   }
-  void add(const Vec3& o, const Vec3& m) { origin[planes] = o, inward[planes++] = m; }
-  // Whether polygon v lies wholly outside: all its corners clearly beyond
-  // one face (by more than 1e-12 of the lengths involved, so rounding never
-  // culls a blocker).
+  void add(const Vec3& o, const Vec3& m) {
+    const double len = length(m);
+    if (!(len > 0) || !std::isfinite(len)) return;  // no plane: excludes nothing by it
+    origin[planes] = o, inward[planes++] = m / len;
+  }
+  // Whether polygon v lies wholly outside: all its corners more than slack
+  // beyond one face (so rounding never culls a blocker).
   bool excludes(std::span<const Vec3> v) const {
     for (int f = 0; f < planes; ++f) {
-      const double mm = dot(inward[f], inward[f]);
       bool beyond = true;
-      for (const Vec3& q : v) {
-        const Vec3 r = q - origin[f];
-        const double h = dot(inward[f], r);
-        if (!(h < 0 && h * h > 1e-24 * mm * dot(r, r))) {
+      for (const Vec3& q : v)
+        if (!(dot(inward[f], q - origin[f]) < -slack)) {
           beyond = false;
           break;
         }
-      }
       if (beyond) return true;
     }
     return false;
@@ -159,7 +161,7 @@ struct Box2 {
 bool convex(std::span<const Vec3> v) {
   if (v.size() < 3) return false;
   Vec3 area{0, 0, 0};
-  for (size_t k = 0; k < v.size(); ++k) area = area + cross(v[k], v[(k + 1) % v.size()]);
+  for (size_t k = 0; k < v.size(); ++k) area = area + cross(v[k] - v[0], v[(k + 1) % v.size()] - v[0]);
   for (size_t k = 0; k < v.size(); ++k) {
     const Vec3& a = v[k];
     const Vec3& b = v[(k + 1) % v.size()];
@@ -183,7 +185,7 @@ struct Receiver {
   std::span<const Vec3> corners;
   Receiver(uint32_t p, std::span<const Vec3> w, double size) : polygon(p), corners(w) {
     Vec3 area{0, 0, 0};
-    for (size_t k = 0; k < w.size(); ++k) area = area + cross(w[k], w[(k + 1) % w.size()]);
+    for (size_t k = 0; k < w.size(); ++k) area = area + cross(w[k] - w[0], w[(k + 1) % w.size()] - w[0]);
     o = w[0];
     n = normalize(area);
     u = normalize(std::abs(n.x) < 0.5 ? cross(n, Vec3{1, 0, 0}) : cross(n, Vec3{0, 1, 0}));
@@ -203,7 +205,7 @@ constexpr size_t kCells = size_t(kBins) * kBins;
 int cell(const Box2& grid, double v, int axis) {
   const double w = grid.hi[axis] - grid.lo[axis];
   const double k = w > 0 ? std::floor((v - grid.lo[axis]) / w * kBins) : 0;
-  return int(std::clamp(k, 0.0, double(kBins - 1)));
+  return k >= double(kBins - 1) ? kBins - 1 : k > 0 ? int(k) : 0;  // NaN: 0 (never an index outside)
 }
 struct Cells {
   int x0, x1, y0, y1;
@@ -217,8 +219,9 @@ struct Cells {
 // the part of it between c and y counts. So each candidate blocker (a
 // convex flat polygon whole, else each triangle) is clipped to the heights
 // a segment passes through (from kSegmentMargin to 1 - kSegmentMargin of
-// its length, widened by the receiver's thickness), projected from c
-// (which keeps it convex) and grown by 1e-9 of the scene: its shade. A
+// its length, widened by the receiver's thickness and rounding's reach),
+// projected from c (which keeps it convex) and grown by 1e-9 of the scene
+// and of its largest coordinate: its shade. A
 // target whose y' falls in no shade arrives; one deep in a shade's core
 // (the blocker's part clear of both ends) is hidden; the rest are decided
 // by the exact predicate (segment_meets_triangle) against that blocker's
@@ -227,10 +230,10 @@ struct Cells {
 struct Shade {
   Box2 box;
   uint32_t tri_first = 0, tri_end = 0;  // the blocker's triangles (the scene's, in order)
-  HalfPlanes outer;  // the shade, grown by 1e-9 of the scene: nothing outside is hidden
+  HalfPlanes outer;  // the shade, grown (Shadow::grow): nothing outside is hidden
   // The core: the shade of the blocker's part clear of either end of the
-  // heights (2e-9 of the scene above the plane's end, a thousandth of the
-  // height below c; the receiver flat). A point more than 1e-9 of the scene
+  // heights (2 Shadow::rise above the plane's end, a thousandth of the
+  // height below c; the receiver flat). A point more than Shadow::grow
   // inside it is hidden: its segment crosses the blocker's interior, well
   // within the segment and well inside the blocker's edges.
   HalfPlanes core;
@@ -247,15 +250,20 @@ struct Shadow {
   const Receiver* to = nullptr;
   Vec3 c;
   std::array<double, 2> c_flat;
-  double h = 0, side = 1, grow = 0, lo = 0, hi = 0;
+  double h = 0, side = 1, grow = 0, rise = 0, lo = 0, hi = 0;
   bool valid = false;
-  Shadow(const Vec3& apex, const Receiver& r, double size) : to(&r), c(apex), c_flat(r.flat(apex)) {
+  // size: the scene's; far: its largest coordinate (rounding's scale).
+  Shadow(const Vec3& apex, const Receiver& r, double size, double far) : to(&r), c(apex), c_flat(r.flat(apex)) {
     h = r.height(c);
     if (h < 0) h = -h, side = -1;
-    grow = 1e-9 * size;
+    // Rounding's reach: heights (differences of nearby points) to about
+    // 1e-15 of the coordinates, so 1e-12 of them; positions on the plane
+    // magnified up to 1 / kSegmentMargin by the projection, so 1e-9.
+    grow = 1e-9 * (size + far);
+    rise = 1e-12 * (size + far);
     const double m = kSegmentMargin;
-    lo = m * h - r.thickness - grow;
-    hi = (1 - m) * h + m * r.thickness + grow;
+    lo = m * h - r.thickness - rise;
+    hi = (1 - m) * h + m * r.thickness + rise;
     // c clearly off the plane, and the heights clear of c's own.
     valid = h > 1e-6 * size && hi < (1 - 0.5 * m) * h;
   }
@@ -289,10 +297,14 @@ struct Shadow {
   // Adds the shade of a convex planar blocker of at most 8 corners (a
   // triangle, or a polygon whose triangles are the scene's [tri_first,
   // tri_end)); nothing when no part of it is in the heights.
-  void add(std::span<const Vec3> poly, uint32_t tri_first, uint32_t tri_end, std::vector<Shade>& out) const {
+  // Returns false when the shade does not come out finite (then the
+  // receiver's segments go to Embree).
+  bool add(std::span<const Vec3> poly, uint32_t tri_first, uint32_t tri_end, std::vector<Shade>& out) const {
     std::array<double, 2> p[10];
     const int m = clip(poly, lo, hi, p);
-    if (m < 3) return;
+    if (m < 3) return true;
+    for (int k = 0; k < m; ++k)
+      if (!std::isfinite(p[k][0]) || !std::isfinite(p[k][1])) return false;
     Shade s;
     s.tri_first = tri_first, s.tri_end = tri_end;
     s.outer.set(p, m, grow);
@@ -304,7 +316,7 @@ struct Shadow {
       // Not within a thousandth of the segment from c either: there the
       // projection magnifies more than 1000 times, and 1e-9 of the scene
       // on the plane would be rounding's size on the blocker.
-      const int mc = clip(poly, kSegmentMargin * h + 2 * grow, (1 - 1e-3) * h, p);
+      const int mc = clip(poly, kSegmentMargin * h + 2 * rise, (1 - 1e-3) * h, p);
       if (mc >= 3) {
         s.core.set(p, mc, 0);
         s.deep = grow;
@@ -312,6 +324,7 @@ struct Shadow {
       }
     }
     out.push_back(s);
+    return true;
   }
 };
 
@@ -374,6 +387,11 @@ FormFactors radiosity_form_factors_rays(const Scene& scene, const PatchMesh& mes
   Vec3 lo, hi;
   scene_bounds(scene, lo, hi);
   const double size = length(hi - lo);
+  // Far from the origin coordinates round at their own scale: the shades'
+  // margins grow with it (Shadow).
+  const double far = std::max({std::abs(lo.x), std::abs(lo.y), std::abs(lo.z), std::abs(hi.x), std::abs(hi.y),
+                               std::abs(hi.z)});
+  const double slack = 1e-9 * (size + far);  // what the shaft's tests leave for rounding
   std::vector<Box> poly_box(polys);
   std::vector<unsigned char> whole_shade(polys);  // a blocker shaded whole: convex, flat, at most 8 corners
   std::vector<Receiver> receivers;
@@ -401,8 +419,8 @@ FormFactors radiosity_form_factors_rays(const Scene& scene, const PatchMesh& mes
     receiver_box[q].add({target_box[j].lo[0], target_box[j].lo[1]});
     receiver_box[q].add({target_box[j].hi[0], target_box[j].hi[1]});
   }
-  // Targets within 1e-12 of the scene of a receiver's plane are taken as
-  // on it (their projections move them by far less than a shade grows).
+  // Targets within 1e-12 of the scene of a receiver's plane are taken as on
+  // it where c is high enough above it (way 1 below).
   for (Receiver& r : receivers) r.flat_targets = r.thickness <= 1e-12 * size;
   // The targets of flat receivers' patches in bins, each in the bin that
   // holds it, as arrays (classify_points reads a run of bins at once): bin
@@ -506,30 +524,43 @@ FormFactors radiosity_form_factors_rays(const Scene& scene, const PatchMesh& mes
       for (uint32_t q = 0; q < polys && shadows; ++q) {
         first[q] = uint32_t(shades.size());
         const Receiver& r = receivers[q];
-        shadow.emplace_back(c, r, size);
+        shadow.emplace_back(c, r, size, far);
         if (int(q) == from || !shadow.back().valid) continue;
         // Shaft culling (Haines and Wallace 1994): only polygons that
         // overlap the box of c and R, and reach into the pyramid from c
         // over R, can meet a segment to it.
         Box b = r.box;
         b.add(c);
-        const Pyramid shaft = r.pyramid ? Pyramid(c, r.corners) : Pyramid{};  // else boxes alone
+        b.lo = b.lo - Vec3{slack, slack, slack}, b.hi = b.hi + Vec3{slack, slack, slack};
+        const Pyramid shaft = r.pyramid ? Pyramid(c, r.corners, slack) : Pyramid{};  // else boxes alone
         for (uint32_t p = 0; p < polys; ++p) {
           if (int(p) == from || p == q || !poly_box[p].overlaps(b)) continue;
           if (shaft.excludes(scene.polygon_vertices(p))) continue;
           const uint32_t t0 = scene.poly_tri_first[p], t1 = scene.poly_tri_first[p + 1];
           if (whole_shade[p]) {
-            shadow.back().add(scene.polygon_vertices(p), t0, t1, shades);
+            if (!shadow.back().add(scene.polygon_vertices(p), t0, t1, shades)) shadow.back().valid = false;
             continue;
           }
           for (uint32_t t = t0; t < t1; ++t) {
             const auto& tv = scene.tri_vertex[t];
             const Vec3 tri[3] = {scene.vertex[tv[0]], scene.vertex[tv[1]], scene.vertex[tv[2]]};
-            shadow.back().add(tri, t, t + 1, shades);
+            if (!shadow.back().add(tri, t, t + 1, shades)) shadow.back().valid = false;
           }
         }
       }
       first[polys] = uint32_t(shades.size());
+      // Per receiver: 0 Embree; 1 its targets binned on its plane; 2 each
+      // pair's targets projected from c. A flat receiver's targets stand
+      // for their projections while c is high enough above it that their
+      // rounding off the plane moves a projection by less than half a
+      // shade's growth (thickness * size / h <= grow / 2).
+      way.assign(polys, 0);
+      for (uint32_t q = 0; q < polys && shadows; ++q)
+        if (shadow[q].valid)
+          way[q] = receivers[q].flat_targets &&
+                           2 * receivers[q].thickness * size <= shadow[q].grow * shadow[q].h
+                       ? 1
+                       : 2;
       // Flat receivers: each shade against the targets in its bins (a run
       // of bins a row), classified a vector at a time; the exact test
       // where a target is near a shade's edge.
@@ -537,7 +568,7 @@ FormFactors radiosity_form_factors_rays(const Scene& scene, const PatchMesh& mes
       std::fill(hidden_count.begin(), hidden_count.end(), 0);
       uint64_t tests = 0;
       for (uint32_t q = 0; q < polys && shadows; ++q) {
-        if (!shadow[q].valid || !receivers[q].flat_targets) continue;
+        if (way[q] != 1) continue;
         for (uint32_t k = first[q]; k < first[q + 1]; ++k) {
           const Shade& h = shades[k];
           const Cells cells(receiver_box[q], h.box);
@@ -564,10 +595,6 @@ FormFactors radiosity_form_factors_rays(const Scene& scene, const PatchMesh& mes
           }
         }
       }
-      // Per receiver: 0 Embree, 1 shades by bins (classified above), 2 shades by projection.
-      way.assign(polys, 0);
-      for (uint32_t q = 0; q < polys && shadows; ++q)
-        if (shadow[q].valid) way[q] = receivers[q].flat_targets ? 1 : 2;
       uint64_t spared = 0, shaded = tests;
       for (size_t j = 0; j < n; ++j) {
         const double unoccluded = f_row[j];

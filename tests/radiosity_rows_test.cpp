@@ -274,9 +274,10 @@ TEST(CornellBox, PatchesSideOutputIsTheSolution) {
 // triangles, a non-convex L, warped quads (shaded per triangle; as
 // receivers, their targets projected), a plate a hair above the floor (the
 // floor's patches too near its plane for shades: Embree decides those), at
-// the origin and 1e4 away, at two scales.
+// the origin, 1e4 and 1e8 away (where rounding's reach outgrows the shades:
+// Embree decides), at two scales.
 TEST(Clutter, SimdShadowsAgreeWithTheReference) {
-  for (const double offset : {0.0, 1e4})
+  for (const double offset : {0.0, 1e4, 1e8})
     for (const double scale : {1.0, 300.0})
       for (uint64_t seed = 1; seed <= 3; ++seed) {
         const Vec3 o{offset, -offset / 2, offset / 3};
@@ -334,7 +335,11 @@ TEST(Clutter, SimdShadowsAgreeWithTheReference) {
                     offset, scale, (unsigned long long)seed, n, blocked, differ, (unsigned long long)counts.shaded,
                     (unsigned long long)counts.rays);
         EXPECT_GT(blocked, n * n / 50);  // the clutter does block
-        EXPECT_GT(counts.shaded, counts.rays);
+        // Up to 1e4 out the shades take the segments; at 1e8 rounding's reach
+        // (1e-12 of 1e8 in height) outgrows the small room's slab and Embree
+        // takes them all (centred, its float agrees here too); the large
+        // room's are shared.
+        if (offset <= 1e4) EXPECT_GT(counts.shaded, counts.rays);
         EXPECT_EQ(differ, 0u);
         EXPECT_LT(rounding, 1e-15);
       }
