@@ -179,9 +179,9 @@ def refinement_chart(csv, out):
     for kind in ("uniform", "refined"):
         for col, what in ((3, "largest pixel"), (4, "rms")):
             series.append((f"{kind}: {what}", [(int(r[2]), float(r[col]), r[1]) for r in rows if r[0] == kind]))
-    plot_series(out, "radiosity_refinement", series, """set title "Cornell box image (96^2) against 8,014 uniform patches: uniform meshes and refined ones"
+    plot_series(out, "radiosity_refinement", series, """set title "Cornell box image (96^2) against 8,014 uniform patches"
 set xlabel "patches"; set ylabel "image error (labels: patch area or error E)"
-set key outside right""", labels=True)
+set key bottom left""", labels=True)
 
 
 def map_chart(maps, out):
