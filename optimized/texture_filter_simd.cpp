@@ -7,8 +7,10 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <stdexcept>
 #include <vector>
 
@@ -78,7 +80,23 @@ struct RowCoords {
   double a[64], b[64], lod[64];
   double dadx[64], dbdx[64], dady[64], dbdy[64];
   uint8_t valid[64];
+  int count = 0;  // pixels that see the quad (of the n asked for)
 };
+
+// Byte l of the result is bit l of `bits` (0 or 1), for 8 bits at once:
+// each byte picks its own bit of the replicated byte, and adding 0x7f to
+// a byte carries into its top bit exactly when the picked bit is set.
+inline uint64_t bits_to_bytes(uint64_t bits) {
+  const uint64_t picked = (bits * 0x0101010101010101ull) & 0x8040201008040201ull;
+  return ((picked + 0x7f7f7f7f7f7f7f7full) >> 7) & 0x0101010101010101ull;
+}
+
+// Whether any of the bytes p[0 .. m - 1] (m <= 8) is set.
+inline bool any_byte(const uint8_t* p, int m) {
+  uint64_t word = 0;
+  std::memcpy(&word, p, size_t(std::clamp(m, 0, 8)));
+  return word != 0;
+}
 
 }  // namespace lockstep::opt::texture_kernels
 #endif  // LOCKSTEP_TEXTURE_SIMD_SHARED
@@ -334,17 +352,22 @@ HWY_INLINE auto SeesQuad(const TexelMap& map, VD hz, VD inv_hz, VD a, VD b) {
                              hn::Le(b, hn::Set(dd, map.tex_h * map.repeat_v))));
 }
 
-// rc.valid[k .. k + L - 1] from a mask (L <= 8 lanes of doubles, k + L <= 64);
-// whether any lane is set.
+// rc.valid[k .. k + L - 1] from a mask (L <= 8 lanes of doubles, k + L <= 64),
+// rc.count advanced by the lanes set of the first n - k; whether any lane is set.
 template <class D, class M>
-HWY_INLINE bool StoreValid(D dd, M ok, int k, RowCoords& rc) {
+HWY_INLINE bool StoreValid(D dd, M ok, int k, int n, RowCoords& rc) {
   uint8_t bits[8] = {};
   hn::StoreMaskBits(dd, ok, bits);
-  for (int l = 0; l < int(hn::Lanes(dd)); ++l) rc.valid[k + l] = bits[0] >> l & 1;
+  const int lanes = int(hn::Lanes(dd));
+  const uint64_t bytes = bits_to_bytes(bits[0]);
+  std::memcpy(rc.valid + k, &bytes, size_t(lanes));
+  const unsigned in_segment = n - k >= 8 ? 0xffu : (1u << (n - k)) - 1;
+  rc.count += std::popcount(unsigned(bits[0]) & in_segment);
   return bits[0] != 0;
 }
 
 void row_coords(const TexelMap& map, int y, int x0, int n, RowCoords& rc) {
+  rc.count = 0;
   const hn::ScalableTag<double> dd;
   using VD = hn::Vec<decltype(dd)>;
   const auto& m = map.to_texel.m;
@@ -361,7 +384,7 @@ void row_coords(const TexelMap& map, int y, int x0, int n, RowCoords& rc) {
     hn::StoreU(hn::Mul(hn::Sub(hn::Mul(m3, hz), hn::Mul(hy, m6)), iw2), dd, rc.dbdx + k);
     hn::StoreU(hn::Mul(hn::Sub(hn::Mul(m1, hz), hn::Mul(hx, m7)), iw2), dd, rc.dady + k);
     hn::StoreU(hn::Mul(hn::Sub(hn::Mul(m4, hz), hn::Mul(hy, m7)), iw2), dd, rc.dbdy + k);
-    StoreValid(dd, ok, k, rc);
+    StoreValid(dd, ok, k, n, rc);
   });
 }
 
@@ -372,6 +395,7 @@ void row_coords(const TexelMap& map, int y, int x0, int n, RowCoords& rc) {
 // log2 (relative error ~1e-7: a blend weight off by that), and nothing but
 // validity for vectors that miss the quad.
 void row_coords_trilinear(const TexelMap& map, int y, int x0, int n, RowCoords& rc) {
+  rc.count = 0;
   const hn::ScalableTag<double> dd;
   const hn::Rebind<float, decltype(dd)> df;
   using VD = hn::Vec<decltype(dd)>;
@@ -385,7 +409,7 @@ void row_coords_trilinear(const TexelMap& map, int y, int x0, int n, RowCoords& 
     const VD a = hn::Mul(hx, inv), b = hn::Mul(hy, inv);
     hn::StoreU(a, dd, rc.a + k);
     hn::StoreU(b, dd, rc.b + k);
-    if (!StoreValid(dd, SeesQuad(map, hz, inv, a, b), k, rc)) {
+    if (!StoreValid(dd, SeesQuad(map, hz, inv, a, b), k, n, rc)) {
       hn::StoreU(hn::Zero(dd), dd, rc.lod + k);
       return;
     }
@@ -421,8 +445,7 @@ void trilinear_segment(const Pyramid& p, const RowCoords& rc, int n, float* out,
   // Whether any pixel of each vector sees the quad (the others are skipped).
   bool any[64 / 2 + 1], blend[64 / 2 + 1];  // blend: some pixel of the vector uses the second level
   for (int k = 0, v = 0; k < n; k += L, ++v) {
-    any[v] = false;
-    for (int l = k; l < std::min(n, k + L); ++l) any[v] |= rc.valid[l] != 0;
+    any[v] = any_byte(rc.valid + k, std::min(n - k, L));
   }
   // The level pair of each pixel, in vectors: lambda <= 0 (or NaN) the finest
   // level alone, lambda >= last the coarsest alone, else floor(lambda) and the
@@ -627,13 +650,13 @@ void FilterRows(const Pyramid& pyr, const TexelMap& map, const TextureFilterSett
     if (f.filter == TextureFilter::trilinear) {
       row_coords_trilinear(map, y, x0, x1 - x0, rc);
       trilinear_segment(pyr, rc, x1 - x0, img.pixel(x0, y), background);
-      for (int k = 0; k < x1 - x0; ++k) n += rc.valid[k];
+      n += uint64_t(rc.count);
       continue;
     }
     row_coords(map, y, x0, x1 - x0, rc);
     if (f.filter == TextureFilter::aniso) {
       aniso_segment(pyr, rc, x1 - x0, f.n, img.pixel(x0, y), background);
-      for (int k = 0; k < x1 - x0; ++k) n += rc.valid[k];
+      n += uint64_t(rc.count);
       continue;
     }
     for (int x = x0; x < x1; ++x) {
