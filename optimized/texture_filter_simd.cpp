@@ -17,6 +17,7 @@
 #include "core/error.h"
 #include "core/large_buffer.h"
 #include "core/timer.h"
+#include "optimized/mask_bytes.h"
 #include "optimized/texture_filter_simd.h"
 #include "optimized/tiling.h"
 
@@ -82,14 +83,6 @@ struct RowCoords {
   uint8_t valid[64];
   int count = 0;  // pixels that see the quad (of the n asked for)
 };
-
-// Byte l of the result is bit l of `bits` (0 or 1), for 8 bits at once:
-// each byte picks its own bit of the replicated byte, and adding 0x7f to
-// a byte carries into its top bit exactly when the picked bit is set.
-inline uint64_t bits_to_bytes(uint64_t bits) {
-  const uint64_t picked = (bits * 0x0101010101010101ull) & 0x8040201008040201ull;
-  return ((picked + 0x7f7f7f7f7f7f7f7full) >> 7) & 0x0101010101010101ull;
-}
 
 // Whether any of the bytes p[0 .. m - 1] (m <= 8) is set.
 inline bool any_byte(const uint8_t* p, int m) {
