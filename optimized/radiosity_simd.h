@@ -69,18 +69,21 @@ FormFactors radiosity_form_factors_hemicube(const PatchMesh& mesh, int res, int 
                                                     FormFactors storage = {});
 
 // solve_radiosity's contract (core/radiosity.h), on `threads` threads (0:
-// all cores; Jacobi's rows).
+// all cores; Jacobi's rows), the sweeps over a float copy of f (in
+// `single` when given: a session's storage, kept between frames).
 SolveResult solve_radiosity(const std::vector<Patch>& patches, const FormFactors& f, RadiositySolver solver,
-                            double tolerance, int max_iterations, int threads);
+                            double tolerance, int max_iterations, int threads, UninitVector<float>* single = nullptr);
 
 Image radiosity(const Scene& scene, const FrameOptions& opts, FrameStats* stats);
 // What a session keeps from frame to frame (registry/radiosity_row.cpp): the
-// form-factor matrix's storage, touched once (its first touch, 136 MB at
-// 4,119 patches, is a tenth of a fresh frame). One frame at a time uses it;
+// form-factor matrix's storage and the solve's float copy of it, touched
+// once (the matrix's first touch, 136 MB at 4,119 patches, is a tenth of a
+// fresh frame). One frame at a time uses it;
 // a frame that finds it busy makes its own.
 struct RadiosityScratch {
   std::mutex busy;
   FormFactors f;
+  UninitVector<float> single;  // the solve's float copy of f
 };
 // The same on a device the caller keeps (a session's, registry/radiosity_row.cpp),
 // and the scratch it keeps (may be null).

@@ -10,6 +10,11 @@
 #include "optimized/radiosity_simd_kernels.h"
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <type_traits>
+
+#include "optimized/mask_bytes.h"
 
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "optimized/radiosity_simd_kernels.cpp"
@@ -79,36 +84,52 @@ void LambertRow(const PatchSoA& p, const Vec3& c, const Vec3& n, double* f, unsi
   }
 }
 
-// Row i's gathers in one pass over its form factors (radiosity_simd_kernels.h).
-void GatherRow(const double* f, size_t n, const double* const* old, size_t m, const double* const* fresh,
-               double* out) {
+// Row i's gathers in one pass over its form factors (radiosity_simd_kernels.h),
+// the factors in double or in float (promoted as they are loaded).
+template <class T>
+HWY_INLINE void GatherRowOf(const T* f, size_t n, const double* const* old, size_t m, const double* const* fresh,
+                            double* out) {
   const hn::ScalableTag<double> d;
   using V = hn::Vec<decltype(d)>;
   const size_t L = hn::Lanes(d);
+  auto load = [&](size_t j) {
+    if constexpr (std::is_same_v<T, float>) return hn::PromoteTo(d, hn::LoadU(hn::Rebind<float, decltype(d)>(), f + j));
+    else return hn::LoadU(d, f + j);
+  };
   V pre_old[3] = {hn::Zero(d), hn::Zero(d), hn::Zero(d)}, pre_new[3] = {hn::Zero(d), hn::Zero(d), hn::Zero(d)};
   V post[3] = {hn::Zero(d), hn::Zero(d), hn::Zero(d)};
   double rest[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
   size_t j = 0;
   for (; j + L <= m; j += L) {
-    const V w = hn::LoadU(d, f + j);
+    const V w = load(j);
     for (int c = 0; c < 3; ++c) {
       pre_old[c] = hn::MulAdd(w, hn::LoadU(d, old[c] + j), pre_old[c]);
       pre_new[c] = hn::MulAdd(w, hn::LoadU(d, fresh[c] + j), pre_new[c]);
     }
   }
   for (; j < m; ++j)
-    for (int c = 0; c < 3; ++c) rest[c] += f[j] * old[c][j], rest[3 + c] += f[j] * fresh[c][j];
+    for (int c = 0; c < 3; ++c) rest[c] += double(f[j]) * old[c][j], rest[3 + c] += double(f[j]) * fresh[c][j];
   for (; j + L <= n; j += L) {
-    const V w = hn::LoadU(d, f + j);
+    const V w = load(j);
     for (int c = 0; c < 3; ++c) post[c] = hn::MulAdd(w, hn::LoadU(d, old[c] + j), post[c]);
   }
   for (; j < n; ++j)
-    for (int c = 0; c < 3; ++c) rest[6 + c] += f[j] * old[c][j];
+    for (int c = 0; c < 3; ++c) rest[6 + c] += double(f[j]) * old[c][j];
   for (int c = 0; c < 3; ++c) {
     out[c] = hn::GetLane(hn::SumOfLanes(d, pre_old[c])) + rest[c];
     out[3 + c] = hn::GetLane(hn::SumOfLanes(d, pre_new[c])) + rest[3 + c];
     out[6 + c] = hn::GetLane(hn::SumOfLanes(d, post[c])) + rest[6 + c];
   }
+}
+
+void GatherRow(const double* f, size_t n, const double* const* old, size_t m, const double* const* fresh,
+               double* out) {
+  GatherRowOf(f, n, old, m, fresh, out);
+}
+
+void GatherRowSingle(const float* f, size_t n, const double* const* old, size_t m, const double* const* fresh,
+                     double* out) {
+  GatherRowOf(f, n, old, m, fresh, out);
 }
 
 // Points against a shade (radiosity_simd_kernels.h): the least inside
@@ -118,8 +139,7 @@ void ClassifyPoints(const double* x, const double* y, size_t count, const HalfPl
   const hn::ScalableTag<double> d;
   using V = hn::Vec<decltype(d)>;
   const size_t L = hn::Lanes(d);
-  const V zero = hn::Zero(d), one = hn::Set(d, 1), minus = hn::Set(d, -1), dv = hn::Set(d, deep);
-  alignas(64) double out[HWY_MAX_BYTES / sizeof(double)];
+  const V zero = hn::Zero(d), dv = hn::Set(d, deep);
   size_t t = 0;
   for (; t + L <= count; t += L) {
     const V px = hn::LoadU(d, x + t), py = hn::LoadU(d, y + t);
@@ -133,8 +153,13 @@ void ClassifyPoints(const double* x, const double* y, size_t count, const HalfPl
       deep_in = hn::And(deep_in, hn::Gt(hn::MulAdd(hn::Set(d, core.a[e]), px, hn::MulAdd(hn::Set(d, core.b[e]), py,
                                                                                           hn::Set(d, core.c[e]))),
                                         dv));
-    hn::Store(hn::IfThenElse(in, hn::IfThenElseZero(deep_in, one), minus), d, out);
-    for (size_t l = 0; l < L; ++l) verdict[t + l] = static_cast<signed char>(out[l]);
+    // -1 (0xff) outside, 1 deep in the core, else 0: from the masks' bits,
+    // a byte a lane.
+    uint8_t in_bits[8] = {}, deep_bits[8] = {};
+    hn::StoreMaskBits(d, in, in_bits);
+    hn::StoreMaskBits(d, hn::And(in, deep_in), deep_bits);
+    const uint64_t bytes = ((bits_to_bytes(in_bits[0]) ^ 0x0101010101010101ull) * 0xff) | bits_to_bytes(deep_bits[0]);
+    std::memcpy(verdict + t, &bytes, L);
   }
   for (; t < count; ++t) {
     const std::array<double, 2> p{x[t], y[t]};
@@ -151,6 +176,7 @@ namespace lockstep::opt::simd {
 
 HWY_EXPORT(LambertRow);
 HWY_EXPORT(GatherRow);
+HWY_EXPORT(GatherRowSingle);
 HWY_EXPORT(ClassifyPoints);
 
 void lambert_row(const PatchSoA& p, const Vec3& c, const Vec3& n, double* f, unsigned char* clip) {
@@ -165,6 +191,11 @@ void classify_points(const double* x, const double* y, size_t count, const HalfP
 void gather_row(const double* f, size_t n, const double* const* old, size_t m, const double* const* fresh,
                 double* out) {
   HWY_DYNAMIC_DISPATCH(GatherRow)(f, n, old, m, fresh, out);
+}
+
+void gather_row(const float* f, size_t n, const double* const* old, size_t m, const double* const* fresh,
+                double* out) {
+  HWY_DYNAMIC_DISPATCH(GatherRowSingle)(f, n, old, m, fresh, out);
 }
 
 }  // namespace lockstep::opt::simd

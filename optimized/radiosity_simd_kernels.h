@@ -41,6 +41,9 @@ void lambert_row(const PatchSoA& p, const Vec3& c, const Vec3& n, double* f, uns
 // Jacobi: m = 0 (fresh not read); Gauss-Seidel: m = i.
 void gather_row(const double* f, size_t n, const double* const* old, size_t m, const double* const* fresh,
                 double* out);
+// The same with the factors in float (the solve's copy, optimized/radiosity_simd.cpp).
+void gather_row(const float* f, size_t n, const double* const* old, size_t m, const double* const* fresh,
+                double* out);
 
 // A convex polygon in a plane's frame as the half-planes inside its edges:
 // a x + b y + c, the distance inside (unit normals), >= 0 for every edge
