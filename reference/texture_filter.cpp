@@ -24,6 +24,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/timer.h"
 
 namespace lockstep::ref {
 
@@ -313,8 +314,11 @@ Image texture_filter(const TextureScene& scene, const FrameOptions& opts, FrameS
   auto is_bilinear = [](TextureFilter g) { return g == TextureFilter::bilinear; };
   const bool mip = plan.tiles.empty() ? uses_pyramid(f.filter) : plan.uses(uses_pyramid);
   const bool level0 = plan.tiles.empty() ? is_bilinear(f.filter) : plan.uses(is_bilinear);
+  // Timed apart (build_seconds): a one-shot cost, an application builds it once per texture.
+  const Stopwatch build_watch;
   const std::vector<Texture> pyramid =
       mip ? build_pyramid(tex) : level0 ? std::vector<Texture>{tex} : std::vector<Texture>{};
+  const double build_seconds = build_watch.seconds();
   const Rgba background{scene.background.x, scene.background.y, scene.background.z, 1};
   Image img(opts.width, opts.height);
   uint64_t lookups = 0;
@@ -329,6 +333,7 @@ Image texture_filter(const TextureScene& scene, const FrameOptions& opts, FrameS
   }
   if (stats) {
     stats->items = lookups;
+    stats->build_seconds = build_seconds;
   }
   return img;
 }

@@ -45,7 +45,9 @@ Rgba average_over(const Texture& t, const Polygon2& footprint);
 bool filter_pixel(const Texture& tex, const std::vector<Texture>& pyramid, const TexelMap& map,
                   const TextureFilterSettings& f, int x, int y, const Rgba& background, Rgba& c);
 
-// The frame; params' filter_tiles (core/texture.h), when set, a filter per tile.
+// The frame; params' filter_tiles (core/texture.h), when set, a filter per
+// tile. stats: lookups (items) and the pyramid's build (or level 0's copy)
+// as build_seconds, a one-shot cost.
 Image texture_filter(const TextureScene& scene, const FrameOptions& opts, FrameStats* stats);
 
 }  // namespace lockstep::ref

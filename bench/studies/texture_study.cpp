@@ -5,15 +5,16 @@
 // The scene: corpus/textures/zoneplate_plane.texscene (a zone plate tiled
 // over a plane receding from the camera: every frequency at every
 // minification) at 192 x 192 (the oracle clips every texel of every footprint).
-// Each row draws it with each filter on one thread (best of 3 runs, the
-// reference once); the error is over the interior pixels (all four corners on
+// Each row draws it with each filter on one thread (best of 15 runs, of 3
+// where a frame takes over 50 ms); the error is over the interior pixels (all four corners on
 // the quad), RGB channels: RMS and the 99th percentile of the per-pixel
 // largest channel error.
 //
 // CSV on stdout: row,filter,rms,p99,max,seconds,lookups,ns_per_lookup,
-// setup_seconds: the lookups alone, without the one-shot costs (setup_seconds) (every row's pyramid or texture
-// set-up: the reference's timed here, the others' build_seconds: OpenImageIO's
-// make_texture, llvmpipe's context, shader compilation and upload).
+// setup_seconds: the lookups alone, without the one-shot costs (setup_seconds:
+// every row's build_seconds, timed inside its frame: the pyramid, or the
+// reference's copy of level 0 for bilinear; OpenImageIO's make_texture,
+// llvmpipe's context, shader compilation and upload).
 // bench/scripts/texture_chart.py draws it (bench/charts/texture_speed_accuracy.svg).
 // --two-threads: every row on two threads (a process of its own: llvmpipe
 // reads its thread count once per process), for the two-thread comparison.
@@ -39,6 +40,7 @@
 #include <vector>
 
 #include "bench/studies/study.h"
+#include "core/process_memory.h"
 #include "core/run_resources.h"
 #include "io/texture_scene.h"
 #include "props/texture/oracle.h"
@@ -58,7 +60,6 @@ int plane_study(const Family& fam) {
     if (filter != "trilinear" && filter != "aniso16") continue;
     const Input in = b.make ? b.make() : b.input;
     const TextureScene& scene = input_as<TextureScene>(in);
-    const double ref_pyramid = study::best_time(3, [&] { ref::build_pyramid(scene.texture); });
     for (const FamilyImpl& impl : fam.impls) {
       for (int threads : {1, 2}) {
         // The reference is single-threaded; llvmpipe reads its thread count
@@ -76,12 +77,14 @@ int plane_study(const Family& fam) {
           run(in, o, &st);  // the session's first frame (module, make, upload): not timed
         }
         double t = 1e300, setup = 0;
-        for (int k = 0; k < 3; ++k) {
+        int runs = 15;  // best of 15, of 3 for frames over 50 ms (as below)
+        for (int k = 0; k < runs; ++k) {
           st = FrameStats{};
           const Stopwatch w;
           (void)run(in, o, &st);
           const double whole = w.seconds();
-          const double one_shot = &impl == &fam.reference() ? ref_pyramid : st.build_seconds;
+          if (k == 0 && whole > 0.05) runs = 3;
+          const double one_shot = st.build_seconds;
           if (whole - one_shot < t) t = whole - one_shot, setup = one_shot;
         }
         std::printf("%s,%s,%d,%.6g,%llu,%.6g,%.6g\n", std::string(impl.name).c_str(), filter.c_str(), threads, t,
@@ -96,6 +99,9 @@ int plane_study(const Family& fam) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // As bench/: a frame's memory is the last frame's, from the heap (warm:
+  // no fresh pages a frame).
+  keep_freed_memory();
   bool quick = false, two = false, plane = false;
   if (!study::parse_flags(argc, argv, {{"--quick", &quick}, {"--two-threads", &two}, {"--plane", &plane}},
                           "lockstep_texture_study [--quick] [--two-threads] [--plane]"))
@@ -118,12 +124,10 @@ int main(int argc, char** argv) {
   std::printf("row,filter,rms,p99,max,seconds,lookups,ns_per_lookup,setup_seconds\n");
   std::map<std::string, double> rms_of;
   RunResources resources;
-  // The reference builds its pyramid (or, for bilinear, copies the texture)
-  // inside every frame; the simd row reports its own as build_seconds. Both
-  // are one-shot costs: the reference's is timed here and taken off, so that
-  // every row's figure is its lookups alone.
-  const double ref_pyramid = study::best_time(3, [&] { ref::build_pyramid(scene.texture); });
-  const double ref_copy = study::best_time(3, [&] { std::vector<Texture> one{scene.texture}; });
+  // Every row reports its one-shot set-up (the reference's and the simd
+  // row's pyramid, or the reference's copy of level 0 for bilinear; the
+  // peers' texture set-up) as build_seconds, timed inside the frame: taken
+  // off, every row's figure is its lookups alone.
   // error=E (registry/texture_row.cpp): a filter per tile, on the simd row;
   // its search is its one-shot cost (build_seconds), taken off like a pyramid.
   std::vector<std::string> settings(std::begin(filters), std::end(filters));
@@ -145,26 +149,24 @@ int main(int argc, char** argv) {
       // Warm frames: a row with a session (the peers: OpenImageIO's .tx and
       // TextureSystem, llvmpipe's context and uploaded texture) runs through
       // one, as an application keeps them; its first frame (module, make,
-      // upload) is not timed. Best of 3 of the frame's time less its one-shot
-      // set-up: the row's build_seconds, or for the reference its pyramid
-      // (timed above).
+      // upload) is not timed. The frame's time less its one-shot set-up (the
+      // row's build_seconds).
       std::function<Output(const Input&, const FrameOptions&, FrameStats*)> run = impl.run;
       if (impl.session) {
         run = impl.session(in, o, resources);
         run(in, o, &st);
       }
-      const std::string fl = filter;
-      const double ref_setup = fl == "bilinear" ? ref_copy
-                               : (fl == "mip_nearest" || fl == "trilinear" || fl.rfind("aniso", 0) == 0 || fl == "ewa")
-                                   ? ref_pyramid
-                                   : 0.0;
       double t = 1e300, setup = 0;
-      for (int k = 0; k < (impl.name == "reference" ? 3 : 15); ++k) {
+      // Best of 15, or of 3 for frames over 50 ms (area sampling, the
+      // reference's supersampling and EWA): every row alike.
+      int runs = 15;
+      for (int k = 0; k < runs; ++k) {
         st = FrameStats{};
         const Stopwatch w;
         img = take_output<Image>(run(in, o, &st));
         const double whole = w.seconds();
-        const double one_shot = impl.name == "reference" ? ref_setup : st.build_seconds;
+        if (k == 0 && whole > 0.05) runs = 3;
+        const double one_shot = st.build_seconds;
         if (whole - one_shot < t) t = whole - one_shot, setup = one_shot;
       }
       std::vector<double> errs;
