@@ -65,6 +65,7 @@ SHARED = {
     "tiling": "every simd row's 2D tiles over TBB",
     "peer_module": "every peer row's module (llvmpipe, vtk, volpack)",
     "refine": "the optimized ray casters and tracers (simd, embree)",
+    "mask_bytes": "simd rows' vector masks as bytes (texture, radiosity)",
 }
 # Words of optimized/ file names that name a row (an implementation).
 VARIANTS = ["simd", "embree", "auto", "llvmpipe", "vtk", "volpack", "povray", "oiio"]
