@@ -496,7 +496,8 @@ RADIOSITY = """The radiosity family (issue #33, [docs/radiosity.md](docs/radiosi
 Cornell box solved and drawn whole, the textbook reference (rays tested against
 every triangle in double, one thread) against the simd row (Lambert's factors 8
 patches a vector; visibility by shadow polygons, the reference's own test only
-where a shade may hide a segment; the solve's rows in Highway; TBB)."""
+where a shade may hide a segment; the solve's rows in Highway over a float
+copy of the factors; TBB)."""
 
 RADIOSITY_FF_NOTE = """`./build/bench/lockstep_radiosity_study > bench/results/radiosity_study.csv && python3 bench/scripts/radiosity_chart.py bench/results/radiosity_study.csv bench/charts`
 (`bash bench/run.sh --only radiosity_study,page`; `ctest -R radiosity_study` checks its claims on 305
@@ -665,14 +666,20 @@ and upload, about 0.3 s) is measured apart and not in these figures, and
 the peers run through their sessions (the .tx and TextureSystem, the GL
 context and texture kept across frames, as an application keeps them)."""
 
-TEXTURE_TARGETS_NOTE = """Evaluated by bench/scripts/texture_chart.py over the tables below. On the
-192^2 scene the reference's trilinear is cheap (its texture, 1 MB with the
-pyramid, stays in cache; its figure is its frame less its pyramid, timed
-apart: the noisiest figure here, 59-77 ns over runs); on the issue's 1024^2
-plane (a 22 MB pyramid) every row waits on memory, the reference most. Both
-ratios move 0.5-1x between runs (the 1024^2 plane: 9.6x and 10.3x in the last two
-runs of this study, 8.9-11.9x in ad-hoc runs of the same frames; 192^2: 8.3x and
-8.6x): the target is not met reliably on either."""
+TEXTURE_TARGETS_NOTE = """Evaluated by bench/scripts/texture_chart.py over the tables below. Every
+row's figure is its frame less its own one-shot set-up, timed inside that
+frame (build_seconds: the pyramid, or the reference's copy of level 0 for
+bilinear), best of 15 frames (of 3 where a frame takes over 50 ms), frames
+from the heap as in bench/. Runs before 2026-12-05 took the reference's
+pyramid timed apart, cold, best of 3 (1.42 ms in one run against 0.45-0.48 ms
+inside its frames), which understated its lookups by about a quarter: their
+8.3-8.6x at 192^2 (with a simd row 9% slower than now). This VM's speed moves
+by a third within an hour, both rows alike: in alternated runs of
+`lockstep_texture_timing` (bench/timing/texture_timing.cpp) this code gave
+simd trilinear 7.3-8.7 ns and the reference 88-113 ns a lookup, 12.1-13.0x
+(main's before it: 7.2-11.7 ns, within minutes). On the issue's 1024^2 plane (a 22 MB pyramid) every row waits on
+memory, the reference most; a second `--plane` run the same hour gave 12.9x
+(10.3 against 133 ns)."""
 
 TEXTURE_ERROR_NOTE = """`lockstep texture SCENE --error E` (registry/texture_row.cpp): per 64 x 16
 tile, the cheapest of point, trilinear, aniso2, aniso4, aniso8 and aniso16
@@ -691,7 +698,7 @@ horizon samples cover thousands of texels)."""
 
 TEXTURE_PLANE_NOTE = """`./build/bench/lockstep_texture_study --plane > bench/results/texture_plane.csv`:
 the registry's benchmark input (the scene of the issue's peer figures),
-warm, best of 3, lookups alone (each row's one-shot set-up apart; the peers
+warm, best of 15 (3 for frames over 50 ms), lookups alone (each row's one-shot set-up apart; the peers
 through their sessions). llvmpipe at one thread only (it reads its thread
 count once per process: `--two-threads` of the study above has its two-thread
 figures)."""
