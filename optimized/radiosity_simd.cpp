@@ -477,6 +477,17 @@ FormFactors radiosity_form_factors_rays(const Scene& scene, const PatchMesh& mes
     // Whether the segments to patch j's targets are hidden: the number
     // that arrive, given the shades over them (near) and their points on
     // the receiver's plane.
+    // Whether the segment from c to target y meets one of the shade's
+    // blocker's triangles: the reference's own test.
+    auto blocked = [&](const Vec3& c, const Vec3& y, const Shade& h) {
+      for (uint32_t k = h.tri_first; k < h.tri_end; ++k) {
+        const auto& tv = scene.tri_vertex[k];
+        if (segment_meets_triangle(c, y - c, kSegmentMargin, 1 - kSegmentMargin, scene.vertex[tv[0]],
+                                   scene.vertex[tv[1]], scene.vertex[tv[2]]))
+          return true;
+      }
+      return false;
+    };
     auto arrive = [&](const Vec3& c, size_t j, const std::array<double, 2>* points) {
       const size_t count = targets[j].size();
       int arrived = int(count);
@@ -484,13 +495,7 @@ FormFactors radiosity_form_factors_rays(const Scene& scene, const PatchMesh& mes
         for (const Shade* h : near) {
           const int inside = h->covers(points[t]);
           if (inside < 0) continue;
-          bool hidden = inside > 0;
-          for (uint32_t k = h->tri_first; k < h->tri_end && !hidden; ++k) {
-            const auto& tv = scene.tri_vertex[k];
-            hidden = segment_meets_triangle(c, targets[j][t] - c, kSegmentMargin, 1 - kSegmentMargin,
-                                            scene.vertex[tv[0]], scene.vertex[tv[1]], scene.vertex[tv[2]]);
-          }
-          if (hidden) {
+          if (inside > 0 || blocked(c, targets[j][t], *h)) {
             --arrived;
             break;
           }
@@ -596,13 +601,7 @@ FormFactors radiosity_form_factors_rays(const Scene& scene, const PatchMesh& mes
               if (v < 0 || hidden[g]) continue;
               const uint32_t j = tgt_patch[g];
               if (!(f_row[j] > 0)) continue;
-              bool hid = v > 0;
-              for (uint32_t t = h.tri_first; t < h.tri_end && !hid; ++t) {
-                const auto& tv = scene.tri_vertex[t];
-                hid = segment_meets_triangle(c, targets[j][tgt_index[g]] - c, kSegmentMargin, 1 - kSegmentMargin,
-                                             scene.vertex[tv[0]], scene.vertex[tv[1]], scene.vertex[tv[2]]);
-              }
-              if (hid) hidden[g] = 1, ++hidden_count[j];
+              if (v > 0 || blocked(c, targets[j][tgt_index[g]], h)) hidden[g] = 1, ++hidden_count[j];
             }
           }
         }

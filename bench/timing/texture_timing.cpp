@@ -11,10 +11,10 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <ctime>
 #include <string>
 
 #include "core/process_memory.h"
+#include "core/timer.h"
 #include "io/texture_scene.h"
 #include "optimized/texture_filter_simd.h"
 #include "reference/texture_filter.h"
@@ -23,19 +23,14 @@ using namespace lockstep;
 
 namespace {
 
-double wall_seconds() {
-  timespec t;
-  clock_gettime(CLOCK_MONOTONIC, &t);
-  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
-}
-
+// The best of reps runs of f, less what f returns (its one-shot set-up).
 template <class F>
 double best_of(int reps, F f) {
   double best = 1e30;
   for (int r = 0; r < reps; ++r) {
-    const double c0 = wall_seconds();
+    const Stopwatch w;
     const double off = f();
-    best = std::min(best, wall_seconds() - c0 - off);
+    best = std::min(best, w.seconds() - off);
   }
   return best;
 }
