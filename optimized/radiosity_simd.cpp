@@ -474,9 +474,6 @@ FormFactors radiosity_form_factors_rays(const Scene& scene, const PatchMesh& mes
     std::vector<const Shade*> near;                // the shades over one patch's targets
     std::vector<unsigned char> way;
     std::vector<std::array<double, 2>> projected;  // one patch's targets, projected
-    // Whether the segments to patch j's targets are hidden: the number
-    // that arrive, given the shades over them (near) and their points on
-    // the receiver's plane.
     // Whether the segment from c to target y meets one of the shade's
     // blocker's triangles: the reference's own test.
     auto blocked = [&](const Vec3& c, const Vec3& y, const Shade& h) {
@@ -488,6 +485,9 @@ FormFactors radiosity_form_factors_rays(const Scene& scene, const PatchMesh& mes
       }
       return false;
     };
+    // Whether the segments to patch j's targets are hidden: the number
+    // that arrive, given the shades over them (near) and their points on
+    // the receiver's plane.
     auto arrive = [&](const Vec3& c, size_t j, const std::array<double, 2>* points) {
       const size_t count = targets[j].size();
       int arrived = int(count);

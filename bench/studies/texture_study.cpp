@@ -44,7 +44,6 @@
 #include "core/run_resources.h"
 #include "io/texture_scene.h"
 #include "props/texture/oracle.h"
-#include "reference/texture_filter.h"
 #include "registry/registry.h"
 
 using namespace lockstep;
